@@ -1,0 +1,40 @@
+//! # spine-model: the physics of a planar flexible spine
+//!
+//! An `N`-link planar chain of rigid links. Node 1 (index 0 here) is the fixed base at the origin;
+//! node `N+1` (index `N`) slides on the X axis. Torsional springs `K_1..K_{N+1}` join ground and
+//! link 1, consecutive links, and link `N` and the slider. Conventions follow `docs/model.md`:
+//!
+//! * `θ_i` is the absolute angle of link `i` from +X, counter-clockwise positive (rad).
+//! * Each link has a fixed horizontal span `a_i` (m); its length follows the unloaded design,
+//!   `L_i = a_i / cos θ0_i` (paper, Sec. 5 "length constraint").
+//! * Loads are nodal forces in newtons, positive along +X / +Y; gravity `g` (m/s²) acts along −Y.
+//! * Stiffness in N·m/rad, moments in N·m, energies in J.
+//!
+//! Indexing in code is zero-based: link `i` (0..N) runs from node `i` to node `i+1`; spring `i`
+//! (0..=N) sits at node `i`, between link `i-1` (or the ground) and link `i` (or the slider).
+//!
+//! Every physical function is written once, generic over [`Scalar`] (any
+//! `num_dual::DualNum<Primitive = f64> + Copy`, including plain `f64`), so exact first and second
+//! derivatives come from forward-mode automatic differentiation. [`jacobian`] assembles the sparse
+//! Jacobians element by element with small fixed-size dual numbers, at a cost linear in `N`.
+//!
+//! This crate holds no solver: see `spine-solve`.
+
+pub mod chain;
+pub mod energy;
+pub mod jacobian;
+pub mod kinematics;
+pub mod loads;
+pub mod residual;
+pub mod sparse;
+pub mod twolink;
+
+pub use chain::{Chain, Design, State};
+pub use loads::{LinkLoads, NodalLoads};
+
+/// The number types every physical function accepts: `f64` and num-dual's dual numbers.
+pub trait Scalar: num_dual::DualNum<Primitive = f64> + Copy {}
+impl<T: num_dual::DualNum<Primitive = f64> + Copy> Scalar for T {}
+
+/// Standard gravity, m/s², used when a case does not give its own value.
+pub const STANDARD_GRAVITY: f64 = 9.81;

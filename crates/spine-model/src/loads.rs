@@ -1,0 +1,73 @@
+//! Loads: nodal forces and their per-link resultants (eq. (48) of the paper).
+
+use crate::Chain;
+use serde::{Deserialize, Serialize};
+
+/// Constant nodal forces, N, positive along +X / +Y, one entry per node (`N+1`, node 0 the base).
+///
+/// A force at the base does nothing. A vertical force at the slider (node `N`) only changes the
+/// reaction `λ`. Transverse loads pointing down are negative; the paper's axial `−400 N` at the
+/// slider pushes the end towards the base.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NodalLoads {
+    pub p_x: Vec<f64>,
+    pub p_y: Vec<f64>,
+}
+
+impl NodalLoads {
+    /// No force at any of the `n_links + 1` nodes.
+    pub fn zero(n_links: usize) -> Self {
+        Self { p_x: vec![0.0; n_links + 1], p_y: vec![0.0; n_links + 1] }
+    }
+}
+
+/// Per-link load resultants that the generalised load needs (paper eq. (48), `A P_Y` and `A P_X`):
+///
+/// * `vertical[i] = Σ_{j>i} P_Y,j − g (½ m_i + Σ_{k>i} m_k)`, N: everything hanging beyond the
+///   start of link `i`, self-weight included;
+/// * `axial[i] = Σ_{j>i} P_X,j`, N.
+///
+/// The generalised load on link `i` is then `P_i = L_i (cos θ_i · vertical_i − sin θ_i · axial_i)`.
+/// Resultants are linear in the forces, so load continuation interpolates them ([`LinkLoads::lerp`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LinkLoads {
+    pub vertical: Vec<f64>,
+    pub axial: Vec<f64>,
+}
+
+impl LinkLoads {
+    /// No load on a chain of `n_links` links (self-weight off too).
+    pub fn zero(n_links: usize) -> Self {
+        Self { vertical: vec![0.0; n_links], axial: vec![0.0; n_links] }
+    }
+
+    /// Resultants of the nodal forces, plus the chain's self-weight when `with_weight`.
+    pub fn from_nodal(chain: &Chain, nodal: &NodalLoads, with_weight: bool) -> Self {
+        let n = chain.n_links();
+        assert_eq!(nodal.p_x.len(), n + 1, "p_x needs one entry per node");
+        assert_eq!(nodal.p_y.len(), n + 1, "p_y needs one entry per node");
+        let g = if with_weight { chain.gravity } else { 0.0 };
+        let mut vertical = vec![0.0; n];
+        let mut axial = vec![0.0; n];
+        let (mut sum_y, mut sum_x, mut mass_beyond) = (0.0, 0.0, 0.0);
+        for i in (0..n).rev() {
+            sum_y += nodal.p_y[i + 1];
+            sum_x += nodal.p_x[i + 1];
+            vertical[i] = sum_y - g * (0.5 * chain.masses[i] + mass_beyond);
+            axial[i] = sum_x;
+            mass_beyond += chain.masses[i];
+        }
+        Self { vertical, axial }
+    }
+
+    /// `(1 − s) · from + s · to`: the load at continuation parameter `s`.
+    pub fn lerp(from: &Self, to: &Self, s: f64) -> Self {
+        let mix = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect();
+        Self { vertical: mix(&from.vertical, &to.vertical), axial: mix(&from.axial, &to.axial) }
+    }
+
+    /// Largest resultant magnitude, N: a scale for tolerances.
+    pub fn magnitude(&self) -> f64 {
+        self.vertical.iter().chain(&self.axial).fold(0.0, |m, v| m.max(v.abs()))
+    }
+}

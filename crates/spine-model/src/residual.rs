@@ -1,0 +1,103 @@
+//! The equilibrium residual (paper eqs. (5), (33)), written once for every number type.
+//!
+//! Stationarity of `U + V − λΦ` gives `N + 1` equations in `(θ, λ)`:
+//!
+//! * joint rows `r_i = (K_m Δθ)_i − P_i(θ) − λ ∂Φ/∂θ_i`, N·m, `i = 0..N`;
+//! * the constraint row `r_N = Φ(θ)`, m.
+//!
+//! Row `i` touches only `θ_{i−1}, θ_i, θ_{i+1}, λ` and the design entries `θ0_{i−1..=i+1}`,
+//! `K_i, K_{i+1}`: the nine slots of a [`JointStencil`]. Derivatives seed some of these slots with
+//! dual numbers (see [`crate::jacobian`]).
+
+use crate::kinematics::{end_constraint, link_length};
+use crate::{Design, LinkLoads, Scalar, State};
+
+/// Slot numbers of the local variables of one joint row.
+pub mod slot {
+    pub const THETA_PREV: usize = 0;
+    pub const THETA: usize = 1;
+    pub const THETA_NEXT: usize = 2;
+    pub const LAMBDA: usize = 3;
+    pub const THETA0_PREV: usize = 4;
+    pub const THETA0: usize = 5;
+    pub const THETA0_NEXT: usize = 6;
+    pub const STIFFNESS_LEFT: usize = 7;
+    pub const STIFFNESS_RIGHT: usize = 8;
+    /// Number of slots.
+    pub const COUNT: usize = 9;
+}
+
+/// The local variables of joint row `i`, indexed by [`slot`]. A missing neighbour (before link 0
+/// or after link `N−1`) has `θ = θ0 = 0`, so its deviation `Δθ` is zero as the model requires.
+#[derive(Clone, Copy, Debug)]
+pub struct JointStencil<D> {
+    pub values: [D; slot::COUNT],
+    pub has_prev: bool,
+    pub has_next: bool,
+}
+
+impl<D: Scalar> JointStencil<D> {
+    /// Gathers row `i`'s slots from the global vectors, passing each `(slot, value)` through `lift`
+    /// (identity for values, a seeded dual number for derivatives).
+    pub fn gather(
+        i: usize,
+        theta: &[f64],
+        lambda: f64,
+        theta0: &[f64],
+        stiffness: &[f64],
+        lift: impl Fn(usize, f64) -> D,
+    ) -> Self {
+        let n = theta.len();
+        let has_prev = i > 0;
+        let has_next = i + 1 < n;
+        let pick = |v: &[f64], j: Option<usize>| j.map_or(0.0, |j| v[j]);
+        let prev = has_prev.then(|| i - 1);
+        let next = has_next.then_some(i + 1);
+        let raw = [
+            pick(theta, prev),
+            theta[i],
+            pick(theta, next),
+            lambda,
+            pick(theta0, prev),
+            theta0[i],
+            pick(theta0, next),
+            stiffness[i],
+            stiffness[i + 1],
+        ];
+        let mut values = [D::zero(); slot::COUNT];
+        for (s, v) in raw.into_iter().enumerate() {
+            values[s] = lift(s, v);
+        }
+        Self { values, has_prev, has_next }
+    }
+
+    /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)):
+    /// `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i) − L_i (cos θ_i V_i − sin θ_i A_i) − λ L_i cos θ_i`
+    /// with `L_i = a_i / cos θ0_i`, `V_i`, `A_i` the link's load resultants.
+    pub fn residual(&self, span: f64, vertical: f64, axial: f64) -> D {
+        use slot::*;
+        let v = &self.values;
+        let d_prev = v[THETA_PREV] - v[THETA0_PREV];
+        let d_self = v[THETA] - v[THETA0];
+        let d_next = v[THETA_NEXT] - v[THETA0_NEXT];
+        let spring = v[STIFFNESS_LEFT] * (d_self - d_prev) - v[STIFFNESS_RIGHT] * (d_next - d_self);
+        let length = link_length(span, v[THETA0]);
+        let (s, c) = v[THETA].sin_cos();
+        let load = length * (c * vertical - s * axial);
+        spring - load - v[LAMBDA] * length * c
+    }
+}
+
+/// The full residual `[r_0, …, r_{N−1}, Φ]` of eq. (5) at `state` for `design` under `loads`.
+/// Joint rows in N·m, the last row in m. Plain `f64`; the generic pieces are
+/// [`JointStencil::residual`] and [`crate::kinematics::end_constraint`].
+pub fn equilibrium_residual(spans: &[f64], design: &Design, loads: &LinkLoads, state: &State) -> Vec<f64> {
+    let n = spans.len();
+    let mut r = Vec::with_capacity(n + 1);
+    for i in 0..n {
+        let st = JointStencil::<f64>::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |_, v| v);
+        r.push(st.residual(spans[i], loads.vertical[i], loads.axial[i]));
+    }
+    r.push(end_constraint(spans, &design.theta0, &state.theta));
+    r
+}

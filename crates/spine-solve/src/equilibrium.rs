@@ -1,0 +1,404 @@
+//! Static equilibrium: Newton on `(θ, λ)` with load continuation and a stability check at every
+//! accepted step.
+//!
+//! The load is ramped from `from` to `to` along `s ∈ [0, 1]` (`LinkLoads::lerp`). Each step predicts
+//! with the path tangent `dx/ds = −J⁻¹ ∂r/∂s` and corrects with Newton. A step is accepted when
+//! Newton converges within `max_newton_iterations` and no link turns by more than `max_angle_step`;
+//! otherwise the step is halved. The physically reached equilibrium is the one on this path.
+//!
+//! Along the path the number of negative directions of the projected Hessian is counted. When it
+//! becomes positive the load factor where stability was lost is located by bisection; the path is
+//! then followed to the full load and reported as [`EquilibriumStatus::Unstable`] (the real structure
+//! would have buckled there). When the steps shrink below `min_step` while the smallest projected
+//! eigenvalue has fallen below 1 % of its value at the start, the path has reached a fold:
+//! [`EquilibriumStatus::LimitPoint`] (snap-through).
+
+use crate::linalg::BorderedLu;
+use crate::stability::{self, Stability};
+use serde::{Deserialize, Serialize};
+use spine_model::jacobian::residual_and_state_jacobian;
+use spine_model::kinematics::end_x;
+use spine_model::residual::equilibrium_residual;
+use spine_model::sparse::BorderedTridiagonal;
+use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};
+use std::time::Instant;
+
+/// Options of Newton and of the load continuation. Mirrored by a case file's `solver` section.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContinuationOptions {
+    /// Newton stops when `max |r_i|` is at most this: joint rows in N·m, the constraint row in m.
+    pub residual_tolerance: f64,
+    /// Newton iterations allowed per continuation step.
+    pub max_newton_iterations: usize,
+    /// First load step (fraction of the full load, `0 < step ≤ 1`).
+    pub initial_step: f64,
+    /// Smallest load step before the path is declared stuck.
+    pub min_step: f64,
+    /// Accepted continuation steps allowed.
+    pub max_steps: usize,
+    /// Largest change of any link angle in one step, rad: keeps the path from jumping branches.
+    pub max_angle_step: f64,
+    /// Width of the load-factor bracket when locating a loss of stability.
+    pub critical_load_tolerance: f64,
+}
+
+impl Default for ContinuationOptions {
+    fn default() -> Self {
+        Self {
+            residual_tolerance: 1e-10,
+            max_newton_iterations: 12,
+            initial_step: 1.0,
+            min_step: 1e-6,
+            max_steps: 10_000,
+            max_angle_step: 0.1,
+            critical_load_tolerance: 1e-9,
+        }
+    }
+}
+
+/// How a path ended.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum EquilibriumStatus {
+    /// Full load reached; the path and the final equilibrium are stable.
+    Stable,
+    /// Full load reached, but the path lost stability at `critical_load_factor` (bifurcation): the
+    /// returned equilibrium is unstable and not what the structure would do.
+    Unstable { critical_load_factor: f64 },
+    /// The path cannot pass `load_factor`: a fold (limit point, snap-through). The returned state is
+    /// the last stable equilibrium before it.
+    LimitPoint { load_factor: f64 },
+    /// Newton failed and the step could not be reduced further, away from any detected fold.
+    NewtonFailed { load_factor: f64 },
+    /// `max_steps` continuation steps were used up at `load_factor`.
+    StepLimit { load_factor: f64 },
+}
+
+impl EquilibriumStatus {
+    /// Full load reached and the equilibrium is stable: the only status a design may rely on.
+    pub fn is_stable(&self) -> bool {
+        matches!(self, Self::Stable)
+    }
+
+    /// One line for people.
+    pub fn describe(&self) -> String {
+        match *self {
+            Self::Stable => "converged, stable".into(),
+            Self::Unstable { critical_load_factor } => format!(
+                "converged at full load but UNSTABLE: stability lost at {:.6} of the load (buckling)",
+                critical_load_factor
+            ),
+            Self::LimitPoint { load_factor } => {
+                format!("NOT converged: limit point (snap-through) at {load_factor:.6} of the load")
+            }
+            Self::NewtonFailed { load_factor } => {
+                format!("NOT converged: Newton failed at {load_factor:.6} of the load")
+            }
+            Self::StepLimit { load_factor } => {
+                format!("NOT converged: continuation step limit at {load_factor:.6} of the load")
+            }
+        }
+    }
+}
+
+/// Work done by one path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct SolveStats {
+    pub continuation_steps: usize,
+    pub rejected_steps: usize,
+    pub newton_iterations: usize,
+    /// Factorisations that needed the general sparse LU instead of the `O(N)` block elimination.
+    pub general_factorisations: usize,
+    pub factorisations: usize,
+    /// Wall time, s.
+    pub time_seconds: f64,
+}
+
+/// An equilibrium found along a load path.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EquilibriumSolution {
+    pub state: State,
+    /// Fraction of the load reached (1 when the path completed).
+    pub load_factor: f64,
+    /// `max_i |r_i|` over the joint rows, N·m.
+    pub residual_norm: f64,
+    /// `|Φ(θ)|`, m.
+    pub constraint_violation: f64,
+    pub stability: Stability,
+    pub status: EquilibriumStatus,
+    pub stats: SolveStats,
+}
+
+/// A load path: the design, the start state (an equilibrium under `from`) and the two loads.
+#[derive(Clone, Debug)]
+pub struct LoadPath<'a> {
+    pub spans: &'a [f64],
+    pub design: &'a Design,
+    pub from: LinkLoads,
+    pub to: LinkLoads,
+    pub start: State,
+}
+
+struct Converged {
+    state: State,
+    residual: Vec<f64>,
+    jac: BorderedTridiagonal,
+    iterations: usize,
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+/// Newton's method on `(θ, λ)` at fixed load from `start`.
+fn newton(
+    path: &LoadPath,
+    loads: &LinkLoads,
+    start: State,
+    opts: &ContinuationOptions,
+    stats: &mut SolveStats,
+) -> Option<Converged> {
+    let mut state = start;
+    let mut first_norm = None;
+    for it in 0..=opts.max_newton_iterations {
+        let (residual, jac) = residual_and_state_jacobian(path.spans, path.design, loads, &state);
+        let norm = max_abs(&residual);
+        if !norm.is_finite() {
+            return None;
+        }
+        if norm <= opts.residual_tolerance {
+            return Some(Converged { state, residual, jac, iterations: it });
+        }
+        let first = *first_norm.get_or_insert(norm);
+        if it == opts.max_newton_iterations || norm > 1e6 * first.max(opts.residual_tolerance) {
+            return None;
+        }
+        let lu = factor(&jac, stats)?;
+        let step = lu.solve(&residual);
+        stats.newton_iterations += 1;
+        let n = state.theta.len();
+        for (t, d) in state.theta.iter_mut().zip(&step) {
+            *t -= d;
+        }
+        state.lambda -= step[n];
+    }
+    None
+}
+
+fn factor(jac: &BorderedTridiagonal, stats: &mut SolveStats) -> Option<BorderedLu> {
+    let lu = BorderedLu::factor(jac).ok()?;
+    stats.factorisations += 1;
+    if !lu.is_block() {
+        stats.general_factorisations += 1;
+    }
+    Some(lu)
+}
+
+/// Euler predictor along the path tangent `dx/ds = −J⁻¹ ∂r/∂s` from the converged point `cur`.
+fn predict(path: &LoadPath, cur: &Converged, ds: f64, stats: &mut SolveStats) -> State {
+    let r_to = equilibrium_residual(path.spans, path.design, &path.to, &cur.state);
+    let r_from = equilibrium_residual(path.spans, path.design, &path.from, &cur.state);
+    let dr_ds: Vec<f64> = r_to.iter().zip(&r_from).map(|(a, b)| a - b).collect();
+    let mut next = cur.state.clone();
+    if let Some(lu) = factor(&cur.jac, stats) {
+        let tangent = lu.solve(&dr_ds);
+        let n = next.theta.len();
+        if tangent.iter().all(|v| v.is_finite()) {
+            for (t, d) in next.theta.iter_mut().zip(&tangent) {
+                *t -= ds * d;
+            }
+            next.lambda -= ds * tangent[n];
+        }
+    }
+    next
+}
+
+fn angle_change(a: &State, b: &State) -> f64 {
+    a.theta.iter().zip(&b.theta).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Follows `path` from `s = 0` to `s = 1`. See the module docs for the statuses.
+pub fn solve_path(path: &LoadPath, opts: &ContinuationOptions) -> EquilibriumSolution {
+    let clock = Instant::now();
+    let mut stats = SolveStats::default();
+    let finish = |cur: &Converged, s: f64, status: EquilibriumStatus, stability: Stability, mut stats: SolveStats| {
+        let n = cur.state.theta.len();
+        stats.time_seconds = clock.elapsed().as_secs_f64();
+        EquilibriumSolution {
+            state: cur.state.clone(),
+            load_factor: s,
+            residual_norm: max_abs(&cur.residual[..n]),
+            constraint_violation: cur.residual[n].abs(),
+            stability,
+            status,
+            stats,
+        }
+    };
+
+    let Some(mut cur) = newton(path, &path.from, path.start.clone(), opts, &mut stats) else {
+        let (residual, jac) = residual_and_state_jacobian(path.spans, path.design, &path.from, &path.start);
+        let start = Converged { state: path.start.clone(), residual, jac, iterations: 0 };
+        let stability = stability::certify(&start.jac);
+        return finish(&start, 0.0, EquilibriumStatus::NewtonFailed { load_factor: 0.0 }, stability, stats);
+    };
+    let start_stability = stability::certify(&cur.jac);
+    let mut critical = (start_stability.negative_directions > 0).then_some(0.0);
+    let mut s = 0.0;
+    let mut ds = opts.initial_step.clamp(opts.min_step, 1.0);
+
+    while s < 1.0 {
+        if stats.continuation_steps >= opts.max_steps {
+            let st = stability::certify(&cur.jac);
+            return finish(&cur, s, EquilibriumStatus::StepLimit { load_factor: s }, st, stats);
+        }
+        let s_new = (s + ds).min(1.0);
+        let loads = LinkLoads::lerp(&path.from, &path.to, s_new);
+        let guess = predict(path, &cur, s_new - s, &mut stats);
+        match newton(path, &loads, guess, opts, &mut stats) {
+            Some(next) if angle_change(&next.state, &cur.state) <= opts.max_angle_step => {
+                if critical.is_none() && stability::negative_directions(&next.jac) > 0 {
+                    critical = Some(locate_critical(path, &cur, s, s_new, opts, &mut stats));
+                }
+                let easy = next.iterations <= 3;
+                cur = next;
+                s = s_new;
+                stats.continuation_steps += 1;
+                if easy {
+                    ds = (2.0 * ds).min(1.0);
+                }
+            }
+            _ => {
+                stats.rejected_steps += 1;
+                ds *= 0.5;
+                if ds < opts.min_step {
+                    let st = stability::certify(&cur.jac);
+                    let fold = match (st.min_eigenvalue, start_stability.min_eigenvalue) {
+                        (Some(now), Some(start)) => now < 0.01 * start,
+                        _ => false,
+                    };
+                    let status = if fold {
+                        EquilibriumStatus::LimitPoint { load_factor: s }
+                    } else {
+                        EquilibriumStatus::NewtonFailed { load_factor: s }
+                    };
+                    return finish(&cur, s, status, st, stats);
+                }
+            }
+        }
+    }
+    let st = stability::certify(&cur.jac);
+    let status = match (critical, st.stable) {
+        (None, true) => EquilibriumStatus::Stable,
+        (Some(c), _) => EquilibriumStatus::Unstable { critical_load_factor: c },
+        (None, false) => EquilibriumStatus::Unstable { critical_load_factor: 1.0 },
+    };
+    finish(&cur, 1.0, status, st, stats)
+}
+
+/// Bisection on the load factor between the stable point `stable` at `lo` and an unstable one at
+/// `hi`, for where the projected Hessian first gets a negative direction.
+fn locate_critical(
+    path: &LoadPath,
+    stable: &Converged,
+    mut lo: f64,
+    mut hi: f64,
+    opts: &ContinuationOptions,
+    stats: &mut SolveStats,
+) -> f64 {
+    let mut anchor = Converged {
+        state: stable.state.clone(),
+        residual: stable.residual.clone(),
+        jac: stable.jac.clone(),
+        iterations: 0,
+    };
+    while hi - lo > opts.critical_load_tolerance {
+        let mid = 0.5 * (lo + hi);
+        let loads = LinkLoads::lerp(&path.from, &path.to, mid);
+        let guess = predict(path, &anchor, mid - lo, stats);
+        match newton(path, &loads, guess, opts, stats) {
+            Some(c) if stability::negative_directions(&c.jac) == 0 => {
+                lo = mid;
+                anchor = c;
+            }
+            _ => hi = mid,
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The static problem of a design: the passive load (transverse forces and self-weight) and the
+/// actuation added on top of it (the axial force at the end).
+#[derive(Clone, Debug)]
+pub struct StaticProblem {
+    pub chain: Chain,
+    pub design: Design,
+    pub passive: NodalLoads,
+    pub actuation: NodalLoads,
+}
+
+/// The two load states of eq. (33): `θ1` under the passive load, `θ2` with the actuation added.
+#[derive(Clone, Debug, Serialize)]
+pub struct StaticSolution {
+    /// Path from the unloaded design `θ0` to the passive load.
+    pub passive: EquilibriumSolution,
+    /// Path from `θ1` to passive plus actuation; `None` when the passive path did not reach its load.
+    pub loaded: Option<EquilibriumSolution>,
+    /// `X_{N+1}(θ1) − L_x`, m.
+    pub passive_end_displacement: f64,
+    /// `X_{N+1}(θ2) − L_x`, m (the `δ` of eq. (32)).
+    pub end_displacement: Option<f64>,
+}
+
+impl StaticProblem {
+    /// Link load resultants of the passive load (self-weight included).
+    pub fn passive_loads(&self) -> LinkLoads {
+        LinkLoads::from_nodal(&self.chain, &self.passive, true)
+    }
+
+    /// Link load resultants of passive load plus actuation.
+    pub fn total_loads(&self) -> LinkLoads {
+        let add = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x + y).collect();
+        let total = NodalLoads {
+            p_x: add(&self.passive.p_x, &self.actuation.p_x),
+            p_y: add(&self.passive.p_y, &self.actuation.p_y),
+        };
+        LinkLoads::from_nodal(&self.chain, &total, true)
+    }
+}
+
+/// Solves both load states of a design by continuation: `θ0 → θ1 → θ2`.
+pub fn solve_static(problem: &StaticProblem, opts: &ContinuationOptions) -> StaticSolution {
+    let spans = &problem.chain.spans;
+    let n = spans.len();
+    let passive_loads = problem.passive_loads();
+    let passive = solve_path(
+        &LoadPath {
+            spans,
+            design: &problem.design,
+            from: LinkLoads::zero(n),
+            to: passive_loads.clone(),
+            start: State::unloaded(&problem.design),
+        },
+        opts,
+    );
+    let lx = problem.chain.length_x();
+    let passive_end_displacement = end_x(spans, &problem.design.theta0, &passive.state.theta) - lx;
+    let loaded = (passive.load_factor == 1.0).then(|| {
+        solve_path(
+            &LoadPath {
+                spans,
+                design: &problem.design,
+                from: passive_loads,
+                to: problem.total_loads(),
+                start: passive.state.clone(),
+            },
+            opts,
+        )
+    });
+    let end_displacement = loaded
+        .as_ref()
+        .filter(|l| l.load_factor == 1.0)
+        .map(|l| end_x(spans, &problem.design.theta0, &l.state.theta) - lx);
+    StaticSolution { passive, loaded, passive_end_displacement, end_displacement }
+}
