@@ -28,6 +28,9 @@ use std::time::Instant;
 #[serde(deny_unknown_fields, default)]
 pub struct ContinuationOptions {
     /// Newton stops when `max |r_i|` is at most this: joint rows in N·m, the constraint row in m.
+    /// Where this is below the rounding floor of the residual (`32 ε` times the largest sum of
+    /// absolute terms of a row, e.g. stiff springs of 10⁷ N·m/rad) that floor is used instead and
+    /// reported as `tolerance_used`.
     pub residual_tolerance: f64,
     /// Newton iterations allowed per continuation step.
     pub max_newton_iterations: usize,
@@ -125,6 +128,8 @@ pub struct EquilibriumSolution {
     pub residual_norm: f64,
     /// `|Φ(θ)|`, m.
     pub constraint_violation: f64,
+    /// The convergence threshold Newton used at the returned state (see `residual_tolerance`).
+    pub tolerance_used: f64,
     pub stability: Stability,
     pub status: EquilibriumStatus,
     pub stats: SolveStats,
@@ -147,6 +152,20 @@ struct Converged {
     iterations: usize,
 }
 
+/// Rounding floor of the residual at `state`: `32 ε` times the largest sum of absolute terms of a
+/// joint row (springs `(K_i + K_{i+1}) (|θ| + |θ0|)`, loads `L_i (|V_i| + |A_i| + |λ|)`), N·m.
+fn rounding_floor(path: &LoadPath, loads: &LinkLoads, state: &State) -> f64 {
+    let d = path.design;
+    let mut scale: f64 = 0.0;
+    for i in 0..path.spans.len() {
+        let springs = (d.stiffness[i] + d.stiffness[i + 1]) * (state.theta[i].abs() + d.theta0[i].abs() + 1.0);
+        let length = path.spans[i] / d.theta0[i].cos();
+        let forces = length * (loads.vertical[i].abs() + loads.axial[i].abs() + state.lambda.abs());
+        scale = scale.max(springs + forces);
+    }
+    32.0 * f64::EPSILON * scale
+}
+
 fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
@@ -167,7 +186,8 @@ fn newton(
         if !norm.is_finite() {
             return None;
         }
-        if norm <= opts.residual_tolerance {
+        let tolerance = opts.residual_tolerance.max(rounding_floor(path, loads, &state));
+        if norm <= tolerance {
             return Some(Converged { state, residual, jac, iterations: it });
         }
         let first = *first_norm.get_or_insert(norm);
@@ -225,11 +245,14 @@ pub fn solve_path(path: &LoadPath, opts: &ContinuationOptions) -> EquilibriumSol
     let finish = |cur: &Converged, s: f64, status: EquilibriumStatus, stability: Stability, mut stats: SolveStats| {
         let n = cur.state.theta.len();
         stats.time_seconds = clock.elapsed().as_secs_f64();
+        let loads = LinkLoads::lerp(&path.from, &path.to, s);
+        let tolerance_used = opts.residual_tolerance.max(rounding_floor(path, &loads, &cur.state));
         EquilibriumSolution {
             state: cur.state.clone(),
             load_factor: s,
             residual_norm: max_abs(&cur.residual[..n]),
             constraint_violation: cur.residual[n].abs(),
+            tolerance_used,
             stability,
             status,
             stats,

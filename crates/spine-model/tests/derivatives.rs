@@ -1,0 +1,120 @@
+//! Every derivative of the model against central finite differences, and the residual against the
+//! gradient of the energy `U + V − λΦ` (two formulations of the same physics).
+
+use num_dual::Dual64;
+use spine_model::energy::{load_potential, strain_energy};
+use spine_model::fixtures::{random_problem, FixtureRng};
+use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
+use spine_model::kinematics::end_constraint;
+use spine_model::residual::equilibrium_residual;
+use spine_model::{Design, NodalLoads, State};
+
+const SIZES: [usize; 5] = [1, 2, 3, 10, 50];
+
+/// Entry-wise check `|a − f| ≤ tol · max(|f|, floor)`, with `floor = 1e-6 · max |f|` over the matrix
+/// so that entries that are zero up to rounding do not demand impossible relative accuracy.
+fn assert_matrix_close(ad: &[Vec<f64>], fd: &[Vec<f64>], tol: f64, what: &str) {
+    let big = fd.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let floor = 1e-6 * big;
+    for (i, (ra, rf)) in ad.iter().zip(fd).enumerate() {
+        for (j, (a, f)) in ra.iter().zip(rf).enumerate() {
+            let err = (a - f).abs() / f.abs().max(floor).max(1e-300);
+            assert!(err <= tol, "{what}[{i}][{j}]: AD {a:e} vs FD {f:e} (relative error {err:e})");
+        }
+    }
+}
+
+/// Central differences of `f` (vector valued) in each of `x`'s entries, as a dense matrix.
+fn central_differences(x: &[f64], f: impl Fn(&[f64]) -> Vec<f64>) -> Vec<Vec<f64>> {
+    let m = f(x).len();
+    let mut jac = vec![vec![0.0; x.len()]; m];
+    for k in 0..x.len() {
+        let h = 1e-6 * x[k].abs().max(1.0);
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[k] += h;
+        xm[k] -= h;
+        let (fp, fm) = (f(&xp), f(&xm));
+        for i in 0..m {
+            jac[i][k] = (fp[i] - fm[i]) / (2.0 * h);
+        }
+    }
+    jac
+}
+
+#[test]
+fn state_jacobian_matches_central_differences() {
+    for &n in &SIZES {
+        for seed in 0..3 {
+            let (chain, design, loads, state) = random_problem(n, 100 * n as u64 + seed);
+            let (r, jac) = residual_and_state_jacobian(&chain.spans, &design, &loads, &state);
+            assert_eq!(r, equilibrium_residual(&chain.spans, &design, &loads, &state));
+            let mut x = state.theta.clone();
+            x.push(state.lambda);
+            let fd = central_differences(&x, |x| {
+                let s = State { theta: x[..n].to_vec(), lambda: x[n] };
+                equilibrium_residual(&chain.spans, &design, &loads, &s)
+            });
+            assert_matrix_close(&jac.to_sparse().to_dense(), &fd, 1e-6, &format!("dr/d(θ,λ) N={n}"));
+        }
+    }
+}
+
+#[test]
+fn design_jacobian_matches_central_differences() {
+    for &n in &SIZES {
+        for seed in 0..3 {
+            let (chain, design, loads, state) = random_problem(n, 200 * n as u64 + seed);
+            let jac = design_jacobian(&chain.spans, &design, &loads, &state);
+            assert_eq!((jac.nrows, jac.ncols), (n + 1, 2 * n + 1));
+            assert!(jac.entries.len() <= 6 * n, "design Jacobian must stay sparse");
+            let mut p = design.theta0.clone();
+            p.extend(&design.stiffness);
+            let fd = central_differences(&p, |p| {
+                let d = Design { theta0: p[..n].to_vec(), stiffness: p[n..].to_vec() };
+                equilibrium_residual(&chain.spans, &d, &loads, &state)
+            });
+            assert_matrix_close(&jac.to_dense(), &fd, 1e-6, &format!("dr/d(θ0,K) N={n}"));
+        }
+    }
+}
+
+/// The residual's joint rows are the gradient of `U + V − λΦ` (energy written separately, eq. (3)
+/// and (31)); the gradient is taken by AD one direction at a time.
+#[test]
+fn residual_is_the_gradient_of_the_total_potential() {
+    for &n in &SIZES {
+        let (chain, design, _, state) = random_problem(n, 300 + n as u64);
+        let mut rng = FixtureRng::new(7 + n as u64);
+        let nodal = NodalLoads {
+            p_x: (0..=n).map(|_| rng.uniform(-50.0, 50.0)).collect(),
+            p_y: (0..=n).map(|_| rng.uniform(-50.0, 50.0)).collect(),
+        };
+        let loads = spine_model::LinkLoads::from_nodal(&chain, &nodal, true);
+        let r = equilibrium_residual(&chain.spans, &design, &loads, &state);
+        let lift = |v: &[f64]| v.iter().map(|&x| Dual64::from(x)).collect::<Vec<_>>();
+        let theta0 = lift(&design.theta0);
+        let stiffness = lift(&design.stiffness);
+        for k in 0..n {
+            let mut theta = lift(&state.theta);
+            theta[k] = Dual64::from(state.theta[k]).derivative();
+            let total = strain_energy(&theta, &theta0, &stiffness)
+                + load_potential(&chain, &nodal, true, &theta0, &theta)
+                - end_constraint(&chain.spans, &theta0, &theta) * state.lambda;
+            let scale = r.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            assert!(
+                (total.eps - r[k]).abs() <= 1e-12 * scale,
+                "N={n} row {k}: energy gradient {} vs residual {}",
+                total.eps,
+                r[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn unloaded_design_is_an_exact_equilibrium() {
+    let (chain, design) = spine_model::fixtures::arch(10, 1.0, 0.4, 500.0);
+    let zero = spine_model::LinkLoads::zero(10);
+    let r = equilibrium_residual(&chain.spans, &design, &zero, &State::unloaded(&design));
+    assert!(r.iter().all(|v| v.abs() < 1e-15), "{r:?}");
+}
