@@ -1,1 +1,27 @@
+//! # spine-case: case files
+//!
+//! A case file is JSON with a `kind` that says what to run. Unknown fields are errors, every value
+//! is checked, and every error names the field and what is allowed, so that a bad file never
+//! reaches a solver. See `docs/case-format.md` for the full format.
+//!
+//! ```
+//! let text = r#"{
+//!   "kind": "equilibrium",
+//!   "chain": { "links": 2, "length_x": 1.0 },
+//!   "design": { "theta0": [0.2, -0.2], "stiffness": [0, 100, 0] },
+//!   "loads": { "p_y": [0, -10, 0], "p_x": -50 }
+//! }"#;
+//! let case = spine_case::Case::from_json(text).unwrap();
+//! assert!(matches!(case, spine_case::Case::Equilibrium(_)));
+//! ```
 
+mod error;
+mod per_item;
+mod schema;
+
+pub use error::CaseError;
+pub use per_item::PerItem;
+pub use schema::{
+    Assumption, Case, ChainSpec, DesignSpec, EquilibriumCase, GivenDesign, LoadSpec, Notes, TwoLinkCase,
+    ValidEquilibrium, ValidTwoLink,
+};

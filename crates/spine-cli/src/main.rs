@@ -1,1 +1,100 @@
-fn main() {}
+//! `spine`: run flexible-spine case files.
+//!
+//! Exit codes: 0 success; 2 bad input (nothing written); 3 the run finished but its result is not a
+//! stable, converged equilibrium (the result is still written, with its status); 1 any other
+//! failure (for example the output folder cannot be written).
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+mod equilibrium;
+mod output;
+mod twolink;
+
+#[derive(Parser)]
+#[command(name = "spine", version, about = "Design and analysis of flexible spines (planar link chains with torsional springs)")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args)]
+struct RunArgs {
+    /// The case file (JSON).
+    case: PathBuf,
+    /// Output folder; `result.json` is written there.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
+    /// Leave timings out of `result.json`, so the same input gives the same bytes.
+    #[arg(long)]
+    deterministic: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Passive (θ1) and loaded (θ2) equilibria of a given design, with stability.
+    Equilibrium(RunArgs),
+    /// The two-link analysis of Sec. 3: closed forms beside the exact solution.
+    Twolink(RunArgs),
+    /// Runs any case file by its `kind`.
+    Case(RunArgs),
+}
+
+/// How a command ended.
+pub enum Outcome {
+    Success,
+    NotConverged,
+}
+
+/// An error with its exit code.
+pub enum Failure {
+    Input(String),
+    Other(String),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let (args, expect) = match &cli.command {
+        Command::Equilibrium(a) => (a, Some("equilibrium")),
+        Command::Twolink(a) => (a, Some("twolink")),
+        Command::Case(a) => (a, None),
+    };
+    match run(args, expect) {
+        Ok(Outcome::Success) => ExitCode::SUCCESS,
+        Ok(Outcome::NotConverged) => ExitCode::from(3),
+        Err(Failure::Input(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Other(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(args: &RunArgs, expect: Option<&str>) -> Result<Outcome, Failure> {
+    let path = args.case.display().to_string();
+    let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
+    let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+    if let Some(kind) = expect {
+        if case.kind() != kind {
+            return Err(Failure::Input(format!(
+                "{path}: kind: this command runs \"{kind}\" cases, the file is \"{}\" (use `spine case`)",
+                case.kind()
+            )));
+        }
+    }
+    let out = output::Output::new(&args.out, args.deterministic);
+    match case {
+        spine_case::Case::Equilibrium(c) => {
+            let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+            equilibrium::run(&c, &valid, &out)
+        }
+        spine_case::Case::Twolink(c) => {
+            let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+            twolink::run(&c, &valid, &out)
+        }
+    }
+}

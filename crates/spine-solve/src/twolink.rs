@@ -70,3 +70,91 @@ pub fn exact_theta0(tl: &TwoLink, stiffness: f64, delta: f64, opts: &Continuatio
     }
     Some(b)
 }
+
+/// One row of the two-link study: closed forms beside the exact design for one `δ`.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct StudyRow {
+    /// Prescribed end displacement, m.
+    pub delta: f64,
+    /// Exact `θ0` (rad) from the general solver, `None` if no root was found.
+    pub theta0_exact: Option<f64>,
+    /// Eq. (10) as printed, rad.
+    pub theta0_eq10_printed: f64,
+    /// Eq. (10) on the right branch, rad.
+    pub theta0_eq10: f64,
+    /// Eq. (10) consistent with eq. (11) to first order, rad.
+    pub theta0_first_order: f64,
+    /// Eq. (11) evaluated at the exact `θ0`, N·m/rad (compare with the given `K`).
+    pub stiffness_eq11: Option<f64>,
+    /// `θ1` at the exact design, rad.
+    pub theta1: Option<f64>,
+    /// `R` as printed in eq. (17) and corrected, at the exact design.
+    pub ratio_eq17_printed: Option<f64>,
+    pub ratio: Option<f64>,
+}
+
+/// Least-squares slopes of `log error` against `log |δ|` over the three smallest `|δ|` of the study
+/// (the asymptotic regime): the observed orders of the closed forms.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct StudyOrders {
+    pub eq10: Option<f64>,
+    pub first_order: Option<f64>,
+    pub eq11_relative: Option<f64>,
+}
+
+/// The closed forms of Sec. 3 beside the exact solution for each `δ`, with observed error orders.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Study {
+    pub zero_moment_angle: f64,
+    pub rows: Vec<StudyRow>,
+    pub orders: StudyOrders,
+}
+
+/// Runs the two-link study for spring `K` and the given end displacements.
+pub fn study(tl: &TwoLink, stiffness: f64, deltas: &[f64], opts: &ContinuationOptions) -> Study {
+    let rows: Vec<StudyRow> = deltas
+        .iter()
+        .map(|&delta| {
+            let exact = exact_theta0(tl, stiffness, delta, opts);
+            let theta1 = exact.and_then(|t0| {
+                let sol = general_solution(tl, stiffness, t0, opts);
+                sol.passive.status.is_stable().then(|| sol.passive.state.theta[0])
+            });
+            let pair = exact.zip(theta1);
+            StudyRow {
+                delta,
+                theta0_exact: exact,
+                theta0_eq10_printed: tl.theta0_eq10_printed(stiffness, delta),
+                theta0_eq10: tl.theta0_eq10(stiffness, delta),
+                theta0_first_order: tl.theta0_first_order(stiffness, delta),
+                stiffness_eq11: exact.map(|t0| tl.stiffness_eq11(t0, delta)),
+                theta1,
+                ratio_eq17_printed: pair.map(|(t0, t1)| TwoLink::ratio_eq17_printed(t1, t0, stiffness)),
+                ratio: pair.map(|(t0, t1)| TwoLink::ratio(t1, t0, stiffness)),
+            }
+        })
+        .collect();
+    let fit = |err: &dyn Fn(&StudyRow) -> Option<f64>| -> Option<f64> {
+        let mut smallest: Vec<&StudyRow> = rows.iter().collect();
+        smallest.sort_by(|a, b| a.delta.abs().total_cmp(&b.delta.abs()));
+        let pts: Vec<(f64, f64)> = smallest
+            .into_iter()
+            .take(3)
+            .filter_map(|r| err(r).filter(|e| *e > 0.0).map(|e| (r.delta.abs().ln(), e.ln())))
+            .collect();
+        if pts.len() < 2 {
+            return None;
+        }
+        let m = pts.len() as f64;
+        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / m, pts.iter().map(|p| p.1).sum::<f64>() / m);
+        let num: f64 = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+        let den: f64 = pts.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+        (den > 0.0).then(|| num / den)
+    };
+    let orders = StudyOrders {
+        eq10: fit(&|r| r.theta0_exact.map(|t| (r.theta0_eq10 - t).abs())),
+        first_order: fit(&|r| r.theta0_exact.map(|t| (r.theta0_first_order - t).abs())),
+        eq11_relative: fit(&|r| r.stiffness_eq11.map(|k| (k - stiffness).abs() / stiffness)),
+    };
+    Study { zero_moment_angle: tl.zero_moment_angle(), rows, orders }
+}

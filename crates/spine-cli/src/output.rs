@@ -1,0 +1,35 @@
+//! Writing results: `DIR/result.json`, written whole or not at all.
+
+use crate::Failure;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+pub struct Output {
+    dir: PathBuf,
+    pub deterministic: bool,
+}
+
+impl Output {
+    pub fn new(dir: &Path, deterministic: bool) -> Self {
+        Self { dir: dir.to_path_buf(), deterministic }
+    }
+
+    /// Writes `value` as pretty JSON to `DIR/name` through a temporary file and a rename.
+    /// Timings live under the top-level key `timings`, dropped with `--deterministic`.
+    pub fn write_json(&self, name: &str, mut value: Value) -> Result<PathBuf, Failure> {
+        if self.deterministic {
+            if let Value::Object(map) = &mut value {
+                map.remove("timings");
+            }
+        }
+        let io = |e: std::io::Error| Failure::Other(format!("{}: cannot write: {e}", self.dir.display()));
+        std::fs::create_dir_all(&self.dir).map_err(io)?;
+        let target = self.dir.join(name);
+        let tmp = self.dir.join(format!(".{name}.tmp"));
+        let mut text = serde_json::to_string_pretty(&value).expect("JSON values always serialise");
+        text.push('\n');
+        std::fs::write(&tmp, text).map_err(io)?;
+        std::fs::rename(&tmp, &target).map_err(io)?;
+        Ok(target)
+    }
+}
