@@ -52,11 +52,23 @@ impl Case {
     }
 }
 
+/// Marks a path inside a field whose deserialiser is hand-written (see [`DesignSpec`]).
+const INNER_PATH: &str = "\u{1f}";
+
 fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, CaseError> {
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
-        let field = if path == "." { "case file".to_string() } else { path };
-        CaseError::Parse { field, message: e.into_inner().to_string() }
+        let mut field = if path == "." { "case file".to_string() } else { path };
+        let mut message = e.into_inner().to_string();
+        if let Some(rest) = message.strip_prefix(INNER_PATH) {
+            if let Some((inner, msg)) = rest.split_once(INNER_PATH) {
+                if inner != "." {
+                    field = format!("{field}.{inner}");
+                }
+                message = msg.to_string();
+            }
+        }
+        CaseError::Parse { field, message }
     })
 }
 
@@ -133,7 +145,13 @@ impl<'de> Deserialize<'de> for DesignSpec {
             serde_json::Value::String(s) => {
                 Err(D::Error::custom(format!("unknown design keyword {s:?}; give \"optimise\" or an object")))
             }
-            obj @ serde_json::Value::Object(_) => GivenDesign::deserialize(obj).map(Self::Given).map_err(D::Error::custom),
+            obj @ serde_json::Value::Object(_) => serde_path_to_error::deserialize::<_, GivenDesign>(obj)
+                .map(Self::Given)
+                // The inner path travels in the message between two markers; `parse` joins it on.
+                .map_err(|e| {
+                    let path = e.path().to_string();
+                    D::Error::custom(format!("{INNER_PATH}{path}{INNER_PATH}{}", e.into_inner()))
+                }),
             _ => Err(D::Error::custom("expected an object {\"theta0\": [...], \"stiffness\": ...} or \"optimise\"")),
         }
     }

@@ -1,0 +1,170 @@
+//! The `spine` binary end to end: good cases write `result.json`, bad input exits with code 2, a
+//! one-line error naming the field, and writes nothing.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const GOOD: &str = r#"{
+  "kind": "equilibrium",
+  "chain": { "links": 4, "length_x": 1.0, "masses": 0.1 },
+  "design": { "theta0": [0.3, 0.1, -0.1, -0.3], "stiffness": [800, 800, 800, 800, 0] },
+  "loads": { "p_y": -5.0, "p_x": -100.0 }
+}"#;
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmpdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("spine-cli-test-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn spine(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spine")).args(args).output().unwrap()
+}
+
+fn run_case(text: &str, tag: &str, extra: &[&str]) -> (Output, PathBuf) {
+    let dir = tmpdir(tag);
+    let case = dir.join("case.json");
+    std::fs::write(&case, text).unwrap();
+    let out = dir.join("out");
+    let mut args = vec!["case", case.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    (spine(&args), out)
+}
+
+#[test]
+fn good_case_writes_result_with_status_and_stability() {
+    let (o, out) = run_case(GOOD, "good", &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    for key in ["passive", "loaded"] {
+        assert_eq!(r[key]["status"]["kind"], "stable");
+        assert!(r[key]["residual_norm"].as_f64().unwrap() <= 1e-10);
+        assert_eq!(r[key]["stability"]["stable"], true);
+        assert_eq!(r[key]["theta"].as_array().unwrap().len(), 4);
+        assert_eq!(r[key]["nodes"].as_array().unwrap().len(), 5);
+    }
+    assert!(r["timings"]["passive_seconds"].as_f64().unwrap() >= 0.0);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("converged, stable"), "{stdout}");
+}
+
+#[test]
+fn same_input_same_bytes_with_deterministic() {
+    let (a, out_a) = run_case(GOOD, "det-a", &["--deterministic"]);
+    let (b, out_b) = run_case(GOOD, "det-b", &["--deterministic"]);
+    assert!(a.status.success() && b.status.success());
+    let (ra, rb) = (std::fs::read(out_a.join("result.json")).unwrap(), std::fs::read(out_b.join("result.json")).unwrap());
+    assert_eq!(ra, rb);
+    assert!(!String::from_utf8_lossy(&ra).contains("timings"));
+}
+
+#[test]
+fn unstable_result_is_reported_not_hidden() {
+    // A straight chain pushed far beyond its buckling load: converges on the unstable branch.
+    let text = r#"{"kind": "equilibrium", "chain": {"links": 4, "length_x": 1.0},
+      "design": {"theta0": [0, 0, 0, 0], "stiffness": 100},
+      "loads": {"p_y": 0.0, "p_x": -100000.0}}"#;
+    let (o, out) = run_case(text, "unstable", &[]);
+    assert_eq!(o.status.code(), Some(3));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    assert_eq!(r["loaded"]["status"]["kind"], "unstable");
+    assert_eq!(r["loaded"]["stability"]["stable"], false);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("UNSTABLE"));
+}
+
+/// Each bad case: `(tag, case text, field the error must name)`.
+fn bad_cases() -> Vec<(&'static str, String, &'static str)> {
+    let good: serde_json::Value = serde_json::from_str(GOOD).unwrap();
+    let with = |path: &[&str], v: serde_json::Value| {
+        let mut g = good.clone();
+        let mut node = &mut g;
+        for p in &path[..path.len() - 1] {
+            node = &mut node[*p];
+        }
+        node[path[path.len() - 1]] = v;
+        g.to_string()
+    };
+    use serde_json::json;
+    vec![
+        ("malformed", "{\"kind\": \"equilibrium\", ".to_string(), "case file"),
+        ("not-object", "[1, 2]".to_string(), "case file"),
+        ("no-kind", r#"{"chain": {}}"#.to_string(), "kind"),
+        ("bad-kind", with(&["kind"], json!("statics")), "kind"),
+        ("unknown-top", with(&["colour"], json!("red")), "colour"),
+        ("unknown-chain", with(&["chain", "linkz"], json!(3)), "chain"),
+        ("zero-links", with(&["chain", "links"], json!(0)), "chain.links"),
+        ("neg-links", with(&["chain", "links"], json!(-3)), "chain.links"),
+        ("both-lengths", with(&["chain", "spans"], json!([0.25, 0.25, 0.25, 0.25])), "chain"),
+        ("spans-len", with(&["chain", "masses"], json!([0.1, 0.1])), "chain.masses"),
+        ("neg-mass", with(&["chain", "masses"], json!(-1.0)), "chain.masses[0]"),
+        ("theta0-len", with(&["design", "theta0"], json!([0.1, -0.1])), "design.theta0"),
+        ("theta0-string", with(&["design", "theta0"], json!(["a", 0, 0, 0])), "design.theta0[0]"),
+        ("theta0-halfpi", with(&["design", "theta0"], json!([1.6, 0.0, 0.0, -1.6])), "design.theta0[0]"),
+        ("phi-nonzero", with(&["design", "theta0"], json!([0.3, 0.1, -0.1, -0.2])), "design.theta0"),
+        ("neg-stiffness", with(&["design", "stiffness"], json!([800, -5, 800, 800, 0])), "design.stiffness[1]"),
+        ("stiffness-len", with(&["design", "stiffness"], json!([800, 800])), "design.stiffness"),
+        ("mechanism", with(&["design", "stiffness"], json!(0.0)), "design.stiffness"),
+        ("design-keyword", with(&["design"], json!("optimize")), "design"),
+        ("optimise-in-equilibrium", with(&["design"], json!("optimise")), "design"),
+        ("py-len", with(&["loads", "p_y"], json!([1, 2, 3])), "loads.p_y"),
+        // JSON has no infinities: an overflowing literal is refused by the parser with its position.
+        ("huge-number", GOOD.replace("-100.0", "-1e999"), "line 5 column"),
+        ("solver-unknown", with(&["solver"], json!({"tolerance": 1e-9})), "solver"),
+        ("solver-step", with(&["solver"], json!({"initial_step": 2.0})), "solver.initial_step"),
+    ]
+}
+
+#[test]
+fn bad_input_exits_2_names_the_field_and_writes_nothing() {
+    for (tag, text, field) in bad_cases() {
+        let (o, out) = run_case(&text, tag, &[]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{tag}: exit {:?}, stderr {stderr}", o.status.code());
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{tag}: one line, got {stderr}");
+        assert!(stderr.contains(field), "{tag}: error should name `{field}`: {stderr}");
+        assert!(!stderr.contains("panicked"), "{tag}: {stderr}");
+        assert!(!out.exists(), "{tag}: nothing may be written");
+    }
+}
+
+#[test]
+fn bad_input_does_not_overwrite_an_earlier_result() {
+    let (o, out) = run_case(GOOD, "keep", &[]);
+    assert!(o.status.success());
+    let before = std::fs::read(out.join("result.json")).unwrap();
+    let case = out.parent().unwrap().join("bad.json");
+    std::fs::write(&case, GOOD.replace("\"links\": 4", "\"links\": 0")).unwrap();
+    let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(std::fs::read(out.join("result.json")).unwrap(), before);
+}
+
+#[test]
+fn missing_file_and_wrong_kind_exit_2() {
+    let o = spine(&["case", "/nonexistent/case.json"]);
+    assert_eq!(o.status.code(), Some(2));
+    let twolink = workspace().join("paper-cases/twolink.json");
+    let o = spine(&["equilibrium", twolink.to_str().unwrap(), "--out", tmpdir("kind").join("o").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("kind"));
+}
+
+#[test]
+fn twolink_paper_case_prints_the_comparison() {
+    let dir = tmpdir("twolink");
+    let case = workspace().join("paper-cases/twolink.json");
+    let o = spine(&["case", case.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("observed orders"), "{stdout}");
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    let orders = &r["study"]["orders"];
+    assert!((orders["eq10"].as_f64().unwrap() - 1.0).abs() < 0.05);
+    assert!((orders["first_order"].as_f64().unwrap() - 2.0).abs() < 0.05);
+    assert!((orders["eq11_relative"].as_f64().unwrap() - 1.0).abs() < 0.05);
+}

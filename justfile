@@ -1,0 +1,31 @@
+# Flexible spine workspace. `just --list` shows the recipes.
+
+set shell := ["bash", "-euo", "pipefail", "-c"]
+
+# Build everything once in release mode (the CLI, tests and benchmarks).
+build:
+    cargo build --release --workspace --all-targets
+
+# Run every test (release build; unit, integration, property and CLI tests).
+test:
+    cargo build --release --workspace --all-targets --quiet
+    if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
+    cargo test --release --workspace --doc --quiet
+
+# Run a paper case by name: `just case twolink` runs paper-cases/twolink.json into results/twolink.
+case NAME:
+    cargo run --release --quiet -p spine-cli -- case paper-cases/{{NAME}}.json --out results/{{NAME}}
+
+# Criterion benchmarks (equilibrium solve times and their parts for N = 10 … 1000).
+bench:
+    cargo bench -p spine-benchmarks --bench equilibrium
+
+# Fuzz the case parser for SECONDS seconds (needs the nightly toolchain; installs cargo-fuzz).
+fuzz SECONDS="60":
+    command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz
+    cd fuzz && cargo +nightly fuzz run case_parser -- -max_total_time={{SECONDS}}
+
+# Lints.
+lint:
+    cargo clippy --workspace --all-targets -- -D warnings
+    cargo fmt --all --check
