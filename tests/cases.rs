@@ -1,1 +1,100 @@
+//! Property tests over whole cases: random valid cases never panic and, when converged, have a
+//! small residual; arbitrary text never panics the parser; every paper case file validates.
 
+use proptest::prelude::*;
+use spine_case::Case;
+use spine_solve::solve_static;
+
+/// A valid equilibrium case: a random antisymmetric shape (so `Σ tan θ0 = 0` holds exactly with equal
+/// spans), random stiffness, masses and loads.
+fn valid_case() -> impl Strategy<Value = String> {
+    (2usize..24)
+        .prop_flat_map(|n| {
+            (
+                Just(n),
+                prop::collection::vec(-1.2f64..1.2, n / 2),
+                prop::collection::vec(1e1f64..1e4, n + 1),
+                0.0f64..0.5,
+                -50.0f64..50.0,
+                -2000.0f64..500.0,
+                0.2f64..3.0,
+            )
+        })
+        .prop_map(|(n, half, k, mass, p_y, p_x, lx)| {
+            let mut theta0 = vec![0.0; n];
+            for (i, t) in half.iter().enumerate() {
+                theta0[i] = *t;
+                theta0[n - 1 - i] = -t;
+            }
+            serde_json::json!({
+                "kind": "equilibrium",
+                "chain": { "links": n, "length_x": lx, "masses": mass },
+                "design": { "theta0": theta0, "stiffness": k },
+                "loads": { "p_y": p_y, "p_x": p_x }
+            })
+            .to_string()
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_valid_cases_solve_without_panic(text in valid_case()) {
+        let Case::Equilibrium(c) = Case::from_json(&text).unwrap() else { unreachable!() };
+        let valid = c.validate().unwrap();
+        let sol = solve_static(&valid.problem, &valid.options);
+        for eq in std::iter::once(&sol.passive).chain(sol.loaded.as_ref()) {
+            prop_assert!(eq.residual_norm.is_finite());
+            if eq.load_factor == 1.0 {
+                prop_assert!(eq.residual_norm <= eq.tolerance_used.max(1e-10), "{} > {}", eq.residual_norm, eq.tolerance_used);
+                prop_assert!(eq.constraint_violation <= 1e-10);
+            }
+            if eq.status.is_stable() {
+                prop_assert!(eq.stability.stable);
+            }
+        }
+    }
+
+    #[test]
+    fn arbitrary_text_never_panics_the_parser(text in ".{0,400}") {
+        if let Ok(Case::Equilibrium(c)) = Case::from_json(&text) {
+            let _ = c.validate();
+        }
+    }
+
+    #[test]
+    fn mangled_valid_cases_never_panic(text in valid_case(), cut in 0usize..2000, byte in 0u8..128) {
+        let mut bytes = text.into_bytes();
+        if !bytes.is_empty() {
+            let i = cut % bytes.len();
+            bytes[i] = byte;
+        }
+        let text = String::from_utf8_lossy(&bytes);
+        if let Ok(case) = Case::from_json(&text) {
+            match case {
+                Case::Equilibrium(c) => { let _ = c.validate(); }
+                Case::Twolink(c) => { let _ = c.validate(); }
+            }
+        }
+    }
+}
+
+#[test]
+fn every_paper_case_validates() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../paper-cases");
+    let mut count = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "json") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let ok = match Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())) {
+                Case::Equilibrium(c) => c.validate().map(|_| ()),
+                Case::Twolink(c) => c.validate().map(|_| ()),
+            };
+            ok.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            count += 1;
+        }
+    }
+    assert!(count >= 2);
+}
