@@ -19,6 +19,18 @@ pub fn rise_derivatives(span: f64, theta0: f64, theta: f64) -> (f64, f64) {
     (d[0], d[1])
 }
 
+/// Joint `i`'s stencil with the `M` slots `first..first + M` seeded as independent variables.
+fn seeded_stencil<const M: usize>(i: usize, design: &Design, state: &State, first: usize) -> JointStencil<DualSVec64<M>> {
+    JointStencil::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |s, v| {
+        let d = DualSVec64::<M>::from_re(v);
+        if (first..first + M).contains(&s) {
+            d.derivative(s - first)
+        } else {
+            d
+        }
+    })
+}
+
 /// Residual of eq. (5) and its Jacobian with respect to `(θ, λ)` in one pass.
 ///
 /// The Jacobian is bordered tridiagonal: `∂r_i/∂θ_{i±1}` from the springs, `∂r_i/∂θ_i`,
@@ -33,21 +45,7 @@ pub fn residual_and_state_jacobian(
     let mut jac = BorderedTridiagonal::zeros(n);
     let mut r = Vec::with_capacity(n + 1);
     for i in 0..n {
-        let st = JointStencil::<DualSVec64<4>>::gather(
-            i,
-            &state.theta,
-            state.lambda,
-            &design.theta0,
-            &design.stiffness,
-            |s, v| {
-                let d = DualSVec64::<4>::from_re(v);
-                if s <= slot::LAMBDA {
-                    d.derivative(s)
-                } else {
-                    d
-                }
-            },
-        );
+        let st = seeded_stencil::<4>(i, design, state, slot::THETA_PREV);
         let ri = st.residual(spans[i], loads.vertical[i], loads.axial[i]);
         let g = ri.eps.unwrap_generic(Const::<4>, U1);
         r.push(ri.re);
@@ -78,21 +76,7 @@ pub fn design_jacobian(spans: &[f64], design: &Design, loads: &LinkLoads, state:
     let n = spans.len();
     let mut m = SparseMatrix::new(n + 1, 2 * n + 1);
     for i in 0..n {
-        let st = JointStencil::<DualSVec64<5>>::gather(
-            i,
-            &state.theta,
-            state.lambda,
-            &design.theta0,
-            &design.stiffness,
-            |s, v| {
-                let d = DualSVec64::<5>::from_re(v);
-                if s >= slot::THETA0_PREV {
-                    d.derivative(s - slot::THETA0_PREV)
-                } else {
-                    d
-                }
-            },
-        );
+        let st = seeded_stencil::<5>(i, design, state, slot::THETA0_PREV);
         let g = st
             .residual(spans[i], loads.vertical[i], loads.axial[i])
             .eps
