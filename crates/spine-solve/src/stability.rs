@@ -36,7 +36,8 @@ struct Pencil<'a> {
 impl<'a> Pencil<'a> {
     fn new(jac: &'a BorderedTridiagonal) -> Self {
         let off: Vec<f64> = jac.lower.iter().zip(&jac.upper).map(|(l, u)| 0.5 * (l + u)).collect();
-        let norm = gershgorin(jac.diag.as_slice(), &off).1.abs().max(gershgorin(&jac.diag, &off).0.abs());
+        let (lo, hi) = gershgorin(&jac.diag, &off);
+        let norm = lo.abs().max(hi.abs());
         Self { diag: &jac.diag, off, grad: &jac.row, pivot_floor: f64::EPSILON * norm.max(f64::MIN_POSITIVE) }
     }
 
