@@ -111,7 +111,8 @@ fn hs071_exact_hessian_reaches_the_known_optimum() {
         assert!((x - x_star).abs() < 1e-6, "{:?}", solution.x);
     }
     assert!((solution.g[1] - 40.0).abs() < 1e-8);
-    assert!(solution.g[0] >= 25.0 - 1e-8);
+    // Ipopt relaxes bounds by `bound_relax_factor` (1e-8, relative).
+    assert!(solution.g[0] >= 25.0 * (1.0 - 1e-8) - 1e-12, "g = {:?}", solution.g);
     // Active inequality: its multiplier is nonzero; Ipopt's sign convention gives λ ≤ 0 for a
     // lower bound on g that is active.
     assert!(solution.lambda[0] < -1e-3, "{:?}", solution.lambda);
