@@ -1,0 +1,199 @@
+//! Local elements (value, AD gradient, AD Hessian, declared Hessian pattern) against central
+//! differences, and the hand-written derivatives of Appendix I against the AD ones.
+
+use spine_model::fixtures::{random_problem, FixtureRng};
+use spine_model::hand;
+use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
+use spine_model::local::{self, Difference, Element, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
+use spine_model::residual::{equilibrium_residual, slot};
+use spine_model::energy::strain_energy;
+use spine_model::kinematics::end_x;
+use spine_model::State;
+
+fn random_point<const M: usize>(rng: &mut FixtureRng) -> [f64; M] {
+    std::array::from_fn(|_| rng.uniform(-0.8, 0.8))
+}
+
+/// Checks one element at random points: gradient and Hessian against central differences of the
+/// value and of the gradient (relative 1e-6), and the Hessian zero outside `HESSIAN_PAIRS`.
+fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: [f64; M]) {
+    let mut rng = FixtureRng::new(7);
+    for _ in 0..20 {
+        let mut x: [f64; M] = random_point(&mut rng);
+        for k in 0..M {
+            x[k] *= scale[k];
+        }
+        let (v, g) = local::gradient(element, &x);
+        let (v2, g2, h) = local::hessian(element, &x);
+        assert!((v - local::value(element, &x)).abs() <= 1e-14 * v.abs().max(1.0));
+        assert!((v - v2).abs() <= 1e-14 * v.abs().max(1.0));
+        let gmax = g.iter().fold(1e-12f64, |m, a| m.max(a.abs()));
+        let hmax = h.iter().flatten().fold(1e-12f64, |m, a| m.max(a.abs()));
+        for k in 0..M {
+            assert!((g[k] - g2[k]).abs() <= 1e-12 * gmax);
+            let step = 1e-6 * x[k].abs().max(1.0);
+            let (mut xp, mut xm) = (x, x);
+            xp[k] += step;
+            xm[k] -= step;
+            let fd = (local::value(element, &xp) - local::value(element, &xm)) / (2.0 * step);
+            assert!((g[k] - fd).abs() <= 1e-6 * gmax, "{name} ∂/∂x{k}: AD {} FD {fd}", g[k]);
+            let (gp, gm) = (local::gradient(element, &xp).1, local::gradient(element, &xm).1);
+            for a in 0..M {
+                let fd = (gp[a] - gm[a]) / (2.0 * step);
+                assert!((h[a][k] - fd).abs() <= 1e-6 * hmax, "{name} ∂²/∂x{a}∂x{k}: AD {} FD {fd}", h[a][k]);
+            }
+        }
+        for a in 0..M {
+            for b in 0..=a {
+                assert_eq!(h[a][b], h[b][a]);
+                let declared = E::HESSIAN_PAIRS.contains(&(a, b));
+                if !declared {
+                    assert_eq!(h[a][b], 0.0, "{name}: Hessian entry ({a}, {b}) is not declared but is {}", h[a][b]);
+                }
+            }
+        }
+        for &(a, b) in E::HESSIAN_PAIRS {
+            assert!(a >= b && a < M, "{name}: pair ({a}, {b}) is not in the lower triangle");
+        }
+    }
+}
+
+#[test]
+fn elements_match_central_differences_and_their_declared_hessian_pattern() {
+    let joint = JointResidual { span: 0.1, vertical: -30.0, axial: 250.0, stiffness_scale: 10.0 };
+    let mut scale = [1.0; slot::COUNT];
+    scale[slot::LAMBDA] = 40.0;
+    scale[slot::STIFFNESS_LEFT] = 100.0;
+    scale[slot::STIFFNESS_RIGHT] = 100.0;
+    check_element(&joint, "joint residual", scale);
+    check_element(&LinkRise { span: 0.2 }, "link rise", [1.0; 2]);
+    check_element(&LinkRun { span: 0.2 }, "link run", [1.0; 2]);
+    check_element(&HeightStep { span: 0.2 }, "height step", [0.1, 0.1, 1.0]);
+    check_element(&SpringEnergy { stiffness_scale: 25.0 }, "spring energy", [1.0, 1.0, 1.0, 1.0, 40.0]);
+    check_element(&Difference, "difference", [1.0; 2]);
+}
+
+#[test]
+fn every_declared_hessian_pair_is_nonzero_somewhere() {
+    // The declared pattern is exact, not just a superset: each pair is nonzero at a random point.
+    fn check<const M: usize, E: Element<M>>(e: &E, name: &str) {
+        let x: [f64; M] = random_point(&mut FixtureRng::new(3));
+        let (_, _, h) = local::hessian(e, &x);
+        for &(a, b) in E::HESSIAN_PAIRS {
+            assert!(h[a][b] != 0.0, "{name}: declared pair ({a}, {b}) is zero");
+        }
+    }
+    check(&JointResidual { span: 0.1, vertical: -30.0, axial: 250.0, stiffness_scale: 10.0 }, "joint");
+    check(&LinkRise { span: 0.2 }, "rise");
+    check(&LinkRun { span: 0.2 }, "run");
+    check(&HeightStep { span: 0.2 }, "height");
+    check(&SpringEnergy { stiffness_scale: 2.0 }, "spring");
+}
+
+#[test]
+fn joint_element_is_the_model_residual() {
+    for n in [1, 2, 5, 12] {
+        let (chain, design, loads, state) = random_problem(n, 11 + n as u64);
+        let r = equilibrium_residual(&chain.spans, &design, &loads, &state);
+        for i in 0..n {
+            let mut x = [0.0; slot::COUNT];
+            if i > 0 {
+                x[slot::THETA_PREV] = state.theta[i - 1];
+                x[slot::THETA0_PREV] = design.theta0[i - 1];
+            }
+            if i + 1 < n {
+                x[slot::THETA_NEXT] = state.theta[i + 1];
+                x[slot::THETA0_NEXT] = design.theta0[i + 1];
+            }
+            x[slot::THETA] = state.theta[i];
+            x[slot::THETA0] = design.theta0[i];
+            x[slot::LAMBDA] = state.lambda;
+            x[slot::STIFFNESS_LEFT] = design.stiffness[i] / 4.0;
+            x[slot::STIFFNESS_RIGHT] = design.stiffness[i + 1] / 4.0;
+            let e = JointResidual { span: chain.spans[i], vertical: loads.vertical[i], axial: loads.axial[i], stiffness_scale: 4.0 };
+            let v = local::value(&e, &x);
+            assert!((v - r[i]).abs() <= 1e-12 * r[i].abs().max(1.0), "row {i}: {v} vs {}", r[i]);
+        }
+        let energy = (0..=n)
+            .map(|j| {
+                let get = |v: &[f64], i: isize| if i >= 0 && (i as usize) < n { v[i as usize] } else { 0.0 };
+                let jj = j as isize;
+                let x = [get(&state.theta, jj - 1), get(&design.theta0, jj - 1), get(&state.theta, jj), get(&design.theta0, jj), design.stiffness[j]];
+                local::value(&SpringEnergy { stiffness_scale: 1.0 }, &x)
+            })
+            .sum::<f64>();
+        let expected = strain_energy(&state.theta, &design.theta0, &design.stiffness);
+        assert!((energy - expected).abs() <= 1e-12 * expected.max(1.0));
+        let run: f64 = (0..n).map(|i| local::value(&LinkRun { span: chain.spans[i] }, &[state.theta[i], design.theta0[i]])).sum();
+        assert!((run - end_x(&chain.spans, &design.theta0, &state.theta)).abs() < 1e-14);
+    }
+}
+
+#[test]
+fn hand_state_jacobian_equals_the_ad_one() {
+    for n in [1, 2, 3, 10, 50] {
+        for seed in 0..3 {
+            let (chain, design, loads, state) = random_problem(n, 500 + 10 * n as u64 + seed);
+            let (_, ad) = residual_and_state_jacobian(&chain.spans, &design, &loads, &state);
+            let hand = hand::state_jacobian(&chain.spans, &design, &loads, &state);
+            let (a, h) = (ad.to_sparse().to_dense(), hand.to_sparse().to_dense());
+            for (ra, rh) in a.iter().zip(&h) {
+                for (x, y) in ra.iter().zip(rh) {
+                    assert!((x - y).abs() <= 1e-10 * x.abs().max(1.0), "N={n}: AD {x} hand {y}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn hand_design_products_equal_the_ad_design_jacobian() {
+    for n in [1, 2, 3, 10, 50] {
+        let (chain, design, loads, state) = random_problem(n, 900 + n as u64);
+        let mut rng = FixtureRng::new(n as u64);
+        let psi: Vec<f64> = (0..=n).map(|_| rng.uniform(-1.0, 1.0)).collect();
+        let ad = design_jacobian(&chain.spans, &design, &loads, &state).transpose_mul_vec(&psi);
+        let hand = hand::design_jacobian_transpose_mul(&chain.spans, &design, &loads, &state, &psi);
+        let big = ad.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        for (k, (a, h)) in ad.iter().zip(&hand).enumerate() {
+            assert!((a - h).abs() <= 1e-12 * big, "N={n} column {k}: AD {a} hand {h}");
+        }
+    }
+}
+
+#[test]
+fn hand_energy_and_end_partials_match_central_differences() {
+    for n in [1, 3, 10] {
+        let (chain, design, _, state) = random_problem(n, 40 + n as u64);
+        let (du_dtheta, du_ddesign) = hand::strain_energy_partials(&design, &state);
+        let (dx_dtheta, dx_ddesign) = hand::end_x_partials(&chain.spans, &design, &state);
+        let energy = |t: &[f64], t0: &[f64], k: &[f64]| strain_energy(t, t0, k);
+        let endx = |t: &[f64], t0: &[f64]| end_x(&chain.spans, t0, t);
+        let h = 1e-6;
+        for i in 0..n {
+            let (mut tp, mut tm) = (state.theta.clone(), state.theta.clone());
+            tp[i] += h;
+            tm[i] -= h;
+            let fd = (energy(&tp, &design.theta0, &design.stiffness) - energy(&tm, &design.theta0, &design.stiffness)) / (2.0 * h);
+            assert!((fd - du_dtheta[i]).abs() < 1e-6 * du_dtheta[i].abs().max(1.0));
+            let fd = (endx(&tp, &design.theta0) - endx(&tm, &design.theta0)) / (2.0 * h);
+            assert!((fd - dx_dtheta[i]).abs() < 1e-8);
+            let (mut dp, mut dm) = (design.theta0.clone(), design.theta0.clone());
+            dp[i] += h;
+            dm[i] -= h;
+            let fd = (energy(&state.theta, &dp, &design.stiffness) - energy(&state.theta, &dm, &design.stiffness)) / (2.0 * h);
+            assert!((fd - du_ddesign[i]).abs() < 1e-6 * du_ddesign[i].abs().max(1.0));
+            let fd = (endx(&state.theta, &dp) - endx(&state.theta, &dm)) / (2.0 * h);
+            assert!((fd - dx_ddesign[i]).abs() < 1e-8);
+        }
+        for j in 0..=n {
+            let (mut kp, mut km) = (design.stiffness.clone(), design.stiffness.clone());
+            kp[j] += h;
+            km[j] -= h;
+            let fd = (energy(&state.theta, &design.theta0, &kp) - energy(&state.theta, &design.theta0, &km)) / (2.0 * h);
+            assert!((fd - du_ddesign[n + j]).abs() < 1e-6, "∂U/∂K{j}: FD {fd} hand {}", du_ddesign[n + j]);
+            assert_eq!(dx_ddesign[n + j], 0.0);
+        }
+        let _ = State::unloaded(&design);
+    }
+}
