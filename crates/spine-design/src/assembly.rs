@@ -1,0 +1,208 @@
+//! Sparse assembly of an NLP from local elements ([`spine_model::local`]).
+//!
+//! Each [`Placed`] element adds its value to one row (the objective or a constraint) and maps its
+//! `M` local slots to global variables (`None` for a slot that holds a constant zero, such as the
+//! missing neighbour of the first link). A [`Group`] of elements of one kind computes, in one pass
+//! over its elements with fixed-size duals:
+//!
+//! * values: `f` and `g`;
+//! * first derivatives: `∇f` and the Jacobian values at the positions of the sparsity pattern;
+//! * second derivatives: the weighted local Hessians scattered into the lower triangle of the
+//!   Hessian of the Lagrangian, only at the pairs each element declares
+//!   ([`Element::HESSIAN_PAIRS`]).
+//!
+//! The patterns are built once by [`Patterns`]; cost per evaluation is linear in the number of
+//! elements.
+
+use spine_model::local::{self, Element};
+use std::collections::HashMap;
+
+/// Which function an element adds to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Row {
+    Objective,
+    Constraint(usize),
+}
+
+/// An element with its global variables and its row.
+#[derive(Clone, Debug)]
+pub struct Placed<E, const M: usize> {
+    pub element: E,
+    pub vars: [Option<usize>; M],
+    pub row: Row,
+}
+
+/// Sparsity patterns under construction: Jacobian `(row, column)` and Hessian lower-triangle
+/// `(row, column)` entries, each with its position in the value arrays.
+#[derive(Default, Debug)]
+pub struct Patterns {
+    pub jacobian: Vec<(usize, usize)>,
+    pub hessian: Vec<(usize, usize)>,
+    jacobian_index: HashMap<(usize, usize), usize>,
+    hessian_index: HashMap<(usize, usize), usize>,
+}
+
+/// Marks a slot without a global variable or a position.
+pub const NONE: usize = usize::MAX;
+
+impl Patterns {
+    fn jacobian_position(&mut self, row: usize, col: usize) -> usize {
+        *self.jacobian_index.entry((row, col)).or_insert_with(|| {
+            self.jacobian.push((row, col));
+            self.jacobian.len() - 1
+        })
+    }
+
+    fn hessian_position(&mut self, a: usize, b: usize) -> usize {
+        let key = (a.max(b), a.min(b));
+        *self.hessian_index.entry(key).or_insert_with(|| {
+            self.hessian.push(key);
+            self.hessian.len() - 1
+        })
+    }
+}
+
+/// Elements of one kind, with their positions in the sparsity patterns.
+pub struct Group<E, const M: usize> {
+    items: Vec<Placed<E, M>>,
+    jacobian_positions: Vec<[usize; M]>,
+    hessian_positions: Vec<usize>,
+}
+
+impl<E: Element<M>, const M: usize> Group<E, M> {
+    pub fn new(items: Vec<Placed<E, M>>) -> Self {
+        Group { items, jacobian_positions: Vec::new(), hessian_positions: Vec::new() }
+    }
+
+    fn local(&self, item: &Placed<E, M>, x: &[f64]) -> [f64; M] {
+        std::array::from_fn(|k| item.vars[k].map_or(0.0, |v| x[v]))
+    }
+}
+
+/// The operations every group offers, independent of its element kind and size.
+pub trait AnyGroup {
+    /// Registers the group's Jacobian and Hessian entries; called once, before any evaluation.
+    fn register(&mut self, patterns: &mut Patterns);
+    /// Adds the values to the objective and the constraints.
+    fn add_values(&self, x: &[f64], objective: &mut f64, g: &mut [f64]);
+    /// Adds first derivatives to `∇f` and to the Jacobian values.
+    fn add_first_derivatives(&self, x: &[f64], gradient: &mut [f64], jacobian: &mut [f64]);
+    /// Adds `σ ∇²f + Σ λ_r ∇²g_r` of the group's elements to the Hessian values.
+    fn add_hessian(&self, x: &[f64], sigma: f64, lambda: &[f64], hessian: &mut [f64]);
+}
+
+impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
+    fn register(&mut self, patterns: &mut Patterns) {
+        self.jacobian_positions.clear();
+        self.hessian_positions.clear();
+        for item in &self.items {
+            self.jacobian_positions.push(std::array::from_fn(|k| match (item.row, item.vars[k]) {
+                (Row::Constraint(r), Some(v)) => patterns.jacobian_position(r, v),
+                _ => NONE,
+            }));
+            for &(a, b) in E::HESSIAN_PAIRS {
+                let position = match (item.vars[a], item.vars[b]) {
+                    (Some(va), Some(vb)) => patterns.hessian_position(va, vb),
+                    _ => NONE,
+                };
+                self.hessian_positions.push(position);
+            }
+        }
+    }
+
+    fn add_values(&self, x: &[f64], objective: &mut f64, g: &mut [f64]) {
+        for item in &self.items {
+            let v = local::value(&item.element, &self.local(item, x));
+            match item.row {
+                Row::Objective => *objective += v,
+                Row::Constraint(r) => g[r] += v,
+            }
+        }
+    }
+
+    fn add_first_derivatives(&self, x: &[f64], gradient: &mut [f64], jacobian: &mut [f64]) {
+        for (item, positions) in self.items.iter().zip(&self.jacobian_positions) {
+            let (_, grad) = local::gradient(&item.element, &self.local(item, x));
+            for k in 0..M {
+                match item.row {
+                    Row::Objective => {
+                        if let Some(v) = item.vars[k] {
+                            gradient[v] += grad[k];
+                        }
+                    }
+                    Row::Constraint(_) => {
+                        if positions[k] != NONE {
+                            jacobian[positions[k]] += grad[k];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn add_hessian(&self, x: &[f64], sigma: f64, lambda: &[f64], hessian: &mut [f64]) {
+        let pairs = E::HESSIAN_PAIRS;
+        if pairs.is_empty() {
+            return;
+        }
+        for (item, positions) in self.items.iter().zip(self.hessian_positions.chunks_exact(pairs.len())) {
+            let weight = match item.row {
+                Row::Objective => sigma,
+                Row::Constraint(r) => lambda[r],
+            };
+            if weight == 0.0 {
+                continue;
+            }
+            let (_, _, h) = local::hessian(&item.element, &self.local(item, x));
+            for (&(a, b), &position) in pairs.iter().zip(positions) {
+                if position != NONE {
+                    hessian[position] += weight * h[a][b];
+                }
+            }
+        }
+    }
+}
+
+/// An NLP assembled from groups of elements: the objective and constraints are sums of elements.
+pub struct Assembled {
+    pub groups: Vec<Box<dyn AnyGroup + Send>>,
+    pub patterns: Patterns,
+}
+
+impl Assembled {
+    /// Registers every group and fixes the sparsity patterns.
+    pub fn new(mut groups: Vec<Box<dyn AnyGroup + Send>>) -> Self {
+        let mut patterns = Patterns::default();
+        for group in &mut groups {
+            group.register(&mut patterns);
+        }
+        Assembled { groups, patterns }
+    }
+
+    /// Objective and constraint values (the constraint array is overwritten).
+    pub fn values(&self, x: &[f64], g: &mut [f64]) -> f64 {
+        g.fill(0.0);
+        let mut objective = 0.0;
+        for group in &self.groups {
+            group.add_values(x, &mut objective, g);
+        }
+        objective
+    }
+
+    /// `∇f` and the Jacobian values (both overwritten).
+    pub fn first_derivatives(&self, x: &[f64], gradient: &mut [f64], jacobian: &mut [f64]) {
+        gradient.fill(0.0);
+        jacobian.fill(0.0);
+        for group in &self.groups {
+            group.add_first_derivatives(x, gradient, jacobian);
+        }
+    }
+
+    /// Hessian of the Lagrangian values (overwritten).
+    pub fn hessian(&self, x: &[f64], sigma: f64, lambda: &[f64], hessian: &mut [f64]) {
+        hessian.fill(0.0);
+        for group in &self.groups {
+            group.add_hessian(x, sigma, lambda, hessian);
+        }
+    }
+}

@@ -1,0 +1,342 @@
+//! The simultaneous ("full-space") form of eq. (33): design and both equilibria are Ipopt's
+//! variables, the equilibrium equations are constraints.
+//!
+//! Variables (`N` links, `n = 5N + 2`):
+//!
+//! | range | quantity | unit |
+//! |---|---|---|
+//! | `0..N` | `θ0` | rad |
+//! | `N..2N+1` | `k = K / C_K` (eq. (34)) | N·m/rad ÷ C_K |
+//! | `2N+1..3N+1`, `3N+1` | `θ1`, `λ1` (passive equilibrium) | rad, N |
+//! | `3N+2..4N+2`, `4N+2` | `θ2`, `λ2` (passive + actuation) | rad, N |
+//! | `4N+3..5N+2` | unloaded interior node heights `Y0_2..Y0_N` | m |
+//!
+//! Constraints (`m = 4N + 2`): the `N + 1` equilibrium equations at `θ1`, the same at `θ2`, the
+//! `N` height steps `Y0_{j+1} − Y0_j − a_j tan θ0_j = 0` (with `Y0_1 = Y0_{N+1} = 0`, so they
+//! contain `Φ(θ0) = 0`), the end displacement `X_{N+1}(θ2) = L_x + δ_d`, and the `N − 1` relative
+//! angles `|θ0_i − θ0_{i+1}| ≤ π/6`. The node heights are lifted into variables so that every
+//! row has O(1) entries except the three sums `Φ(θ1)`, `Φ(θ2)`, `X_{N+1}(θ2)`, which have O(N):
+//! the Jacobian and the Hessian of the Lagrangian both have O(N) entries.
+
+use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
+use crate::problem::DesignProblem;
+use spine_model::local::{Difference, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
+use spine_model::residual::slot;
+use spine_model::{Design, LinkLoads, State};
+
+/// Index map of the full-space variables and constraints.
+#[derive(Clone, Copy, Debug)]
+pub struct Layout {
+    pub n: usize,
+}
+
+/// The two load states.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LoadState {
+    Passive,
+    Loaded,
+}
+
+impl Layout {
+    pub fn theta0(&self, i: usize) -> usize {
+        i
+    }
+    pub fn stiffness(&self, j: usize) -> usize {
+        self.n + j
+    }
+    pub fn theta(&self, s: LoadState, i: usize) -> usize {
+        match s {
+            LoadState::Passive => 2 * self.n + 1 + i,
+            LoadState::Loaded => 3 * self.n + 2 + i,
+        }
+    }
+    pub fn lambda(&self, s: LoadState) -> usize {
+        self.theta(s, self.n)
+    }
+    /// Interior node `j = 1..N−1` (0-based node index; node 0 is the base, node N the end).
+    pub fn height(&self, j: usize) -> Option<usize> {
+        (j >= 1 && j < self.n).then(|| 4 * self.n + 2 + j)
+    }
+    pub fn num_variables(&self) -> usize {
+        5 * self.n + 2
+    }
+
+    pub fn equilibrium_row(&self, s: LoadState, i: usize) -> usize {
+        match s {
+            LoadState::Passive => i,
+            LoadState::Loaded => self.n + 1 + i,
+        }
+    }
+    pub fn constraint_row(&self, s: LoadState) -> usize {
+        self.equilibrium_row(s, self.n)
+    }
+    pub fn height_row(&self, j: usize) -> usize {
+        2 * self.n + 2 + j
+    }
+    pub fn end_row(&self) -> usize {
+        3 * self.n + 2
+    }
+    pub fn relative_row(&self, i: usize) -> usize {
+        3 * self.n + 3 + i
+    }
+    pub fn num_constraints(&self) -> usize {
+        4 * self.n + 2
+    }
+
+    /// Packs a design, both states and the node heights into a variable vector.
+    pub fn pack(&self, design: &Design, stiffness_scale: f64, passive: &State, loaded: &State, heights: &[f64]) -> Vec<f64> {
+        let mut x = vec![0.0; self.num_variables()];
+        for i in 0..self.n {
+            x[self.theta0(i)] = design.theta0[i];
+            x[self.theta(LoadState::Passive, i)] = passive.theta[i];
+            x[self.theta(LoadState::Loaded, i)] = loaded.theta[i];
+        }
+        for j in 0..=self.n {
+            x[self.stiffness(j)] = design.stiffness[j] / stiffness_scale;
+        }
+        x[self.lambda(LoadState::Passive)] = passive.lambda;
+        x[self.lambda(LoadState::Loaded)] = loaded.lambda;
+        for j in 1..self.n {
+            x[self.height(j).unwrap()] = heights[j];
+        }
+        x
+    }
+
+    /// The design in physical units (`K = C_K k`).
+    pub fn design(&self, x: &[f64], stiffness_scale: f64) -> Design {
+        Design {
+            theta0: x[..self.n].to_vec(),
+            stiffness: (0..=self.n).map(|j| x[self.stiffness(j)] * stiffness_scale).collect(),
+        }
+    }
+
+    pub fn state(&self, x: &[f64], s: LoadState) -> State {
+        State { theta: (0..self.n).map(|i| x[self.theta(s, i)]).collect(), lambda: x[self.lambda(s)] }
+    }
+}
+
+/// Builds the elements of eq. (33) in the full space.
+pub fn assemble(problem: &DesignProblem) -> Assembled {
+    let n = problem.n_links();
+    let layout = Layout { n };
+    let spans = &problem.chain.spans;
+    let ck = problem.stiffness_scale;
+    let mut joints = Vec::with_capacity(2 * n);
+    let mut rises = Vec::with_capacity(2 * n);
+    let mut runs = Vec::with_capacity(n);
+    for (state, loads) in [(LoadState::Passive, problem.passive_loads()), (LoadState::Loaded, problem.total_loads())] {
+        push_equilibrium(&layout, state, &loads, spans, ck, &mut joints, &mut rises);
+    }
+    for i in 0..n {
+        runs.push(Placed {
+            element: LinkRun { span: spans[i] },
+            vars: [Some(layout.theta(LoadState::Loaded, i)), Some(layout.theta0(i))],
+            row: Row::Constraint(layout.end_row()),
+        });
+    }
+    let springs = (0..=n)
+        .map(|j| {
+            let link = |i: isize| (i >= 0 && (i as usize) < n).then(|| i as usize);
+            let prev = link(j as isize - 1);
+            let this = link(j as isize);
+            Placed {
+                element: SpringEnergy { stiffness_scale: ck },
+                vars: [
+                    prev.map(|i| layout.theta(LoadState::Passive, i)),
+                    prev.map(|i| layout.theta0(i)),
+                    this.map(|i| layout.theta(LoadState::Passive, i)),
+                    this.map(|i| layout.theta0(i)),
+                    Some(layout.stiffness(j)),
+                ],
+                row: Row::Objective,
+            }
+        })
+        .collect();
+    let heights = (0..n)
+        .map(|j| Placed {
+            element: HeightStep { span: spans[j] },
+            vars: [layout.height(j + 1), layout.height(j), Some(layout.theta0(j))],
+            row: Row::Constraint(layout.height_row(j)),
+        })
+        .collect();
+    let relatives = (0..n.saturating_sub(1))
+        .map(|i| Placed {
+            element: Difference,
+            vars: [Some(layout.theta0(i)), Some(layout.theta0(i + 1))],
+            row: Row::Constraint(layout.relative_row(i)),
+        })
+        .collect();
+    let groups: Vec<Box<dyn AnyGroup + Send>> = vec![
+        Box::new(Group::new(joints)),
+        Box::new(Group::new(rises)),
+        Box::new(Group::new(runs)),
+        Box::new(Group::new(springs)),
+        Box::new(Group::new(heights)),
+        Box::new(Group::new(relatives)),
+    ];
+    Assembled::new(groups)
+}
+
+/// The `N + 1` equilibrium rows of one load state: a joint residual per link and the end
+/// constraint `Φ(θ) = Σ L_i sin θ_i`.
+fn push_equilibrium(
+    layout: &Layout,
+    state: LoadState,
+    loads: &LinkLoads,
+    spans: &[f64],
+    stiffness_scale: f64,
+    joints: &mut Vec<Placed<JointResidual, { slot::COUNT }>>,
+    rises: &mut Vec<Placed<LinkRise, 2>>,
+) {
+    let n = layout.n;
+    for i in 0..n {
+        let prev = (i > 0).then(|| i - 1);
+        let next = (i + 1 < n).then_some(i + 1);
+        let mut vars = [None; slot::COUNT];
+        vars[slot::THETA_PREV] = prev.map(|p| layout.theta(state, p));
+        vars[slot::THETA] = Some(layout.theta(state, i));
+        vars[slot::THETA_NEXT] = next.map(|q| layout.theta(state, q));
+        vars[slot::LAMBDA] = Some(layout.lambda(state));
+        vars[slot::THETA0_PREV] = prev.map(|p| layout.theta0(p));
+        vars[slot::THETA0] = Some(layout.theta0(i));
+        vars[slot::THETA0_NEXT] = next.map(|q| layout.theta0(q));
+        vars[slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
+        vars[slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
+        joints.push(Placed {
+            element: JointResidual { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i], stiffness_scale },
+            vars,
+            row: Row::Constraint(layout.equilibrium_row(state, i)),
+        });
+        rises.push(Placed {
+            element: LinkRise { span: spans[i] },
+            vars: [Some(layout.theta(state, i)), Some(layout.theta0(i))],
+            row: Row::Constraint(layout.constraint_row(state)),
+        });
+    }
+}
+
+/// Bounds shared by both formulations: `θ0` (indices `0..N`), `k` (indices `N..2N+1`) and the
+/// lifted node heights at `height(j)`; every other variable is free.
+pub(crate) fn design_variable_bounds(
+    problem: &DesignProblem,
+    lower: &mut [f64],
+    upper: &mut [f64],
+    height: impl Fn(usize) -> Option<usize>,
+) {
+    let n = problem.n_links();
+    let b = &problem.bounds;
+    let ck = problem.stiffness_scale;
+    for i in 0..n {
+        lower[i] = -b.theta0_max;
+        upper[i] = b.theta0_max;
+    }
+    for j in 0..=n {
+        lower[n + j] = b.stiffness_min[j] / ck;
+        upper[n + j] = b.stiffness_max[j] / ck;
+    }
+    for j in 1..n {
+        let v = height(j).expect("interior node has a height variable");
+        lower[v] = b.height_min;
+        upper[v] = b.height_max;
+    }
+}
+
+/// Eq. (33) in the full space as an Ipopt problem, with exact sparse first and second
+/// derivatives from the elements.
+pub struct FullSpaceNlp<'a> {
+    pub problem: &'a DesignProblem,
+    pub layout: Layout,
+    pub assembled: Assembled,
+    pub start: Vec<f64>,
+    /// Called once per Ipopt iteration (progress, logging); return `false` to stop.
+    pub on_iteration: Option<&'a mut dyn FnMut(&spine_ipopt::IterationInfo) -> bool>,
+    scratch_g: Vec<f64>,
+    /// `x`, `∇f` and the Jacobian values at the last point: Ipopt asks for both at the same point.
+    first_derivatives: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+}
+
+impl<'a> FullSpaceNlp<'a> {
+    /// The NLP from a start design and start states (for example equilibria solved at the start
+    /// design); node heights start at the design's own heights.
+    pub fn new(problem: &'a DesignProblem, start: &Design, passive: &State, loaded: &State) -> Self {
+        let layout = Layout { n: problem.n_links() };
+        let heights = problem.node_heights(&start.theta0);
+        let start = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
+        let scratch_g = vec![0.0; layout.num_constraints()];
+        FullSpaceNlp { problem, layout, assembled: assemble(problem), start, on_iteration: None, scratch_g, first_derivatives: None }
+    }
+}
+
+impl FullSpaceNlp<'_> {
+    /// `∇f` and the Jacobian at `x`, computed once per point (the cache is keyed by `x` itself,
+    /// not by Ipopt's `new_x` flag, which refers to the last call of any evaluation).
+    fn first_derivatives_at(&mut self, x: &[f64]) -> (&[f64], &[f64]) {
+        if self.first_derivatives.as_ref().is_none_or(|(at, _, _)| at.as_slice() != x) {
+            let mut gradient = vec![0.0; x.len()];
+            let mut jacobian = vec![0.0; self.assembled.patterns.jacobian.len()];
+            self.assembled.first_derivatives(x, &mut gradient, &mut jacobian);
+            self.first_derivatives = Some((x.to_vec(), gradient, jacobian));
+        }
+        let (_, g, j) = self.first_derivatives.as_ref().expect("computed above");
+        (g, j)
+    }
+}
+
+impl spine_ipopt::Problem for FullSpaceNlp<'_> {
+    fn num_variables(&self) -> usize {
+        self.layout.num_variables()
+    }
+    fn num_constraints(&self) -> usize {
+        self.layout.num_constraints()
+    }
+    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        design_variable_bounds(self.problem, lower, upper, |j| self.layout.height(j));
+    }
+    fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.fill(0.0);
+        upper.fill(0.0);
+        let target = self.problem.chain.length_x() + self.problem.delta_d;
+        lower[self.layout.end_row()] = target;
+        upper[self.layout.end_row()] = target;
+        for i in 0..self.layout.n.saturating_sub(1) {
+            lower[self.layout.relative_row(i)] = -self.problem.bounds.relative_angle_max;
+            upper[self.layout.relative_row(i)] = self.problem.bounds.relative_angle_max;
+        }
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&self.start);
+    }
+    fn objective(&mut self, x: &[f64], _new_x: bool) -> Option<f64> {
+        let mut g = std::mem::take(&mut self.scratch_g);
+        let f = self.assembled.values(x, &mut g);
+        self.scratch_g = g;
+        f.is_finite().then_some(f)
+    }
+    fn objective_gradient(&mut self, x: &[f64], _new_x: bool, gradient: &mut [f64]) -> bool {
+        let (grad, _) = self.first_derivatives_at(x);
+        gradient.copy_from_slice(grad);
+        gradient.iter().all(|v| v.is_finite())
+    }
+    fn constraints(&mut self, x: &[f64], _new_x: bool, g: &mut [f64]) -> bool {
+        self.assembled.values(x, g);
+        g.iter().all(|v| v.is_finite())
+    }
+    fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+        self.assembled.patterns.jacobian.clone()
+    }
+    fn jacobian_values(&mut self, x: &[f64], _new_x: bool, values: &mut [f64]) -> bool {
+        let (_, jac) = self.first_derivatives_at(x);
+        values.copy_from_slice(jac);
+        values.iter().all(|v| v.is_finite())
+    }
+    fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
+        Some(self.assembled.patterns.hessian.clone())
+    }
+    fn hessian_values(&mut self, x: &[f64], _new_x: bool, sigma: f64, lambda: &[f64], _new_lambda: bool, values: &mut [f64]) -> bool {
+        self.assembled.hessian(x, sigma, lambda, values);
+        values.iter().all(|v| v.is_finite())
+    }
+    fn intermediate(&mut self, info: &spine_ipopt::IterationInfo) -> bool {
+        self.on_iteration.as_mut().is_none_or(|f| f(info))
+    }
+}

@@ -1,0 +1,25 @@
+//! The static design problem of the paper, eq. (33): find the unloaded shape `θ0` and the joint
+//! stiffnesses `K` that store the least strain energy under the passive load while the end moves
+//! by `δ_d` under the added axial force.
+//!
+//! * [`problem`]: the problem data ([`DesignProblem`], [`DesignBounds`]), apart from any solver.
+//! * [`full_space`]: the simultaneous form for Ipopt with exact sparse Jacobian and Hessian from
+//!   forward AD of the model's elements ([`assembly`]).
+//! * [`reduced_space`] and [`adjoint`]: the paper's nested form, equilibria by continuation and
+//!   gradients by the hand-derived adjoint.
+//! * [`solve`]: runs either with Ipopt; [`result`]: the checked result.
+//! * [`multistart`]: seeded feasible starts and clustering of the local optima.
+
+pub mod adjoint;
+pub mod assembly;
+pub mod fixtures;
+pub mod full_space;
+pub mod multistart;
+pub mod problem;
+pub mod reduced_space;
+pub mod result;
+pub mod solve;
+
+pub use problem::{DesignBounds, DesignProblem};
+pub use result::DesignResult;
+pub use solve::{solve_design, DesignError, Formulation, ScalingMethod, SolverSettings};

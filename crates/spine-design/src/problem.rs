@@ -1,0 +1,103 @@
+//! The static design problem of eq. (33), independent of how it is solved.
+
+use serde::Serialize;
+use spine_model::{Chain, Design, LinkLoads, NodalLoads};
+
+/// Bounds of the design (paper Sec. 5, "Geometrical and stiffness values").
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DesignBounds {
+    /// `|θ0_i| ≤ theta0_max`, rad (paper: π/6).
+    pub theta0_max: f64,
+    /// `|θ0_i − θ0_{i+1}| ≤ relative_angle_max`, rad (paper: π/6).
+    pub relative_angle_max: f64,
+    /// `stiffness_min_j ≤ K_j ≤ stiffness_max_j`, N·m/rad, `N + 1` entries each (paper: 10², 10⁴).
+    /// Equal bounds fix a spring (for example `K_{N+1} = 0`: no end spring).
+    pub stiffness_min: Vec<f64>,
+    pub stiffness_max: Vec<f64>,
+    /// `height_min ≤ Y0_j ≤ height_max` for the interior nodes `j = 2..N`, m
+    /// (paper: 0.01 m and 0.25 L_x).
+    pub height_min: f64,
+    pub height_max: f64,
+}
+
+/// Eq. (33): find `θ0` and `K` minimising the strain energy `J = U(θ1; θ0, K)` stored under the
+/// passive load, subject to the equilibria `θ1` (passive) and `θ2` (passive + actuation), the end
+/// constraint `Φ(θ0) = 0`, the end displacement `X_{N+1}(θ2) − L_x = δ_d` and the bounds.
+#[derive(Clone, Debug)]
+pub struct DesignProblem {
+    /// Spans `a_i`, link masses and gravity.
+    pub chain: Chain,
+    /// Passive nodal load (transverse forces), N; self-weight comes from the chain's masses.
+    pub passive: NodalLoads,
+    /// Actuation added on top of the passive load (the axial force at the end), N.
+    pub actuation: NodalLoads,
+    /// Desired end displacement `δ_d`, m (negative: the end moves toward the base).
+    pub delta_d: f64,
+    pub bounds: DesignBounds,
+    /// `C_K` of eq. (34): the optimiser's stiffness variable is `k = K / C_K`.
+    pub stiffness_scale: f64,
+}
+
+impl DesignProblem {
+    pub fn n_links(&self) -> usize {
+        self.chain.n_links()
+    }
+
+    /// Load resultants of the passive load, self-weight included.
+    pub fn passive_loads(&self) -> LinkLoads {
+        LinkLoads::from_nodal(&self.chain, &self.passive, true)
+    }
+
+    /// Load resultants of the passive load plus the actuation, self-weight included.
+    pub fn total_loads(&self) -> LinkLoads {
+        let add = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x + y).collect();
+        let total = NodalLoads { p_x: add(&self.passive.p_x, &self.actuation.p_x), p_y: add(&self.passive.p_y, &self.actuation.p_y) };
+        LinkLoads::from_nodal(&self.chain, &total, true)
+    }
+
+    /// The problem as the equilibrium solver sees it, for one design.
+    pub fn static_problem(&self, design: &Design) -> spine_solve::equilibrium::StaticProblem {
+        spine_solve::equilibrium::StaticProblem {
+            chain: self.chain.clone(),
+            design: design.clone(),
+            passive: self.passive.clone(),
+            actuation: self.actuation.clone(),
+        }
+    }
+
+    /// Projects a start design into the bounds on `θ0` and `K`; returns the projected design and
+    /// one line per changed entry (the paper's 5-link start has `θ0 = ±π/5 > π/6` and
+    /// `K_6 = 0 < 100`).
+    pub fn project_start(&self, start: &Design) -> (Design, Vec<String>) {
+        let b = &self.bounds;
+        let mut notes = Vec::new();
+        let mut design = start.clone();
+        for (i, t) in design.theta0.iter_mut().enumerate() {
+            let clamped = t.clamp(-b.theta0_max, b.theta0_max);
+            if clamped != *t {
+                notes.push(format!("theta0[{i}] = {t:.6} rad projected to {clamped:.6} rad (|theta0| <= {:.6})", b.theta0_max));
+                *t = clamped;
+            }
+        }
+        for (j, k) in design.stiffness.iter_mut().enumerate() {
+            let clamped = k.clamp(b.stiffness_min[j], b.stiffness_max[j]);
+            if clamped != *k {
+                notes.push(format!(
+                    "stiffness[{j}] = {k} N·m/rad projected to {clamped} N·m/rad (bounds {}..{})",
+                    b.stiffness_min[j], b.stiffness_max[j]
+                ));
+                *k = clamped;
+            }
+        }
+        (design, notes)
+    }
+
+    /// Unloaded node heights `Y0_j = Σ_{k<j} a_k tan θ0_k`, `j = 1..N+1`, m.
+    pub fn node_heights(&self, theta0: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0];
+        for (a, t) in self.chain.spans.iter().zip(theta0) {
+            y.push(y.last().unwrap() + a * t.tan());
+        }
+        y
+    }
+}

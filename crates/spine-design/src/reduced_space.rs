@@ -1,0 +1,219 @@
+//! The reduced-space ("nested") form of eq. (33), as the paper solves it: Ipopt sees only the
+//! design; both equilibria are solved by continuation `θ0 → θ1 → θ2` at every new design, and the
+//! gradients of `J` and of the end displacement come from the hand-derived adjoint
+//! ([`crate::adjoint::adjoint_hand`]). The Hessian is Ipopt's limited-memory approximation.
+//!
+//! Variables (`n = 3N`): `θ0` (`0..N`), `k = K / C_K` (`N..2N+1`), interior node heights
+//! `Y0_2..Y0_N` (`2N+1..3N`). Constraints (`m = 2N`): the `N` height steps (containing
+//! `Φ(θ0) = 0`), the end displacement `X_{N+1}(θ2) = L_x + δ_d` (a dense row over `θ0`, `k`), and
+//! the `N − 1` relative angles.
+//!
+//! A design whose continuation does not reach the full load (a fold, or a Newton failure) is an
+//! evaluation error for Ipopt, which then shortens its step.
+
+use crate::adjoint::{adjoint_hand, ReducedGradients};
+use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
+use crate::full_space::design_variable_bounds;
+use crate::problem::DesignProblem;
+use spine_model::local::{Difference, HeightStep};
+use spine_model::{Design, State};
+use spine_solve::{solve_static, ContinuationOptions};
+
+/// Index map of the reduced-space variables and constraints.
+#[derive(Clone, Copy, Debug)]
+pub struct ReducedLayout {
+    pub n: usize,
+}
+
+impl ReducedLayout {
+    pub fn height(&self, j: usize) -> Option<usize> {
+        (j >= 1 && j < self.n).then(|| 2 * self.n + j)
+    }
+    pub fn num_variables(&self) -> usize {
+        3 * self.n
+    }
+    pub fn height_row(&self, j: usize) -> usize {
+        j
+    }
+    pub fn end_row(&self) -> usize {
+        self.n
+    }
+    pub fn relative_row(&self, i: usize) -> usize {
+        self.n + 1 + i
+    }
+    pub fn num_constraints(&self) -> usize {
+        2 * self.n
+    }
+}
+
+/// The equilibria and gradients at one design.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    pub x: Vec<f64>,
+    pub passive: State,
+    pub loaded: State,
+    pub gradients: ReducedGradients,
+}
+
+/// Eq. (33) in the reduced space as an Ipopt problem.
+pub struct ReducedSpaceNlp<'a> {
+    pub problem: &'a DesignProblem,
+    pub layout: ReducedLayout,
+    pub continuation: ContinuationOptions,
+    pub start: Vec<f64>,
+    /// Equilibrium solves and adjoint gradients, one per distinct design Ipopt asked for.
+    pub equilibrium_evaluations: usize,
+    /// Designs at which the continuation failed (evaluation errors reported to Ipopt).
+    pub failed_evaluations: usize,
+    /// Called once per Ipopt iteration; return `false` to stop.
+    pub on_iteration: Option<&'a mut dyn FnMut(&spine_ipopt::IterationInfo) -> bool>,
+    linear: Assembled,
+    last: Option<Evaluation>,
+}
+
+impl<'a> ReducedSpaceNlp<'a> {
+    pub fn new(problem: &'a DesignProblem, start: &Design, continuation: ContinuationOptions) -> Self {
+        let n = problem.n_links();
+        let layout = ReducedLayout { n };
+        let heights: Vec<Placed<HeightStep, 3>> = (0..n)
+            .map(|j| Placed {
+                element: HeightStep { span: problem.chain.spans[j] },
+                vars: [layout.height(j + 1), layout.height(j), Some(j)],
+                row: Row::Constraint(layout.height_row(j)),
+            })
+            .collect();
+        let relatives: Vec<Placed<Difference, 2>> = (0..n.saturating_sub(1))
+            .map(|i| Placed { element: Difference, vars: [Some(i), Some(i + 1)], row: Row::Constraint(layout.relative_row(i)) })
+            .collect();
+        let groups: Vec<Box<dyn AnyGroup + Send>> = vec![Box::new(Group::new(heights)), Box::new(Group::new(relatives))];
+        let mut x0 = vec![0.0; layout.num_variables()];
+        x0[..n].copy_from_slice(&start.theta0);
+        for j in 0..=n {
+            x0[n + j] = start.stiffness[j] / problem.stiffness_scale;
+        }
+        let y = problem.node_heights(&start.theta0);
+        for j in 1..n {
+            x0[layout.height(j).unwrap()] = y[j];
+        }
+        ReducedSpaceNlp {
+            problem,
+            layout,
+            continuation,
+            start: x0,
+            equilibrium_evaluations: 0,
+            failed_evaluations: 0,
+            on_iteration: None,
+            linear: Assembled::new(groups),
+            last: None,
+        }
+    }
+
+    /// The design in physical units.
+    pub fn design(&self, x: &[f64]) -> Design {
+        let n = self.layout.n;
+        Design { theta0: x[..n].to_vec(), stiffness: x[n..2 * n + 1].iter().map(|k| k * self.problem.stiffness_scale).collect() }
+    }
+
+    /// Solves both equilibria and the adjoint gradients at `x` (cached by `x`).
+    pub fn evaluate(&mut self, x: &[f64]) -> Option<&Evaluation> {
+        if self.last.as_ref().is_none_or(|e| e.x.as_slice() != x) {
+            self.last = None;
+            self.equilibrium_evaluations += 1;
+            let design = self.design(x);
+            let solution = solve_static(&self.problem.static_problem(&design), &self.continuation);
+            let reached = solution.passive.load_factor == 1.0 && solution.loaded.as_ref().is_some_and(|l| l.load_factor == 1.0);
+            if !reached {
+                self.failed_evaluations += 1;
+                return None;
+            }
+            let passive = solution.passive.state;
+            let loaded = solution.loaded.expect("reached").state;
+            let Ok(gradients) = adjoint_hand(self.problem, &design, &passive, &loaded) else {
+                self.failed_evaluations += 1;
+                return None;
+            };
+            self.last = Some(Evaluation { x: x.to_vec(), passive, loaded, gradients });
+        }
+        self.last.as_ref()
+    }
+
+    /// The last successful evaluation.
+    pub fn last_evaluation(&self) -> Option<&Evaluation> {
+        self.last.as_ref()
+    }
+}
+
+impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
+    fn num_variables(&self) -> usize {
+        self.layout.num_variables()
+    }
+    fn num_constraints(&self) -> usize {
+        self.layout.num_constraints()
+    }
+    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        design_variable_bounds(self.problem, lower, upper, |j| self.layout.height(j));
+    }
+    fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.fill(0.0);
+        upper.fill(0.0);
+        let target = self.problem.chain.length_x() + self.problem.delta_d;
+        lower[self.layout.end_row()] = target;
+        upper[self.layout.end_row()] = target;
+        for i in 0..self.layout.n.saturating_sub(1) {
+            lower[self.layout.relative_row(i)] = -self.problem.bounds.relative_angle_max;
+            upper[self.layout.relative_row(i)] = self.problem.bounds.relative_angle_max;
+        }
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&self.start);
+    }
+    fn objective(&mut self, x: &[f64], _new_x: bool) -> Option<f64> {
+        self.evaluate(x).map(|e| e.gradients.energy)
+    }
+    fn objective_gradient(&mut self, x: &[f64], _new_x: bool, gradient: &mut [f64]) -> bool {
+        let n = self.layout.n;
+        let ck = self.problem.stiffness_scale;
+        let Some(e) = self.evaluate(x) else { return false };
+        gradient.fill(0.0);
+        gradient[..n].copy_from_slice(&e.gradients.energy_gradient[..n]);
+        for j in 0..=n {
+            gradient[n + j] = ck * e.gradients.energy_gradient[n + j];
+        }
+        true
+    }
+    fn constraints(&mut self, x: &[f64], _new_x: bool, g: &mut [f64]) -> bool {
+        self.linear.values(x, g);
+        let row = self.layout.end_row();
+        let Some(e) = self.evaluate(x) else { return false };
+        g[row] = e.gradients.end_x;
+        true
+    }
+    fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+        let mut structure = self.linear.patterns.jacobian.clone();
+        structure.extend((0..2 * self.layout.n + 1).map(|k| (self.layout.end_row(), k)));
+        structure
+    }
+    fn jacobian_values(&mut self, x: &[f64], _new_x: bool, values: &mut [f64]) -> bool {
+        let n = self.layout.n;
+        let ck = self.problem.stiffness_scale;
+        let linear_len = self.linear.patterns.jacobian.len();
+        let mut unused = vec![0.0; x.len()];
+        self.linear.first_derivatives(x, &mut unused, &mut values[..linear_len]);
+        let Some(e) = self.evaluate(x) else { return false };
+        let dense = &mut values[linear_len..];
+        dense[..n].copy_from_slice(&e.gradients.end_x_gradient[..n]);
+        for j in 0..=n {
+            dense[n + j] = ck * e.gradients.end_x_gradient[n + j];
+        }
+        true
+    }
+    fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
+        None
+    }
+    fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
+        false
+    }
+    fn intermediate(&mut self, info: &spine_ipopt::IterationInfo) -> bool {
+        self.on_iteration.as_mut().is_none_or(|f| f(info))
+    }
+}
