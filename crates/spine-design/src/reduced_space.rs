@@ -1,7 +1,10 @@
 //! The reduced-space ("nested") form of eq. (33), as the paper solves it: Ipopt sees only the
 //! design; both equilibria are solved by continuation `θ0 → θ1 → θ2` at every new design, and the
 //! gradients of `J` and of the end displacement come from the hand-derived adjoint
-//! ([`crate::adjoint::adjoint_hand`]). The Hessian is Ipopt's limited-memory approximation.
+//! ([`crate::adjoint::adjoint_hand`]). The Hessian of the Lagrangian is either Ipopt's
+//! limited-memory approximation or central differences of the exact adjoint gradients
+//! ([`ReducedHessian`]): `2(2N + 1)` equilibrium re-solves (warm Newton from the current states)
+//! per Hessian, a dense `(2N + 1)²/2` block, affordable up to a few hundred links.
 //!
 //! Variables (`n = 3N`): `θ0` (`0..N`), `k = K / C_K` (`N..2N+1`), interior node heights
 //! `Y0_2..Y0_N` (`2N+1..3N`). Constraints (`m = 2N`): the `N` height steps (containing
@@ -46,6 +49,16 @@ impl ReducedLayout {
     }
 }
 
+/// How the reduced space gets second derivatives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReducedHessian {
+    /// Ipopt's L-BFGS approximation (`hessian_approximation = limited-memory`).
+    LimitedMemory,
+    /// Central differences of the adjoint gradients (step `1e-6 max(1, |x_k|)`), symmetrised.
+    AdjointDifferences,
+}
+
 /// The equilibria and gradients at one design.
 #[derive(Clone, Debug)]
 pub struct Evaluation {
@@ -67,12 +80,13 @@ pub struct ReducedSpaceNlp<'a> {
     pub failed_evaluations: usize,
     /// Called once per Ipopt iteration; return `false` to stop.
     pub on_iteration: Option<&'a mut dyn FnMut(&spine_ipopt::IterationInfo) -> bool>,
+    pub hessian: ReducedHessian,
     linear: Assembled,
     last: Option<Evaluation>,
 }
 
 impl<'a> ReducedSpaceNlp<'a> {
-    pub fn new(problem: &'a DesignProblem, start: &Design, continuation: ContinuationOptions) -> Self {
+    pub fn new(problem: &'a DesignProblem, start: &Design, continuation: ContinuationOptions, hessian: ReducedHessian) -> Self {
         let n = problem.n_links();
         let layout = ReducedLayout { n };
         let heights: Vec<Placed<HeightStep, 3>> = (0..n)
@@ -103,6 +117,7 @@ impl<'a> ReducedSpaceNlp<'a> {
             equilibrium_evaluations: 0,
             failed_evaluations: 0,
             on_iteration: None,
+            hessian,
             linear: Assembled::new(groups),
             last: None,
         }
@@ -135,6 +150,32 @@ impl<'a> ReducedSpaceNlp<'a> {
             self.last = Some(Evaluation { x: x.to_vec(), passive, loaded, gradients });
         }
         self.last.as_ref()
+    }
+
+    /// `σ ∇J + λ_end ∇X` in the optimiser's variables (`θ0`, `k`) at a design near the last
+    /// evaluation, with both equilibria re-solved by Newton from the last states.
+    fn weighted_gradient(&self, x: &[f64], sigma: f64, lambda_end: f64) -> Option<Vec<f64>> {
+        let last = self.last.as_ref()?;
+        let design = self.design(x);
+        let spans = &self.problem.chain.spans;
+        let resolve = |loads: spine_model::LinkLoads, start: &State| {
+            let path = spine_solve::LoadPath { spans, design: &design, from: loads.clone(), to: loads, start: start.clone() };
+            let solution = spine_solve::solve_path(&path, &self.continuation);
+            (solution.load_factor == 1.0).then_some(solution.state)
+        };
+        let passive = resolve(self.problem.passive_loads(), &last.passive)?;
+        let loaded = resolve(self.problem.total_loads(), &last.loaded)?;
+        let g = adjoint_hand(self.problem, &design, &passive, &loaded).ok()?;
+        let n = self.layout.n;
+        let ck = self.problem.stiffness_scale;
+        Some(
+            (0..2 * n + 1)
+                .map(|k| {
+                    let scale = if k < n { 1.0 } else { ck };
+                    scale * (sigma * g.energy_gradient[k] + lambda_end * g.end_x_gradient[k])
+                })
+                .collect(),
+        )
     }
 
     /// The last successful evaluation.
@@ -208,10 +249,40 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
         true
     }
     fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
-        None
+        let d = 2 * self.layout.n + 1;
+        (self.hessian == ReducedHessian::AdjointDifferences).then(|| (0..d).flat_map(|r| (0..=r).map(move |c| (r, c))).collect())
     }
-    fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
-        false
+    fn hessian_values(&mut self, x: &[f64], _: bool, sigma: f64, lambda: &[f64], _: bool, values: &mut [f64]) -> bool {
+        let d = 2 * self.layout.n + 1;
+        if self.evaluate(x).is_none() {
+            return false;
+        }
+        let lambda_end = lambda[self.layout.end_row()];
+        let mut columns = Vec::with_capacity(d);
+        for k in 0..d {
+            let h = 1e-6 * x[k].abs().max(1.0);
+            let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+            xp[k] += h;
+            xm[k] -= h;
+            let (Some(gp), Some(gm)) = (self.weighted_gradient(&xp, sigma, lambda_end), self.weighted_gradient(&xm, sigma, lambda_end)) else {
+                return false;
+            };
+            columns.push(gp.iter().zip(&gm).map(|(a, b)| (a - b) / (2.0 * h)).collect::<Vec<f64>>());
+        }
+        // The height steps' own second derivatives (−a_j λ_j d²tan θ0_j/dθ0_j²) sit on the θ0 diagonal.
+        let mut linear = vec![0.0; self.linear.patterns.hessian.len()];
+        self.linear.hessian(x, 0.0, lambda, &mut linear);
+        let mut position = 0;
+        for r in 0..d {
+            for c in 0..=r {
+                values[position] = 0.5 * (columns[c][r] + columns[r][c]);
+                position += 1;
+            }
+        }
+        for (&(r, c), v) in self.linear.patterns.hessian.iter().zip(&linear) {
+            values[r * (r + 1) / 2 + c] += v;
+        }
+        values.iter().all(|v| v.is_finite())
     }
     fn intermediate(&mut self, info: &spine_ipopt::IterationInfo) -> bool {
         self.on_iteration.as_mut().is_none_or(|f| f(info))

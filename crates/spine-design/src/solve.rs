@@ -2,7 +2,7 @@
 
 use crate::full_space::{FullSpaceNlp, LoadState};
 use crate::problem::DesignProblem;
-use crate::reduced_space::ReducedSpaceNlp;
+use crate::reduced_space::{ReducedHessian, ReducedSpaceNlp};
 use crate::result::{DesignResult, SolverReport};
 use serde::{Deserialize, Serialize};
 use spine_ipopt::{IterationInfo, OptionValue, Options, SetupError};
@@ -65,6 +65,9 @@ pub struct SolverSettings {
     pub scaling: ScalingMethod,
     /// Ipopt `mu_strategy`: "monotone" or "adaptive".
     pub barrier_strategy: String,
+    /// Reduced space only: second derivatives from differences of the adjoint gradients
+    /// ("adjoint-differences", the default) or Ipopt's L-BFGS ("limited-memory").
+    pub reduced_hessian: ReducedHessian,
     /// Continuation settings of every equilibrium solve (start states, reduced-space evaluations,
     /// the final load-path check).
     pub continuation: ContinuationOptions,
@@ -80,6 +83,7 @@ impl Default for SolverSettings {
             max_iterations: 3000,
             scaling: ScalingMethod::GradientBased,
             barrier_strategy: "monotone".into(),
+            reduced_hessian: ReducedHessian::AdjointDifferences,
             continuation: ContinuationOptions { residual_tolerance: 1e-11, ..ContinuationOptions::default() },
             ipopt_options: BTreeMap::new(),
         }
@@ -169,7 +173,7 @@ pub fn solve_design(
             (solution, design, states, 0)
         }
         Formulation::Reduced => {
-            let mut nlp = ReducedSpaceNlp::new(problem, &start, settings.continuation.clone());
+            let mut nlp = ReducedSpaceNlp::new(problem, &start, settings.continuation.clone(), settings.reduced_hessian);
             nlp.on_iteration = Some(observer);
             let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
             let design = nlp.design(&solution.x);
