@@ -12,7 +12,7 @@ test:
     if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
     cargo test --release --workspace --doc --quiet
 
-# Run a paper case by name: `just case twolink` runs paper-cases/twolink.json into results/twolink.
+# Run a paper case by name, whatever its kind: `just case design5` runs paper-cases/design5.json into results/design5.
 case NAME:
     cargo run --release --quiet -p spine-cli -- case paper-cases/{{NAME}}.json --out results/{{NAME}}
 
@@ -29,3 +29,7 @@ fuzz SECONDS="60":
 lint:
     cargo clippy --workspace --all-targets -- -D warnings
     cargo fmt --all --check
+
+# Eq. (33) scaling table (full and reduced space) on the scaled family of PEERS.md.
+bench-design *SIZES:
+    cargo run --release --quiet -p spine-benchmarks --bin design_scaling -- {{SIZES}}

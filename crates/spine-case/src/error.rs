@@ -16,6 +16,19 @@ impl CaseError {
         Self::Invalid { field: field.into(), message: message.into() }
     }
 
+    /// The same error with its field placed under `prefix` (for a section checked by shared code:
+    /// `solver.residual_tolerance` becomes `solver.continuation.residual_tolerance`).
+    pub fn with_prefix(self, prefix: &str) -> Self {
+        let rename = |field: String| match field.split_once('.') {
+            Some((_, rest)) => format!("{prefix}.{rest}"),
+            None => format!("{prefix}.{field}"),
+        };
+        match self {
+            Self::Parse { field, message } => Self::Parse { field: rename(field), message },
+            Self::Invalid { field, message } => Self::Invalid { field: rename(field), message },
+        }
+    }
+
     /// The field the error is about.
     pub fn field(&self) -> &str {
         match self {

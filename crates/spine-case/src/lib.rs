@@ -15,10 +15,12 @@
 //! assert!(matches!(case, spine_case::Case::Equilibrium(_)));
 //! ```
 
+mod design_case;
 mod error;
 mod per_item;
 mod schema;
 
+pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
 pub use error::CaseError;
 pub use per_item::PerItem;
 pub use schema::{

@@ -17,10 +17,12 @@ pub enum Case {
     Equilibrium(EquilibriumCase),
     /// `"kind": "twolink"`: the two-link analysis of Sec. 3.
     Twolink(TwoLinkCase),
+    /// `"kind": "design"`: the static design problem, eq. (33).
+    Design(crate::design_case::DesignCase),
 }
 
 /// The kinds this program runs, for error messages.
-pub const KINDS: &[&str] = &["equilibrium", "twolink"];
+pub const KINDS: &[&str] = &["equilibrium", "twolink", "design"];
 
 impl Case {
     /// Parses a case file. Errors name the field (`chain.links`, `design.theta0[2]`, …).
@@ -39,6 +41,7 @@ impl Case {
         match kind.as_str() {
             "equilibrium" => parse(rest).map(Case::Equilibrium),
             "twolink" => parse(rest).map(Case::Twolink),
+            "design" => parse(rest).map(Case::Design),
             other => Err(CaseError::invalid("kind", format!("unknown kind {other:?}; one of {KINDS:?}"))),
         }
     }
@@ -48,6 +51,7 @@ impl Case {
         match self {
             Self::Equilibrium(_) => "equilibrium",
             Self::Twolink(_) => "twolink",
+            Self::Design(_) => "design",
         }
     }
 }
@@ -229,7 +233,7 @@ pub struct ValidTwoLink {
     pub options: ContinuationOptions,
 }
 
-fn positive(field: &str, v: f64, unit: &str) -> Result<f64, CaseError> {
+pub(crate) fn positive(field: &str, v: f64, unit: &str) -> Result<f64, CaseError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
@@ -237,7 +241,7 @@ fn positive(field: &str, v: f64, unit: &str) -> Result<f64, CaseError> {
     }
 }
 
-fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<(), CaseError> {
+pub(crate) fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<(), CaseError> {
     check_finite(field, values)?;
     match values.iter().position(|v| *v < 0.0) {
         Some(i) => Err(CaseError::invalid(format!("{field}[{i}]"), format!("must be ≥ 0 {unit}, got {}", values[i]))),
@@ -246,7 +250,7 @@ fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<(), CaseError
 }
 
 
-fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
+pub(crate) fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
     positive("solver.residual_tolerance", o.residual_tolerance, "")?;
     positive("solver.max_angle_step", o.max_angle_step, "rad")?;
     positive("solver.critical_load_tolerance", o.critical_load_tolerance, "")?;

@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod design;
 mod equilibrium;
 mod output;
 mod twolink;
@@ -31,12 +32,30 @@ struct RunArgs {
     deterministic: bool,
 }
 
+#[derive(clap::Args)]
+struct DesignArgs {
+    #[command(flatten)]
+    run: RunArgs,
+    /// Formulation of eq. (33): `full` (simultaneous, exact sparse Hessian) or `reduced`
+    /// (equilibria by continuation, adjoint gradients); default: the case file's.
+    #[arg(long, value_parser = ["full", "reduced"])]
+    formulation: Option<String>,
+    /// Extra seeded feasible starts (multi-start); default: the case file's.
+    #[arg(long)]
+    starts: Option<usize>,
+    /// Seed of the multi-start; default: the case file's.
+    #[arg(long)]
+    seed: Option<u64>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Passive (θ1) and loaded (θ2) equilibria of a given design, with stability.
     Equilibrium(RunArgs),
     /// The two-link analysis of Sec. 3: closed forms beside the exact solution.
     Twolink(RunArgs),
+    /// The static design problem of eq. (33) with Ipopt (optionally multi-start).
+    Design(DesignArgs),
     /// Runs any case file by its `kind`.
     Case(RunArgs),
 }
@@ -55,12 +74,21 @@ pub enum Failure {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let mut overrides = design::Overrides::default();
     let (args, expect) = match &cli.command {
         Command::Equilibrium(a) => (a, Some("equilibrium")),
         Command::Twolink(a) => (a, Some("twolink")),
+        Command::Design(a) => {
+            overrides = design::Overrides {
+                formulation: a.formulation.as_deref().map(|f| if f == "reduced" { spine_design::Formulation::Reduced } else { spine_design::Formulation::Full }),
+                starts: a.starts,
+                seed: a.seed,
+            };
+            (&a.run, Some("design"))
+        }
         Command::Case(a) => (a, None),
     };
-    match run(args, expect) {
+    match run(args, expect, overrides) {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
         Ok(Outcome::NotConverged) => ExitCode::from(3),
         Err(Failure::Input(msg)) => {
@@ -74,7 +102,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(args: &RunArgs, expect: Option<&str>) -> Result<Outcome, Failure> {
+fn run(args: &RunArgs, expect: Option<&str>, overrides: design::Overrides) -> Result<Outcome, Failure> {
     let path = args.case.display().to_string();
     let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
     let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
@@ -95,6 +123,10 @@ fn run(args: &RunArgs, expect: Option<&str>) -> Result<Outcome, Failure> {
         spine_case::Case::Twolink(c) => {
             let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
             twolink::run(&c, &valid, &out)
+        }
+        spine_case::Case::Design(c) => {
+            let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+            design::run(&c, &valid, overrides, &out)
         }
     }
 }

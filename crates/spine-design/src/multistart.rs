@@ -1,1 +1,123 @@
-//! placeholder
+//! Multi-start: eq. (33) is non-convex ("there are many solutions", Sec. 5), so a run from one
+//! start finds one local optimum. [`feasible_starts`] draws seeded starts that satisfy every bound
+//! and `Φ(θ0) = 0`; [`cluster`] groups the converged results into distinct optima.
+
+use crate::problem::DesignProblem;
+use crate::result::DesignResult;
+use serde::Serialize;
+use spine_model::fixtures::FixtureRng;
+use spine_model::Design;
+use std::f64::consts::PI;
+
+/// `count` deterministic starts from `seed`. Each start's unloaded shape is a random positive
+/// combination of the first three arch modes `Y(x) = Σ c_m sin(m π x / L_x)`, scaled so that the
+/// interior node heights lie in `[y_min, y_max]`; `θ0_i = atan((Y_{i+1} − Y_i)/a_i)` then satisfies
+/// `Φ(θ0) = 0` exactly. Shapes breaking the angle bounds are redrawn (up to 1000 times, then
+/// scaled toward the lowest admissible arch). Stiffnesses are log-uniform within their bounds.
+pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<Design> {
+    let mut rng = FixtureRng::new(seed);
+    let n = problem.n_links();
+    let b = &problem.bounds;
+    let spans = &problem.chain.spans;
+    let lx = problem.chain.length_x();
+    let mut starts = Vec::with_capacity(count);
+    while starts.len() < count {
+        let mut theta0 = None;
+        for _ in 0..1000 {
+            let c = [rng.uniform(0.3, 1.0), rng.uniform(-0.3, 0.3), rng.uniform(-0.2, 0.2)];
+            let mut x = 0.0;
+            let mut y = vec![0.0];
+            for a in spans {
+                x += a;
+                let s = x / lx;
+                y.push(c.iter().enumerate().map(|(m, cm)| cm * ((m + 1) as f64 * PI * s).sin()).sum::<f64>());
+            }
+            y[n] = 0.0;
+            let interior = &y[1..n];
+            let (lo, hi) = interior.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(*v), h.max(*v)));
+            if n > 1 && lo <= 0.0 {
+                continue;
+            }
+            let target = rng.uniform(b.height_min, b.height_max);
+            let scale = if n > 1 { (target / hi).min(b.height_max / hi) } else { 0.0 };
+            let heights: Vec<f64> = y.iter().map(|v| v * scale).collect();
+            if n > 1 && heights[1..n].iter().any(|h| *h < b.height_min || *h > b.height_max) {
+                continue;
+            }
+            let t: Vec<f64> = (0..n).map(|i| ((heights[i + 1] - heights[i]) / spans[i]).atan()).collect();
+            let angles_ok = t.iter().all(|v| v.abs() <= b.theta0_max) && t.windows(2).all(|w| (w[0] - w[1]).abs() <= b.relative_angle_max);
+            if angles_ok {
+                theta0 = Some(t);
+                break;
+            }
+        }
+        let theta0 = theta0.unwrap_or_else(|| vec![0.0; n]);
+        let stiffness = (0..=n)
+            .map(|j| {
+                let (lo, hi) = (b.stiffness_min[j], b.stiffness_max[j]);
+                if lo > 0.0 && hi > lo {
+                    (lo.ln() + rng.next_f64() * (hi.ln() - lo.ln())).exp()
+                } else {
+                    rng.uniform(lo, hi)
+                }
+            })
+            .collect();
+        starts.push(Design { theta0, stiffness });
+    }
+    starts
+}
+
+/// A distinct local optimum and the starts that reached it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Optimum {
+    /// `J`, J.
+    pub objective: f64,
+    pub design: Design,
+    /// How many starts converged here, and which (0-based).
+    pub count: usize,
+    pub starts: Vec<usize>,
+    /// Both equilibria stable and on the load path.
+    pub clean: bool,
+}
+
+/// Summary of a multi-start run.
+#[derive(Clone, Debug, Serialize)]
+pub struct MultiStartSummary {
+    pub starts: usize,
+    pub seed: u64,
+    pub converged: usize,
+    /// Distinct optima, best `J` first.
+    pub optima: Vec<Optimum>,
+    /// Starts that did not converge, with Ipopt's status.
+    pub failed: Vec<(usize, String)>,
+}
+
+/// Groups converged results: two belong to the same optimum when `J` agrees to `1e-6` relative
+/// and `θ0` to `1e-4` rad. `K` is not compared: a spring whose two links deflect alike stores no
+/// energy, so its stiffness can move along a flat valley of `J` (bounded by the end-displacement
+/// constraint) without changing the optimum's value; such runs are one optimum.
+pub fn cluster(results: &[DesignResult], seed: u64) -> MultiStartSummary {
+    let same = |a: &Design, ja: f64, c: &Design, jc: f64| {
+        (ja - jc).abs() <= 1e-6 * ja.abs().max(1e-12)
+            && a.theta0.iter().zip(&c.theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
+    };
+    let mut optima: Vec<Optimum> = Vec::new();
+    let mut failed = Vec::new();
+    let mut converged = 0;
+    for (k, r) in results.iter().enumerate() {
+        if !r.solver.converged || !r.objective.is_finite() {
+            failed.push((k, r.solver.status.clone()));
+            continue;
+        }
+        converged += 1;
+        match optima.iter_mut().find(|o| same(&o.design, o.objective, &r.design, r.objective)) {
+            Some(o) => {
+                o.count += 1;
+                o.starts.push(k);
+            }
+            None => optima.push(Optimum { objective: r.objective, design: r.design.clone(), count: 1, starts: vec![k], clean: r.is_clean() }),
+        }
+    }
+    optima.sort_by(|a, b| a.objective.total_cmp(&b.objective));
+    MultiStartSummary { starts: results.len(), seed, converged, optima, failed }
+}

@@ -1,0 +1,210 @@
+//! `"kind": "design"`: the static design problem of eq. (33).
+
+use crate::per_item::check_finite;
+use crate::schema::{check_options, non_negative, positive, ChainSpec, LoadSpec, Notes};
+use crate::{CaseError, PerItem};
+use serde::{Deserialize, Serialize};
+use spine_design::{DesignBounds, DesignProblem, Formulation, SolverSettings};
+use spine_model::{Design, NodalLoads};
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
+
+/// Bounds of the design; every field defaults to the paper's value (Sec. 5).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundsSpec {
+    /// `|θ0_i| ≤ theta0_max`, rad, in (0, π/2) (default π/6).
+    #[serde(default = "pi_over_six")]
+    pub theta0_max: f64,
+    /// `|θ0_i − θ0_{i+1}| ≤ relative_angle_max`, rad, > 0 (default π/6).
+    #[serde(default = "pi_over_six")]
+    pub relative_angle_max: f64,
+    /// Lower stiffness bound, N·m/rad: one number or `N + 1` (default 100).
+    #[serde(default = "k_min")]
+    pub stiffness_min: PerItem,
+    /// Upper stiffness bound, N·m/rad: one number or `N + 1` (default 10⁴).
+    #[serde(default = "k_max")]
+    pub stiffness_max: PerItem,
+    /// Interior node heights, m: `height_min ≤ Y0_j ≤ height_max` (defaults 0.01 m and 0.25 L_x).
+    #[serde(default = "y_min")]
+    pub height_min: f64,
+    #[serde(default)]
+    pub height_max: Option<f64>,
+}
+
+fn pi_over_six() -> f64 {
+    FRAC_PI_6
+}
+fn k_min() -> PerItem {
+    PerItem::Uniform(1e2)
+}
+fn k_max() -> PerItem {
+    PerItem::Uniform(1e4)
+}
+fn y_min() -> f64 {
+    0.01
+}
+
+impl Default for BoundsSpec {
+    fn default() -> Self {
+        BoundsSpec {
+            theta0_max: FRAC_PI_6,
+            relative_angle_max: FRAC_PI_6,
+            stiffness_min: k_min(),
+            stiffness_max: k_max(),
+            height_min: y_min(),
+            height_max: None,
+        }
+    }
+}
+
+/// The optimiser's start design; it may lie outside the bounds (it is projected, and the result
+/// says so) but must have `N` angles with `|θ0| < π/2` and `N + 1` stiffnesses ≥ 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartSpec {
+    pub theta0: Vec<f64>,
+    pub stiffness: PerItem,
+}
+
+/// Multi-start settings (overridden by `--starts` and `--seed`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MultiStartSpec {
+    /// Number of extra seeded feasible starts (0: only `start`).
+    #[serde(default)]
+    pub starts: usize,
+    #[serde(default)]
+    pub seed: u64,
+}
+
+/// `"kind": "design"`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignCase {
+    #[serde(default)]
+    pub title: String,
+    #[serde(default)]
+    pub notes: Notes,
+    pub chain: ChainSpec,
+    /// Passive transverse loads `p_y` and the actuating axial force `p_x` at the end.
+    pub loads: LoadSpec,
+    /// Desired end displacement `δ_d`, m (negative: toward the base).
+    pub delta_d: f64,
+    /// `C_K` of eq. (34) (> 0): the optimiser's stiffness variable is `K / C_K`.
+    #[serde(default = "one")]
+    pub stiffness_scale: f64,
+    #[serde(default)]
+    pub bounds: BoundsSpec,
+    pub start: StartSpec,
+    /// "full" (default) or "reduced".
+    #[serde(default = "full")]
+    pub formulation: Formulation,
+    #[serde(default)]
+    pub multistart: MultiStartSpec,
+    #[serde(default)]
+    pub solver: SolverSettings,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn full() -> Formulation {
+    Formulation::Full
+}
+
+/// A checked design case.
+#[derive(Clone, Debug)]
+pub struct ValidDesign {
+    pub problem: DesignProblem,
+    pub start: Design,
+    pub formulation: Formulation,
+    pub multistart: MultiStartSpec,
+    pub settings: SolverSettings,
+}
+
+impl DesignCase {
+    pub fn validate(&self) -> Result<ValidDesign, CaseError> {
+        let mut chain = self.chain.validate()?;
+        let n = chain.n_links();
+        if !self.loads.self_weight {
+            chain.gravity = 0.0;
+        }
+        let p_y = self.loads.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
+        if !self.loads.p_x.is_finite() {
+            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
+        }
+        if !self.delta_d.is_finite() {
+            return Err(CaseError::invalid("delta_d", format!("must be a finite displacement (m), got {}", self.delta_d)));
+        }
+        positive("stiffness_scale", self.stiffness_scale, "(C_K)")?;
+
+        let b = &self.bounds;
+        if !(b.theta0_max > 0.0 && b.theta0_max < FRAC_PI_2) {
+            return Err(CaseError::invalid("bounds.theta0_max", format!("must be in (0, π/2) rad, got {}", b.theta0_max)));
+        }
+        positive("bounds.relative_angle_max", b.relative_angle_max, "rad")?;
+        let stiffness_min = b.stiffness_min.expand("bounds.stiffness_min", n + 1, "one per spring, N + 1")?;
+        let stiffness_max = b.stiffness_max.expand("bounds.stiffness_max", n + 1, "one per spring, N + 1")?;
+        non_negative("bounds.stiffness_min", &stiffness_min, "N·m/rad")?;
+        check_finite("bounds.stiffness_max", &stiffness_max)?;
+        if let Some(j) = (0..=n).find(|&j| stiffness_max[j] < stiffness_min[j]) {
+            return Err(CaseError::invalid(
+                format!("bounds.stiffness_max[{j}]"),
+                format!("must be ≥ stiffness_min[{j}] = {}, got {}", stiffness_min[j], stiffness_max[j]),
+            ));
+        }
+        let height_max = b.height_max.unwrap_or(0.25 * chain.length_x());
+        if !b.height_min.is_finite() {
+            return Err(CaseError::invalid("bounds.height_min", "must be a finite height (m)"));
+        }
+        if !(height_max.is_finite() && height_max > b.height_min) {
+            return Err(CaseError::invalid("bounds.height_max", format!("must be a finite height (m) > height_min = {}, got {height_max}", b.height_min)));
+        }
+
+        if self.start.theta0.len() != n {
+            return Err(CaseError::invalid("start.theta0", format!("expected {n} entries (one per link), got {}", self.start.theta0.len())));
+        }
+        check_finite("start.theta0", &self.start.theta0)?;
+        if let Some(i) = self.start.theta0.iter().position(|t| t.abs() >= FRAC_PI_2) {
+            return Err(CaseError::invalid(format!("start.theta0[{i}]"), format!("must satisfy |θ0| < π/2 rad, got {}", self.start.theta0[i])));
+        }
+        let stiffness = self.start.stiffness.expand("start.stiffness", n + 1, "one per spring, N + 1")?;
+        non_negative("start.stiffness", &stiffness, "N·m/rad")?;
+
+        let s = &self.solver;
+        positive("solver.tolerance", s.tolerance, "")?;
+        positive("solver.constraint_tolerance", s.constraint_tolerance, "")?;
+        if s.max_iterations == 0 || s.max_iterations > i32::MAX as usize {
+            return Err(CaseError::invalid("solver.max_iterations", "must be between 1 and 2147483647"));
+        }
+        if !["monotone", "adaptive"].contains(&s.barrier_strategy.as_str()) {
+            return Err(CaseError::invalid("solver.barrier_strategy", format!("must be \"monotone\" or \"adaptive\", got {:?}", s.barrier_strategy)));
+        }
+        check_options(&s.continuation).map_err(|e| e.with_prefix("solver.continuation"))?;
+
+        let passive = NodalLoads { p_x: vec![0.0; n + 1], p_y };
+        let mut actuation = NodalLoads::zero(n);
+        actuation.p_x[n] = self.loads.p_x;
+        Ok(ValidDesign {
+            problem: DesignProblem {
+                chain,
+                passive,
+                actuation,
+                delta_d: self.delta_d,
+                bounds: DesignBounds {
+                    theta0_max: b.theta0_max,
+                    relative_angle_max: b.relative_angle_max,
+                    stiffness_min,
+                    stiffness_max,
+                    height_min: b.height_min,
+                    height_max,
+                },
+                stiffness_scale: self.stiffness_scale,
+            },
+            start: Design { theta0: self.start.theta0.clone(), stiffness },
+            formulation: self.formulation,
+            multistart: self.multistart.clone(),
+            settings: self.solver.clone(),
+        })
+    }
+}
