@@ -75,6 +75,7 @@ proptest! {
             match case {
                 Case::Equilibrium(c) => { let _ = c.validate(); }
                 Case::Twolink(c) => { let _ = c.validate(); }
+                Case::Design(c) => { let _ = c.validate(); }
             }
         }
     }
@@ -91,6 +92,7 @@ fn every_paper_case_validates() {
             let ok = match Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())) {
                 Case::Equilibrium(c) => c.validate().map(|_| ()),
                 Case::Twolink(c) => c.validate().map(|_| ()),
+                Case::Design(c) => c.validate().map(|_| ()),
             };
             ok.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             count += 1;

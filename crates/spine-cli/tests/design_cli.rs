@@ -1,0 +1,103 @@
+//! `spine design` and `spine case` on design cases, end to end.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmpdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("spine-design-cli-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn spine(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spine")).args(args).output().unwrap()
+}
+
+fn read(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn paper_five_link_case_runs_in_both_formulations_and_reports_everything() {
+    let case = workspace().join("paper-cases/design5.json");
+    let mut objectives = Vec::new();
+    for formulation in ["full", "reduced"] {
+        let out = tmpdir(formulation);
+        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--formulation", formulation]);
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(stdout.contains("solve_succeeded") && stdout.contains("projected"), "{stdout}");
+        let r = read(&out.join("result.json"));
+        assert_eq!(r["kind"], "design");
+        assert_eq!(r["formulation"], formulation);
+        assert_eq!(r["solver"]["status"], "solve_succeeded");
+        assert!(r["solver"]["iterations"].as_u64().unwrap() > 0);
+        for key in ["theta", "lambda", "nodes", "stability"] {
+            assert!(!r["passive"][key].is_null() && !r["loaded"][key].is_null(), "missing {key}");
+        }
+        assert_eq!(r["passive"]["stability"]["stable"], true);
+        assert_eq!(r["loaded"]["stability"]["stable"], true);
+        assert!(r["violations"]["max"].as_f64().unwrap() < 1e-8);
+        assert!((r["end_displacement"].as_f64().unwrap() + 0.02).abs() < 1e-9);
+        assert_eq!(r["start_notes"].as_array().unwrap().len(), 3);
+        assert!(r["timings"]["ipopt_seconds"].as_f64().unwrap() > 0.0);
+        assert_eq!(r["unloaded_nodes"].as_array().unwrap().len(), 6);
+        objectives.push(r["objective"].as_f64().unwrap());
+    }
+    assert!((objectives[0] - objectives[1]).abs() <= 1e-6 * objectives[0]);
+}
+
+#[test]
+fn design_output_is_deterministic_and_multistart_counts_optima() {
+    let case = workspace().join("paper-cases/design5.json");
+    let mut texts = Vec::new();
+    for tag in ["a", "b"] {
+        let out = tmpdir(&format!("det-{tag}"));
+        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic", "--starts", "4", "--seed", "7"]);
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        texts.push(std::fs::read(out.join("result.json")).unwrap());
+        let r = read(&out.join("result.json"));
+        assert!(r.get("timings").is_none());
+        let m = &r["multistart"];
+        assert_eq!(m["starts"], 5);
+        let optima = m["optima"].as_array().unwrap();
+        let reached: u64 = optima.iter().map(|o| o["count"].as_u64().unwrap()).sum();
+        assert_eq!(reached, m["converged"].as_u64().unwrap());
+        let js: Vec<f64> = optima.iter().map(|o| o["objective"].as_f64().unwrap()).collect();
+        assert!(js.windows(2).all(|w| w[0] <= w[1]), "optima sorted by J: {js:?}");
+    }
+    assert_eq!(texts[0], texts[1], "same input, same bytes");
+}
+
+#[test]
+fn bad_design_input_exits_2_and_names_the_field() {
+    let good = std::fs::read_to_string(workspace().join("paper-cases/design5.json")).unwrap();
+    let cases = [
+        ("\"delta_d\": -0.02", "\"delta_d\": \"far\"", "delta_d"),
+        ("\"stiffness_scale\": 100", "\"stiffness_scale\": -1", "stiffness_scale"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"sideways\"", "formulation"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"bounds\": {\"theta0_max\": 2.0}", "bounds.theta0_max"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"bounds\": {\"stiffness_min\": 500, \"stiffness_max\": 100}", "bounds.stiffness_max[0]"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"barrier_strategy\": \"fast\"}", "solver.barrier_strategy"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"continuation\": {\"min_step\": 0}}", "solver.continuation.min_step"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"no_such_option\": 1}}", "solver"),
+        ("[10000, 250, 250, 250, 250, 0]", "[10000, 250]", "start.stiffness"),
+    ];
+    for (from, to, field) in cases {
+        assert!(good.contains(from), "{from}");
+        let dir = tmpdir(&format!("bad-{}", field.replace(['.', '[', ']'], "_")));
+        let case = dir.join("case.json");
+        std::fs::write(&case, good.replacen(from, to, 1)).unwrap();
+        let out = dir.join("out");
+        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{field}: {stderr}");
+        assert!(stderr.contains(field), "{field}: {stderr}");
+        assert!(!out.join("result.json").exists(), "{field}: wrote a result");
+    }
+}
