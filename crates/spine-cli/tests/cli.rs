@@ -1,8 +1,11 @@
 //! The `spine` binary end to end: good cases write `result.json`, bad input exits with code 2, a
 //! one-line error naming the field, and writes nothing.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::{spine, tmpdir, workspace};
+use std::path::PathBuf;
+use std::process::Output;
 
 const GOOD: &str = r#"{
   "kind": "equilibrium",
@@ -11,20 +14,6 @@ const GOOD: &str = r#"{
   "loads": { "p_y": -5.0, "p_x": -100.0 }
 }"#;
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn tmpdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("spine-cli-test-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn spine(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_spine")).args(args).output().unwrap()
-}
 
 fn run_case(text: &str, tag: &str, extra: &[&str]) -> (Output, PathBuf) {
     let dir = tmpdir(tag);

@@ -16,6 +16,7 @@
 use crate::problem::DesignProblem;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::{energy, hand, kinematics, Design, State};
+use num_dual::Dual64;
 use spine_solve::linalg::{BorderedLu, SingularMatrix};
 
 /// Values and design gradients of the two reduced functions.
@@ -84,8 +85,8 @@ pub fn forward_ad(problem: &DesignProblem, design: &Design, passive: &State, loa
     let (passive_loads, total_loads) = (problem.passive_loads(), problem.total_loads());
     let s1 = sensitivities(&passive_loads, passive)?;
     let s2 = sensitivities(&total_loads, loaded)?;
-    let (du_dtheta, du_ddesign) = hand_free_energy_partials(design, passive);
-    let (dx_dtheta, dx_ddesign) = hand_free_end_partials(spans, design, loaded);
+    let (du_dtheta, du_ddesign) = energy_partials_ad(design, passive);
+    let (dx_dtheta, dx_ddesign) = end_partials_ad(spans, design, loaded);
     let chain = |partial_state: &[f64], partial_design: &[f64], s: &[Vec<f64>]| -> Vec<f64> {
         (0..2 * n + 1)
             .map(|k| partial_design[k] + partial_state.iter().zip(&s[k]).map(|(a, b)| a * b).sum::<f64>())
@@ -99,33 +100,31 @@ pub fn forward_ad(problem: &DesignProblem, design: &Design, passive: &State, loa
     })
 }
 
-/// `∂U/∂θ` and `∂U/∂(θ0, K)` by forward AD of [`energy::strain_energy`] (one `Dual64` pass per
-/// variable; O(N²), for the test oracle only).
-fn hand_free_energy_partials(design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
-    use num_dual::Dual64;
-    let n = state.theta.len();
-    let total = 3 * n + 1;
-    let all: Vec<f64> = state.theta.iter().chain(&design.theta0).chain(&design.stiffness).copied().collect();
-    let grad: Vec<f64> = (0..total)
+/// The gradient of `f` at `values` by forward AD, one `Dual64` pass per entry (O(N²) for the
+/// functions here; test oracle only).
+fn dual_gradient(values: &[f64], f: impl Fn(&[Dual64]) -> Dual64) -> Vec<f64> {
+    (0..values.len())
         .map(|k| {
-            let v: Vec<Dual64> = all.iter().enumerate().map(|(i, &x)| if i == k { Dual64::from(x).derivative() } else { Dual64::from(x) }).collect();
-            energy::strain_energy(&v[..n], &v[n..2 * n], &v[2 * n..]).eps
+            let v: Vec<Dual64> =
+                values.iter().enumerate().map(|(i, &x)| if i == k { Dual64::from(x).derivative() } else { Dual64::from(x) }).collect();
+            f(&v).eps
         })
-        .collect();
+        .collect()
+}
+
+/// `∂U/∂θ` and `∂U/∂(θ0, K)` by forward AD of [`energy::strain_energy`].
+fn energy_partials_ad(design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
+    let n = state.theta.len();
+    let all: Vec<f64> = state.theta.iter().chain(&design.theta0).chain(&design.stiffness).copied().collect();
+    let grad = dual_gradient(&all, |v| energy::strain_energy(&v[..n], &v[n..2 * n], &v[2 * n..]));
     (grad[..n].to_vec(), grad[n..].to_vec())
 }
 
 /// `∂X/∂θ` and `∂X/∂(θ0, K)` by forward AD of [`kinematics::end_x`].
-fn hand_free_end_partials(spans: &[f64], design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
-    use num_dual::Dual64;
+fn end_partials_ad(spans: &[f64], design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     let n = state.theta.len();
     let all: Vec<f64> = state.theta.iter().chain(&design.theta0).copied().collect();
-    let grad: Vec<f64> = (0..2 * n)
-        .map(|k| {
-            let v: Vec<Dual64> = all.iter().enumerate().map(|(i, &x)| if i == k { Dual64::from(x).derivative() } else { Dual64::from(x) }).collect();
-            kinematics::end_x(spans, &v[n..], &v[..n]).eps
-        })
-        .collect();
+    let grad = dual_gradient(&all, |v| kinematics::end_x(spans, &v[n..], &v[..n]));
     let mut by_design = grad[n..].to_vec();
     by_design.extend(std::iter::repeat_n(0.0, n + 1));
     (grad[..n].to_vec(), by_design)

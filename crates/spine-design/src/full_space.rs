@@ -241,6 +241,26 @@ pub(crate) fn design_variable_bounds(
     }
 }
 
+/// Constraint bounds shared by both formulations: every row is an equality `= 0` except the end
+/// displacement row (`X_{N+1}(θ2) = L_x + δ_d`) and the relative-angle rows (`±π/6` by default).
+pub(crate) fn design_constraint_bounds(
+    problem: &DesignProblem,
+    lower: &mut [f64],
+    upper: &mut [f64],
+    end_row: usize,
+    relative_row: impl Fn(usize) -> usize,
+) {
+    lower.fill(0.0);
+    upper.fill(0.0);
+    let target = problem.chain.length_x() + problem.delta_d;
+    lower[end_row] = target;
+    upper[end_row] = target;
+    for i in 0..problem.n_links().saturating_sub(1) {
+        lower[relative_row(i)] = -problem.bounds.relative_angle_max;
+        upper[relative_row(i)] = problem.bounds.relative_angle_max;
+    }
+}
+
 /// Eq. (33) in the full space as an Ipopt problem, with exact sparse first and second
 /// derivatives from the elements.
 pub struct FullSpaceNlp<'a> {
@@ -250,7 +270,8 @@ pub struct FullSpaceNlp<'a> {
     pub start: Vec<f64>,
     /// Called once per Ipopt iteration (progress, logging); return `false` to stop.
     pub on_iteration: Option<&'a mut dyn FnMut(&spine_ipopt::IterationInfo) -> bool>,
-    scratch_g: Vec<f64>,
+    /// `x`, `f` and `g` at the last point: Ipopt asks for both at the same point.
+    values: Option<(Vec<f64>, f64, Vec<f64>)>,
     /// `x`, `∇f` and the Jacobian values at the last point: Ipopt asks for both at the same point.
     first_derivatives: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
 }
@@ -262,12 +283,22 @@ impl<'a> FullSpaceNlp<'a> {
         let layout = Layout { n: problem.n_links() };
         let heights = problem.node_heights(&start.theta0);
         let start = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
-        let scratch_g = vec![0.0; layout.num_constraints()];
-        FullSpaceNlp { problem, layout, assembled: assemble(problem), start, on_iteration: None, scratch_g, first_derivatives: None }
+        FullSpaceNlp { problem, layout, assembled: assemble(problem), start, on_iteration: None, values: None, first_derivatives: None }
     }
 }
 
 impl FullSpaceNlp<'_> {
+    /// `f` and `g` at `x`, computed once per point (cached by `x`, like the first derivatives).
+    fn values_at(&mut self, x: &[f64]) -> (f64, &[f64]) {
+        if self.values.as_ref().is_none_or(|(at, _, _)| at.as_slice() != x) {
+            let mut g = vec![0.0; self.layout.num_constraints()];
+            let f = self.assembled.values(x, &mut g);
+            self.values = Some((x.to_vec(), f, g));
+        }
+        let (_, f, g) = self.values.as_ref().expect("computed above");
+        (*f, g)
+    }
+
     /// `∇f` and the Jacobian at `x`, computed once per point (the cache is keyed by `x` itself,
     /// not by Ipopt's `new_x` flag, which refers to the last call of any evaluation).
     fn first_derivatives_at(&mut self, x: &[f64]) -> (&[f64], &[f64]) {
@@ -293,23 +324,13 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
         design_variable_bounds(self.problem, lower, upper, |j| self.layout.height(j));
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        lower.fill(0.0);
-        upper.fill(0.0);
-        let target = self.problem.chain.length_x() + self.problem.delta_d;
-        lower[self.layout.end_row()] = target;
-        upper[self.layout.end_row()] = target;
-        for i in 0..self.layout.n.saturating_sub(1) {
-            lower[self.layout.relative_row(i)] = -self.problem.bounds.relative_angle_max;
-            upper[self.layout.relative_row(i)] = self.problem.bounds.relative_angle_max;
-        }
+        design_constraint_bounds(self.problem, lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);
     }
     fn objective(&mut self, x: &[f64], _new_x: bool) -> Option<f64> {
-        let mut g = std::mem::take(&mut self.scratch_g);
-        let f = self.assembled.values(x, &mut g);
-        self.scratch_g = g;
+        let (f, _) = self.values_at(x);
         f.is_finite().then_some(f)
     }
     fn objective_gradient(&mut self, x: &[f64], _new_x: bool, gradient: &mut [f64]) -> bool {
@@ -318,7 +339,7 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
         gradient.iter().all(|v| v.is_finite())
     }
     fn constraints(&mut self, x: &[f64], _new_x: bool, g: &mut [f64]) -> bool {
-        self.assembled.values(x, g);
+        g.copy_from_slice(self.values_at(x).1);
         g.iter().all(|v| v.is_finite())
     }
     fn jacobian_structure(&self) -> Vec<(usize, usize)> {

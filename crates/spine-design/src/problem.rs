@@ -50,9 +50,7 @@ impl DesignProblem {
 
     /// Load resultants of the passive load plus the actuation, self-weight included.
     pub fn total_loads(&self) -> LinkLoads {
-        let add = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x + y).collect();
-        let total = NodalLoads { p_x: add(&self.passive.p_x, &self.actuation.p_x), p_y: add(&self.passive.p_y, &self.actuation.p_y) };
-        LinkLoads::from_nodal(&self.chain, &total, true)
+        LinkLoads::from_nodal(&self.chain, &self.passive.plus(&self.actuation), true)
     }
 
     /// The problem as the equilibrium solver sees it, for one design.

@@ -16,7 +16,7 @@
 
 use crate::adjoint::{adjoint_hand, ReducedGradients};
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
-use crate::full_space::design_variable_bounds;
+use crate::full_space::{design_constraint_bounds, design_variable_bounds};
 use crate::problem::DesignProblem;
 use spine_model::local::{Difference, HeightStep};
 use spine_model::{Design, State};
@@ -166,21 +166,23 @@ impl<'a> ReducedSpaceNlp<'a> {
         let passive = resolve(self.problem.passive_loads(), &last.passive)?;
         let loaded = resolve(self.problem.total_loads(), &last.loaded)?;
         let g = adjoint_hand(self.problem, &design, &passive, &loaded).ok()?;
-        let n = self.layout.n;
-        let ck = self.problem.stiffness_scale;
-        Some(
-            (0..2 * n + 1)
-                .map(|k| {
-                    let scale = if k < n { 1.0 } else { ck };
-                    scale * (sigma * g.energy_gradient[k] + lambda_end * g.end_x_gradient[k])
-                })
-                .collect(),
-        )
+        let weighted = g.energy_gradient.iter().zip(&g.end_x_gradient).map(|(j, x)| sigma * j + lambda_end * x);
+        let mut out = vec![0.0; 2 * self.layout.n + 1];
+        to_optimiser_variables(self.layout.n, self.problem.stiffness_scale, weighted, &mut out);
+        Some(out)
     }
 
     /// The last successful evaluation.
     pub fn last_evaluation(&self) -> Option<&Evaluation> {
         self.last.as_ref()
+    }
+}
+
+/// A gradient with respect to `(θ0, K)` (`N` then `N + 1` entries) written into `out` as one with
+/// respect to the optimiser's `(θ0, k)`, `k = K / C_K` (eq. (34)): the `K` entries times `C_K`.
+fn to_optimiser_variables(n: usize, stiffness_scale: f64, design_gradient: impl Iterator<Item = f64>, out: &mut [f64]) {
+    for (k, (o, g)) in out.iter_mut().zip(design_gradient).enumerate() {
+        *o = if k < n { g } else { stiffness_scale * g };
     }
 }
 
@@ -195,15 +197,7 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
         design_variable_bounds(self.problem, lower, upper, |j| self.layout.height(j));
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        lower.fill(0.0);
-        upper.fill(0.0);
-        let target = self.problem.chain.length_x() + self.problem.delta_d;
-        lower[self.layout.end_row()] = target;
-        upper[self.layout.end_row()] = target;
-        for i in 0..self.layout.n.saturating_sub(1) {
-            lower[self.layout.relative_row(i)] = -self.problem.bounds.relative_angle_max;
-            upper[self.layout.relative_row(i)] = self.problem.bounds.relative_angle_max;
-        }
+        design_constraint_bounds(self.problem, lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);
@@ -212,14 +206,10 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
         self.evaluate(x).map(|e| e.gradients.energy)
     }
     fn objective_gradient(&mut self, x: &[f64], _new_x: bool, gradient: &mut [f64]) -> bool {
-        let n = self.layout.n;
-        let ck = self.problem.stiffness_scale;
+        let (n, ck) = (self.layout.n, self.problem.stiffness_scale);
         let Some(e) = self.evaluate(x) else { return false };
         gradient.fill(0.0);
-        gradient[..n].copy_from_slice(&e.gradients.energy_gradient[..n]);
-        for j in 0..=n {
-            gradient[n + j] = ck * e.gradients.energy_gradient[n + j];
-        }
+        to_optimiser_variables(n, ck, e.gradients.energy_gradient.iter().copied(), gradient);
         true
     }
     fn constraints(&mut self, x: &[f64], _new_x: bool, g: &mut [f64]) -> bool {
@@ -235,17 +225,12 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
         structure
     }
     fn jacobian_values(&mut self, x: &[f64], _new_x: bool, values: &mut [f64]) -> bool {
-        let n = self.layout.n;
-        let ck = self.problem.stiffness_scale;
         let linear_len = self.linear.patterns.jacobian.len();
         let mut unused = vec![0.0; x.len()];
         self.linear.first_derivatives(x, &mut unused, &mut values[..linear_len]);
+        let (n, ck) = (self.layout.n, self.problem.stiffness_scale);
         let Some(e) = self.evaluate(x) else { return false };
-        let dense = &mut values[linear_len..];
-        dense[..n].copy_from_slice(&e.gradients.end_x_gradient[..n]);
-        for j in 0..=n {
-            dense[n + j] = ck * e.gradients.end_x_gradient[n + j];
-        }
+        to_optimiser_variables(n, ck, e.gradients.end_x_gradient.iter().copied(), &mut values[linear_len..]);
         true
     }
     fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {

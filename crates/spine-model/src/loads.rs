@@ -19,6 +19,12 @@ impl NodalLoads {
     pub fn zero(n_links: usize) -> Self {
         Self { p_x: vec![0.0; n_links + 1], p_y: vec![0.0; n_links + 1] }
     }
+
+    /// The node-by-node sum of two loads on the same chain (passive plus actuation).
+    pub fn plus(&self, other: &NodalLoads) -> NodalLoads {
+        let add = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x + y).collect();
+        NodalLoads { p_x: add(&self.p_x, &other.p_x), p_y: add(&self.p_y, &other.p_y) }
+    }
 }
 
 /// Per-link load resultants that the generalised load needs (paper eq. (48), `A P_Y` and `A P_X`):
