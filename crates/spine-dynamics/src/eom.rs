@@ -1,0 +1,319 @@
+//! Equations of motion of the chain, eq. (6) and `docs/model.md` "Dynamics":
+//!
+//! `M(θ) θ̈ + h(θ, θ̇) + C_m θ̇ + K_m (θ − θ0) − P(θ, t) − λ ∇Φ(θ) = 0`, `Φ(θ) = 0`.
+//!
+//! * Links are uniform rods: mass `m_k` (kg) at mid-length, centroidal inertia `m_k L_k² / 12`.
+//! * `M` is the mass matrix in absolute angles (kg·m²), `h` the centrifugal terms (N·m), `C_m` and
+//!   `K_m` the tridiagonal damper and spring matrices (N·m·s/rad, N·m/rad), `P` the generalised load
+//!   (N·m) of the passive load plus `s(t)` times the actuation ([`crate::Forcing`]), `λ` the slider's
+//!   vertical reaction (N).
+//!
+//! Every function is generic over [`Scalar`], so Jacobians and parameter sensitivities come from
+//! forward-mode AD. The damper coefficients are a separate argument so that they can carry dual parts
+//! (the sensitivities of the damping design, eq. (35)).
+
+use crate::forcing::Forcing;
+use spine_model::kinematics::link_lengths;
+use spine_model::{Chain, Design, LinkLoads, NodalLoads, Scalar};
+
+/// A design with its masses, dampers and loads: everything the equations of motion need.
+#[derive(Clone, Debug)]
+pub struct Dynamics {
+    /// Link lengths `L_i = a_i / cos θ0_i`, m.
+    pub lengths: Vec<f64>,
+    /// Link masses `m_i`, kg.
+    pub masses: Vec<f64>,
+    /// Unloaded design angles `θ0`, rad.
+    pub theta0: Vec<f64>,
+    /// Springs `K_1..K_{N+1}`, N·m/rad.
+    pub stiffness: Vec<f64>,
+    /// Dampers `C_1..C_{N+1}`, N·m·s/rad, at the same places as the springs.
+    pub damping: Vec<f64>,
+    /// Link load resultants of the passive load (transverse forces and self-weight).
+    pub passive: LinkLoads,
+    /// Link load resultants of the passive load plus the full actuation.
+    pub loaded: LinkLoads,
+    /// How much of the actuation acts at time `t`.
+    pub forcing: Forcing,
+}
+
+impl Dynamics {
+    /// The dynamics of a design under the passive load plus `forcing` times the actuation.
+    pub fn new(
+        chain: &Chain,
+        design: &Design,
+        damping: Vec<f64>,
+        passive: &NodalLoads,
+        actuation: &NodalLoads,
+        forcing: Forcing,
+    ) -> Self {
+        Self {
+            lengths: link_lengths(&chain.spans, &design.theta0),
+            masses: chain.masses.clone(),
+            theta0: design.theta0.clone(),
+            stiffness: design.stiffness.clone(),
+            damping,
+            passive: LinkLoads::from_nodal(chain, passive, true),
+            loaded: LinkLoads::from_nodal(chain, &passive.plus(actuation), true),
+            forcing,
+        }
+    }
+
+    /// Number of links `N`.
+    pub fn n_links(&self) -> usize {
+        self.lengths.len()
+    }
+
+    /// `c_ij = L_i L_j (½ m_j + Σ_{k>j} m_k)` for `i ≤ j` below the diagonal's own term: the
+    /// coefficient of `cos(θ_i − θ_j)` in `M_ij`. Returns `(c, diag)` with
+    /// `diag_i = L_i² (m_i / 3 + Σ_{k>i} m_k)`.
+    fn inertia_coefficients(&self) -> (Vec<f64>, Vec<f64>) {
+        let n = self.n_links();
+        let mut beyond = vec![0.0; n];
+        for i in (0..n.saturating_sub(1)).rev() {
+            beyond[i] = beyond[i + 1] + self.masses[i + 1];
+        }
+        let coupling = (0..n).map(|j| 0.5 * self.masses[j] + beyond[j]).collect();
+        let diag = (0..n).map(|i| self.lengths[i].powi(2) * (self.masses[i] / 3.0 + beyond[i])).collect();
+        (coupling, diag)
+    }
+
+    /// Mass matrix `M(θ)`, kg·m², row-major `N × N`:
+    /// `M_ii = L_i² (m_i/3 + Σ_{k>i} m_k)`, `M_ij = L_i L_j cos(θ_i − θ_j) (½ m_j + Σ_{k>j} m_k)` for `i < j`.
+    pub fn mass_matrix<D: Scalar>(&self, theta: &[D]) -> Vec<Vec<D>> {
+        let n = self.n_links();
+        let (coupling, diag) = self.inertia_coefficients();
+        let mut m = vec![vec![D::zero(); n]; n];
+        for i in 0..n {
+            m[i][i] = D::from(diag[i]);
+            for j in i + 1..n {
+                let v = (theta[i] - theta[j]).cos() * (self.lengths[i] * self.lengths[j] * coupling[j]);
+                m[i][j] = v;
+                m[j][i] = v;
+            }
+        }
+        m
+    }
+
+    /// Centrifugal terms `h_i(θ, θ̇) = Σ_j c_ij sin(θ_i − θ_j) θ̇_j²`, N·m (the Coriolis part cancels in
+    /// absolute angles), with `c_ij` the off-diagonal coefficient of `M`.
+    pub fn velocity_terms<D: Scalar>(&self, theta: &[D], omega: &[D]) -> Vec<D> {
+        let n = self.n_links();
+        let (coupling, _) = self.inertia_coefficients();
+        let mut h = vec![D::zero(); n];
+        for i in 0..n {
+            for j in 0..n {
+                if i == j {
+                    continue;
+                }
+                let c = self.lengths[i] * self.lengths[j] * coupling[i.max(j)];
+                h[i] += (theta[i] - theta[j]).sin() * omega[j] * omega[j] * c;
+            }
+        }
+        h
+    }
+
+    /// Kinetic energy, J, from the centre-of-mass velocities and the rotations (independent of
+    /// [`Self::mass_matrix`]; the tests compare the two).
+    pub fn kinetic_energy<D: Scalar>(&self, theta: &[D], omega: &[D]) -> D {
+        let (mut vx, mut vy) = (D::zero(), D::zero());
+        let mut t = D::zero();
+        for k in 0..self.n_links() {
+            let (s, c) = theta[k].sin_cos();
+            let l = self.lengths[k];
+            let (cx, cy) = (vx - s * omega[k] * (0.5 * l), vy + c * omega[k] * (0.5 * l));
+            t += (cx * cx + cy * cy) * (0.5 * self.masses[k]);
+            t += omega[k] * omega[k] * (self.masses[k] * l * l / 24.0);
+            vx -= s * omega[k] * l;
+            vy += c * omega[k] * l;
+        }
+        t
+    }
+
+    /// Link load resultants at time `t` (`piece`: any time inside the forcing's current smooth piece).
+    pub fn loads_at(&self, t: f64, piece: f64) -> LinkLoads {
+        LinkLoads::lerp(&self.passive, &self.loaded, self.forcing.factor(t, piece))
+    }
+
+    /// Generalised load `P_i = L_i (cos θ_i · vertical_i − sin θ_i · axial_i)`, N·m, eq. (48).
+    pub fn generalised_load<D: Scalar>(&self, loads: &LinkLoads, theta: &[D]) -> Vec<D> {
+        (0..self.n_links())
+            .map(|i| {
+                let (s, c) = theta[i].sin_cos();
+                (c * loads.vertical[i] - s * loads.axial[i]) * self.lengths[i]
+            })
+            .collect()
+    }
+
+    /// Potential of constant link loads, J, up to a constant: `V = −Σ L_i (vertical_i sin θ_i + axial_i cos θ_i)`,
+    /// so that `P = −∂V/∂θ`.
+    pub fn load_potential<D: Scalar>(&self, loads: &LinkLoads, theta: &[D]) -> D {
+        (0..self.n_links())
+            .map(|i| {
+                let (s, c) = theta[i].sin_cos();
+                -(s * loads.vertical[i] + c * loads.axial[i]) * self.lengths[i]
+            })
+            .sum()
+    }
+
+    /// End constraint `Φ(θ) = Σ L_i sin θ_i`, m.
+    pub fn constraint<D: Scalar>(&self, theta: &[D]) -> D {
+        theta.iter().zip(&self.lengths).map(|(&t, &l)| t.sin() * l).sum()
+    }
+
+    /// `∇Φ = (L_i cos θ_i)`, m.
+    pub fn constraint_gradient<D: Scalar>(&self, theta: &[D]) -> Vec<D> {
+        theta.iter().zip(&self.lengths).map(|(&t, &l)| t.cos() * l).collect()
+    }
+
+    /// `Φ̇ = ∇Φ · θ̇`, m/s.
+    pub fn constraint_rate<D: Scalar>(&self, theta: &[D], omega: &[D]) -> D {
+        self.constraint_gradient(theta).iter().zip(omega).map(|(&g, &w)| g * w).sum()
+    }
+
+    /// X of the end node, `Σ L_i cos θ_i`, m.
+    pub fn end_x<D: Scalar>(&self, theta: &[D]) -> D {
+        theta.iter().zip(&self.lengths).map(|(&t, &l)| t.cos() * l).sum()
+    }
+
+    /// Accelerations `θ̈` (rad/s²) and reaction `λ` (N) at `(t, θ, θ̇)` with dampers `damping`, from
+    /// the index-1 form: `[M −∇Φ; ∇Φᵀ 0] [θ̈; λ] = [Q; Σ L_i sin θ_i θ̇_i²]` with
+    /// `Q = P − h − C_m θ̇ − K_m (θ − θ0)` (the second row is `Φ̈ = 0`).
+    pub fn acceleration<D: Scalar>(&self, loads: &LinkLoads, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
+        let n = self.n_links();
+        let delta: Vec<D> = theta.iter().zip(&self.theta0).map(|(&t, &t0)| t - t0).collect();
+        let stiffness: Vec<D> = self.stiffness.iter().map(|&k| D::from(k)).collect();
+        let spring = joint_moments(&stiffness, &delta);
+        let damper = joint_moments(damping, omega);
+        let h = self.velocity_terms(theta, omega);
+        let p = self.generalised_load(loads, theta);
+        let q: Vec<D> = (0..n).map(|i| p[i] - h[i] - damper[i] - spring[i]).collect();
+        let g = self.constraint_gradient(theta);
+        let b: D = (0..n).map(|i| theta[i].sin() * omega[i] * omega[i] * self.lengths[i]).sum();
+        let chol = cholesky(self.mass_matrix(theta)).expect("the mass matrix of links with mass is positive definite");
+        let mq = chol_solve(&chol, &q);
+        let mg = chol_solve(&chol, &g);
+        let gmq: D = g.iter().zip(&mq).map(|(&a, &b)| a * b).sum();
+        let gmg: D = g.iter().zip(&mg).map(|(&a, &b)| a * b).sum();
+        let lambda = (b - gmq) / gmg;
+        let acc = (0..n).map(|i| mq[i] + mg[i] * lambda).collect();
+        (acc, lambda)
+    }
+
+    /// Right-hand side of the first-order system in `y = (θ, θ̇)`: `(θ̇, θ̈)`.
+    pub fn rhs<D: Scalar>(&self, t: f64, piece: f64, y: &[D], damping: &[D]) -> Vec<D> {
+        let n = self.n_links();
+        let (theta, omega) = y.split_at(n);
+        let loads = self.loads_at(t, piece);
+        let (acc, _) = self.acceleration(&loads, theta, omega, damping);
+        omega.iter().copied().chain(acc).collect()
+    }
+
+    /// Projects `y = (θ, θ̇)` onto `Φ(θ) = 0` (Gauss–Newton along `∇Φ`, a fixed number of sweeps so that
+    /// dual parts follow one smooth map) and then `θ̇` onto `Φ̇ = 0` (orthogonally, along `∇Φ`).
+    pub fn project<D: Scalar>(&self, y: &mut [D]) {
+        let n = self.n_links();
+        let (theta, omega) = y.split_at_mut(n);
+        for _ in 0..PROJECTION_SWEEPS {
+            let phi = self.constraint(theta);
+            let g = self.constraint_gradient(theta);
+            let gg: D = g.iter().map(|&v| v * v).sum();
+            let step = phi / gg;
+            for i in 0..n {
+                theta[i] -= g[i] * step;
+            }
+        }
+        let g = self.constraint_gradient(theta);
+        let gg: D = g.iter().map(|&v| v * v).sum();
+        let rate: D = g.iter().zip(omega.iter()).map(|(&a, &b)| a * b).sum::<D>() / gg;
+        for i in 0..n {
+            omega[i] -= g[i] * rate;
+        }
+    }
+
+    /// Energies `(T, U, V)` in J: kinetic, strain and the potential of the loads at time `t` (the
+    /// latter up to a constant; meaningful for constant loads).
+    pub fn energies(&self, t: f64, piece: f64, y: &[f64]) -> (f64, f64, f64) {
+        let n = self.n_links();
+        let (theta, omega) = y.split_at(n);
+        let kinetic = self.kinetic_energy(theta, omega);
+        let strain = spine_model::energy::strain_energy(theta, &self.theta0, &self.stiffness);
+        let potential = self.load_potential(&self.loads_at(t, piece), theta);
+        (kinetic, strain, potential)
+    }
+
+    /// Dissipated power `θ̇ᵀ C_m θ̇ = Σ C_i (θ̇_i − θ̇_{i−1})²`, W.
+    pub fn dissipation(&self, omega: &[f64]) -> f64 {
+        let n = omega.len();
+        (0..=n)
+            .map(|i| {
+                let right = if i < n { omega[i] } else { 0.0 };
+                let left = if i > 0 { omega[i - 1] } else { 0.0 };
+                self.damping[i] * (right - left).powi(2)
+            })
+            .sum()
+    }
+}
+
+/// Gauss–Newton sweeps of [`Dynamics::project`]; the first leaves `|Φ|` at the square of the step's
+/// drift, the second at round-off.
+const PROJECTION_SWEEPS: usize = 3;
+
+/// Moments of joint elements with coefficients `c_0..c_N` acting on the relative motion of
+/// neighbouring links: `(c_i (x_i − x_{i−1}) − c_{i+1} (x_{i+1} − x_i))` with `x_{−1} = x_N = 0`
+/// (ground and slider). For springs `x = θ − θ0` (the `K_m Δθ` of eq. (47)); for dampers `x = θ̇`.
+pub fn joint_moments<D: Scalar>(coefficients: &[D], x: &[D]) -> Vec<D> {
+    let n = x.len();
+    let at = |i: isize| if i < 0 || i as usize >= n { D::zero() } else { x[i as usize] };
+    (0..n)
+        .map(|i| {
+            let i = i as isize;
+            coefficients[i as usize] * (at(i) - at(i - 1)) - coefficients[i as usize + 1] * (at(i + 1) - at(i))
+        })
+        .collect()
+}
+
+/// Lower Cholesky factor of a symmetric positive definite matrix (row-major), or `None`.
+fn cholesky<D: Scalar>(mut a: Vec<Vec<D>>) -> Option<Vec<Vec<D>>> {
+    let n = a.len();
+    for j in 0..n {
+        let mut d = a[j][j];
+        for k in 0..j {
+            d -= a[j][k] * a[j][k];
+        }
+        if d.re() <= 0.0 {
+            return None;
+        }
+        let d = d.sqrt();
+        a[j][j] = d;
+        for i in j + 1..n {
+            let mut s = a[i][j];
+            for k in 0..j {
+                s -= a[i][k] * a[j][k];
+            }
+            a[i][j] = s / d;
+        }
+    }
+    Some(a)
+}
+
+/// Solves `L Lᵀ x = b`.
+fn chol_solve<D: Scalar>(l: &[Vec<D>], b: &[D]) -> Vec<D> {
+    let n = b.len();
+    let mut x = b.to_vec();
+    for i in 0..n {
+        for k in 0..i {
+            let v = l[i][k] * x[k];
+            x[i] -= v;
+        }
+        x[i] /= l[i][i];
+    }
+    for i in (0..n).rev() {
+        for k in i + 1..n {
+            let v = l[k][i] * x[k];
+            x[i] -= v;
+        }
+        x[i] /= l[i][i];
+    }
+    x
+}

@@ -1,0 +1,21 @@
+//! # spine-dynamics: the flexible spine in motion
+//!
+//! * [`eom`]: the constrained equations of motion (eq. (6), `docs/model.md` "Dynamics"), generic over
+//!   num-dual numbers: mass matrix, centrifugal terms, springs, dampers, loads, end constraint.
+//! * [`integrator`]: TR-BDF2 (L-stable, error-controlled) with projection onto `Φ = 0, Φ̇ = 0`,
+//!   dense output, event location and forward sensitivities.
+//! * [`system`]: the equations of motion as an ODE in `(θ, θ̇)`, Jacobians by forward AD.
+//! * [`forcing`]: the time profile of the axial force (step, pulse train, sinusoid).
+//!
+//! Index reduction: the constraint is differentiated twice (`Φ̈ = 0`, index 1) and every accepted step
+//! is projected back onto `Φ = 0` and `Φ̇ = 0`, so the drift does not accumulate.
+
+pub mod eom;
+pub mod forcing;
+pub mod integrator;
+pub mod system;
+
+pub use eom::Dynamics;
+pub use forcing::Forcing;
+pub use integrator::{integrate, Options, Outcome, Stats, Trajectory};
+pub use system::SpineOde;

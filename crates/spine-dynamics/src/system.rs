@@ -1,0 +1,89 @@
+//! The spine's equations of motion as an [`OdeSystem`] in `y = (θ, θ̇)`, with exact Jacobians and
+//! damper sensitivities from forward AD ([`num_dual::Dual64`] directional passes).
+
+use crate::eom::Dynamics;
+use crate::integrator::OdeSystem;
+use nalgebra::DMatrix;
+use num_dual::Dual64;
+use spine_model::Scalar;
+
+/// Index-1 form of the constrained equations of motion with projection onto `Φ = 0`, `Φ̇ = 0`
+/// after every step. With `damping_sensitivities` the parameters are the dampers `C_1..C_{N+1}`.
+pub struct SpineOde<'a> {
+    pub dynamics: &'a Dynamics,
+    pub damping_sensitivities: bool,
+}
+
+impl SpineOde<'_> {
+    fn damping<D: Scalar>(&self) -> Vec<D> {
+        self.dynamics.damping.iter().map(|&c| D::from(c)).collect()
+    }
+}
+
+fn seeded(y: &[f64], direction: usize) -> Vec<Dual64> {
+    y.iter().enumerate().map(|(i, &v)| if i == direction { Dual64::from(v).derivative() } else { Dual64::from(v) }).collect()
+}
+
+impl OdeSystem for SpineOde<'_> {
+    fn dim(&self) -> usize {
+        2 * self.dynamics.n_links()
+    }
+
+    fn rhs(&self, t: f64, piece: f64, y: &[f64]) -> Vec<f64> {
+        self.dynamics.rhs(t, piece, y, &self.dynamics.damping)
+    }
+
+    fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
+        let n = y.len();
+        let damping: Vec<Dual64> = self.damping();
+        let mut jac = DMatrix::zeros(n, n);
+        for k in 0..n {
+            let f = self.dynamics.rhs(t, piece, &seeded(y, k), &damping);
+            for i in 0..n {
+                jac[(i, k)] = f[i].eps;
+            }
+        }
+        jac
+    }
+
+    fn n_params(&self) -> usize {
+        if self.damping_sensitivities {
+            self.dynamics.damping.len()
+        } else {
+            0
+        }
+    }
+
+    fn rhs_params(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
+        let p = self.n_params();
+        let mut out = DMatrix::zeros(y.len(), p);
+        let yd: Vec<Dual64> = y.iter().map(|&v| Dual64::from(v)).collect();
+        for k in 0..p {
+            let damping = seeded(&self.dynamics.damping, k);
+            let f = self.dynamics.rhs(t, piece, &yd, &damping);
+            for i in 0..y.len() {
+                out[(i, k)] = f[i].eps;
+            }
+        }
+        out
+    }
+
+    fn project(&self, y: &mut [f64]) {
+        self.dynamics.project(y);
+    }
+
+    fn project_sensitivities(&self, y: &[f64], s: &mut DMatrix<f64>) {
+        for k in 0..s.ncols() {
+            let mut yd: Vec<Dual64> = y.iter().enumerate().map(|(i, &v)| Dual64::new(v, s[(i, k)])).collect();
+            self.dynamics.project(&mut yd);
+            for i in 0..y.len() {
+                s[(i, k)] = yd[i].eps;
+            }
+        }
+    }
+
+    fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
+        self.dynamics.forcing.breakpoints(t0, t1)
+    }
+}
+

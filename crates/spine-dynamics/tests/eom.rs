@@ -1,0 +1,150 @@
+//! The equations of motion against independent computations: the mass matrix and centrifugal terms
+//! from the kinetic energy by AD, the two-link chain by hand, and the static equilibrium.
+
+use num_dual::{Dual64, HyperDual64};
+use spine_dynamics::{Dynamics, Forcing};
+use spine_model::fixtures::{arch, random_problem, uniform_loads, FixtureRng};
+use spine_model::{Chain, Design, NodalLoads};
+
+fn random_dynamics(n: usize, seed: u64) -> (Dynamics, Vec<f64>, Vec<f64>) {
+    let (mut chain, design, _, state) = random_problem(n, seed);
+    let mut rng = FixtureRng::new(seed + 100);
+    chain.masses = (0..n).map(|_| rng.uniform(0.1, 1.0)).collect();
+    let damping = (0..=n).map(|_| rng.uniform(1.0, 100.0)).collect();
+    let passive = uniform_loads(n, -5.0, 0.0);
+    let actuation = uniform_loads(n, 0.0, -100.0);
+    let dynamics = Dynamics::new(&chain, &design, damping, &passive, &actuation, Forcing::Step);
+    let omega = (0..n).map(|_| rng.uniform(-3.0, 3.0)).collect();
+    (dynamics, state.theta, omega)
+}
+
+#[test]
+fn mass_matrix_is_the_hessian_of_the_kinetic_energy_and_positive_definite() {
+    for (n, seed) in [(1, 1), (2, 2), (5, 3), (9, 4)] {
+        let (dynamics, theta, omega) = random_dynamics(n, seed);
+        let m = dynamics.mass_matrix(&theta);
+        for i in 0..n {
+            for j in 0..n {
+                assert_eq!(m[i][j], m[j][i], "symmetric");
+                let w: Vec<HyperDual64> = omega
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &v)| {
+                        let e1 = if k == i { 1.0 } else { 0.0 };
+                        let e2 = if k == j { 1.0 } else { 0.0 };
+                        HyperDual64::new(v, e1, e2, 0.0)
+                    })
+                    .collect();
+                let th: Vec<HyperDual64> = theta.iter().map(|&t| HyperDual64::from(t)).collect();
+                let t = dynamics.kinetic_energy(&th, &w);
+                assert!((t.eps1eps2 - m[i][j]).abs() <= 1e-12 * m[i][i].abs().max(1e-12), "M[{i}][{j}] (n = {n})");
+            }
+        }
+        // T = ½ ωᵀ M ω, and every Rayleigh quotient is positive.
+        let t: f64 = 0.5 * (0..n).map(|i| (0..n).map(|j| omega[i] * m[i][j] * omega[j]).sum::<f64>()).sum::<f64>();
+        assert!((t - dynamics.kinetic_energy(&theta, &omega)).abs() < 1e-12 * t.abs().max(1.0));
+        let mut rng = FixtureRng::new(seed);
+        for _ in 0..20 {
+            let v: Vec<f64> = (0..n).map(|_| rng.uniform(-1.0, 1.0)).collect();
+            let q: f64 = (0..n).map(|i| (0..n).map(|j| v[i] * m[i][j] * v[j]).sum::<f64>()).sum();
+            assert!(q > 0.0);
+        }
+    }
+}
+
+#[test]
+fn centrifugal_terms_follow_from_the_kinetic_energy() {
+    // Lagrange: h = Ṁ θ̇ − ∂T/∂θ, with Ṁ θ̇ = Σ_k ∂(M θ̇)/∂θ_k θ̇_k, both by AD of independent code.
+    for (n, seed) in [(2, 5), (4, 6), (8, 7)] {
+        let (dynamics, theta, omega) = random_dynamics(n, seed);
+        let h = dynamics.velocity_terms(&theta, &omega);
+        let th: Vec<Dual64> = theta.iter().zip(&omega).map(|(&t, &w)| Dual64::new(t, w)).collect();
+        let m = dynamics.mass_matrix(&th);
+        let w: Vec<Dual64> = omega.iter().map(|&v| Dual64::from(v)).collect();
+        for i in 0..n {
+            let m_dot_omega: f64 = (0..n).map(|j| (m[i][j] * w[j]).eps).sum();
+            let th_i: Vec<Dual64> =
+                theta.iter().enumerate().map(|(k, &t)| if k == i { Dual64::from(t).derivative() } else { Dual64::from(t) }).collect();
+            let dt_dtheta = dynamics.kinetic_energy(&th_i, &w).eps;
+            let expected = m_dot_omega - dt_dtheta;
+            assert!((h[i] - expected).abs() < 1e-11 * (1.0 + expected.abs()), "h[{i}] = {} vs {expected} (n = {n})", h[i]);
+        }
+    }
+}
+
+#[test]
+fn one_and_two_link_mass_matrices_by_hand() {
+    let chain = Chain { spans: vec![0.3], masses: vec![2.0], gravity: 9.81 };
+    let design = Design { theta0: vec![0.0], stiffness: vec![10.0, 0.0] };
+    let d = Dynamics::new(&chain, &design, vec![0.0; 2], &NodalLoads::zero(1), &NodalLoads::zero(1), Forcing::Off);
+    assert!((d.mass_matrix(&[0.7f64])[0][0] - 2.0 * 0.09 / 3.0).abs() < 1e-15, "m L² / 3 about the base");
+    assert_eq!(d.velocity_terms(&[0.7f64], &[3.0])[0], 0.0);
+
+    let (l1, l2, m1, m2) = (0.4, 0.25, 1.5, 0.8);
+    let chain = Chain { spans: vec![l1, l2], masses: vec![m1, m2], gravity: 9.81 };
+    let design = Design { theta0: vec![0.0, 0.0], stiffness: vec![0.0, 10.0, 0.0] };
+    let d = Dynamics::new(&chain, &design, vec![0.0; 3], &NodalLoads::zero(2), &NodalLoads::zero(2), Forcing::Off);
+    let (t1, t2, w1, w2): (f64, f64, f64, f64) = (0.3, -0.5, 1.2, -2.0);
+    let m = d.mass_matrix(&[t1, t2]);
+    let h = d.velocity_terms(&[t1, t2], &[w1, w2]);
+    let c = m2 * l1 * l2 / 2.0;
+    assert!((m[0][0] - l1 * l1 * (m1 / 3.0 + m2)).abs() < 1e-14);
+    assert!((m[0][1] - c * (t1 - t2).cos()).abs() < 1e-14);
+    assert!((m[1][1] - m2 * l2 * l2 / 3.0).abs() < 1e-14);
+    assert!((h[0] - c * (t1 - t2).sin() * w2 * w2).abs() < 1e-13);
+    assert!((h[1] + c * (t1 - t2).sin() * w1 * w1).abs() < 1e-13);
+}
+
+#[test]
+fn symmetric_two_link_motion_matches_the_hand_derived_equation() {
+    // Equal links, middle spring K and damper C only, P_Y at node 2, P_X at node 3, self-weight.
+    // With θ1 = −θ2 = θ the Lagrangian reduces to one degree of freedom:
+    // m L² (5/3 − cos 2θ) θ̈ + m L² sin 2θ θ̇² + 4C θ̇ + 4K (θ − θ0) − (P_Y − m g) L cos θ + 2 P_X L sin θ = 0.
+    let (a, m, k, c, p_y, p_x, g, theta0) = (0.5, 0.7, 300.0, 4.0, -20.0, -150.0, 9.81, 0.25);
+    let chain = Chain { spans: vec![a, a], masses: vec![m, m], gravity: g };
+    let design = Design { theta0: vec![theta0, -theta0], stiffness: vec![0.0, k, 0.0] };
+    let l = a / theta0.cos();
+    let passive = NodalLoads { p_x: vec![0.0; 3], p_y: vec![0.0, p_y, 0.0] };
+    let actuation = NodalLoads { p_x: vec![0.0, 0.0, p_x], p_y: vec![0.0; 3] };
+    let d = Dynamics::new(&chain, &design, vec![0.0, c, 0.0], &passive, &actuation, Forcing::Step);
+    for (theta, omega) in [(0.2, 0.0), (0.31, 1.7), (0.1, -3.0)] {
+        let rhs = d.rhs(0.0, 0.0, &[theta, -theta, omega, -omega], &d.damping);
+        let expected = -(m * l * l * (2.0 * theta).sin() * omega * omega + 4.0 * c * omega + 4.0 * k * (theta - theta0)
+            - (p_y - m * g) * l * theta.cos()
+            + 2.0 * p_x * l * theta.sin())
+            / (m * l * l * (5.0 / 3.0 - (2.0 * theta).cos()));
+        assert!((rhs[2] - expected).abs() < 1e-10 * expected.abs().max(1.0), "θ̈ = {} vs {expected}", rhs[2]);
+        assert!((rhs[3] + expected).abs() < 1e-10 * expected.abs().max(1.0), "symmetric");
+    }
+}
+
+#[test]
+fn a_static_equilibrium_is_a_rest_point_and_the_load_potential_generates_the_load() {
+    let (mut chain, design) = arch(6, 1.0, 0.4, 800.0);
+    chain.masses = vec![0.3; 6];
+    let passive = uniform_loads(6, -5.0, 0.0);
+    let actuation = uniform_loads(6, 0.0, -300.0);
+    let problem = spine_solve::StaticProblem { chain: chain.clone(), design: design.clone(), passive: passive.clone(), actuation: actuation.clone() };
+    let sol = spine_solve::solve_static(&problem, &Default::default());
+    let d = Dynamics::new(&chain, &design, vec![10.0; 7], &passive, &actuation, Forcing::Off);
+    let mut y = sol.passive.state.theta.clone();
+    y.extend(vec![0.0; 6]);
+    let f = d.rhs(0.0, 0.0, &y, &d.damping);
+    let (_, lambda) = d.acceleration(&d.passive, &sol.passive.state.theta, &[0.0; 6], &d.damping);
+    assert!(f.iter().all(|v| v.abs() < 1e-7), "accelerations at θ1: {f:?}");
+    assert!((lambda - sol.passive.state.lambda).abs() < 1e-7 * (1.0 + lambda.abs()), "the reaction is the static multiplier");
+
+    // P = −∂V/∂θ, and V differs from the nodal potential of spine-model by a constant.
+    let theta = sol.passive.state.theta.clone();
+    let p = d.generalised_load(&d.loaded, &theta);
+    let all = passive.plus(&actuation);
+    let v_model = |t: &[f64]| spine_model::energy::load_potential(&chain, &all, true, &design.theta0, t);
+    for i in 0..6 {
+        let th: Vec<Dual64> =
+            theta.iter().enumerate().map(|(k, &t)| if k == i { Dual64::from(t).derivative() } else { Dual64::from(t) }).collect();
+        assert!((d.load_potential(&d.loaded, &th).eps + p[i]).abs() < 1e-10);
+    }
+    let shifted: Vec<f64> = theta.iter().map(|t| t + 0.05).collect();
+    let diff = |t: &[f64]| d.load_potential(&d.loaded, t) - v_model(t);
+    assert!((diff(&theta) - diff(&shifted)).abs() < 1e-10);
+}

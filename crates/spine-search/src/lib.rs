@@ -1,0 +1,1 @@
+//! # spine-search: gradient-free optimisers
