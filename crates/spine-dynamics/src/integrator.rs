@@ -93,6 +93,8 @@ pub enum Outcome {
     StepTooSmall { t: f64 },
     /// `max_steps` accepted steps before reaching the end, at `t`.
     StepLimit { t: f64 },
+    /// The caller's stop condition held at `t`.
+    Stopped { t: f64 },
 }
 
 /// One accepted step: the data of its cubic Hermite interpolant.
@@ -349,18 +351,21 @@ fn attempt(
     Some(Attempt { z2, y1, err: if err.is_finite() { err } else { f64::INFINITY } })
 }
 
-/// Integrates from `(t0, y0)` to `t_end`. With `sensitivities = Some(S0)` (`dim × n_params`, usually
-/// zeros) also propagates `S = ∂y/∂p`. With `steps = Some(times)` the step sequence is replayed
-/// exactly (no error control): finite-difference checks of sensitivities use it.
-pub fn integrate(
-    sys: &dyn OdeSystem,
-    t0: f64,
-    y0: &[f64],
-    t_end: f64,
-    opts: &Options,
-    sensitivities: Option<DMatrix<f64>>,
-    steps: Option<&[f64]>,
-) -> Trajectory {
+/// Optional parts of a run.
+#[derive(Default)]
+pub struct Extras<'a> {
+    /// `S0` (`dim × n_params`, usually zeros): also propagate `S = ∂y/∂p`.
+    pub sensitivities: Option<DMatrix<f64>>,
+    /// Replay this step sequence exactly (no error control): finite-difference checks of
+    /// sensitivities use it.
+    pub steps: Option<&'a [f64]>,
+    /// Checked after every accepted step at `(t, y)`; `true` ends the run ([`Outcome::Stopped`]).
+    pub stop: Option<&'a dyn Fn(f64, &[f64]) -> bool>,
+}
+
+/// Integrates from `(t0, y0)` to `t_end`.
+pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Options, extras: Extras) -> Trajectory {
+    let Extras { sensitivities, steps, stop } = extras;
     let n = sys.dim();
     let mut stats = Stats::default();
     let mut intervals = Vec::new();
@@ -464,6 +469,10 @@ pub fn integrate(
         s_dot = s_dot1;
         if fixed.is_none() {
             h = h_step * (0.9 * step.err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
+        }
+        if stop.is_some_and(|f| f(t, &y)) {
+            outcome = Outcome::Stopped { t };
+            break;
         }
         if t >= seg_end && next_break + 1 < breaks.len() {
             next_break += 1;

@@ -19,3 +19,9 @@ pub use eom::Dynamics;
 pub use forcing::Forcing;
 pub use integrator::{integrate, Options, Outcome, Stats, Trajectory};
 pub use system::SpineOde;
+pub mod response;
+
+pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, StepSettings};
+pub mod damping;
+
+pub use damping::{design_damping, DampingDesign, DampingSettings};

@@ -1,0 +1,235 @@
+//! The damping design of eq. (35): `min ½ Σ C_i²` over the dampers, `C_min ≤ C_i ≤ C_max`
+//! (the paper: 1 ≤ C ≤ 10³ N·m·s/rad), subject to the equations of motion and `T_90 = T_d`.
+//!
+//! Ipopt solves it with the constraint written as `T_90(C) / T_d − 1 = 0`; its gradient is the event
+//! sensitivity `dT_90/dC` from the integrator's forward sensitivities, and the Hessian of the
+//! Lagrangian is Ipopt's L-BFGS approximation (the constraint's curvature has no cheap exact form).
+//! The start is the uniform damping that meets `T_90 = T_d` (bisection on one common `C`), so the
+//! optimiser starts feasible and only redistributes damping.
+
+use crate::eom::Dynamics;
+use crate::forcing::Forcing;
+use crate::response::{rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings};
+use serde::{Deserialize, Serialize};
+use spine_ipopt::{IterationInfo, Problem, Status};
+
+/// Settings of eq. (35).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DampingSettings {
+    /// Lower and upper damper bounds, N·m·s/rad.
+    pub damping_min: f64,
+    pub damping_max: f64,
+    /// Ipopt's tolerance and iteration limit.
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// The step response used for every evaluation (its `rise_fraction` defines `T_90`).
+    pub step: StepSettings,
+}
+
+impl Default for DampingSettings {
+    fn default() -> Self {
+        let mut step = StepSettings::default();
+        step.integrator.rtol = 1e-8;
+        step.integrator.atol = 1e-10;
+        step.samples = 401;
+        Self { damping_min: 1.0, damping_max: 1e3, tolerance: 1e-7, max_iterations: 200, step }
+    }
+}
+
+/// What the damping design found.
+#[derive(Clone, Debug, Serialize)]
+pub struct DampingDesign {
+    /// Ipopt's status; `"uniform-start-infeasible"` when no uniform damping in the bounds reaches `T_d`.
+    pub status: String,
+    pub converged: bool,
+    pub iterations: usize,
+    pub target_rise_time: f64,
+    /// The uniform start `C_0` (every damper equal), N·m·s/rad.
+    pub uniform_start: Option<f64>,
+    /// Optimised dampers, N·m·s/rad.
+    pub damping: Vec<f64>,
+    /// `½ Σ C_i²`.
+    pub objective: f64,
+    /// `T_90` of the final design (re-simulated), s, and `|T_90 − T_d| / T_d`.
+    pub rise_time: Option<f64>,
+    pub rise_time_error: Option<f64>,
+    /// Step responses simulated (with sensitivities or without).
+    pub simulations: usize,
+    pub time_seconds: f64,
+    /// The final design's step response.
+    pub response: StepResponse,
+}
+
+struct Eq35<'a> {
+    base: &'a Dynamics,
+    ends: &'a StaticEnds,
+    settings: &'a DampingSettings,
+    target: f64,
+    start: Vec<f64>,
+    cache: Option<(Vec<f64>, Option<f64>, Option<Vec<f64>>)>,
+    simulations: usize,
+}
+
+impl Eq35<'_> {
+    fn evaluate(&mut self, c: &[f64]) -> (Option<f64>, Option<Vec<f64>>) {
+        if let Some((x, t, g)) = &self.cache {
+            if x.as_slice() == c {
+                return (*t, g.clone());
+            }
+        }
+        let mut d = self.base.clone();
+        d.damping = c.to_vec();
+        let (t, g) = rise_time(&d, self.ends, &self.settings.step, true);
+        self.simulations += 1;
+        self.cache = Some((c.to_vec(), t, g.clone()));
+        (t, g)
+    }
+}
+
+impl Problem for Eq35<'_> {
+    fn num_variables(&self) -> usize {
+        self.start.len()
+    }
+    fn num_constraints(&self) -> usize {
+        1
+    }
+    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.fill(self.settings.damping_min);
+        upper.fill(self.settings.damping_max);
+    }
+    fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower[0] = 0.0;
+        upper[0] = 0.0;
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&self.start);
+    }
+    fn objective(&mut self, x: &[f64], _: bool) -> Option<f64> {
+        Some(0.5 * x.iter().map(|c| c * c).sum::<f64>())
+    }
+    fn objective_gradient(&mut self, x: &[f64], _: bool, gradient: &mut [f64]) -> bool {
+        gradient.copy_from_slice(x);
+        true
+    }
+    fn constraints(&mut self, x: &[f64], _: bool, g: &mut [f64]) -> bool {
+        match self.evaluate(x).0 {
+            Some(t) => {
+                g[0] = t / self.target - 1.0;
+                true
+            }
+            None => false,
+        }
+    }
+    fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+        (0..self.start.len()).map(|j| (0, j)).collect()
+    }
+    fn jacobian_values(&mut self, x: &[f64], _: bool, values: &mut [f64]) -> bool {
+        match self.evaluate(x).1 {
+            Some(grad) => {
+                for (v, g) in values.iter_mut().zip(grad) {
+                    *v = g / self.target;
+                }
+                true
+            }
+            None => false,
+        }
+    }
+    fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
+        None
+    }
+    fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
+        false
+    }
+    fn intermediate(&mut self, _: &IterationInfo) -> bool {
+        true
+    }
+}
+
+/// `T_90` of uniform damping `c`.
+fn uniform_rise_time(base: &Dynamics, ends: &StaticEnds, settings: &StepSettings, c: f64) -> Option<f64> {
+    let mut d = base.clone();
+    d.damping = vec![c; d.damping.len()];
+    rise_time(&d, ends, settings, false).0
+}
+
+/// Solves eq. (35) for the rise time `target` (s).
+pub fn design_damping(
+    problem: &DynamicProblem,
+    target: f64,
+    settings: &DampingSettings,
+) -> Result<DampingDesign, DynamicsError> {
+    let clock = std::time::Instant::now();
+    let ends = problem.static_ends(&settings.step.continuation)?;
+    let mut settings = settings.clone();
+    settings.step.t_end = settings.step.t_end.max(3.0 * target);
+    let settings = &settings;
+    let base = problem.dynamics(Forcing::Step);
+    let n_dampers = base.damping.len();
+    let mut simulations = 0;
+
+    // Uniform start: T_90 grows with the damping in the overdamped range; bisection on ln C.
+    let (mut lo, mut hi) = (settings.damping_min.ln(), settings.damping_max.ln());
+    let t_lo = uniform_rise_time(&base, &ends, &settings.step, lo.exp());
+    let t_hi = uniform_rise_time(&base, &ends, &settings.step, hi.exp());
+    simulations += 2;
+    // Not reaching the rise within t_end counts as slower than any target below t_end.
+    let bracketed = matches!(t_lo, Some(a) if a <= target) && t_hi.is_none_or(|b| target <= b);
+    let uniform_start = bracketed.then(|| {
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            simulations += 1;
+            match uniform_rise_time(&base, &ends, &settings.step, mid.exp()) {
+                Some(t) if t < target => lo = mid,
+                _ => hi = mid,
+            }
+            if hi - lo < 1e-6 {
+                break;
+            }
+        }
+        (0.5 * (lo + hi)).exp()
+    });
+
+    let (status, converged, iterations, damping) = match uniform_start {
+        None => ("uniform-start-infeasible".to_string(), false, 0, vec![settings.damping_min; n_dampers]),
+        Some(c0) => {
+            let mut eq35 = Eq35 {
+                base: &base,
+                ends: &ends,
+                settings,
+                target,
+                start: vec![c0; n_dampers],
+                cache: None,
+                simulations: 0,
+            };
+            let options = spine_ipopt::Options::new()
+                .number("tol", settings.tolerance)
+                .number("constr_viol_tol", 1e-9)
+                .integer("max_iter", settings.max_iterations as i64)
+                .string("hessian_approximation", "limited-memory")
+                .string("mu_strategy", "adaptive");
+            let sol = spine_ipopt::solve(&mut eq35, &options).expect("eq. (35) is a valid Ipopt problem");
+            simulations += eq35.simulations;
+            (sol.status.name(), sol.status == Status::SolveSucceeded || sol.status.is_converged(), sol.iterations, sol.x)
+        }
+    };
+    let mut d = base.clone();
+    d.damping = damping.clone();
+    let response = simulate_step(&d, ends, &settings.step, false);
+    simulations += 1;
+    let rise_time = response.rise_time;
+    Ok(DampingDesign {
+        status,
+        converged,
+        iterations,
+        target_rise_time: target,
+        uniform_start,
+        objective: 0.5 * damping.iter().map(|c| c * c).sum::<f64>(),
+        damping,
+        rise_time,
+        rise_time_error: rise_time.map(|t| (t - target).abs() / target),
+        simulations,
+        time_seconds: clock.elapsed().as_secs_f64(),
+        response,
+    })
+}

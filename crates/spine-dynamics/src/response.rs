@@ -1,0 +1,323 @@
+//! Responses: the step response of Sec. 5.2.1 (rise time `T_90`, final value, first-order fit,
+//! eq. (36) as corrected in `docs/errata.md`) and the building blocks shared with the periodic
+//! response (static end states, samples, constraint drift).
+
+use crate::eom::Dynamics;
+use crate::forcing::Forcing;
+use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
+use crate::system::SpineOde;
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+use spine_model::{Chain, Design, NodalLoads};
+use spine_solve::{solve_static, ContinuationOptions, EquilibriumStatus, StaticProblem};
+
+/// A design with its dampers and loads: the data of every dynamic run.
+#[derive(Clone, Debug)]
+pub struct DynamicProblem {
+    pub chain: Chain,
+    pub design: Design,
+    /// Dampers `C_1..C_{N+1}`, N·m·s/rad.
+    pub damping: Vec<f64>,
+    /// Transverse forces (self-weight comes from the chain's masses).
+    pub passive: NodalLoads,
+    /// The full actuation (the axial force at the end); `s(t)` of the forcing scales it.
+    pub actuation: NodalLoads,
+}
+
+/// The static states a response starts from and settles to.
+#[derive(Clone, Debug, Serialize)]
+pub struct StaticEnds {
+    /// `θ1`: the passive equilibrium (the start, at rest), rad.
+    pub theta1: Vec<f64>,
+    /// `θ2`: the equilibrium under passive load plus the full actuation, rad.
+    pub theta2: Vec<f64>,
+    /// `X_{N+1}(θ1)` and `X_{N+1}(θ2)`, m.
+    pub x1: f64,
+    pub x2: f64,
+    /// `X_{N+1}(θ1) − L_x` and `X_{N+1}(θ2) − L_x`, m.
+    pub passive_displacement: f64,
+    pub loaded_displacement: f64,
+    pub passive_status: String,
+    pub loaded_status: String,
+}
+
+/// Why a dynamic run could not start.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum DynamicsError {
+    #[error("the passive equilibrium θ1 is not a stable start: {0}")]
+    UnstableStart(String),
+    #[error("the loaded equilibrium θ2 is not stable, so the response has no static final value: {0}")]
+    UnstableEnd(String),
+}
+
+impl DynamicProblem {
+    /// The equations of motion under `forcing`.
+    pub fn dynamics(&self, forcing: Forcing) -> Dynamics {
+        Dynamics::new(&self.chain, &self.design, self.damping.clone(), &self.passive, &self.actuation, forcing)
+    }
+
+    /// `θ1` and `θ2` by continuation, both certified stable, or the reason not.
+    pub fn static_ends(&self, opts: &ContinuationOptions) -> Result<StaticEnds, DynamicsError> {
+        let problem = StaticProblem {
+            chain: self.chain.clone(),
+            design: self.design.clone(),
+            passive: self.passive.clone(),
+            actuation: self.actuation.clone(),
+        };
+        let sol = solve_static(&problem, opts);
+        if sol.passive.status != EquilibriumStatus::Stable {
+            return Err(DynamicsError::UnstableStart(sol.passive.status.describe()));
+        }
+        let loaded = sol.loaded.as_ref().expect("the passive path reached its load");
+        if loaded.status != EquilibriumStatus::Stable {
+            return Err(DynamicsError::UnstableEnd(loaded.status.describe()));
+        }
+        let d = self.dynamics(Forcing::Off);
+        let lx = self.chain.length_x();
+        let (x1, x2) = (d.end_x(&sol.passive.state.theta), d.end_x(&loaded.state.theta));
+        Ok(StaticEnds {
+            theta1: sol.passive.state.theta.clone(),
+            theta2: loaded.state.theta.clone(),
+            x1,
+            x2,
+            passive_displacement: x1 - lx,
+            loaded_displacement: x2 - lx,
+            passive_status: sol.passive.status.describe(),
+            loaded_status: loaded.status.describe(),
+        })
+    }
+}
+
+/// Constraint drift of a run, m and m/s.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Drift {
+    /// Largest `|Φ|` and `|Φ̇|` at the accepted steps (after projection).
+    pub max_constraint: f64,
+    pub max_constraint_rate: f64,
+    /// The same on the dense output between the steps (cubic Hermite).
+    pub max_constraint_dense: f64,
+    pub max_constraint_rate_dense: f64,
+    /// Largest correction the projection applied to a step (the drift of one unprojected step).
+    pub max_projection: f64,
+}
+
+/// One sample of the motion.
+#[derive(Clone, Debug, Serialize)]
+pub struct Sample {
+    /// Time, s.
+    pub t: f64,
+    /// Load factor `s(t)` of the actuation.
+    pub load_factor: f64,
+    /// End displacement from the start, `X_{N+1}(t) − X_{N+1}(θ1)`, m.
+    pub delta: f64,
+    /// `X_{N+1}(t) − L_x`, m.
+    pub end_displacement: f64,
+    /// Link angles, rad.
+    pub theta: Vec<f64>,
+}
+
+/// Samples `count` equally spaced instants of a trajectory, and its drift.
+pub fn sample(d: &Dynamics, traj: &Trajectory, count: usize, x_start: f64, length_x: f64) -> (Vec<Sample>, Drift) {
+    let n = d.n_links();
+    let (t0, t1) = traj.span();
+    let mut drift = Drift { max_projection: traj.stats.max_projection, ..Default::default() };
+    for (_, y) in traj.points() {
+        drift.max_constraint = drift.max_constraint.max(d.constraint(&y[..n]).abs());
+        drift.max_constraint_rate = drift.max_constraint_rate.max(d.constraint_rate(&y[..n], &y[n..]).abs());
+    }
+    let samples = (0..count)
+        .map(|k| {
+            let t = t0 + (t1 - t0) * k as f64 / (count.max(2) - 1) as f64;
+            let y = traj.value(t);
+            let (theta, omega) = y.split_at(n);
+            drift.max_constraint_dense = drift.max_constraint_dense.max(d.constraint(theta).abs());
+            drift.max_constraint_rate_dense = drift.max_constraint_rate_dense.max(d.constraint_rate(theta, omega).abs());
+            let x = d.end_x(theta);
+            Sample { t, load_factor: d.forcing.factor(t, t), delta: x - x_start, end_displacement: x - length_x, theta: theta.to_vec() }
+        })
+        .collect();
+    (samples, drift)
+}
+
+/// Settings of a step response.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StepSettings {
+    /// Simulated time, s (> 0).
+    pub t_end: f64,
+    /// Fraction of `Δ∞` that defines the rise time (0.9: `T_90`).
+    pub rise_fraction: f64,
+    /// Number of equally spaced samples written and used by the first-order fit.
+    pub samples: usize,
+    /// `Δ(t_end)` counts as settled within this fraction of `|Δ∞|`.
+    pub settle_tolerance: f64,
+    pub integrator: Options,
+    pub continuation: ContinuationOptions,
+}
+
+impl Default for StepSettings {
+    fn default() -> Self {
+        Self {
+            t_end: 1.0,
+            rise_fraction: 0.9,
+            samples: 1001,
+            settle_tolerance: 1e-3,
+            integrator: Options::default(),
+            continuation: ContinuationOptions::default(),
+        }
+    }
+}
+
+/// The first-order model `Δ∞ (1 − e^{−τ t})` fitted to the samples by least squares in `τ`.
+#[derive(Clone, Debug, Serialize)]
+pub struct FirstOrderFit {
+    /// Fitted rate `τ`, 1/s.
+    pub tau: f64,
+    /// RMS and largest residual of the fit, as fractions of `|Δ∞|`.
+    pub rms_error: f64,
+    pub max_error: f64,
+}
+
+/// Least-squares `τ` for `Δ(t) ≈ Δ∞ (1 − e^{−τ t})`: a log-spaced scan then golden-section refinement.
+pub fn fit_first_order(times: &[f64], delta: &[f64], delta_inf: f64) -> FirstOrderFit {
+    let t_max = times.iter().cloned().fold(0.0, f64::max);
+    let cost = |ln_tau: f64| -> f64 {
+        let tau = ln_tau.exp();
+        times.iter().zip(delta).map(|(&t, &d)| (d - delta_inf * (1.0 - (-tau * t).exp())).powi(2)).sum()
+    };
+    let (lo, hi) = ((1e-3 / t_max).ln(), (1e5 / t_max).ln());
+    let grid = 400;
+    let best = (0..=grid)
+        .map(|k| lo + (hi - lo) * k as f64 / grid as f64)
+        .min_by(|a, b| cost(*a).total_cmp(&cost(*b)))
+        .expect("a non-empty grid");
+    let step = (hi - lo) / grid as f64;
+    let (mut a, mut b) = (best - step, best + step);
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..100 {
+        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
+        if cost(c) < cost(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    let tau = (0.5 * (a + b)).exp();
+    let residuals: Vec<f64> =
+        times.iter().zip(delta).map(|(&t, &d)| (d - delta_inf * (1.0 - (-tau * t).exp())).abs() / delta_inf.abs()).collect();
+    let rms_error = (residuals.iter().map(|r| r * r).sum::<f64>() / residuals.len() as f64).sqrt();
+    FirstOrderFit { tau, rms_error, max_error: residuals.iter().cloned().fold(0.0, f64::max) }
+}
+
+/// The step response of Sec. 5.2.1.
+#[derive(Clone, Debug, Serialize)]
+pub struct StepResponse {
+    pub outcome: Outcome,
+    pub ends: StaticEnds,
+    /// `Δ∞ = X_{N+1}(θ2) − X_{N+1}(θ1)`, m.
+    pub delta_inf: f64,
+    /// Rise time: first `t` with `Δ(t) = rise_fraction · Δ∞`, s (`None` if never reached).
+    pub rise_time: Option<f64>,
+    /// `dT_90/dC_i`, s per N·m·s/rad, when sensitivities were asked for.
+    pub rise_time_gradient: Option<Vec<f64>>,
+    /// `τ = −ln(1 − rise_fraction) / T_90` (eq. (36) corrected), 1/s.
+    pub tau_from_rise_time: Option<f64>,
+    pub fit: FirstOrderFit,
+    /// `Δ(t_end)`, m, and `|Δ(t_end) − Δ∞| / |Δ∞|`.
+    pub final_delta: f64,
+    pub settle_error: f64,
+    /// `|Δ(t_end) − Δ∞| ≤ settle_tolerance |Δ∞|`.
+    pub settled: bool,
+    /// `max_i |θ_i(t_end) − θ2_i|`, rad: that it settles in the continuation's `θ2`.
+    pub final_state_gap: f64,
+    pub drift: Drift,
+    pub stats: Stats,
+    /// Wall time of the integration, s.
+    pub time_seconds: f64,
+    #[serde(skip)]
+    pub samples: Vec<Sample>,
+}
+
+/// Runs the step response: at rest at `θ1`, the full actuation from `t = 0`. With `gradient` also
+/// `dT_90/dC` by forward sensitivities through the integrator.
+pub fn step_response(problem: &DynamicProblem, settings: &StepSettings, gradient: bool) -> Result<StepResponse, DynamicsError> {
+    let ends = problem.static_ends(&settings.continuation)?;
+    let d = problem.dynamics(Forcing::Step);
+    Ok(simulate_step(&d, ends, settings, gradient))
+}
+
+/// Integrates the step response from `θ1` and locates the rise event; with `stop_at_rise` the run
+/// ends at the first step past the event (all an optimiser needs).
+fn run_step(
+    d: &Dynamics,
+    ends: &StaticEnds,
+    settings: &StepSettings,
+    gradient: bool,
+    stop_at_rise: bool,
+) -> (Trajectory, Option<crate::integrator::Event>) {
+    let n = d.n_links();
+    let ode = SpineOde { dynamics: d, damping_sensitivities: gradient };
+    let mut y0 = ends.theta1.clone();
+    y0.extend(vec![0.0; n]);
+    let target = ends.x1 + settings.rise_fraction * (ends.x2 - ends.x1);
+    let sign0 = (d.end_x(&ends.theta1) - target).signum();
+    let passed = |_: f64, y: &[f64]| (d.end_x(&y[..n]) - target) * sign0 <= 0.0;
+    let extras = Extras {
+        sensitivities: gradient.then(|| DMatrix::zeros(2 * n, n + 1)),
+        steps: None,
+        stop: if stop_at_rise { Some(&passed) } else { None },
+    };
+    let traj = integrate(&ode, 0.0, &y0, settings.t_end, &settings.integrator, extras);
+    let lengths = &d.lengths;
+    let event = traj.first_root(
+        0.0,
+        &|y: &[f64]| d.end_x(&y[..n]) - target,
+        &|y: &[f64]| (0..2 * n).map(|i| if i < n { -lengths[i] * y[i].sin() } else { 0.0 }).collect(),
+    );
+    (traj, event)
+}
+
+/// `T_90` and, with `gradient`, `dT_90/dC`, integrating only until the rise (s, s per N·m·s/rad).
+pub fn rise_time(d: &Dynamics, ends: &StaticEnds, settings: &StepSettings, gradient: bool) -> (Option<f64>, Option<Vec<f64>>) {
+    let (_, event) = run_step(d, ends, settings, gradient, true);
+    match event {
+        Some(e) => (Some(e.t), e.t_sensitivity),
+        None => (None, None),
+    }
+}
+
+/// [`step_response`] from known static ends.
+pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gradient: bool) -> StepResponse {
+    let n = d.n_links();
+    let clock = std::time::Instant::now();
+    let (traj, event) = run_step(d, &ends, settings, gradient, false);
+    let time_seconds = clock.elapsed().as_secs_f64();
+    let delta_inf = ends.x2 - ends.x1;
+    let length_x = ends.x1 - ends.passive_displacement;
+    let (samples, drift) = sample(d, &traj, settings.samples, ends.x1, length_x);
+    let rise_time = event.as_ref().map(|e| e.t);
+    let times: Vec<f64> = samples.iter().map(|s| s.t).collect();
+    let deltas: Vec<f64> = samples.iter().map(|s| s.delta).collect();
+    let fit = fit_first_order(&times, &deltas, delta_inf);
+    let y_end = traj.value(settings.t_end);
+    let final_delta = d.end_x(&y_end[..n]) - ends.x1;
+    let settle_error = (final_delta - delta_inf).abs() / delta_inf.abs();
+    let final_state_gap = y_end[..n].iter().zip(&ends.theta2).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    StepResponse {
+        outcome: traj.outcome.clone(),
+        delta_inf,
+        rise_time,
+        rise_time_gradient: event.and_then(|e| e.t_sensitivity),
+        tau_from_rise_time: rise_time.map(|t| -(1.0 - settings.rise_fraction).ln() / t),
+        fit,
+        final_delta,
+        settle_error,
+        settled: traj.outcome == Outcome::Completed && settle_error <= settings.settle_tolerance,
+        final_state_gap,
+        drift,
+        stats: traj.stats,
+        time_seconds,
+        samples,
+        ends,
+    }
+}

@@ -1,0 +1,186 @@
+//! TR-BDF2 on problems with known solutions, and on the spine: energy conservation without damping,
+//! dissipation with damping, constraint drift, sensitivities against finite differences.
+
+use nalgebra::DMatrix;
+use spine_dynamics::integrator::{integrate, Extras, OdeSystem, Options, Outcome};
+use spine_dynamics::{Dynamics, Forcing, SpineOde};
+use spine_model::fixtures::{arch, uniform_loads};
+
+/// Prothero–Robinson: `y' = λ (y − cos t) − sin t`, exact solution `cos t`, stiff for λ ≪ 0.
+struct ProtheroRobinson(f64);
+
+impl OdeSystem for ProtheroRobinson {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, t: f64, _: f64, y: &[f64]) -> Vec<f64> {
+        vec![self.0 * (y[0] - t.cos()) - t.sin()]
+    }
+    fn jacobian(&self, _: f64, _: f64, _: &[f64]) -> DMatrix<f64> {
+        DMatrix::from_element(1, 1, self.0)
+    }
+}
+
+#[test]
+fn stiff_problem_is_solved_to_tolerance_in_few_steps() {
+    let opts = Options { rtol: 1e-6, atol: 1e-8, max_step: Some(0.05), ..Default::default() };
+    let traj = integrate(&ProtheroRobinson(-1e6), 0.0, &[1.0], 10.0, &opts, Extras::default());
+    assert_eq!(traj.outcome, Outcome::Completed);
+    let err = traj.points().map(|(t, y)| (y[0] - t.cos()).abs()).fold(0.0, f64::max);
+    assert!(err < 1e-5, "max error {err}");
+    assert!(traj.stats.accepted_steps < 3000, "{} steps: the stiff mode must not limit the step", traj.stats.accepted_steps);
+    // Dense output between the steps is accurate too.
+    let dense = (0..1000).map(|k| k as f64 * 0.01).map(|t| (traj.value(t)[0] - t.cos()).abs()).fold(0.0, f64::max);
+    assert!(dense < 1e-5, "dense output error {dense}");
+}
+
+/// `y'' = −y` as a system: exact `(cos t, −sin t)`.
+struct Oscillator;
+
+impl OdeSystem for Oscillator {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _: f64, _: f64, y: &[f64]) -> Vec<f64> {
+        vec![y[1], -y[0]]
+    }
+    fn jacobian(&self, _: f64, _: f64, _: &[f64]) -> DMatrix<f64> {
+        DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, 0.0])
+    }
+}
+
+#[test]
+fn second_order_convergence_on_fixed_steps() {
+    let error = |n: usize| {
+        let steps: Vec<f64> = (1..=n).map(|k| k as f64 / n as f64).collect();
+        let traj = integrate(&Oscillator, 0.0, &[1.0, 0.0], 1.0, &Options::default(), Extras { steps: Some(&steps), ..Default::default() });
+        let y = traj.value(1.0);
+        (y[0] - 1f64.cos()).abs().max((y[1] + 1f64.sin()).abs())
+    };
+    let (e1, e2, e3) = (error(40), error(80), error(160));
+    for ratio in [e1 / e2, e2 / e3] {
+        assert!((ratio - 4.0).abs() < 0.2, "error ratio {ratio} on halving the step (order 2 gives 4)");
+    }
+}
+
+/// `y' = s(t)` with a pulse train `s`: the integral is exact at every step point only if steps land on
+/// the switching instants.
+struct Pulses(Forcing);
+
+impl OdeSystem for Pulses {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, t: f64, piece: f64, _: &[f64]) -> Vec<f64> {
+        vec![self.0.factor(t, piece)]
+    }
+    fn jacobian(&self, _: f64, _: f64, _: &[f64]) -> DMatrix<f64> {
+        DMatrix::zeros(1, 1)
+    }
+    fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
+        self.0.breakpoints(t0, t1)
+    }
+}
+
+#[test]
+fn steps_land_on_forcing_switches() {
+    let forcing = Forcing::PulseTrain { period: 0.3, duty: 0.4, delay: 0.05 };
+    let traj = integrate(&Pulses(forcing.clone()), 0.0, &[0.0], 2.0, &Options::default(), Extras::default());
+    let exact = |t: f64| {
+        // ∫₀ᵗ s: whole periods plus the part of the current one.
+        let k = ((t - 0.05) / 0.3).floor().max(0.0);
+        let phase = (t - 0.05 - k * 0.3).max(0.0);
+        if t < 0.05 { 0.0 } else { k * 0.12 + phase.min(0.12) }
+    };
+    for (t, y) in traj.points() {
+        assert!((y[0] - exact(t)).abs() < 1e-12, "t = {t}: {} vs {}", y[0], exact(t));
+    }
+    for b in forcing.breakpoints(0.0, 2.0) {
+        assert!(traj.points().any(|(t, _)| t == b), "a step ends at the switch {b}");
+    }
+}
+
+fn spine(n: usize, damping: f64, forcing: Forcing) -> (Dynamics, Vec<f64>) {
+    let (mut chain, mut design) = arch(n, 1.0, 0.4, 600.0);
+    design.stiffness[n] = 300.0;
+    chain.masses = vec![0.5; n];
+    let passive = uniform_loads(n, -5.0, 0.0);
+    let actuation = uniform_loads(n, 0.0, -200.0);
+    let problem = spine_solve::StaticProblem {
+        chain: chain.clone(),
+        design: design.clone(),
+        passive: passive.clone(),
+        actuation: actuation.clone(),
+    };
+    let theta1 = spine_solve::solve_static(&problem, &Default::default()).passive.state.theta;
+    let dynamics = Dynamics::new(&chain, &design, vec![damping; n + 1], &passive, &actuation, forcing);
+    let mut y0 = theta1;
+    y0.extend(vec![0.0; n]);
+    (dynamics, y0)
+}
+
+fn total_energy(d: &Dynamics, t: f64, y: &[f64]) -> f64 {
+    let (kinetic, strain, potential) = d.energies(t, t, y);
+    kinetic + strain + potential
+}
+
+#[test]
+fn without_damping_energy_is_conserved_over_many_oscillations() {
+    let (d, y0) = spine(4, 0.0, Forcing::Step);
+    let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+    let opts = Options { rtol: 1e-8, atol: 1e-10, ..Default::default() };
+    let traj = integrate(&ode, 0.0, &y0, 1.0, &opts, Extras::default());
+    assert_eq!(traj.outcome, Outcome::Completed);
+    let e0 = total_energy(&d, 0.0, &y0);
+    let kinetic_max = traj.points().map(|(_, y)| d.energies(0.0, 0.0, y).0).fold(0.0, f64::max);
+    // Count oscillations: sign changes of the first link's angular velocity.
+    let crossings = traj.points().collect::<Vec<_>>().windows(2).filter(|w| w[0].1[4] * w[1].1[4] < 0.0).count();
+    assert!(crossings >= 20, "only {crossings} half-oscillations in 1 s");
+    let drift = traj.points().map(|(t, y)| (total_energy(&d, t, y) - e0).abs()).fold(0.0, f64::max);
+    assert!(drift < 1e-6 * kinetic_max, "energy drift {drift:.3e} J against a kinetic energy of {kinetic_max:.3e} J");
+    assert!(traj.points().all(|(_, y)| d.constraint(&y[..4]).abs() < 1e-12), "|Φ| stays at round-off");
+}
+
+#[test]
+fn with_damping_energy_never_increases_and_the_dissipation_balances() {
+    let (d, y0) = spine(5, 2.0, Forcing::Step);
+    let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+    let opts = Options { rtol: 1e-9, atol: 1e-11, ..Default::default() };
+    let traj = integrate(&ode, 0.0, &y0, 1.0, &opts, Extras::default());
+    let pts: Vec<(f64, Vec<f64>)> = traj.points().map(|(t, y)| (t, y.to_vec())).collect();
+    let e: Vec<f64> = pts.iter().map(|(t, y)| total_energy(&d, *t, y)).collect();
+    let scale = (e[0] - e[e.len() - 1]).abs();
+    for k in 1..e.len() {
+        assert!(e[k] <= e[k - 1] + 1e-7 * scale, "energy rose at t = {}: {} → {}", pts[k].0, e[k - 1], e[k]);
+    }
+    // E(T) − E(0) = −∫ θ̇ᵀ C_m θ̇ dt (trapezoidal rule on the dense output).
+    let m = 20_000;
+    let power = |t: f64| d.dissipation(&traj.value(t)[5..]);
+    let dissipated: f64 = (0..m).map(|k| 0.5 * (power(k as f64 / m as f64) + power((k + 1) as f64 / m as f64)) / m as f64).sum();
+    assert!(((e[0] - e[e.len() - 1]) - dissipated).abs() < 1e-4 * dissipated, "{} vs {dissipated}", e[0] - e[e.len() - 1]);
+}
+
+#[test]
+fn damper_sensitivities_equal_finite_differences_of_the_discrete_solution() {
+    let (d, y0) = spine(3, 3.0, Forcing::Step);
+    let opts = Options { rtol: 1e-7, atol: 1e-9, newton_tolerance: 1e-6, ..Default::default() };
+    let ode = SpineOde { dynamics: &d, damping_sensitivities: true };
+    let traj = integrate(&ode, 0.0, &y0, 0.3, &opts, Extras { sensitivities: Some(DMatrix::zeros(6, 4)), ..Default::default() });
+    let steps: Vec<f64> = traj.points().map(|(t, _)| t).collect();
+    let t_probe = 0.137;
+    let s = traj.intervals.iter().find(|iv| iv.t1 >= t_probe).unwrap().sensitivity(t_probe).unwrap();
+    for k in 0..4 {
+        let eps = 1e-4 * d.damping[k];
+        let run = |c: f64| {
+            let mut dk = d.clone();
+            dk.damping[k] = c;
+            let ode = SpineOde { dynamics: &dk, damping_sensitivities: false };
+            integrate(&ode, 0.0, &y0, 0.3, &opts, Extras { steps: Some(&steps), ..Default::default() }).value(t_probe)
+        };
+        let (plus, minus) = (run(d.damping[k] + eps), run(d.damping[k] - eps));
+        for i in 0..6 {
+            let fd = (plus[i] - minus[i]) / (2.0 * eps);
+            assert!((fd - s[(i, k)]).abs() < 1e-6 * (1.0 + fd.abs()), "∂y{i}/∂C{k}: AD {} vs FD {fd}", s[(i, k)]);
+        }
+    }
+}

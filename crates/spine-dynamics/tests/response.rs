@@ -1,0 +1,90 @@
+//! Step response and the damping design of eq. (35).
+
+use spine_dynamics::response::{fit_first_order, rise_time};
+use spine_dynamics::{design_damping, step_response, DampingSettings, DynamicProblem, Forcing, StepSettings};
+use spine_model::fixtures::{arch, uniform_loads};
+
+fn problem(n: usize, damping: f64) -> DynamicProblem {
+    let (mut chain, design) = arch(n, 1.0, 0.4, 1000.0);
+    chain.masses = vec![0.5; n];
+    DynamicProblem {
+        chain,
+        design,
+        damping: vec![damping; n + 1],
+        passive: uniform_loads(n, -5.0, 0.0),
+        actuation: uniform_loads(n, 0.0, -400.0),
+    }
+}
+
+#[test]
+fn step_response_settles_in_the_static_loaded_equilibrium_with_no_drift() {
+    let settings = StepSettings { t_end: 3.0, ..Default::default() };
+    let r = step_response(&problem(6, 30.0), &settings, false).unwrap();
+    assert!(r.settled, "settle error {:.3e}", r.settle_error);
+    assert!(r.final_state_gap < 1e-4, "θ(t_end) − θ2 = {:.3e} rad", r.final_state_gap);
+    assert!(r.delta_inf < 0.0, "the axial push shortens the spine");
+    assert!(r.drift.max_constraint <= 1e-9 && r.drift.max_constraint_rate <= 1e-9, "{:?}", r.drift);
+    assert!(r.drift.max_constraint_dense <= 1e-9, "{:?}", r.drift);
+    let t90 = r.rise_time.expect("rises");
+    // T_90 is where the sampled response crosses 0.9 Δ∞.
+    let before = r.samples.iter().filter(|s| s.t < t90).last().unwrap();
+    let after = r.samples.iter().find(|s| s.t > t90).unwrap();
+    assert!(before.delta > 0.9 * r.delta_inf && after.delta <= 0.9 * r.delta_inf);
+    assert!((r.tau_from_rise_time.unwrap() - 10f64.ln() / t90).abs() < 1e-12, "eq. (36) corrected: τ = ln 10 / T_90");
+    assert!(r.fit.tau > 0.0 && r.fit.rms_error < 0.1);
+}
+
+#[test]
+fn first_order_fit_recovers_an_exact_exponential() {
+    let times: Vec<f64> = (0..500).map(|k| k as f64 * 0.002).collect();
+    let delta: Vec<f64> = times.iter().map(|t| -0.03 * (1.0 - (-11.5 * t).exp())).collect();
+    let fit = fit_first_order(&times, &delta, -0.03);
+    assert!((fit.tau - 11.5).abs() < 1e-6, "τ = {}", fit.tau);
+    assert!(fit.rms_error < 1e-9);
+}
+
+#[test]
+fn rise_time_gradient_equals_central_differences() {
+    let p = problem(4, 20.0);
+    let ends = p.static_ends(&Default::default()).unwrap();
+    let d = p.dynamics(Forcing::Step);
+    let mut settings = StepSettings::default();
+    settings.integrator.rtol = 1e-10;
+    settings.integrator.atol = 1e-12;
+    let (t90, grad) = rise_time(&d, &ends, &settings, true);
+    let (t90, grad) = (t90.unwrap(), grad.unwrap());
+    for k in 0..5 {
+        let h = 1e-3 * d.damping[k];
+        let at = |c: f64| {
+            let mut dk = d.clone();
+            dk.damping[k] = c;
+            rise_time(&dk, &ends, &settings, false).0.unwrap()
+        };
+        let fd = (at(d.damping[k] + h) - at(d.damping[k] - h)) / (2.0 * h);
+        assert!((fd - grad[k]).abs() <= 1e-5 * grad.iter().map(|g| g.abs()).fold(0.0, f64::max), "dT90/dC{k}: {} vs FD {fd}", grad[k]);
+    }
+    assert!(grad.iter().all(|g| *g > 0.0), "more damping, slower rise: {grad:?} (T90 = {t90})");
+}
+
+#[test]
+fn damping_design_meets_the_rise_time_and_is_a_kkt_point() {
+    let p = problem(4, 20.0);
+    let target = 0.1;
+    let r = design_damping(&p, target, &DampingSettings::default()).unwrap();
+    assert!(r.converged, "{}", r.status);
+    assert!(r.rise_time_error.unwrap() < 5e-3, "T90 = {:?}", r.rise_time);
+    let c0 = r.uniform_start.unwrap();
+    assert!(r.objective < 0.5 * 5.0 * c0 * c0, "redistribution lowers ½ΣC² below the uniform start");
+    // Stationarity: C_i = μ dT90/dC_i for every damper off its bounds.
+    let ends = p.static_ends(&Default::default()).unwrap();
+    let mut d = p.dynamics(Forcing::Step);
+    d.damping = r.damping.clone();
+    let (_, grad) = rise_time(&d, &ends, &DampingSettings::default().step, true);
+    let grad = grad.unwrap();
+    let free: Vec<usize> = (0..5).filter(|&i| r.damping[i] > 1.0 + 1e-3 && r.damping[i] < 1e3 - 1e-3).collect();
+    assert!(free.len() >= 2, "{:?}", r.damping);
+    let mu: Vec<f64> = free.iter().map(|&i| r.damping[i] / grad[i]).collect();
+    for m in &mu {
+        assert!((m - mu[0]).abs() < 1e-3 * mu[0].abs(), "C_i / (dT/dC_i) = {mu:?}");
+    }
+}
