@@ -16,11 +16,13 @@
 //! ```
 
 mod design_case;
+mod dynamics_case;
 mod error;
 mod per_item;
 mod schema;
 
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
+pub use dynamics_case::{DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics};
 pub use error::CaseError;
 pub use per_item::PerItem;
 pub use schema::{

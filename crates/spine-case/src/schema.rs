@@ -19,10 +19,16 @@ pub enum Case {
     Twolink(TwoLinkCase),
     /// `"kind": "design"`: the static design problem, eq. (33).
     Design(crate::design_case::DesignCase),
+    /// `"kind": "simulate"`: a step or periodic response (Sec. 5.2).
+    Simulate(crate::dynamics_case::DynamicsCase),
+    /// `"kind": "damping"`: the damping design, eq. (35).
+    Damping(crate::dynamics_case::DynamicsCase),
+    /// `"kind": "periodic"`: the periodic-load design, eq. (37).
+    Periodic(crate::dynamics_case::DynamicsCase),
 }
 
 /// The kinds this program runs, for error messages.
-pub const KINDS: &[&str] = &["equilibrium", "twolink", "design"];
+pub const KINDS: &[&str] = &["equilibrium", "twolink", "design", "simulate", "damping", "periodic"];
 
 impl Case {
     /// Parses a case file. Errors name the field (`chain.links`, `design.theta0[2]`, …).
@@ -42,6 +48,9 @@ impl Case {
             "equilibrium" => parse(rest).map(Case::Equilibrium),
             "twolink" => parse(rest).map(Case::Twolink),
             "design" => parse(rest).map(Case::Design),
+            "simulate" => parse(rest).map(Case::Simulate),
+            "damping" => parse(rest).map(Case::Damping),
+            "periodic" => parse(rest).map(Case::Periodic),
             other => Err(CaseError::invalid("kind", format!("unknown kind {other:?}; one of {KINDS:?}"))),
         }
     }
@@ -52,6 +61,9 @@ impl Case {
             Self::Equilibrium(_) => "equilibrium",
             Self::Twolink(_) => "twolink",
             Self::Design(_) => "design",
+            Self::Simulate(_) => "simulate",
+            Self::Damping(_) => "damping",
+            Self::Periodic(_) => "periodic",
         }
     }
 }
@@ -250,7 +262,7 @@ pub(crate) fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<()
 }
 
 
-pub(crate) fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
+pub fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
     positive("solver.residual_tolerance", o.residual_tolerance, "")?;
     positive("solver.max_angle_step", o.max_angle_step, "rad")?;
     positive("solver.critical_load_tolerance", o.critical_load_tolerance, "")?;

@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod design;
+mod dynamics;
 mod equilibrium;
 mod output;
 mod twolink;
@@ -48,6 +49,15 @@ struct DesignArgs {
     seed: Option<u64>,
 }
 
+#[derive(clap::Args)]
+struct PeriodicArgs {
+    #[command(flatten)]
+    run: RunArgs,
+    /// Search for eq. (37): `ga` (genetic algorithm) or `pattern` (pattern search); default: the case file's.
+    #[arg(long, value_parser = ["ga", "pattern"])]
+    method: Option<String>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Passive (θ1) and loaded (θ2) equilibria of a given design, with stability.
@@ -56,6 +66,12 @@ enum Command {
     Twolink(RunArgs),
     /// The static design problem of eq. (33) with Ipopt (optionally multi-start).
     Design(DesignArgs),
+    /// Step or periodic response (Sec. 5.2): `response.csv` and `result.json` with T_90, Δ∞, τ, fit error, drift.
+    Simulate(RunArgs),
+    /// The damping design of eq. (35): dampers for each target rise time.
+    Damping(RunArgs),
+    /// The periodic-load design of eq. (37) by a genetic algorithm or a pattern search.
+    Periodic(PeriodicArgs),
     /// Runs any case file by its `kind`.
     Case(RunArgs),
 }
@@ -75,6 +91,7 @@ pub enum Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let mut overrides = design::Overrides::default();
+    let mut method = None;
     let (args, expect) = match &cli.command {
         Command::Equilibrium(a) => (a, Some("equilibrium")),
         Command::Twolink(a) => (a, Some("twolink")),
@@ -86,9 +103,15 @@ fn main() -> ExitCode {
             };
             (&a.run, Some("design"))
         }
+        Command::Simulate(a) => (a, Some("simulate")),
+        Command::Damping(a) => (a, Some("damping")),
+        Command::Periodic(a) => {
+            method = a.method.as_deref().map(|m| if m == "pattern" { spine_dynamics::SearchMethod::Pattern } else { spine_dynamics::SearchMethod::Ga });
+            (&a.run, Some("periodic"))
+        }
         Command::Case(a) => (a, None),
     };
-    match run(args, expect, overrides) {
+    match run(args, expect, overrides, method) {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
         Ok(Outcome::NotConverged) => ExitCode::from(3),
         Err(Failure::Input(msg)) => {
@@ -102,7 +125,12 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(args: &RunArgs, expect: Option<&str>, overrides: design::Overrides) -> Result<Outcome, Failure> {
+fn run(
+    args: &RunArgs,
+    expect: Option<&str>,
+    overrides: design::Overrides,
+    method: Option<spine_dynamics::SearchMethod>,
+) -> Result<Outcome, Failure> {
     let path = args.case.display().to_string();
     let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
     let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
@@ -115,6 +143,7 @@ fn run(args: &RunArgs, expect: Option<&str>, overrides: design::Overrides) -> Re
         }
     }
     let out = output::Output::new(&args.out, args.deterministic);
+    let case_kind = case.kind();
     match case {
         spine_case::Case::Equilibrium(c) => {
             let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
@@ -127,6 +156,11 @@ fn run(args: &RunArgs, expect: Option<&str>, overrides: design::Overrides) -> Re
         spine_case::Case::Design(c) => {
             let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
             design::run(&c, &valid, overrides, &out)
+        }
+        spine_case::Case::Simulate(c) | spine_case::Case::Damping(c) | spine_case::Case::Periodic(c) => {
+            let kind = expect.unwrap_or(case_kind);
+            let valid = c.validate(kind).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+            dynamics::run(&c, &valid, kind, method, &out)
         }
     }
 }

@@ -1,4 +1,4 @@
-//! Writing results: `DIR/result.json`, written whole or not at all.
+//! Writing results: `DIR/result.json` and CSV files, each written whole or not at all.
 
 use crate::Failure;
 use serde_json::Value;
@@ -22,12 +22,21 @@ impl Output {
                 map.remove("timings");
             }
         }
+        let mut text = serde_json::to_string_pretty(&value).expect("JSON values always serialise");
+        text.push('\n');
+        self.write_file(name, &text)
+    }
+
+    /// Writes a text file (CSV) to `DIR/name` the same way.
+    pub fn write_text(&self, name: &str, text: &str) -> Result<(), Failure> {
+        self.write_file(name, text).map(|_| ())
+    }
+
+    fn write_file(&self, name: &str, text: &str) -> Result<PathBuf, Failure> {
         let io = |e: std::io::Error| Failure::Other(format!("{}: cannot write: {e}", self.dir.display()));
         std::fs::create_dir_all(&self.dir).map_err(io)?;
         let target = self.dir.join(name);
         let tmp = self.dir.join(format!(".{name}.tmp"));
-        let mut text = serde_json::to_string_pretty(&value).expect("JSON values always serialise");
-        text.push('\n');
         std::fs::write(&tmp, text).map_err(io)?;
         std::fs::rename(&tmp, &target).map_err(io)?;
         Ok(target)

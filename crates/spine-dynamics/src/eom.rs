@@ -190,7 +190,11 @@ impl Dynamics {
         let q: Vec<D> = (0..n).map(|i| p[i] - h[i] - damper[i] - spring[i]).collect();
         let g = self.constraint_gradient(theta);
         let b: D = (0..n).map(|i| theta[i].sin() * omega[i] * omega[i] * self.lengths[i]).sum();
-        let chol = cholesky(self.mass_matrix(theta)).expect("the mass matrix of links with mass is positive definite");
+        // M is positive definite for links with mass; a non-finite trial state (a diverging Newton
+        // iterate) gives NaN accelerations, which the integrator rejects.
+        let Some(chol) = cholesky(self.mass_matrix(theta)) else {
+            return (vec![D::from(f64::NAN); n], D::from(f64::NAN));
+        };
         let mq = chol_solve(&chol, &q);
         let mg = chol_solve(&chol, &g);
         let gmq: D = g.iter().zip(&mq).map(|(&a, &b)| a * b).sum();
@@ -281,7 +285,7 @@ fn cholesky<D: Scalar>(mut a: Vec<Vec<D>>) -> Option<Vec<Vec<D>>> {
         for k in 0..j {
             d -= a[j][k] * a[j][k];
         }
-        if d.re() <= 0.0 {
+        if !(d.re() > 0.0) {
             return None;
         }
         let d = d.sqrt();

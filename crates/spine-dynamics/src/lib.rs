@@ -25,3 +25,8 @@ pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, S
 pub mod damping;
 
 pub use damping::{design_damping, DampingDesign, DampingSettings};
+pub mod periodic;
+pub mod periodic_design;
+
+pub use periodic::{periodic_response, PeriodicResponse, PeriodicSettings};
+pub use periodic_design::{design_periodic, PeriodicDesign, PeriodicDesignSettings, SearchMethod};

@@ -1,1 +1,118 @@
-//! # spine-search: gradient-free optimisers
+//! # spine-search: gradient-free optimisers for bounded, constrained problems
+//!
+//! For problems whose constraints are not smooth, such as eq. (37) of the paper (a minimum over time
+//! of a simulated motion), where the paper used MATLAB's `ga` and `patternsearch`:
+//!
+//! * [`genetic_algorithm`]: a real-coded GA with binary tournaments, simulated binary crossover
+//!   (SBX), polynomial mutation and elitism (Deb & Agrawal 1995; Deb 2000);
+//! * [`pattern_search`]: a generalized pattern search with the `2n` coordinate directions, mesh
+//!   expansion on success and contraction on failure (Torczon 1997).
+//!
+//! Both compare points by Deb's feasibility rules ([`Evaluation::better_than`]): a feasible point
+//! beats an infeasible one, two feasible points compare by objective, two infeasible points by
+//! constraint violation. No penalty weight to tune. Both are seeded and deterministic: the same
+//! seed gives the same sequence of evaluations on every machine.
+//!
+//! No maintained crate offers both methods with constraint handling (see `../shared/CRATES.md`);
+//! these are tested on Rosenbrock, Rastrigin and a constrained problem with known minima.
+
+mod ga;
+mod pattern;
+
+pub use ga::{genetic_algorithm, GaSettings};
+pub use pattern::{pattern_search, PatternSettings};
+
+use serde::{Deserialize, Serialize};
+
+/// The value of one point: objective and total constraint violation (`0` when feasible).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Evaluation {
+    pub objective: f64,
+    pub violation: f64,
+}
+
+impl Evaluation {
+    /// An unconstrained value.
+    pub fn unconstrained(objective: f64) -> Self {
+        Self { objective, violation: 0.0 }
+    }
+
+    /// A point that could not be evaluated (the simulation failed): worse than any other.
+    pub fn failed() -> Self {
+        Self { objective: f64::INFINITY, violation: f64::INFINITY }
+    }
+
+    /// Deb's feasibility rules. NaN counts as failed.
+    pub fn better_than(&self, other: &Evaluation) -> bool {
+        let clean = |e: &Evaluation| {
+            if e.objective.is_nan() || e.violation.is_nan() {
+                Evaluation::failed()
+            } else {
+                *e
+            }
+        };
+        let (a, b) = (clean(self), clean(other));
+        match (a.violation <= 0.0, b.violation <= 0.0) {
+            (true, true) => a.objective < b.objective,
+            (true, false) => true,
+            (false, true) => false,
+            (false, false) => a.violation < b.violation,
+        }
+    }
+}
+
+/// Box bounds `lower ≤ x ≤ upper` (finite, `lower < upper`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Bounds {
+    pub lower: Vec<f64>,
+    pub upper: Vec<f64>,
+}
+
+impl Bounds {
+    pub fn dim(&self) -> usize {
+        self.lower.len()
+    }
+
+    fn clamp(&self, i: usize, v: f64) -> f64 {
+        v.clamp(self.lower[i], self.upper[i])
+    }
+
+    fn width(&self, i: usize) -> f64 {
+        self.upper[i] - self.lower[i]
+    }
+}
+
+/// Progress of a search, reported after every generation or poll.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Progress {
+    /// Generation (GA) or iteration (pattern search).
+    pub iteration: usize,
+    pub evaluations: usize,
+    pub best: Evaluation,
+}
+
+/// How a search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SearchStatus {
+    /// Pattern search: the mesh fell below its tolerance (a mesh-local minimum).
+    MeshConverged,
+    /// GA: all generations ran; the best point did not change in the last `stall_generations`.
+    Stalled,
+    /// GA: all generations ran.
+    GenerationLimit,
+    /// The evaluation budget ran out first.
+    EvaluationLimit,
+}
+
+/// The result of a search.
+#[derive(Clone, Debug, Serialize)]
+pub struct SearchResult {
+    pub status: SearchStatus,
+    pub x: Vec<f64>,
+    pub best: Evaluation,
+    pub evaluations: usize,
+    pub iterations: usize,
+    /// Best value after each iteration.
+    pub history: Vec<Progress>,
+}

@@ -1,0 +1,334 @@
+//! `"kind": "simulate" | "damping" | "periodic"`: the dynamics of Sec. 5.2 — a step or periodic
+//! response, the damping design of eq. (35), the periodic-load design of eq. (37).
+
+use crate::design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
+use crate::schema::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
+use crate::{CaseError, PerItem};
+use serde::{Deserialize, Serialize};
+use spine_design::{Formulation, SolverSettings};
+use spine_dynamics::{DampingSettings, Forcing, PeriodicDesignSettings, PeriodicSettings, SearchMethod, StepSettings};
+use spine_model::{Chain, Design, NodalLoads};
+
+/// Eq. (33) settings for a dynamic case whose design is `"optimise"` (chain and loads are the case's).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StaticDesignSpec {
+    pub delta_d: f64,
+    #[serde(default = "one")]
+    pub stiffness_scale: f64,
+    #[serde(default)]
+    pub bounds: BoundsSpec,
+    pub start: StartSpec,
+    #[serde(default = "full")]
+    pub formulation: Formulation,
+    #[serde(default)]
+    pub solver: SolverSettings,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn full() -> Formulation {
+    Formulation::Full
+}
+fn step() -> Forcing {
+    Forcing::Step
+}
+
+/// Eq. (35): one design per target rise time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingDesignSpec {
+    /// Target rise times `T_d`, s (each > 0, below `simulation.t_end`'s reach is not required).
+    pub targets: Vec<f64>,
+    /// Damper bounds, N·m·s/rad (default 1 and 10³, the paper's).
+    #[serde(default = "c_min")]
+    pub damping_min: f64,
+    #[serde(default = "c_max")]
+    pub damping_max: f64,
+    #[serde(default = "tol")]
+    pub tolerance: f64,
+    #[serde(default = "iters")]
+    pub max_iterations: usize,
+}
+
+fn c_min() -> f64 {
+    1.0
+}
+fn c_max() -> f64 {
+    1e3
+}
+fn tol() -> f64 {
+    1e-7
+}
+fn iters() -> usize {
+    200
+}
+
+/// Eq. (37).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PeriodicDesignSpec {
+    /// Desired `min_t (X_{N+1}(t) − L_x)`, m (≠ 0).
+    pub delta_d: f64,
+    /// `"ga"` (default) or `"pattern"`; `spine periodic --method` overrides it.
+    #[serde(default = "ga")]
+    pub method: SearchMethod,
+    #[serde(default)]
+    pub settings: PeriodicDesignSettings,
+}
+
+fn ga() -> SearchMethod {
+    SearchMethod::Ga
+}
+
+/// A dynamic case (kinds `simulate`, `damping`, `periodic`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsCase {
+    #[serde(default)]
+    pub title: String,
+    #[serde(default)]
+    pub notes: Notes,
+    /// The chain; every link needs a mass > 0.
+    pub chain: ChainSpec,
+    /// A given design, or `"optimise"` with a `static_design` section (eq. (33) first).
+    pub design: DesignSpec,
+    #[serde(default)]
+    pub static_design: Option<StaticDesignSpec>,
+    pub loads: LoadSpec,
+    /// Dampers `C_1..C_{N+1}`, N·m·s/rad: one number or `N + 1`, each ≥ 0.
+    pub damping: PerItem,
+    /// Time profile of the axial force (default: a step at `t = 0`).
+    #[serde(default = "step")]
+    pub forcing: Forcing,
+    /// Step response settings (also used by every evaluation of eq. (35)).
+    #[serde(default)]
+    pub simulation: StepSettings,
+    /// Periodic response settings (kind `simulate` with a periodic forcing).
+    #[serde(default)]
+    pub periodic: PeriodicSettings,
+    #[serde(default)]
+    pub damping_design: Option<DampingDesignSpec>,
+    #[serde(default)]
+    pub periodic_design: Option<PeriodicDesignSpec>,
+}
+
+/// Where the design of a dynamic case comes from.
+#[derive(Clone, Debug)]
+pub enum DesignSource {
+    Given(Design),
+    Optimise(Box<ValidDesign>),
+}
+
+/// What a dynamic case asks for.
+#[derive(Clone, Debug)]
+pub enum DynamicsTask {
+    /// A step response (forcing `step`) or a periodic response.
+    Simulate,
+    Damping { targets: Vec<f64>, settings: DampingSettings },
+    Periodic { delta_d: f64, method: SearchMethod, settings: PeriodicDesignSettings },
+}
+
+/// A checked dynamic case.
+#[derive(Clone, Debug)]
+pub struct ValidDynamics {
+    pub chain: Chain,
+    pub design: DesignSource,
+    pub damping: Vec<f64>,
+    pub passive: NodalLoads,
+    pub actuation: NodalLoads,
+    pub forcing: Forcing,
+    pub step: StepSettings,
+    pub periodic: PeriodicSettings,
+    pub task: DynamicsTask,
+}
+
+fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
+    positive(&format!("{prefix}.rtol"), o.rtol, "")?;
+    positive(&format!("{prefix}.atol"), o.atol, "")?;
+    positive(&format!("{prefix}.newton_tolerance"), o.newton_tolerance, "")?;
+    if let Some(h) = o.initial_step {
+        positive(&format!("{prefix}.initial_step"), h, "s")?;
+    }
+    if let Some(h) = o.max_step {
+        positive(&format!("{prefix}.max_step"), h, "s")?;
+    }
+    if o.max_steps == 0 {
+        return Err(CaseError::invalid(format!("{prefix}.max_steps"), "must be at least 1"));
+    }
+    Ok(())
+}
+
+fn check_fraction(field: &str, v: f64) -> Result<(), CaseError> {
+    if v > 0.0 && v < 1.0 {
+        Ok(())
+    } else {
+        Err(CaseError::invalid(field, format!("must be in (0, 1), got {v}")))
+    }
+}
+
+impl DynamicsCase {
+    /// Checks the case for `kind` (`simulate`, `damping` or `periodic`).
+    pub fn validate(&self, kind: &str) -> Result<ValidDynamics, CaseError> {
+        let mut chain = self.chain.validate()?;
+        let n = chain.n_links();
+        if let Some(i) = chain.masses.iter().position(|m| *m <= 0.0) {
+            return Err(CaseError::invalid(
+                format!("chain.masses[{i}]"),
+                format!("must be > 0 kg: every link of a dynamic case needs mass, got {}", chain.masses[i]),
+            ));
+        }
+        let p_y = self.loads.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
+        if !self.loads.p_x.is_finite() {
+            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
+        }
+        let passive = NodalLoads { p_x: vec![0.0; n + 1], p_y };
+        let mut actuation = NodalLoads::zero(n);
+        actuation.p_x[n] = self.loads.p_x;
+        let self_weight = self.loads.self_weight;
+
+        let design = match (&self.design, &self.static_design) {
+            (DesignSpec::Given(d), None) => {
+                let mut c = chain.clone();
+                if !self_weight {
+                    c.gravity = 0.0;
+                }
+                DesignSource::Given(d.validate(&c)?)
+            }
+            (DesignSpec::Given(_), Some(_)) => {
+                return Err(CaseError::invalid("static_design", "only with \"design\": \"optimise\"; remove it or optimise the design"))
+            }
+            (DesignSpec::ToBeOptimised, None) => {
+                return Err(CaseError::invalid("static_design", "\"design\": \"optimise\" needs a static_design section (delta_d, start, …)"))
+            }
+            (DesignSpec::ToBeOptimised, Some(s)) => {
+                let as_design = DesignCase {
+                    title: self.title.clone(),
+                    notes: Notes::default(),
+                    chain: self.chain.clone(),
+                    loads: self.loads.clone(),
+                    delta_d: s.delta_d,
+                    stiffness_scale: s.stiffness_scale,
+                    bounds: s.bounds.clone(),
+                    start: s.start.clone(),
+                    formulation: s.formulation,
+                    multistart: MultiStartSpec::default(),
+                    solver: s.solver.clone(),
+                };
+                let valid = as_design.validate().map_err(|e| match e.field() {
+                    f if f.starts_with("chain") || f.starts_with("loads") => e,
+                    _ => e.with_prefix("static_design"),
+                })?;
+                DesignSource::Optimise(Box::new(valid))
+            }
+        };
+        if !self_weight {
+            chain.gravity = 0.0;
+        }
+        let damping = self.damping.expand("damping", n + 1, "one per damper, N + 1")?;
+        non_negative("damping", &damping, "N·m·s/rad")?;
+        self.forcing.validate().map_err(|(f, m)| CaseError::invalid(format!("forcing.{f}"), m))?;
+
+        let s = &self.simulation;
+        positive("simulation.t_end", s.t_end, "s")?;
+        check_fraction("simulation.rise_fraction", s.rise_fraction)?;
+        positive("simulation.settle_tolerance", s.settle_tolerance, "")?;
+        if s.samples < 2 {
+            return Err(CaseError::invalid("simulation.samples", format!("must be at least 2, got {}", s.samples)));
+        }
+        check_integrator("simulation.integrator", &s.integrator)?;
+        crate::schema::check_options(&s.continuation).map_err(|e| e.with_prefix("simulation.continuation"))?;
+        let p = &self.periodic;
+        if p.max_periods < 2 {
+            return Err(CaseError::invalid("periodic.max_periods", format!("must be at least 2, got {}", p.max_periods)));
+        }
+        positive("periodic.settle_tolerance", p.settle_tolerance, "")?;
+        check_fraction("periodic.reach_fraction", p.reach_fraction)?;
+        if p.samples_per_period < 2 {
+            return Err(CaseError::invalid("periodic.samples_per_period", "must be at least 2"));
+        }
+        check_integrator("periodic.integrator", &p.integrator)?;
+
+        let periodic_forcing = self.forcing.period().is_some();
+        let task = match kind {
+            "simulate" => {
+                if self.forcing == Forcing::Off {
+                    return Err(CaseError::invalid("forcing.type", "a simulation needs a force: \"step\", \"pulse_train\" or \"sinusoid\""));
+                }
+                DynamicsTask::Simulate
+            }
+            "damping" => {
+                let Some(dd) = &self.damping_design else {
+                    return Err(CaseError::invalid("damping_design", "a damping case needs a damping_design section with targets (s)"));
+                };
+                if self.forcing != Forcing::Step {
+                    return Err(CaseError::invalid("forcing.type", "eq. (35) designs the step response: use \"step\""));
+                }
+                if dd.targets.is_empty() {
+                    return Err(CaseError::invalid("damping_design.targets", "give at least one target rise time (s)"));
+                }
+                for (i, t) in dd.targets.iter().enumerate() {
+                    positive(&format!("damping_design.targets[{i}]"), *t, "s")?;
+                }
+                positive("damping_design.damping_min", dd.damping_min, "N·m·s/rad")?;
+                if !(dd.damping_max.is_finite() && dd.damping_max > dd.damping_min) {
+                    return Err(CaseError::invalid("damping_design.damping_max", format!("must be finite and > damping_min = {}, got {}", dd.damping_min, dd.damping_max)));
+                }
+                positive("damping_design.tolerance", dd.tolerance, "")?;
+                if dd.max_iterations == 0 || dd.max_iterations > i32::MAX as usize {
+                    return Err(CaseError::invalid("damping_design.max_iterations", "must be between 1 and 2147483647"));
+                }
+                DynamicsTask::Damping {
+                    targets: dd.targets.clone(),
+                    settings: DampingSettings {
+                        damping_min: dd.damping_min,
+                        damping_max: dd.damping_max,
+                        tolerance: dd.tolerance,
+                        max_iterations: dd.max_iterations,
+                        step: s.clone(),
+                    },
+                }
+            }
+            "periodic" => {
+                let Some(pd) = &self.periodic_design else {
+                    return Err(CaseError::invalid("periodic_design", "a periodic case needs a periodic_design section (delta_d, method)"));
+                };
+                if !periodic_forcing {
+                    return Err(CaseError::invalid("forcing.type", "eq. (37) needs a periodic force: \"pulse_train\" or \"sinusoid\""));
+                }
+                if !(pd.delta_d.is_finite() && pd.delta_d != 0.0) {
+                    return Err(CaseError::invalid("periodic_design.delta_d", format!("must be a finite, nonzero displacement (m), got {}", pd.delta_d)));
+                }
+                let st = &pd.settings;
+                positive("periodic_design.settings.stiffness_min", st.stiffness_min, "N·m/rad")?;
+                if !(st.stiffness_max.is_finite() && st.stiffness_max > st.stiffness_min) {
+                    return Err(CaseError::invalid("periodic_design.settings.stiffness_max", format!("must be finite and > stiffness_min = {}, got {}", st.stiffness_min, st.stiffness_max)));
+                }
+                positive("periodic_design.settings.tolerance", st.tolerance, "")?;
+                if st.ga.population < 4 {
+                    return Err(CaseError::invalid("periodic_design.settings.ga.population", "must be at least 4"));
+                }
+                positive("periodic_design.settings.pattern.initial_mesh", st.pattern.initial_mesh, "")?;
+                positive("periodic_design.settings.pattern.mesh_tolerance", st.pattern.mesh_tolerance, "")?;
+                if st.response.max_periods < 2 {
+                    return Err(CaseError::invalid("periodic_design.settings.response.max_periods", "must be at least 2"));
+                }
+                check_integrator("periodic_design.settings.response.integrator", &st.response.integrator)?;
+                DynamicsTask::Periodic { delta_d: pd.delta_d, method: pd.method, settings: st.clone() }
+            }
+            other => return Err(CaseError::invalid("kind", format!("not a dynamic kind: {other:?}"))),
+        };
+        Ok(ValidDynamics {
+            chain,
+            design,
+            damping,
+            passive,
+            actuation,
+            forcing: self.forcing.clone(),
+            step: s.clone(),
+            periodic: p.clone(),
+            task,
+        })
+    }
+}

@@ -1,0 +1,201 @@
+//! Real-coded genetic algorithm: binary tournaments by Deb's rules, SBX crossover, polynomial
+//! mutation (both bounded), elitism.
+
+use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use serde::{Deserialize, Serialize};
+
+/// GA settings (defaults after Deb 2000).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GaSettings {
+    /// Population size (≥ 4, even).
+    pub population: usize,
+    /// Number of generations after the first.
+    pub generations: usize,
+    /// Probability that a pair is recombined.
+    pub crossover_probability: f64,
+    /// SBX distribution index (larger: children closer to the parents).
+    pub crossover_eta: f64,
+    /// Per-gene mutation probability (`None`: `1/n`).
+    pub mutation_probability: Option<f64>,
+    /// Polynomial mutation distribution index.
+    pub mutation_eta: f64,
+    /// Best individuals copied unchanged into the next generation.
+    pub elites: usize,
+    /// Stop when the best point has not improved for this many generations.
+    pub stall_generations: usize,
+    /// Evaluation budget.
+    pub max_evaluations: usize,
+    pub seed: u64,
+}
+
+impl Default for GaSettings {
+    fn default() -> Self {
+        Self {
+            population: 40,
+            generations: 60,
+            crossover_probability: 0.9,
+            crossover_eta: 15.0,
+            mutation_probability: None,
+            mutation_eta: 20.0,
+            elites: 2,
+            stall_generations: 20,
+            max_evaluations: usize::MAX,
+            seed: 1,
+        }
+    }
+}
+
+/// Minimises `f` over `bounds`. `start`, when given, is one member of the first population (the
+/// rest are uniform in the bounds).
+pub fn genetic_algorithm(
+    f: &mut dyn FnMut(&[f64]) -> Evaluation,
+    bounds: &Bounds,
+    start: Option<&[f64]>,
+    settings: &GaSettings,
+    progress: &mut dyn FnMut(Progress),
+) -> SearchResult {
+    let n = bounds.dim();
+    let pop_size = settings.population.max(4) & !1;
+    let mut rng = StdRng::seed_from_u64(settings.seed);
+    let p_mut = settings.mutation_probability.unwrap_or(1.0 / n.max(1) as f64);
+    let mut evaluations = 0;
+
+    let mut population: Vec<Vec<f64>> = (0..pop_size)
+        .map(|k| match (k, start) {
+            (0, Some(s)) => (0..n).map(|i| bounds.clamp(i, s[i])).collect(),
+            _ => (0..n).map(|i| rng.random_range(bounds.lower[i]..=bounds.upper[i])).collect(),
+        })
+        .collect();
+    let mut values: Vec<Evaluation> = Vec::with_capacity(pop_size);
+    for x in &population {
+        values.push(f(x));
+        evaluations += 1;
+    }
+    let best_of = |values: &[Evaluation]| (0..values.len()).fold(0, |b, k| if values[k].better_than(&values[b]) { k } else { b });
+    let mut best = best_of(&values);
+    let (mut best_x, mut best_value) = (population[best].clone(), values[best]);
+    let mut history = vec![Progress { iteration: 0, evaluations, best: best_value }];
+    progress(history[0]);
+    let mut stall = 0;
+    let mut status = SearchStatus::GenerationLimit;
+    let mut generation = 0;
+
+    while generation < settings.generations {
+        if evaluations + pop_size > settings.max_evaluations {
+            status = SearchStatus::EvaluationLimit;
+            break;
+        }
+        if stall >= settings.stall_generations {
+            status = SearchStatus::Stalled;
+            break;
+        }
+        generation += 1;
+        // Elites first, by repeated selection of the best remaining.
+        let mut order: Vec<usize> = (0..pop_size).collect();
+        order.sort_by(|&a, &b| {
+            if values[a].better_than(&values[b]) {
+                std::cmp::Ordering::Less
+            } else if values[b].better_than(&values[a]) {
+                std::cmp::Ordering::Greater
+            } else {
+                a.cmp(&b)
+            }
+        });
+        let mut next: Vec<Vec<f64>> = order.iter().take(settings.elites.min(pop_size)).map(|&k| population[k].clone()).collect();
+        let mut next_values: Vec<Evaluation> = order.iter().take(next.len()).map(|&k| values[k]).collect();
+        let tournament = |rng: &mut StdRng| {
+            let (a, b) = (rng.random_range(0..pop_size), rng.random_range(0..pop_size));
+            if values[b].better_than(&values[a]) {
+                b
+            } else {
+                a
+            }
+        };
+        let mut children = Vec::new();
+        while next.len() + children.len() < pop_size {
+            let (pa, pb) = (tournament(&mut rng), tournament(&mut rng));
+            let (mut c1, mut c2) = (population[pa].clone(), population[pb].clone());
+            if rng.random::<f64>() < settings.crossover_probability {
+                for i in 0..n {
+                    if rng.random::<f64>() < 0.5 {
+                        let (a, b) = sbx(c1[i], c2[i], bounds.lower[i], bounds.upper[i], settings.crossover_eta, &mut rng);
+                        c1[i] = a;
+                        c2[i] = b;
+                    }
+                }
+            }
+            for c in [&mut c1, &mut c2] {
+                for i in 0..n {
+                    if rng.random::<f64>() < p_mut {
+                        c[i] = polynomial_mutation(c[i], bounds.lower[i], bounds.upper[i], settings.mutation_eta, &mut rng);
+                    }
+                }
+            }
+            children.push(c1);
+            if next.len() + children.len() < pop_size {
+                children.push(c2);
+            }
+        }
+        for c in children {
+            next_values.push(f(&c));
+            evaluations += 1;
+            next.push(c);
+        }
+        population = next;
+        values = next_values;
+        best = best_of(&values);
+        if values[best].better_than(&best_value) {
+            best_value = values[best];
+            best_x = population[best].clone();
+            stall = 0;
+        } else {
+            stall += 1;
+        }
+        let p = Progress { iteration: generation, evaluations, best: best_value };
+        history.push(p);
+        progress(p);
+    }
+    if generation >= settings.generations && stall >= settings.stall_generations {
+        status = SearchStatus::Stalled;
+    }
+    SearchResult { status, x: best_x, best: best_value, evaluations, iterations: generation, history }
+}
+
+/// Simulated binary crossover of one gene within `[lo, hi]` (Deb & Agrawal 1995, bounded form).
+fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> (f64, f64) {
+    if (x1 - x2).abs() < 1e-14 * (hi - lo) {
+        return (x1, x2);
+    }
+    let (y1, y2) = if x1 < x2 { (x1, x2) } else { (x2, x1) };
+    let u: f64 = rng.random();
+    let child = |beta: f64| {
+        let alpha = 2.0 - beta.powf(-(eta + 1.0));
+        let bq = if u <= 1.0 / alpha { (u * alpha).powf(1.0 / (eta + 1.0)) } else { (1.0 / (2.0 - u * alpha)).powf(1.0 / (eta + 1.0)) };
+        bq
+    };
+    let bq1 = child(1.0 + 2.0 * (y1 - lo) / (y2 - y1));
+    let bq2 = child(1.0 + 2.0 * (hi - y2) / (y2 - y1));
+    let c1 = (0.5 * ((y1 + y2) - bq1 * (y2 - y1))).clamp(lo, hi);
+    let c2 = (0.5 * ((y1 + y2) + bq2 * (y2 - y1))).clamp(lo, hi);
+    if rng.random::<f64>() < 0.5 {
+        (c2, c1)
+    } else {
+        (c1, c2)
+    }
+}
+
+/// Polynomial mutation of one gene within `[lo, hi]` (Deb & Goyal 1996).
+fn polynomial_mutation(x: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> f64 {
+    let (d1, d2) = ((x - lo) / (hi - lo), (hi - x) / (hi - lo));
+    let u: f64 = rng.random();
+    let power = 1.0 / (eta + 1.0);
+    let dq = if u < 0.5 {
+        (2.0 * u + (1.0 - 2.0 * u) * (1.0 - d1).powf(eta + 1.0)).powf(power) - 1.0
+    } else {
+        1.0 - (2.0 * (1.0 - u) + 2.0 * (u - 0.5) * (1.0 - d2).powf(eta + 1.0)).powf(power)
+    };
+    (x + dq * (hi - lo)).clamp(lo, hi)
+}
