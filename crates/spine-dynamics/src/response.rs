@@ -139,6 +139,10 @@ pub fn sample(d: &Dynamics, traj: &Trajectory, count: usize, x_start: f64, lengt
     (samples, drift)
 }
 
+/// A settled response has every angle within this of `θ2`, rad (the same end position reached by a
+/// different configuration, e.g. a link turned by 2π, is not the static final state).
+pub const SETTLED_ANGLE: f64 = 1e-3;
+
 /// Settings of a step response.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -226,7 +230,7 @@ pub struct StepResponse {
     /// `Δ(t_end)`, m, and `|Δ(t_end) − Δ∞| / |Δ∞|`.
     pub final_delta: f64,
     pub settle_error: f64,
-    /// `|Δ(t_end) − Δ∞| ≤ settle_tolerance |Δ∞|`.
+    /// `|Δ(t_end) − Δ∞| ≤ settle_tolerance |Δ∞|` and every angle within [`SETTLED_ANGLE`] of `θ2`.
     pub settled: bool,
     /// `max_i |θ_i(t_end) − θ2_i|`, rad: that it settles in the continuation's `θ2`.
     pub final_state_gap: f64,
@@ -312,7 +316,7 @@ pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gr
         fit,
         final_delta,
         settle_error,
-        settled: traj.outcome == Outcome::Completed && settle_error <= settings.settle_tolerance,
+        settled: traj.outcome == Outcome::Completed && settle_error <= settings.settle_tolerance && final_state_gap <= SETTLED_ANGLE,
         final_state_gap,
         drift,
         stats: traj.stats,

@@ -1,0 +1,114 @@
+//! `spine simulate`, `spine damping`, `spine periodic` end to end, and their input errors.
+
+mod common;
+use common::{spine, tmpdir, workspace};
+use serde_json::{json, Value};
+
+fn step_case(n: usize) -> Value {
+    let theta0: Vec<f64> = (0..n).map(|i| 0.3 * (std::f64::consts::PI * (i as f64 + 0.5) / n as f64).cos()).collect();
+    json!({
+        "kind": "simulate",
+        "chain": { "links": n, "length_x": 1.0, "masses": 0.5 },
+        "design": { "theta0": theta0, "stiffness": 1000.0 },
+        "loads": { "p_y": -5.0, "p_x": -400.0 },
+        "damping": 30.0,
+        "simulation": { "t_end": 2.0, "samples": 201 }
+    })
+}
+
+fn write_case(dir: &std::path::Path, case: &Value) -> String {
+    let path = dir.join("case.json");
+    std::fs::write(&path, serde_json::to_string_pretty(case).unwrap()).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn simulate_writes_the_response_and_a_deterministic_summary() {
+    let dir = tmpdir("simulate");
+    let case = write_case(&dir, &step_case(4));
+    let out = dir.join("out");
+    let o = spine(&["simulate", &case, "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("result.json")).unwrap();
+    let r: Value = serde_json::from_str(&text).unwrap();
+    let s = &r["step_response"];
+    assert_eq!(s["settled"], true);
+    assert!(s["rise_time"].as_f64().unwrap() > 0.0);
+    assert!(s["drift"]["max_constraint"].as_f64().unwrap() <= 1e-9);
+    assert!(s["fit"]["tau"].as_f64().unwrap() > 0.0);
+    assert!(r.get("timings").is_none());
+    let csv = std::fs::read_to_string(out.join("response.csv")).unwrap();
+    assert!(csv.starts_with("t_s,load_factor,delta_m,end_displacement_m,theta_1_rad"));
+    assert_eq!(csv.lines().count(), 202);
+    let again = spine(&["simulate", &case, "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert!(again.status.success());
+    assert_eq!(std::fs::read_to_string(out.join("result.json")).unwrap(), text, "same input, same bytes");
+}
+
+#[test]
+fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
+    let dir = tmpdir("bad-dynamics");
+    let out = dir.join("out");
+    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str)> = vec![
+        ("simulate", Box::new(|c| c["chain"]["masses"] = json!(0.0)), "chain.masses[0]"),
+        ("simulate", Box::new(|c| c["chain"]["masses"] = json!([0.5, -1.0, 0.5, 0.5])), "chain.masses[1]"),
+        ("simulate", Box::new(|c| c["damping"] = json!(-2.0)), "damping[0]"),
+        ("simulate", Box::new(|c| c["simulation"]["t_end"] = json!(0.0)), "simulation.t_end"),
+        ("simulate", Box::new(|c| c["simulation"]["t_end"] = json!(-1.0)), "simulation.t_end"),
+        ("simulate", Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 1.5})), "forcing.duty"),
+        ("simulate", Box::new(|c| c["simulation"]["integrator"] = json!({"rtol": 0.0})), "simulation.integrator.rtol"),
+        ("damping", Box::new(|c| c["kind"] = json!("damping")), "damping_design"),
+        ("periodic", Box::new(|c| { c["kind"] = json!("periodic"); c["periodic_design"] = json!({"delta_d": -0.05}); }), "forcing.type"),
+        // A shallow arch under a push far beyond its buckling load: θ2 is not a stable final state.
+        (
+            "simulate",
+            Box::new(|c| {
+                let t: Vec<f64> = (0..4).map(|i| 0.02 * (std::f64::consts::PI * (i as f64 + 0.5) / 4.0).cos()).collect();
+                c["design"] = json!({"theta0": t, "stiffness": [1000, 1000, 1000, 1000, 0]});
+                c["loads"]["p_x"] = json!(-1.0e4);
+            }),
+            "design: the loaded equilibrium θ2 is not stable",
+        ),
+    ];
+    for (kind, edit, field) in cases {
+        let mut c = step_case(4);
+        edit(&mut c);
+        let case = write_case(&dir, &c);
+        let o = spine(&[kind, &case, "--out", out.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{field}: {err}");
+        assert!(err.contains(field), "the error names {field}: {err}");
+        assert!(!out.exists(), "nothing written for {field}");
+    }
+}
+
+#[test]
+fn damping_case_meets_each_target() {
+    let dir = tmpdir("damping");
+    let mut c = step_case(3);
+    c["kind"] = json!("damping");
+    c["simulation"]["integrator"] = json!({"rtol": 1e-8, "atol": 1e-10});
+    c["damping_design"] = json!({"targets": [0.1, 0.05]});
+    let case = write_case(&dir, &c);
+    let out = dir.join("out");
+    let o = spine(&["case", &case, "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    for (d, target) in r["damping_designs"].as_array().unwrap().iter().zip([0.1, 0.05]) {
+        assert_eq!(d["converged"], true);
+        assert!((d["rise_time"].as_f64().unwrap() - target).abs() <= 5e-3 * target);
+        assert!(d["damping"].as_array().unwrap().iter().all(|c| (1.0..=1e3).contains(&c.as_f64().unwrap())));
+    }
+    assert!(out.join("response_T0.05.csv").exists());
+}
+
+#[test]
+fn paper_step_case_runs() {
+    let dir = tmpdir("paper-step5");
+    let case = workspace().join("paper-cases/step5.json");
+    let o = spine(&["case", case.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    assert_eq!(r["design"]["source"]["source"], "eq. (33)");
+    assert_eq!(r["step_response"]["settled"], true);
+}
