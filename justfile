@@ -33,3 +33,7 @@ lint:
 # Eq. (33) scaling table (full and reduced space) on the scaled family of PEERS.md.
 bench-design *SIZES:
     cargo run --release --quiet -p spine-benchmarks --bin design_scaling -- {{SIZES}}
+
+# Dynamics: wall time, steps and evaluations to simulate 1 s of the step response for N (default 5 10 20 50).
+bench-dynamics *SIZES:
+    cargo run --release --quiet -p spine-benchmarks --bin dynamics_scaling -- {{SIZES}}

@@ -387,6 +387,12 @@ pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Op
         let s_dot = s.as_ref().map(|s| &jac * s + sys.rhs_params(t, piece, y));
         (f, jac, s_dot)
     };
+    // Without sensitivities the Newton matrix may use a Jacobian from an earlier step (simplified
+    // Newton); it is refreshed when Newton slows down, fails, or after `JACOBIAN_AGE` steps. With
+    // sensitivities it is exact at every step (`Ṡ = J S + ∂f/∂p` needs it).
+    const JACOBIAN_AGE: usize = 20;
+    const SLOW_NEWTON: usize = 6;
+    let mut jac_age = 0usize;
     let (mut f, mut jac, mut s_dot) = evaluate(t, piece, &y, &s, &mut stats);
     let span = t_end - t0;
     let mut h = opts.initial_step.unwrap_or(1e-5 * span);
@@ -417,8 +423,15 @@ pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Op
 
         let lu = (DMatrix::<f64>::identity(n, n) - &jac * (h_step * D)).lu();
         stats.factorizations += 1;
+        let iterations_before = stats.newton_iterations;
         let Some(step) = attempt(sys, t, piece, h_step, &y, &f, &lu, opts, &mut stats) else {
             stats.newton_failures += 1;
+            if jac_age > 0 {
+                jac = sys.jacobian(t, piece, &y);
+                stats.jacobian_evaluations += 1;
+                jac_age = 0;
+                continue;
+            }
             if fixed.is_some() {
                 outcome = Outcome::StepTooSmall { t };
                 break;
@@ -455,7 +468,16 @@ pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Op
         sys.project(&mut y1);
         let moved = before.iter().zip(&y1).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         stats.max_projection = stats.max_projection.max(moved);
-        let (f1, jac1, s_dot1) = evaluate(t1, piece, &y1, &s, &mut stats);
+        let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
+        let (f1, jac1, s_dot1) = if s.is_some() || slow || jac_age + 1 >= JACOBIAN_AGE {
+            jac_age = 0;
+            let (f1, j1, sd1) = evaluate(t1, piece, &y1, &s, &mut stats);
+            (f1, Some(j1), sd1)
+        } else {
+            jac_age += 1;
+            stats.rhs_evaluations += 1;
+            (sys.rhs(t1, piece, &y1), None, None)
+        };
         let sens = match (start_sens, &s, &s_dot1) {
             (Some((s0, sd0)), Some(s1), Some(sd1)) => Some([s0, sd0, s1.clone(), sd1.clone()]),
             _ => None,
@@ -465,7 +487,9 @@ pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Op
         t = t1;
         y = y1;
         f = f1;
-        jac = jac1;
+        if let Some(j1) = jac1 {
+            jac = j1;
+        }
         s_dot = s_dot1;
         if fixed.is_none() {
             h = h_step * (0.9 * step.err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
@@ -481,6 +505,7 @@ pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Op
             f = fa;
             jac = ja;
             s_dot = sa;
+            jac_age = 0;
         }
     }
     Trajectory { intervals, outcome, stats }
