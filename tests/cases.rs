@@ -76,6 +76,9 @@ proptest! {
                 Case::Equilibrium(c) => { let _ = c.validate(); }
                 Case::Twolink(c) => { let _ = c.validate(); }
                 Case::Design(c) => { let _ = c.validate(); }
+                Case::Simulate(c) => { let _ = c.validate("simulate"); }
+                Case::Damping(c) => { let _ = c.validate("damping"); }
+                Case::Periodic(c) => { let _ = c.validate("periodic"); }
             }
         }
     }
@@ -93,6 +96,9 @@ fn every_paper_case_validates() {
                 Case::Equilibrium(c) => c.validate().map(|_| ()),
                 Case::Twolink(c) => c.validate().map(|_| ()),
                 Case::Design(c) => c.validate().map(|_| ()),
+                Case::Simulate(c) => c.validate("simulate").map(|_| ()),
+                Case::Damping(c) => c.validate("damping").map(|_| ()),
+                Case::Periodic(c) => c.validate("periodic").map(|_| ()),
             };
             ok.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             count += 1;
