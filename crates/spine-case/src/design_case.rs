@@ -5,7 +5,7 @@ use crate::schema::{check_options, non_negative, positive, ChainSpec, LoadSpec, 
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::{DesignBounds, DesignProblem, Formulation, SolverSettings};
-use spine_model::{Design, NodalLoads};
+use spine_model::Design;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
 /// Bounds of the design; every field defaults to the paper's value (Sec. 5).
@@ -105,10 +105,10 @@ pub struct DesignCase {
     pub solver: SolverSettings,
 }
 
-fn one() -> f64 {
+pub(crate) fn one() -> f64 {
     1.0
 }
-fn full() -> Formulation {
+pub(crate) fn full() -> Formulation {
     Formulation::Full
 }
 
@@ -126,13 +126,7 @@ impl DesignCase {
     pub fn validate(&self) -> Result<ValidDesign, CaseError> {
         let mut chain = self.chain.validate()?;
         let n = chain.n_links();
-        if !self.loads.self_weight {
-            chain.gravity = 0.0;
-        }
-        let p_y = self.loads.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
-        if !self.loads.p_x.is_finite() {
-            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
-        }
+        let (passive, actuation) = self.loads.resolve(&mut chain)?;
         if !self.delta_d.is_finite() {
             return Err(CaseError::invalid("delta_d", format!("must be a finite displacement (m), got {}", self.delta_d)));
         }
@@ -182,9 +176,6 @@ impl DesignCase {
         }
         check_options(&s.continuation).map_err(|e| e.with_prefix("solver.continuation"))?;
 
-        let passive = NodalLoads { p_x: vec![0.0; n + 1], p_y };
-        let mut actuation = NodalLoads::zero(n);
-        actuation.p_x[n] = self.loads.p_x;
         Ok(ValidDesign {
             problem: DesignProblem {
                 chain,

@@ -14,23 +14,17 @@ use spine_model::{Chain, Design, NodalLoads};
 #[serde(deny_unknown_fields)]
 pub struct StaticDesignSpec {
     pub delta_d: f64,
-    #[serde(default = "one")]
+    #[serde(default = "crate::design_case::one")]
     pub stiffness_scale: f64,
     #[serde(default)]
     pub bounds: BoundsSpec,
     pub start: StartSpec,
-    #[serde(default = "full")]
+    #[serde(default = "crate::design_case::full")]
     pub formulation: Formulation,
     #[serde(default)]
     pub solver: SolverSettings,
 }
 
-fn one() -> f64 {
-    1.0
-}
-fn full() -> Formulation {
-    Formulation::Full
-}
 fn step() -> Forcing {
     Forcing::Step
 }
@@ -179,23 +173,9 @@ impl DynamicsCase {
                 format!("must be > 0 kg: every link of a dynamic case needs mass, got {}", chain.masses[i]),
             ));
         }
-        let p_y = self.loads.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
-        if !self.loads.p_x.is_finite() {
-            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
-        }
-        let passive = NodalLoads { p_x: vec![0.0; n + 1], p_y };
-        let mut actuation = NodalLoads::zero(n);
-        actuation.p_x[n] = self.loads.p_x;
-        let self_weight = self.loads.self_weight;
-
+        let (passive, actuation) = self.loads.resolve(&mut chain)?;
         let design = match (&self.design, &self.static_design) {
-            (DesignSpec::Given(d), None) => {
-                let mut c = chain.clone();
-                if !self_weight {
-                    c.gravity = 0.0;
-                }
-                DesignSource::Given(d.validate(&c)?)
-            }
+            (DesignSpec::Given(d), None) => DesignSource::Given(d.validate(&chain)?),
             (DesignSpec::Given(_), Some(_)) => {
                 return Err(CaseError::invalid("static_design", "only with \"design\": \"optimise\"; remove it or optimise the design"))
             }
@@ -223,9 +203,6 @@ impl DynamicsCase {
                 DesignSource::Optimise(Box::new(valid))
             }
         };
-        if !self_weight {
-            chain.gravity = 0.0;
-        }
         let damping = self.damping.expand("damping", n + 1, "one per damper, N + 1")?;
         non_negative("damping", &damping, "N·m·s/rad")?;
         self.forcing.validate().map_err(|(f, m)| CaseError::invalid(format!("forcing.{f}"), m))?;

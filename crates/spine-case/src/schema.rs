@@ -192,6 +192,24 @@ fn yes() -> bool {
     true
 }
 
+impl LoadSpec {
+    /// The passive load (the transverse forces) and the actuation (`p_x` at the end node) on
+    /// `chain`, checked; switches the chain's self-weight off when `self_weight` is false.
+    pub fn resolve(&self, chain: &mut Chain) -> Result<(NodalLoads, NodalLoads), CaseError> {
+        let n = chain.n_links();
+        let p_y = self.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
+        if !self.p_x.is_finite() {
+            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
+        }
+        if !self.self_weight {
+            chain.gravity = 0.0;
+        }
+        let mut actuation = NodalLoads::zero(n);
+        actuation.p_x[n] = self.p_x;
+        Ok((NodalLoads { p_x: vec![0.0; n + 1], p_y }, actuation))
+    }
+}
+
 /// `"kind": "equilibrium"`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -368,8 +386,7 @@ impl GivenDesign {
 impl EquilibriumCase {
     /// The static problem and solver options, checked.
     pub fn validate(&self) -> Result<ValidEquilibrium, CaseError> {
-        let chain = self.chain.validate()?;
-        let n = chain.n_links();
+        let mut chain = self.chain.validate()?;
         let design = match &self.design {
             DesignSpec::Given(d) => d.validate(&chain)?,
             DesignSpec::ToBeOptimised => {
@@ -379,18 +396,8 @@ impl EquilibriumCase {
                 ))
             }
         };
-        let p_y = self.loads.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
-        if !self.loads.p_x.is_finite() {
-            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
-        }
+        let (passive, actuation) = self.loads.resolve(&mut chain)?;
         check_options(&self.solver)?;
-        let mut chain = chain;
-        if !self.loads.self_weight {
-            chain.gravity = 0.0;
-        }
-        let passive = NodalLoads { p_x: vec![0.0; n + 1], p_y };
-        let mut actuation = NodalLoads::zero(n);
-        actuation.p_x[n] = self.loads.p_x;
         Ok(ValidEquilibrium {
             problem: StaticProblem { chain, design, passive, actuation },
             options: self.solver.clone(),
