@@ -1,14 +1,13 @@
 //! `just bench-dynamics`: wall time to simulate 1 s of the step response (Sec. 5.2.1) for growing N,
 //! with the integrator's work: accepted and rejected steps, right-hand-side evaluations (each one
-//! solves the bordered mass-matrix system), Jacobians (2N dual-number passes each). The chain is the
-//! arch of `spine_model::fixtures::arch` (amplitude 0.4 rad, K = 1000 N·m/rad), 0.5 kg per link,
-//! −5 N per node, −400 N at the end, 50 N·m·s/rad at every joint; default tolerances (rtol 1e-6,
+//! solves the bordered mass-matrix system), Jacobians (2N dual-number passes each). The chain is
+//! `spine_dynamics::fixtures::arch_problem` with 50 N·m·s/rad at every joint; default tolerances (rtol 1e-6,
 //! atol 1e-8). Each size runs `REPEATS` times and reports the fastest (shared, noisy machines).
 //!
 //! Usage: `dynamics_scaling [N ...]` (default 5 10 20 50).
 
-use spine_dynamics::{step_response, DynamicProblem, StepSettings};
-use spine_model::fixtures::{arch, uniform_loads};
+use spine_dynamics::fixtures::arch_problem;
+use spine_dynamics::{step_response, StepSettings};
 
 const REPEATS: usize = 3;
 
@@ -18,15 +17,7 @@ fn main() {
     println!("| N | wall time for 1 s (s) | accepted steps | rejected | f evaluations | Jacobians | Newton iterations | T_90 (s) | max abs(Phi) (m) |");
     println!("|---|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
-        let (mut chain, design) = arch(n, 1.0, 0.4, 1000.0);
-        chain.masses = vec![0.5; n];
-        let problem = DynamicProblem {
-            chain,
-            design,
-            damping: vec![50.0; n + 1],
-            passive: uniform_loads(n, -5.0, 0.0),
-            actuation: uniform_loads(n, 0.0, -400.0),
-        };
+        let problem = arch_problem(n, 50.0);
         let settings = StepSettings { t_end: 1.0, samples: 11, ..Default::default() };
         let runs: Vec<_> = (0..REPEATS).map(|_| step_response(&problem, &settings, false).expect("stable ends")).collect();
         let r = runs.iter().min_by(|a, b| a.time_seconds.total_cmp(&b.time_seconds)).expect("runs");

@@ -1,20 +1,12 @@
 //! Eq. (35) on an arch-shaped spine: `cargo run --release -p spine-dynamics --example damping -- N T_d`.
-use spine_dynamics::{design_damping, DampingSettings, DynamicProblem};
-use spine_model::fixtures::{arch, uniform_loads};
+use spine_dynamics::fixtures::arch_problem;
+use spine_dynamics::{design_damping, DampingSettings};
 
 fn main() {
     let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("numbers")).collect();
     let n = args.first().copied().unwrap_or(5.0) as usize;
     let target = args.get(1).copied().unwrap_or(0.2);
-    let (mut chain, design) = arch(n, 1.0, 0.4, 1000.0);
-    chain.masses = vec![0.5; n];
-    let problem = DynamicProblem {
-        chain,
-        design,
-        damping: vec![10.0; n + 1],
-        passive: uniform_loads(n, -5.0, 0.0),
-        actuation: uniform_loads(n, 0.0, -400.0),
-    };
+    let problem = arch_problem(n, 10.0);
     let r = design_damping(&problem, target, &DampingSettings::default()).expect("stable ends");
     println!(
         "{} ({} it, {} sims, {:.2} s): C0 = {:?}, C = {:.3?}, T90 = {:?} (err {:?}), J = {:.4e}",

@@ -11,7 +11,7 @@ use crate::eom::Dynamics;
 use crate::forcing::Forcing;
 use crate::response::{rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings};
 use serde::{Deserialize, Serialize};
-use spine_ipopt::{IterationInfo, Problem, Status};
+use spine_ipopt::{Problem, Status};
 
 /// Settings of eq. (35).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -140,9 +140,6 @@ impl Problem for Eq35<'_> {
     }
     fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
         false
-    }
-    fn intermediate(&mut self, _: &IterationInfo) -> bool {
-        true
     }
 }
 

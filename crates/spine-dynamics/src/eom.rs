@@ -176,6 +176,12 @@ impl Dynamics {
         theta.iter().zip(&self.lengths).map(|(&t, &l)| t.cos() * l).sum()
     }
 
+    /// `∂X_{N+1}/∂y` for the state `y = (θ, θ̇)`: `(−L_i sin θ_i, 0)`, m/rad (events on the end's X).
+    pub fn end_x_state_gradient(&self, y: &[f64]) -> Vec<f64> {
+        let n = self.n_links();
+        (0..2 * n).map(|i| if i < n { -self.lengths[i] * y[i].sin() } else { 0.0 }).collect()
+    }
+
     /// Accelerations `θ̈` (rad/s²) and reaction `λ` (N) at `(t, θ, θ̇)` with dampers `damping`, from
     /// the index-1 form: `[M −∇Φ; ∇Φᵀ 0] [θ̈; λ] = [Q; Σ L_i sin θ_i θ̇_i²]` with
     /// `Q = P − h − C_m θ̇ − K_m (θ − θ0)` (the second row is `Φ̈ = 0`).

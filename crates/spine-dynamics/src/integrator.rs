@@ -84,6 +84,20 @@ pub struct Stats {
     pub max_projection: f64,
 }
 
+impl Stats {
+    /// Adds the work of another run (the largest projection is the larger of the two).
+    pub fn absorb(&mut self, other: &Stats) {
+        self.accepted_steps += other.accepted_steps;
+        self.rejected_steps += other.rejected_steps;
+        self.newton_failures += other.newton_failures;
+        self.newton_iterations += other.newton_iterations;
+        self.rhs_evaluations += other.rhs_evaluations;
+        self.jacobian_evaluations += other.jacobian_evaluations;
+        self.factorizations += other.factorizations;
+        self.max_projection = self.max_projection.max(other.max_projection);
+    }
+}
+
 /// How a run ended.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "status", rename_all = "snake_case")]

@@ -11,6 +11,7 @@
 //! is projected back onto `Φ = 0` and `Φ̇ = 0`, so the drift does not accumulate.
 
 pub mod eom;
+pub mod fixtures;
 pub mod forcing;
 pub mod integrator;
 pub mod system;

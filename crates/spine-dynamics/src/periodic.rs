@@ -91,17 +91,6 @@ fn onset_and_release(forcing: &Forcing) -> (f64, f64) {
     }
 }
 
-fn add_stats(total: &mut Stats, s: &Stats) {
-    total.accepted_steps += s.accepted_steps;
-    total.rejected_steps += s.rejected_steps;
-    total.newton_failures += s.newton_failures;
-    total.newton_iterations += s.newton_iterations;
-    total.rhs_evaluations += s.rhs_evaluations;
-    total.jacobian_evaluations += s.jacobian_evaluations;
-    total.factorizations += s.factorizations;
-    total.max_projection = total.max_projection.max(s.max_projection);
-}
-
 /// Runs the periodic response of `problem` under a periodic `forcing`.
 pub fn periodic_response(
     problem: &DynamicProblem,
@@ -126,8 +115,7 @@ pub fn simulate_periodic(
     let n = d.n_links();
     let period = d.forcing.period().expect("a periodic forcing");
     let ode = SpineOde { dynamics: d, damping_sensitivities: false };
-    let mut y = ends.theta1.clone();
-    y.extend(vec![0.0; n]);
+    let mut y = ends.rest_state();
     let mut stats = Stats::default();
     let mut drift = Drift::default();
     let mut samples = Vec::new();
@@ -139,17 +127,9 @@ pub fn simulate_periodic(
         let t0 = k as f64 * period;
         let traj = integrate(&ode, t0, &y, t0 + period, &settings.integrator, Extras::default());
         periods_run += 1;
-        add_stats(&mut stats, &traj.stats);
+        stats.absorb(&traj.stats);
         let (s, dr) = sample(d, &traj, settings.samples_per_period + 1, ends.x1, length_x);
-        for (a, b) in [
-            (&mut drift.max_constraint, dr.max_constraint),
-            (&mut drift.max_constraint_rate, dr.max_constraint_rate),
-            (&mut drift.max_constraint_dense, dr.max_constraint_dense),
-            (&mut drift.max_constraint_rate_dense, dr.max_constraint_rate_dense),
-            (&mut drift.max_projection, dr.max_projection),
-        ] {
-            *a = a.max(b);
-        }
+        drift.absorb(&dr);
         let trace: Vec<f64> = s.iter().map(|p| p.end_displacement).collect();
         samples.extend(s);
         if traj.outcome != Outcome::Completed {
@@ -171,7 +151,6 @@ pub fn simulate_periodic(
         previous = Some(trace);
         last = Some(traj);
     }
-    drift.max_projection = stats.max_projection;
     let traj = last.expect("at least one period");
     let (t_start, t_stop) = traj.span();
     let x_of = |y: &[f64]| d.end_x(&y[..n]) - length_x;
@@ -196,7 +175,7 @@ pub fn simulate_periodic(
     }
     let (onset, release) = onset_and_release(&d.forcing);
     let (onset, release) = (t_start + onset, t_start + release);
-    let grad = |y: &[f64]| (0..2 * n).map(|i| if i < n { -d.lengths[i] * y[i].sin() } else { 0.0 }).collect::<Vec<f64>>();
+    let grad = |y: &[f64]| d.end_x_state_gradient(y);
     let x_onset = x_of(&traj.value(onset));
     let f = settings.reach_fraction;
     let reach_level = x_onset + f * (min.0 - x_onset);

@@ -41,6 +41,15 @@ pub struct StaticEnds {
     pub loaded_status: String,
 }
 
+impl StaticEnds {
+    /// The start of every response: at rest at `θ1`, `y = (θ1, 0)`.
+    pub fn rest_state(&self) -> Vec<f64> {
+        let mut y = self.theta1.clone();
+        y.resize(2 * self.theta1.len(), 0.0);
+        y
+    }
+}
+
 /// Why a dynamic run could not start.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DynamicsError {
@@ -99,6 +108,17 @@ pub struct Drift {
     pub max_constraint_rate_dense: f64,
     /// Largest correction the projection applied to a step (the drift of one unprojected step).
     pub max_projection: f64,
+}
+
+impl Drift {
+    /// The larger of two runs' drifts, figure by figure.
+    pub fn absorb(&mut self, other: &Drift) {
+        self.max_constraint = self.max_constraint.max(other.max_constraint);
+        self.max_constraint_rate = self.max_constraint_rate.max(other.max_constraint_rate);
+        self.max_constraint_dense = self.max_constraint_dense.max(other.max_constraint_dense);
+        self.max_constraint_rate_dense = self.max_constraint_rate_dense.max(other.max_constraint_rate_dense);
+        self.max_projection = self.max_projection.max(other.max_projection);
+    }
 }
 
 /// One sample of the motion.
@@ -261,8 +281,6 @@ fn run_step(
 ) -> (Trajectory, Option<crate::integrator::Event>) {
     let n = d.n_links();
     let ode = SpineOde { dynamics: d, damping_sensitivities: gradient };
-    let mut y0 = ends.theta1.clone();
-    y0.extend(vec![0.0; n]);
     let target = ends.x1 + settings.rise_fraction * (ends.x2 - ends.x1);
     let sign0 = (d.end_x(&ends.theta1) - target).signum();
     let passed = |_: f64, y: &[f64]| (d.end_x(&y[..n]) - target) * sign0 <= 0.0;
@@ -271,13 +289,8 @@ fn run_step(
         steps: None,
         stop: if stop_at_rise { Some(&passed) } else { None },
     };
-    let traj = integrate(&ode, 0.0, &y0, settings.t_end, &settings.integrator, extras);
-    let lengths = &d.lengths;
-    let event = traj.first_root(
-        0.0,
-        &|y: &[f64]| d.end_x(&y[..n]) - target,
-        &|y: &[f64]| (0..2 * n).map(|i| if i < n { -lengths[i] * y[i].sin() } else { 0.0 }).collect(),
-    );
+    let traj = integrate(&ode, 0.0, &ends.rest_state(), settings.t_end, &settings.integrator, extras);
+    let event = traj.first_root(0.0, &|y: &[f64]| d.end_x(&y[..n]) - target, &|y: &[f64]| d.end_x_state_gradient(y));
     (traj, event)
 }
 

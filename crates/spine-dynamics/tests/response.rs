@@ -1,20 +1,8 @@
 //! Step response and the damping design of eq. (35).
 
 use spine_dynamics::response::{fit_first_order, rise_time};
-use spine_dynamics::{design_damping, step_response, DampingSettings, DynamicProblem, Forcing, StepSettings};
-use spine_model::fixtures::{arch, uniform_loads};
-
-fn problem(n: usize, damping: f64) -> DynamicProblem {
-    let (mut chain, design) = arch(n, 1.0, 0.4, 1000.0);
-    chain.masses = vec![0.5; n];
-    DynamicProblem {
-        chain,
-        design,
-        damping: vec![damping; n + 1],
-        passive: uniform_loads(n, -5.0, 0.0),
-        actuation: uniform_loads(n, 0.0, -400.0),
-    }
-}
+use spine_dynamics::fixtures::arch_problem as problem;
+use spine_dynamics::{design_damping, step_response, DampingSettings, Forcing, StepSettings};
 
 #[test]
 fn step_response_settles_in_the_static_loaded_equilibrium_with_no_drift() {
