@@ -33,7 +33,7 @@ fn step() -> Forcing {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DampingDesignSpec {
-    /// Target rise times `T_d`, s (each > 0, below `simulation.t_end`'s reach is not required).
+    /// Target rise times `T_d`, s (each > 0; each design simulates at least `3 T_d`, more if `simulation.t_end` is longer).
     pub targets: Vec<f64>,
     /// Damper bounds, N·m·s/rad (default 1 and 10³, the paper's).
     #[serde(default = "c_min")]
