@@ -1,0 +1,375 @@
+//! # spine-plot: figures as data, drawn to SVG
+//!
+//! A [`Figure`] is a grid of [`Panel`]s; a panel holds [`Series`] of `(x, y)` points drawn as
+//! lines, markers or bars, with axis labels that carry their units. The figure is plain data, so a
+//! figure recipe builds it from results and this crate only draws it ([`Figure::to_svg`]), with
+//! [plotters](https://docs.rs/plotters). DejaVu Sans is embedded for text layout (its licence is
+//! beside it in `assets/`), so no system font library is needed. The same figure always gives the
+//! same bytes.
+//!
+//! ```
+//! use spine_plot::{Figure, Panel, Series};
+//! let panel = Panel::new("(a) a line", "x (m)", "y (m)")
+//!     .with(Series::line("y = x²", (0..=10).map(|i| (i as f64, (i * i) as f64)).collect()));
+//! let svg = Figure::new("example", 1).with(panel).to_svg().unwrap();
+//! assert!(svg.starts_with("<svg"));
+//! ```
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::sync::Once;
+
+const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+const FAMILY: &str = "sans-serif";
+
+/// Tableau 10, the colours of successive series.
+const COLOURS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The embedded font is a valid TrueType file; a failure here would only lose text.
+        let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);
+    });
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    Line,
+    /// A dashed line (reference curves: an undeformed shape, a fitted model, a target).
+    Dashed,
+    Markers,
+    LineMarkers,
+    /// Vertical bars from 0; several bar series in one panel stand side by side.
+    Bars,
+}
+
+/// One named set of points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub style: Style,
+    /// Index into the colour cycle; `None`: the series' position in the panel.
+    pub colour: Option<usize>,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
+        Self { label: label.into(), points, style, colour: None }
+    }
+    pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Line)
+    }
+    pub fn dashed(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Dashed)
+    }
+    pub fn markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Markers)
+    }
+    pub fn line_markers(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::LineMarkers)
+    }
+    pub fn bars(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, Style::Bars)
+    }
+    /// Uses colour `k` of the cycle (to keep one colour per run across panels).
+    pub fn colour(mut self, k: usize) -> Self {
+        self.colour = Some(k);
+        self
+    }
+}
+
+/// One chart: a caption, axis labels with units, and its series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Same scale on both axes (structure shapes).
+    pub equal_aspect: bool,
+    /// Fixed axis ranges; `None`: fitted to the data with a 5 % margin.
+    pub x_range: Option<(f64, f64)>,
+    pub y_range: Option<(f64, f64)>,
+}
+
+impl Panel {
+    pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: Vec::new(),
+            equal_aspect: false,
+            x_range: None,
+            y_range: None,
+        }
+    }
+    pub fn with(mut self, series: Series) -> Self {
+        self.series.push(series);
+        self
+    }
+    pub fn equal_aspect(mut self) -> Self {
+        self.equal_aspect = true;
+        self
+    }
+    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
+        self.y_range = Some((lo, hi));
+        self
+    }
+}
+
+/// A grid of panels, filled row by row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Figure {
+    pub title: String,
+    pub columns: usize,
+    pub panels: Vec<Panel>,
+    /// Size of one panel, px.
+    pub panel_size: (u32, u32),
+}
+
+/// A drawing failure (plotters' message).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlotError(pub String);
+
+impl std::fmt::Display for PlotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "plot: {}", self.0)
+    }
+}
+
+impl std::error::Error for PlotError {}
+
+fn err<E: std::fmt::Debug>(e: E) -> PlotError {
+    PlotError(format!("{e:?}"))
+}
+
+const TITLE_HEIGHT: u32 = 36;
+const X_LABEL_AREA: u32 = 48;
+const Y_LABEL_AREA: u32 = 78;
+const MARGIN: u32 = 12;
+const CAPTION: u32 = 28;
+
+impl Figure {
+    pub fn new(title: impl Into<String>, columns: usize) -> Self {
+        Self { title: title.into(), columns: columns.max(1), panels: Vec::new(), panel_size: (560, 400) }
+    }
+    pub fn with(mut self, panel: Panel) -> Self {
+        self.panels.push(panel);
+        self
+    }
+
+    fn grid(&self) -> (usize, usize, (u32, u32)) {
+        let columns = self.columns.min(self.panels.len().max(1));
+        let rows = self.panels.len().div_ceil(columns).max(1);
+        (rows, columns, (self.panel_size.0 * columns as u32, self.panel_size.1 * rows as u32 + TITLE_HEIGHT))
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, rows: usize, columns: usize) -> Result<(), PlotError> {
+        register_font();
+        root.fill(&WHITE).map_err(err)?;
+        let (head, body) = root.split_vertically(TITLE_HEIGHT);
+        head.draw_text(&self.title, &(FAMILY, 18).into_text_style(&head), (MARGIN as i32, 10)).map_err(err)?;
+        let areas = body.split_evenly((rows, columns));
+        for (area, panel) in areas.iter().zip(&self.panels) {
+            draw_panel(area, panel, self.panel_size)?;
+        }
+        root.present().map_err(err)
+    }
+
+    /// Draws the figure as an SVG document.
+    pub fn to_svg(&self) -> Result<String, PlotError> {
+        let (rows, columns, size) = self.grid();
+        let mut text = String::new();
+        self.draw(SVGBackend::with_string(&mut text, size).into_drawing_area(), rows, columns)?;
+        Ok(text)
+    }
+
+    /// Draws the figure as a PNG file at `path` (text rasterised with the embedded font).
+    pub fn write_png(&self, path: &std::path::Path) -> Result<(), PlotError> {
+        let (rows, columns, size) = self.grid();
+        self.draw(BitMapBackend::new(path, size).into_drawing_area(), rows, columns)
+    }
+}
+
+fn finite_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values.filter(|v| v.is_finite()).fold(None, |acc, v| match acc {
+        None => Some((v, v)),
+        Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+    })
+}
+
+fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
+    let span = hi - lo;
+    let pad = if span > 0.0 { 0.05 * span } else { 0.05 * lo.abs().max(1e-3) };
+    (lo - pad, hi + pad)
+}
+
+/// Data ranges of a panel (bars include 0 and their half widths).
+fn ranges(panel: &Panel, plot_px: (f64, f64)) -> ((f64, f64), (f64, f64)) {
+    let has_bars = panel.series.iter().any(|s| s.style == Style::Bars);
+    let xs = panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let ys = panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).chain(has_bars.then_some(0.0));
+    let mut x = finite_range(xs).unwrap_or((0.0, 1.0));
+    if has_bars {
+        x = (x.0 - 0.5, x.1 + 0.5);
+    }
+    let mut x = panel.x_range.unwrap_or_else(|| if has_bars { x } else { padded(x) });
+    let mut y = panel.y_range.unwrap_or_else(|| padded(finite_range(ys).unwrap_or((0.0, 1.0))));
+    if panel.equal_aspect {
+        // Widen the axis whose metres per pixel are fewer, about its centre.
+        let (sx, sy) = ((x.1 - x.0) / plot_px.0, (y.1 - y.0) / plot_px.1);
+        if sx > sy {
+            let c = 0.5 * (y.0 + y.1);
+            let half = 0.5 * sx * plot_px.1;
+            y = (c - half, c + half);
+        } else {
+            let c = 0.5 * (x.0 + x.1);
+            let half = 0.5 * sy * plot_px.0;
+            x = (c - half, c + half);
+        }
+    }
+    (x, y)
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel, size: (u32, u32)) -> Result<(), PlotError> {
+    let plot_px = (
+        f64::from(size.0 - Y_LABEL_AREA - 2 * MARGIN),
+        f64::from(size.1 - X_LABEL_AREA - CAPTION - 2 * MARGIN),
+    );
+    let (x, y) = ranges(panel, plot_px);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, (FAMILY, 15))
+        .margin(MARGIN)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(&panel.x_label)
+        .y_desc(&panel.y_label)
+        .label_style((FAMILY, 12))
+        .axis_desc_style((FAMILY, 13))
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(err)?;
+    let bar_series: Vec<usize> = panel.series.iter().enumerate().filter(|(_, s)| s.style == Style::Bars).map(|(i, _)| i).collect();
+    let mut labelled = false;
+    for (k, s) in panel.series.iter().enumerate() {
+        let colour = COLOURS[s.colour.unwrap_or(k) % COLOURS.len()];
+        let points: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+        let legend = |c: RGBColor| move |(px, py): (i32, i32)| PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2));
+        let drawn = match s.style {
+            Style::Line => chart.draw_series(LineSeries::new(points, colour.stroke_width(2))).map_err(err)?,
+            Style::Dashed => chart
+                .draw_series(DashedLineSeries::new(points, 6, 4, colour.stroke_width(2).into()))
+                .map_err(err)?,
+            Style::Markers => chart
+                .draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled())))
+                .map_err(err)?,
+            Style::LineMarkers => {
+                chart.draw_series(LineSeries::new(points.clone(), colour.stroke_width(2))).map_err(err)?;
+                chart
+                    .draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled())))
+                    .map_err(err)?
+            }
+            Style::Bars => {
+                let slot = bar_series.iter().position(|&i| i == k).unwrap_or(0) as f64;
+                let width = 0.8 / bar_series.len() as f64;
+                chart
+                    .draw_series(points.into_iter().map(|(px, py)| {
+                        let left = px - 0.4 + slot * width;
+                        Rectangle::new([(left, 0.0), (left + width, py)], colour.filled())
+                    }))
+                    .map_err(err)?
+            }
+        };
+        if !s.label.is_empty() {
+            drawn.label(&s.label).legend(legend(colour));
+            labelled = true;
+        }
+    }
+    if labelled {
+        chart
+            .configure_series_labels()
+            .label_font((FAMILY, 12))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn figure() -> Figure {
+        Figure::new("test figure", 2)
+            .with(
+                Panel::new("(a) shape", "X (m)", "Y (m)")
+                    .equal_aspect()
+                    .with(Series::dashed("undeformed", vec![(0.0, 0.0), (0.5, 0.1), (1.0, 0.0)]))
+                    .with(Series::line_markers("loaded", vec![(0.0, 0.0), (0.49, 0.08), (0.98, 0.0)])),
+            )
+            .with(
+                Panel::new("(b) stiffness", "node", "K (N·m/rad)")
+                    .with(Series::bars("run 1", vec![(1.0, 100.0), (2.0, 1e4), (3.0, 300.0)]))
+                    .with(Series::bars("run 2", vec![(1.0, 200.0), (2.0, 5e3), (3.0, 100.0)])),
+            )
+    }
+
+    #[test]
+    fn draws_labels_series_and_is_deterministic() {
+        let a = figure().to_svg().unwrap();
+        let b = figure().to_svg().unwrap();
+        assert_eq!(a, b);
+        for text in ["test figure", "(a) shape", "X (m)", "K (N·m/rad)", "undeformed", "run 2"] {
+            assert!(a.contains(text), "missing {text}");
+        }
+        assert!(a.contains("<polyline") || a.contains("<path"));
+        assert!(a.contains("<rect"));
+    }
+
+    #[test]
+    fn writes_a_png() {
+        let dir = std::env::temp_dir().join(format!("spine-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("f.png");
+        figure().write_png(&path).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn equal_aspect_gives_equal_scales() {
+        let p = figure().panels[0].clone();
+        let px = (400.0, 250.0);
+        let (x, y) = ranges(&p, px);
+        assert!(((x.1 - x.0) / px.0 - (y.1 - y.0) / px.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn non_finite_points_are_skipped_not_fatal() {
+        let f = Figure::new("nan", 1).with(Panel::new("p", "x", "y").with(Series::line("s", vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0)])));
+        assert!(f.to_svg().is_ok());
+    }
+}
