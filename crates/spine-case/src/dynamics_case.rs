@@ -93,7 +93,8 @@ pub struct DynamicsCase {
     pub loads: LoadSpec,
     /// Dampers `C_1..C_{N+1}`, N·m·s/rad: one number or `N + 1`, each ≥ 0.
     pub damping: PerItem,
-    /// Time profile of the axial force (default: a step at `t = 0`).
+    /// Time profile of the axial force (default: a step at `t = 0`). In a `damping` case eq. (35)
+    /// designs the step response; a periodic forcing here is then simulated on each design.
     #[serde(default = "step")]
     pub forcing: Forcing,
     /// Step response settings (also used by every evaluation of eq. (35)).
@@ -239,8 +240,10 @@ impl DynamicsCase {
                 let Some(dd) = &self.damping_design else {
                     return Err(CaseError::invalid("damping_design", "a damping case needs a damping_design section with targets (s)"));
                 };
-                if self.forcing != Forcing::Step {
-                    return Err(CaseError::invalid("forcing.type", "eq. (35) designs the step response: use \"step\""));
+                // Eq. (35) always designs the step response; a periodic forcing is then applied to each
+                // designed structure (the paper's Fig. 11).
+                if !(self.forcing == Forcing::Step || periodic_forcing) {
+                    return Err(CaseError::invalid("forcing.type", "eq. (35) designs the step response: use \"step\", or a periodic force to simulate each design under afterwards"));
                 }
                 if dd.targets.is_empty() {
                     return Err(CaseError::invalid("damping_design.targets", "give at least one target rise time (s)"));

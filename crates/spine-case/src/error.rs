@@ -30,6 +30,15 @@ impl CaseError {
     }
 
     /// The field the error is about.
+    /// The same error inside `prefix`: `chain.links` becomes `runs[1].case.chain.links`.
+    pub fn under(self, prefix: &str) -> Self {
+        let put = |field: String| if field == "case file" { prefix.to_string() } else { format!("{prefix}.{field}") };
+        match self {
+            Self::Parse { field, message } => Self::Parse { field: put(field), message },
+            Self::Invalid { field, message } => Self::Invalid { field: put(field), message },
+        }
+    }
+
     pub fn field(&self) -> &str {
         match self {
             Self::Parse { field, .. } | Self::Invalid { field, .. } => field,

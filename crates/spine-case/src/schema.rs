@@ -25,10 +25,23 @@ pub enum Case {
     Damping(crate::dynamics_case::DynamicsCase),
     /// `"kind": "periodic"`: the periodic-load design, eq. (37).
     Periodic(crate::dynamics_case::DynamicsCase),
+    /// `"kind": "figure"`: a figure of the paper, several runs drawn and checked together.
+    Figure(crate::figure_case::FigureCase),
+}
+
+/// A checked case, ready for a solver.
+#[derive(Clone, Debug)]
+pub enum ValidCase {
+    Equilibrium(ValidEquilibrium),
+    Twolink(ValidTwoLink),
+    Design(crate::design_case::ValidDesign),
+    /// Kinds `simulate`, `damping`, `periodic` (the task says which).
+    Dynamics(crate::dynamics_case::ValidDynamics),
+    Figure(Vec<crate::figure_case::ValidRun>),
 }
 
 /// The kinds this program runs, for error messages.
-pub const KINDS: &[&str] = &["equilibrium", "twolink", "design", "simulate", "damping", "periodic"];
+pub const KINDS: &[&str] = &["equilibrium", "twolink", "design", "simulate", "damping", "periodic", "figure"];
 
 impl Case {
     /// Parses a case file. Errors name the field (`chain.links`, `design.theta0[2]`, …).
@@ -51,6 +64,7 @@ impl Case {
             "simulate" => parse(rest).map(Case::Simulate),
             "damping" => parse(rest).map(Case::Damping),
             "periodic" => parse(rest).map(Case::Periodic),
+            "figure" => parse(rest).map(Case::Figure),
             other => Err(CaseError::invalid("kind", format!("unknown kind {other:?}; one of {KINDS:?}"))),
         }
     }
@@ -64,6 +78,29 @@ impl Case {
             Self::Simulate(_) => "simulate",
             Self::Damping(_) => "damping",
             Self::Periodic(_) => "periodic",
+            Self::Figure(_) => "figure",
+        }
+    }
+
+    /// Checks every value; errors name the field.
+    pub fn validate(&self) -> Result<ValidCase, CaseError> {
+        Ok(match self {
+            Self::Equilibrium(c) => ValidCase::Equilibrium(c.validate()?),
+            Self::Twolink(c) => ValidCase::Twolink(c.validate()?),
+            Self::Design(c) => ValidCase::Design(c.validate()?),
+            Self::Simulate(c) | Self::Damping(c) | Self::Periodic(c) => ValidCase::Dynamics(c.validate(self.kind())?),
+            Self::Figure(c) => ValidCase::Figure(c.validate()?),
+        })
+    }
+
+    /// The case's title (empty when the file gives none).
+    pub fn title(&self) -> &str {
+        match self {
+            Self::Equilibrium(c) => &c.title,
+            Self::Twolink(c) => &c.title,
+            Self::Design(c) => &c.title,
+            Self::Simulate(c) | Self::Damping(c) | Self::Periodic(c) => &c.title,
+            Self::Figure(c) => &c.title,
         }
     }
 }

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 mod design;
 mod dynamics;
 mod equilibrium;
+mod figure;
 mod output;
 mod twolink;
 
@@ -161,6 +162,10 @@ fn run(
             let kind = expect.unwrap_or(case_kind);
             let valid = c.validate(kind).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
             dynamics::run(&c, &valid, kind, method, &out)
+        }
+        spine_case::Case::Figure(c) => {
+            let runs = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+            figure::run(&c, &runs, &out)
         }
     }
 }

@@ -32,6 +32,16 @@ impl Output {
         self.write_file(name, text).map(|_| ())
     }
 
+    /// Writes `DIR/stem.svg` and `DIR/stem.png` (each through a temporary file and a rename).
+    pub fn write_figure(&self, stem: &str, figure: &spine_plot::Figure) -> Result<(), Failure> {
+        let svg = figure.to_svg().map_err(|e| Failure::Other(format!("{stem}.svg: {e}")))?;
+        self.write_file(&format!("{stem}.svg"), &svg)?;
+        let tmp = self.dir.join(format!(".{stem}.png.tmp.png"));
+        figure.write_png(&tmp).map_err(|e| Failure::Other(format!("{stem}.png: {e}")))?;
+        std::fs::rename(&tmp, self.dir.join(format!("{stem}.png")))
+            .map_err(|e| Failure::Other(format!("{}: cannot write: {e}", self.dir.display())))
+    }
+
     fn write_file(&self, name: &str, text: &str) -> Result<PathBuf, Failure> {
         let io = |e: std::io::Error| Failure::Other(format!("{}: cannot write: {e}", self.dir.display()));
         std::fs::create_dir_all(&self.dir).map_err(io)?;

@@ -1,0 +1,122 @@
+//! `"kind": "figure"`: one figure of the paper, made of several runs (panels).
+//!
+//! A figure case holds a `base` case and a list of `runs`; each run's `case` is a JSON merge patch
+//! (RFC 7396) over the base: objects merge key by key, `null` removes a key, anything else
+//! replaces. So the 10-link and 5-link panels of Fig. 3 share every setting but the chain, the
+//! loads and the start, and the file says only what differs. The `figure` names the recipe that
+//! draws the runs and checks the paper's claims on them.
+
+use crate::schema::Notes;
+use crate::{Case, CaseError};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+/// The figure recipes this program has (`twolink` is Sec. 3, `study-ck` the C_K study).
+pub const FIGURES: &[&str] = &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12", "study-ck"];
+
+/// One run of a figure.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureRun {
+    /// Short name, used in file names (`shape_<name>.csv`): letters, digits, `-` and `_`.
+    pub name: String,
+    /// What the run is, for legends and the report.
+    #[serde(default)]
+    pub label: String,
+    /// Merge patch over the figure's `base` (or a whole case when there is no base).
+    #[serde(default)]
+    pub case: Value,
+}
+
+/// A figure case as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureCase {
+    /// The recipe, one of [`FIGURES`].
+    pub figure: String,
+    #[serde(default)]
+    pub title: String,
+    #[serde(default)]
+    pub notes: Notes,
+    /// The settings the runs share.
+    #[serde(default)]
+    pub base: Value,
+    pub runs: Vec<FigureRun>,
+}
+
+/// A run with its case merged and parsed.
+#[derive(Clone, Debug)]
+pub struct ValidRun {
+    pub name: String,
+    pub label: String,
+    pub case: Case,
+}
+
+/// RFC 7396 JSON merge patch: `patch` applied to `target`.
+pub fn merge_patch(target: &Value, patch: &Value) -> Value {
+    match patch {
+        Value::Object(p) => {
+            let mut out = match target {
+                Value::Object(t) => t.clone(),
+                _ => serde_json::Map::new(),
+            };
+            for (key, value) in p {
+                if value.is_null() {
+                    out.remove(key);
+                } else {
+                    let merged = merge_patch(out.get(key).unwrap_or(&Value::Null), value);
+                    out.insert(key.clone(), merged);
+                }
+            }
+            Value::Object(out)
+        }
+        other => other.clone(),
+    }
+}
+
+impl FigureCase {
+    /// Checks the recipe name and every run: the merged case must parse and validate for its kind.
+    /// Errors name the run: `runs[1].chain.links: …`.
+    pub fn validate(&self) -> Result<Vec<ValidRun>, CaseError> {
+        if !FIGURES.contains(&self.figure.as_str()) {
+            return Err(CaseError::invalid("figure", format!("unknown figure {:?}; one of {FIGURES:?}", self.figure)));
+        }
+        if self.runs.is_empty() {
+            return Err(CaseError::invalid("runs", "give at least one run"));
+        }
+        let mut runs: Vec<ValidRun> = Vec::new();
+        for (i, run) in self.runs.iter().enumerate() {
+            let at = format!("runs[{i}]");
+            if run.name.is_empty() || !run.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+                return Err(CaseError::invalid(format!("{at}.name"), format!("must be non-empty letters, digits, '-' or '_', got {:?}", run.name)));
+            }
+            if runs.iter().any(|r| r.name == run.name) {
+                return Err(CaseError::invalid(format!("{at}.name"), format!("{:?} is used by an earlier run", run.name)));
+            }
+            let merged = merge_patch(&self.base, &run.case);
+            let text = serde_json::to_string(&merged).expect("JSON values serialise");
+            let case = Case::from_json(&text).map_err(|e| e.under(&format!("{at}.case")))?;
+            if matches!(case, Case::Figure(_)) {
+                return Err(CaseError::invalid(format!("{at}.case.kind"), "a figure's run cannot be a figure"));
+            }
+            case.validate().map_err(|e| e.under(&format!("{at}.case")))?;
+            runs.push(ValidRun { name: run.name.clone(), label: run.label.clone(), case });
+        }
+        Ok(runs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn merge_patch_follows_rfc_7396() {
+        let target = json!({"a": "b", "c": {"d": "e", "f": "g"}, "k": [1, 2]});
+        let patch = json!({"a": "z", "c": {"f": null}, "k": [3]});
+        assert_eq!(merge_patch(&target, &patch), json!({"a": "z", "c": {"d": "e"}, "k": [3]}));
+        assert_eq!(merge_patch(&target, &json!([1])), json!([1]));
+        assert_eq!(merge_patch(&json!(null), &json!({"x": {"y": 1}})), json!({"x": {"y": 1}}));
+    }
+}

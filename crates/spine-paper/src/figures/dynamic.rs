@@ -1,0 +1,281 @@
+//! Figures of the dynamics, Sec. 5.2: Fig. 9 (step responses of damping designs), Fig. 10 (the
+//! periodic-load design of eq. (37)), Fig. 11 (a fast design under a pulse train), Fig. 12 (damping
+//! designs for three rise times).
+
+use super::*;
+use crate::run::DynamicOutput;
+use serde_json::json;
+use spine_dynamics::{DampingDesign, PeriodicResponse, StepResponse};
+use std::f64::consts::LN_10;
+
+/// `|T_90 − T_d| / T_d` allowed by the claims (the 0.5 %).
+const RISE_TIME_TOLERANCE: f64 = 5e-3;
+/// RMS misfit of `Δ∞(1 − e^{−τt})`, as a fraction of `|Δ∞|`, below which a response is "first-order-like".
+const FIRST_ORDER_RMS: f64 = 0.05;
+/// Relative gap allowed between the fitted rate and `ln(10)/T_d`.
+const TAU_TOLERANCE: f64 = 0.10;
+/// Relative gap allowed between a measured time and the time the paper reads off its figure.
+const PAPER_TIME_TOLERANCE: f64 = 0.20;
+
+fn damping_designs<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), String> {
+    match expect_dynamics(run)? {
+        (used, DynamicOutput::Damping { designs, periodic }) => Ok((used, designs, periodic)),
+        _ => Err(format!("run {:?}: this figure needs a \"damping\" run (eq. (35))", run.name)),
+    }
+}
+
+/// Δ(t) with the first-order model that reaches 90 % at `T_d`, and the T_90 point.
+fn response_panel(title: &str, r: &StepResponse, target: Option<f64>, colour: usize) -> Panel {
+    let t_end = r.samples.last().map_or(0.0, |s| s.t);
+    let mut panel = Panel::new(title, "t (s)", "end displacement Δ(t) (m)")
+        .with(Series::line("Δ(t), simulated", r.samples.iter().map(|s| (s.t, s.delta)).collect()).colour(colour));
+    if let Some(td) = target {
+        let model = (0..=200).map(|k| {
+            let t = t_end * k as f64 / 200.0;
+            (t, r.delta_inf * (1.0 - (-LN_10 * t / td).exp()))
+        });
+        panel = panel.with(Series::dashed(format!("Δ∞(1 − e^(−t ln10 / {td} s))"), model.collect()).colour(7));
+    }
+    if let Some(t90) = r.rise_time {
+        panel = panel.with(Series::markers(format!("T_90 = {t90:.4} s"), vec![(t90, 0.9 * r.delta_inf)]).colour(3));
+    }
+    panel
+}
+
+fn damping_panel(title: &str, series: Vec<Series>) -> Panel {
+    series.into_iter().fold(Panel::new(title, "joint j", "C_j (N·m·s/rad)"), Panel::with)
+}
+
+/// The claims on one eq. (35) design.
+fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec<Claim> {
+    let target = d.target_rise_time;
+    let err = d.rise_time_error.unwrap_or(f64::INFINITY);
+    let r = &d.response;
+    let mut claims = vec![Claim::solver(
+        scope,
+        &format!("eq. (35): the designed structure rises to 90 % in T_d = {target} s"),
+        format!("Ipopt converged and |T_90 − T_d| / T_d ≤ {:.1} %", 100.0 * RISE_TIME_TOLERANCE),
+        d.converged && err <= RISE_TIME_TOLERANCE,
+        format!(
+            "{} after {} iterations ({} simulations); T_90 = {} s (error {:.2e}); ½ΣC² = {:.4e}",
+            d.status,
+            d.iterations,
+            d.simulations,
+            d.rise_time.map_or("not reached".into(), |t| format!("{t:.6}")),
+            err,
+            d.objective
+        ),
+    )];
+    if with_first_order {
+        let tau = LN_10 / target;
+        let gap = (r.fit.tau - tau).abs() / tau;
+        claims.push(Claim::new(
+            scope,
+            "\"one can predict the response of the structure quite accurately\" with a first-order model (eq. (36))",
+            format!("least-squares fit of Δ∞(1 − e^(−τt)) has RMS error ≤ {:.0} % of |Δ∞|", 100.0 * FIRST_ORDER_RMS),
+            r.fit.rms_error <= FIRST_ORDER_RMS,
+            format!("RMS error {:.2} %, largest {:.2} % of |Δ∞|; settled in θ2: {}", 100.0 * r.fit.rms_error, 100.0 * r.fit.max_error, r.settled),
+        ));
+        claims.push(Claim::new(
+            scope,
+            "\"the time constant of the structure is τ = 11.5 s⁻¹\", τ = ln(10)/T_d (eq. (36), errata E6)",
+            format!("fitted τ within {:.0} % of ln(10)/T_d", 100.0 * TAU_TOLERANCE),
+            gap <= TAU_TOLERANCE,
+            format!("fitted τ = {:.3} s⁻¹, ln(10)/T_d = {tau:.3} s⁻¹ (gap {:.1} %), ln(10)/T_90 = {}", r.fit.tau, 100.0 * gap,
+                r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.3} s⁻¹"))),
+        ));
+    }
+    claims
+}
+
+fn damping_summary(d: &DampingDesign) -> Value {
+    json!({
+        "target_rise_time": d.target_rise_time,
+        "rise_time": d.rise_time,
+        "rise_time_error": d.rise_time_error,
+        "converged": d.converged,
+        "damping": d.damping,
+        "objective": d.objective,
+        "fit_tau": d.response.fit.tau,
+        "fit_rms_error": d.response.fit.rms_error,
+        "delta_inf": d.response.delta_inf,
+    })
+}
+
+/// Fig. 9: for each run (10 links, 5 links) the step response, the dampers and the shapes.
+pub fn step_designs_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    let mut out = FigureOutput::default();
+    let columns = runs.len();
+    let (mut responses, mut dampers, mut shapes) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, run) in runs.iter().enumerate() {
+        let (used, designs, _) = damping_designs(run)?;
+        let d = designs.first().ok_or_else(|| format!("run {:?}: no damping design", run.name))?;
+        let r = &d.response;
+        responses.push(response_panel(&format!("({}) {}: end-point response", letter(k), run.title()), r, Some(d.target_rise_time), k));
+        dampers.push(damping_panel(&format!("({}) {}: nodal damping", letter(columns + k), run.title()), vec![Series::bars("", points(&d.damping, 1)).colour(k)]));
+        let s = Shapes::of_ends(&used.spans, &used.design, &r.ends);
+        shapes.push(s.panel(&format!("({}) {}: undeformed and deformed", letter(2 * columns + k), run.title())));
+        out.tables.push((format!("response_{}.csv", run.name), samples_csv(&r.samples)));
+        out.tables.push((format!("shape_{}.csv", run.name), s.csv()));
+        out.tables.push((format!("damping_{}.csv", run.name), values_csv("damping_n_m_s_per_rad", &d.damping)));
+        out.claims.extend(damping_claims(run.name, d, true));
+        out.summary.insert(run.name.to_string(), damping_summary(d));
+    }
+    let fig = responses.into_iter().chain(dampers).chain(shapes).fold(Figure::new(title, columns), Figure::with);
+    out.figures.push(("figure".into(), fig));
+    Ok(out)
+}
+
+fn values_csv(column: &str, v: &[f64]) -> String {
+    let mut text = format!("index,{column}\n");
+    for (j, x) in v.iter().enumerate() {
+        let _ = writeln!(text, "{},{x:e}", j + 1);
+    }
+    text
+}
+
+/// Fig. 12: one damping run with several targets; one response panel per target and the dampers.
+pub fn rise_time_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    let [run] = runs else { return Err("fig12 needs one damping run with its targets".into()) };
+    let (_, designs, _) = damping_designs(run)?;
+    let mut out = FigureOutput::default();
+    let mut fig = Figure::new(title, 2);
+    let mut bars = Vec::new();
+    let mut list = Vec::new();
+    for (k, d) in designs.iter().enumerate() {
+        let t = d.target_rise_time;
+        fig = fig.with(response_panel(&format!("({}) response time {t} s for 90 % of the deflection", letter(k)), &d.response, Some(t), k));
+        bars.push(Series::bars(format!("T_d = {t} s"), points(&d.damping, 1)).colour(k));
+        out.tables.push((format!("response_T{t}.csv"), samples_csv(&d.response.samples)));
+        out.tables.push((format!("damping_T{t}.csv"), values_csv("damping_n_m_s_per_rad", &d.damping)));
+        out.claims.extend(damping_claims(&format!("T_d = {t} s"), d, false));
+        list.push(damping_summary(d));
+    }
+    fig = fig.with(damping_panel(&format!("({}) nodal damping for each rise time", letter(designs.len())), bars));
+    out.summary.insert("designs".into(), Value::Array(list));
+    out.figures.push(("figure".into(), fig));
+    Ok(out)
+}
+
+/// End displacement `X − L_x` and the load factor drawn to the scale of `scale` (m).
+fn periodic_panel(title: &str, r: &PeriodicResponse, scale: f64, target: Option<f64>) -> Panel {
+    let t_end = r.samples.last().map_or(0.0, |s| s.t);
+    let mut panel = Panel::new(title, "t (s)", "X_(N+1) − L_x (m)")
+        .with(Series::line("end-point motion", r.samples.iter().map(|s| (s.t, s.end_displacement)).collect()).colour(0))
+        .with(Series::dashed(format!("load factor s(t) × {scale:.3} m"), r.samples.iter().map(|s| (s.t, s.load_factor * scale)).collect()).colour(1));
+    if let Some(d) = target {
+        panel = panel.with(Series::dashed(format!("δ_d = {d} m"), vec![(0.0, d), (t_end, d)]).colour(3));
+    }
+    panel
+}
+
+fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, what: &str) -> Claim {
+    let gap = measured.map_or(f64::INFINITY, |t| (t - paper).abs() / paper);
+    Claim::new(
+        scope,
+        statement,
+        format!("{what} within {:.0} % of the paper's {paper} s (read off its text)", 100.0 * PAPER_TIME_TOLERANCE),
+        gap <= PAPER_TIME_TOLERANCE,
+        format!("{what} = {} (paper {paper} s; gap {})", measured.map_or("not reached".into(), |t| format!("{t:.4} s")),
+            if gap.is_finite() { format!("{:.0} %", 100.0 * gap) } else { "—".into() }),
+    )
+}
+
+/// Fig. 10: the eq. (37) design — stiffness, end-point motion under the periodic force, shapes.
+pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    let [run] = runs else { return Err("fig10 needs one periodic design run".into()) };
+    let (used, DynamicOutput::PeriodicDesign { design: p }) = expect_dynamics(run)? else {
+        return Err(format!("run {:?}: fig10 needs a \"periodic\" run (eq. (37))", run.name));
+    };
+    let r = &p.response;
+    let mut out = FigureOutput::default();
+    let design = Design { theta0: used.design.theta0.clone(), stiffness: p.stiffness.clone() };
+    let shapes = Shapes::of_ends(&used.spans, &design, &r.ends);
+    let fig = Figure::new(title, 2)
+        .with(stiffness_panel(
+            "(a) nodal stiffness",
+            vec![Series::bars("start", points(&p.start_stiffness, 1)).colour(7), Series::bars(format!("eq. (37), {:?}", p.method), points(&p.stiffness, 1)).colour(0)],
+        ))
+        .with(periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d)))
+        .with(shapes.panel("(c) shapes of the design"));
+    out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
+    out.tables.push(("stiffness.csv".into(), values_csv("stiffness_n_m_per_rad", &p.stiffness)));
+    out.tables.push(("shape.csv".into(), shapes.csv()));
+    let scope = run.name;
+    out.claims.push(Claim::solver(
+        scope,
+        "eq. (37): the end point reaches δ_d under the periodic force",
+        "min_t (X − L_x) over a settled period within the search's band of δ_d (the case's tolerance)",
+        p.feasible && r.settled,
+        format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {:?} after {} evaluations; U(θ1) = {:.4e} J",
+            p.min_end_displacement, p.delta_d, 100.0 * p.relative_error, r.settled, p.search.status, p.search.evaluations, p.objective),
+    ));
+    let reach = r.time_to_target.or(r.reach_time);
+    out.claims.push(time_claim(scope, "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)", reach, 0.5, "time from the onset to δ_d"));
+    out.claims.push(time_claim(scope, "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"", r.return_time, 0.25, "return time (90 %)"));
+    out.claims.push(Claim::new(
+        scope,
+        "\"the release of stored energy is much faster\" (return faster than reach)",
+        "return time (90 %) shorter than reach time (90 %)",
+        matches!((r.return_time, r.reach_time), (Some(a), Some(b)) if a < b),
+        format!("reach (90 %) {:?} s, return (90 %) {:?} s", r.reach_time, r.return_time),
+    ));
+    out.summary.insert(scope.to_string(), json!({
+        "stiffness": p.stiffness, "objective": p.objective, "min_end_displacement": p.min_end_displacement,
+        "reach_time": r.reach_time, "return_time": r.return_time, "time_to_target": r.time_to_target, "feasible": p.feasible,
+        "evaluations": p.search.evaluations,
+    }));
+    out.figures.push(("figure".into(), fig));
+    Ok(out)
+}
+
+/// Fig. 11: a gradient-based design (eq. (33) then eq. (35)) under a pulse train.
+pub fn pulse_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    let [run] = runs else { return Err("fig11 needs one damping run with a periodic forcing".into()) };
+    let (used, designs, periodic) = damping_designs(run)?;
+    let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {
+        return Err(format!("run {:?}: fig11 needs a damping design and a periodic forcing to simulate it under", run.name));
+    };
+    let mut out = FigureOutput::default();
+    let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
+    // Shapes at eight instants of the last simulated period.
+    let last: Vec<&Sample> = r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
+    let mut shapes = Panel::new("(b) structure responding to the pulsating force", "X (m)", "Y (m)").equal_aspect();
+    for k in 0..8 {
+        if let Some(s) = last.get(k * last.len().saturating_sub(1) / 7) {
+            shapes = shapes.with(Series::line(format!("t = {:.3} s", s.t), nodes_of(&used.spans, &used.design.theta0, &s.theta)).colour(k));
+        }
+    }
+    let fig = Figure::new(title, 2)
+        .with(periodic_panel("(a) pulsating force and end-point motion", r, r.ends.loaded_displacement, None))
+        .with(shapes);
+    out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
+    out.tables.push(("damping.csv".into(), values_csv("damping_n_m_s_per_rad", &d.damping)));
+    out.claims.extend(damping_claims(run.name, d, false));
+    // Time the force is on in a period, from the samples of the last period.
+    let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;
+    let (on, off) = (on_fraction * r.period, (1.0 - on_fraction) * r.period);
+    let follows = (r.min_end_displacement - r.ends.loaded_displacement).abs() <= 0.01 * swing.abs()
+        && (r.max_end_displacement - r.ends.passive_displacement).abs() <= 0.01 * swing.abs();
+    out.claims.push(Claim::new(
+        run.name,
+        "\"fast responsive structure can generate motion as per our requirement even if the actuating force is not constant\" (Sec. 5.2.2)",
+        "over a settled period the end reaches the static loaded displacement and returns to the passive one, each within 1 % of the swing",
+        r.settled && follows,
+        format!("min X − L_x = {:.6} m (static loaded {:.6} m), max {:.6} m (static passive {:.6} m); settled: {}",
+            r.min_end_displacement, r.ends.loaded_displacement, r.max_end_displacement, r.ends.passive_displacement, r.settled),
+    ));
+    out.claims.push(Claim::new(
+        run.name,
+        "the response keeps up with the pulses (\"valid only for loading patterns with lower frequency\")",
+        "reach (90 %) shorter than the time the force is on, return (90 %) shorter than the time it is off",
+        matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
+        format!("reach {:?} s (on for {on:.3} s), return {:?} s (off for {off:.3} s)", r.reach_time, r.return_time),
+    ));
+    out.summary.insert(run.name.to_string(), json!({
+        "damping": d.damping, "rise_time": d.rise_time, "min_end_displacement": r.min_end_displacement,
+        "reach_time": r.reach_time, "return_time": r.return_time, "period": r.period,
+    }));
+    out.figures.push(("figure".into(), fig));
+    Ok(out)
+}

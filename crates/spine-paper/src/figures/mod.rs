@@ -1,0 +1,155 @@
+//! Figure recipes: from the runs of a figure case to its panels, CSV tables and checked claims.
+//! One module per kind of figure; this one holds the pieces they share.
+
+mod dynamic;
+mod statics;
+mod twolink;
+
+use crate::claims::Claim;
+use crate::run::{RunOutput, StaticDesign, UsedDesign};
+use serde_json::Value;
+use spine_dynamics::response::Sample;
+use spine_model::kinematics::{link_lengths, node_positions};
+use spine_model::Design;
+use spine_plot::{Figure, Panel, Series};
+use std::fmt::Write as _;
+
+/// A run of a figure, with its result.
+pub struct NamedRun<'a> {
+    pub name: &'a str,
+    pub label: &'a str,
+    pub output: &'a RunOutput,
+}
+
+impl NamedRun<'_> {
+    /// The label, or the name when the case gives none.
+    pub fn title(&self) -> &str {
+        if self.label.is_empty() {
+            self.name
+        } else {
+            self.label
+        }
+    }
+}
+
+/// Everything a recipe makes.
+#[derive(Default)]
+pub struct FigureOutput {
+    /// File stem → figure (written as `STEM.svg` and `STEM.png`).
+    pub figures: Vec<(String, Figure)>,
+    /// File name → CSV text.
+    pub tables: Vec<(String, String)>,
+    pub claims: Vec<Claim>,
+    /// Numbers the report and the cross-figure checks read back (`result.json` → `summary`).
+    pub summary: serde_json::Map<String, Value>,
+}
+
+/// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
+pub fn recipe(figure: &str, title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    match figure {
+        "twolink" => twolink::figure(title, runs),
+        "fig3" | "fig4" | "fig6" | "fig7" | "fig8" => statics::design_figure(figure, title, runs),
+        "fig5" => statics::load_sweep_figure(title, runs),
+        "fig9" => dynamic::step_designs_figure(title, runs),
+        "fig10" => dynamic::periodic_design_figure(title, runs),
+        "fig11" => dynamic::pulse_figure(title, runs),
+        "fig12" => dynamic::rise_time_figure(title, runs),
+        other => Err(format!("figure: no recipe for {other:?}")),
+    }
+}
+
+fn expect_design<'a>(run: &NamedRun<'a>) -> Result<&'a StaticDesign, String> {
+    match run.output {
+        RunOutput::Design(s) => Ok(s),
+        _ => Err(format!("run {:?}: this figure needs a \"design\" run", run.name)),
+    }
+}
+
+fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a crate::run::DynamicOutput), String> {
+    match run.output {
+        RunOutput::Dynamics { used, output } => Ok((used, output)),
+        _ => Err(format!("run {:?}: this figure needs a dynamic run", run.name)),
+    }
+}
+
+fn points(ys: &[f64], first_index: usize) -> Vec<(f64, f64)> {
+    ys.iter().enumerate().map(|(i, y)| ((i + first_index) as f64, *y)).collect()
+}
+
+fn nodes_of(spans: &[f64], theta0: &[f64], theta: &[f64]) -> Vec<(f64, f64)> {
+    node_positions(&link_lengths(spans, theta0), theta)
+}
+
+/// The three shapes of a design: unloaded `θ0`, passive `θ1`, loaded `θ2` (node coordinates, m).
+pub struct Shapes {
+    pub unloaded: Vec<(f64, f64)>,
+    pub passive: Vec<(f64, f64)>,
+    pub loaded: Vec<(f64, f64)>,
+}
+
+impl Shapes {
+    fn of_static(s: &StaticDesign) -> Option<Self> {
+        Some(Shapes {
+            unloaded: s.result.unloaded_nodes.clone(),
+            passive: s.result.passive.as_ref()?.nodes.clone(),
+            loaded: s.result.loaded.as_ref()?.nodes.clone(),
+        })
+    }
+
+    fn of_ends(spans: &[f64], design: &Design, ends: &spine_dynamics::response::StaticEnds) -> Self {
+        let t0 = &design.theta0;
+        Shapes { unloaded: nodes_of(spans, t0, t0), passive: nodes_of(spans, t0, &ends.theta1), loaded: nodes_of(spans, t0, &ends.theta2) }
+    }
+
+    fn panel(&self, title: &str) -> Panel {
+        Panel::new(title, "X (m)", "Y (m)")
+            .equal_aspect()
+            .with(Series::dashed("unloaded θ0", self.unloaded.clone()).colour(7))
+            .with(Series::line_markers("passive load θ1", self.passive.clone()).colour(0))
+            .with(Series::line_markers("passive + axial θ2", self.loaded.clone()).colour(3))
+    }
+
+    fn csv(&self) -> String {
+        let mut text = String::from("node,x0_m,y0_m,x1_m,y1_m,x2_m,y2_m\n");
+        for (j, ((a, b), c)) in self.unloaded.iter().zip(&self.passive).zip(&self.loaded).enumerate() {
+            let _ = writeln!(text, "{},{:e},{:e},{:e},{:e},{:e},{:e}", j + 1, a.0, a.1, b.0, b.1, c.0, c.1);
+        }
+        text
+    }
+}
+
+fn design_csv(design: &Design) -> String {
+    let mut text = String::from("index,theta0_rad,stiffness_n_m_per_rad\n");
+    for (j, k) in design.stiffness.iter().enumerate() {
+        let t = design.theta0.get(j).map_or(String::new(), |t| format!("{t:e}"));
+        let _ = writeln!(text, "{},{t},{k:e}", j + 1);
+    }
+    text
+}
+
+/// `t, load_factor, delta, end_displacement, theta_1..theta_N` with full precision.
+pub fn samples_csv(samples: &[Sample]) -> String {
+    let n = samples.first().map_or(0, |s| s.theta.len());
+    let mut text = String::from("t_s,load_factor,delta_m,end_displacement_m");
+    for i in 1..=n {
+        let _ = write!(text, ",theta_{i}_rad");
+    }
+    text.push('\n');
+    for s in samples {
+        let _ = write!(text, "{:e},{:e},{:e},{:e}", s.t, s.load_factor, s.delta, s.end_displacement);
+        for t in &s.theta {
+            let _ = write!(text, ",{t:e}");
+        }
+        text.push('\n');
+    }
+    text
+}
+
+fn stiffness_panel(title: &str, series: Vec<Series>) -> Panel {
+    series.into_iter().fold(Panel::new(title, "node j", "K_j (N·m/rad)"), Panel::with)
+}
+
+/// Panel letters (a), (b), …
+fn letter(k: usize) -> char {
+    (b'a' + k as u8) as char
+}

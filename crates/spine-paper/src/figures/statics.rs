@@ -1,0 +1,194 @@
+//! Figures of the static design, eq. (33): Figs. 3, 4, 6–8 (shape and stiffness of each run) and
+//! Fig. 5 (the design as the transverse load varies).
+
+use super::*;
+use crate::metrics::{sensitivity_ratio, DesignChange};
+use serde_json::json;
+
+/// Tolerance on `|X_{N+1}(θ2) − L_x − δ_d|`, m: the constraint tolerance of the solves (1e-8) with room.
+const END_TOLERANCE: f64 = 1e-6;
+
+fn eig(s: &Option<spine_design::result::StateReport>) -> String {
+    match s {
+        Some(r) => format!(
+            "{} (λ_min {})",
+            if r.stability.stable { "stable" } else { "UNSTABLE" },
+            r.stability.min_eigenvalue.map_or("none".into(), |e| format!("{e:.3e} N·m/rad"))
+        ),
+        None => "none".into(),
+    }
+}
+
+/// The claims every static design run is held to (Sec. 5.1 and the conclusions).
+pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value) {
+    let r = &s.result;
+    let n = r.design.theta0.len();
+    let change = DesignChange::new(&r.design, &s.start);
+    let end_error = r.end_displacement.map_or(f64::INFINITY, |d| (d - r.delta_d).abs());
+    let stable = |x: &Option<spine_design::result::StateReport>| x.as_ref().is_some_and(|x| x.stability.stable);
+    let mut claims = vec![Claim::solver(
+        scope,
+        "the end displacement equals δ_d and both loaded equilibria are stable (eq. (33))",
+        format!("Ipopt converged, |X(θ2) − L_x − δ_d| ≤ {END_TOLERANCE:.0e} m, θ1 and θ2 stable and on the load path"),
+        r.is_clean() && end_error <= END_TOLERANCE && stable(&r.passive) && stable(&r.loaded),
+        format!(
+            "{} after {} iterations; X(θ2) − L_x = {} m against δ_d = {} m (error {end_error:.1e} m); θ1 {}; θ2 {}; load path {}",
+            r.solver.status,
+            r.solver.iterations,
+            r.end_displacement.map_or("none".into(), |d| format!("{d:.9}")),
+            r.delta_d,
+            eig(&r.passive),
+            eig(&r.loaded),
+            if r.load_path.consistent { "consistent" } else { "NOT consistent" }
+        ),
+    )];
+    claims.push(Claim::new(
+        scope,
+        "\"change in orientation is preferred to change in stiffness\" (Conclusions)",
+        "relative change from the start ‖θ0 − θ0_s‖/‖θ0_s‖ larger than ‖K − K_s‖/‖K_s‖",
+        change.theta0_relative_change > change.stiffness_relative_change,
+        format!(
+            "θ0 changed by {:.3} (relative), K by {:.3} (relative); ‖Δθ0‖ = {:.4} rad",
+            change.theta0_relative_change, change.stiffness_relative_change, change.theta0_change
+        ),
+    ));
+    let ratio = s.gradients.as_ref().map(|g| sensitivity_ratio(&g.energy_gradient, n));
+    claims.push(Claim::new(
+        scope,
+        "\"the objective function is more sensitive to change in θ0 in comparison to change in K\" (R > 1, eq. (17))",
+        "R = ‖∂J/∂θ0‖₂ / ‖∂J/∂K‖₂ at the optimum (reduced gradients by the hand adjoint) > 1",
+        ratio.is_some_and(|r| r > 1.0),
+        ratio.map_or("no gradient (no equilibria at the optimum)".into(), |r| format!("R = {r:.4e} (N·m/rad²)")),
+    ));
+    claims.push(Claim::new(
+        scope,
+        "\"the change is more pronounced near the point of end-point load\" (Conclusions)",
+        "mean |θ0_i − θ0_s,i| over the links nearer the end (i > N/2) larger than over the links nearer the base",
+        change.end_half_change > change.base_half_change,
+        format!("end half {:.4} rad, base half {:.4} rad", change.end_half_change, change.base_half_change),
+    ));
+    let summary = json!({
+        "links": n,
+        "stiffness_scale": r.stiffness_scale,
+        "objective": r.objective,
+        "end_displacement": r.end_displacement,
+        "delta_d": r.delta_d,
+        "clean": r.is_clean(),
+        "status": r.solver.status,
+        "iterations": r.solver.iterations,
+        "change": change,
+        "sensitivity_ratio": ratio,
+        "theta0": r.design.theta0,
+        "stiffness": r.design.stiffness,
+    });
+    (claims, summary)
+}
+
+/// One shape panel and one stiffness panel per run: Figs. 3, 4, 6, 7, 8.
+pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    let mut out = FigureOutput::default();
+    let mut fig = Figure::new(title, 2);
+    let mut designs = Vec::new();
+    for (k, run) in runs.iter().enumerate() {
+        let s = expect_design(run)?;
+        designs.push(s);
+        let shapes = Shapes::of_static(s).ok_or_else(|| format!("run {:?}: the design has no equilibria to draw", run.name))?;
+        fig = fig
+            .with(shapes.panel(&format!("({}) {}: shapes", letter(2 * k), run.title())))
+            .with(stiffness_panel(
+                &format!("({}) {}: nodal stiffness", letter(2 * k + 1), run.title()),
+                vec![Series::bars("", points(&s.result.design.stiffness, 1)).colour(k)],
+            ));
+        out.tables.push((format!("shape_{}.csv", run.name), shapes.csv()));
+        out.tables.push((format!("design_{}.csv", run.name), design_csv(&s.result.design)));
+        let (claims, summary) = design_claims(run.name, s);
+        out.claims.extend(claims);
+        out.summary.insert(run.name.to_string(), summary);
+    }
+    if figure == "fig4" {
+        out.claims.extend(localized_load_claims(runs, &designs)?);
+    }
+    out.figures.push(("figure".into(), fig));
+    Ok(out)
+}
+
+/// Fig. 4: the first run carries the localized load, the second the uniform one.
+fn localized_load_claims(runs: &[NamedRun], designs: &[&StaticDesign]) -> Result<Vec<Claim>, String> {
+    let [local, uniform] = designs else {
+        return Err("fig4 needs two runs: the localized load first, then the uniform load".into());
+    };
+    let (pl, pu) = (&local.problem.passive.p_y, &uniform.problem.passive.p_y);
+    if pl.len() != pu.len() {
+        return Err("fig4: both runs need the same number of links".into());
+    }
+    // Loaded nodes: where the localized run's transverse load is larger in magnitude.
+    let loaded: Vec<usize> = (0..pl.len()).filter(|&j| pl[j].abs() > pu[j].abs() + 1e-12).collect();
+    if loaded.is_empty() || loaded.len() == pl.len() {
+        return Err(format!("fig4: the run {:?} must load some nodes more than {:?}, not all", runs[0].name, runs[1].name));
+    }
+    let n = local.result.design.theta0.len();
+    let mean_at = |k: &[f64], idx: &[usize]| idx.iter().map(|&j| k[j]).sum::<f64>() / idx.len() as f64;
+    let (kl, ku) = (&local.result.design.stiffness, &uniform.result.design.stiffness);
+    let (k_local, k_uniform) = (mean_at(kl, &loaded), mean_at(ku, &loaded));
+    // Links touching a loaded node (link i joins nodes i and i + 1, 0-based).
+    let in_region: Vec<bool> = (0..n).map(|i| loaded.contains(&i) || loaded.contains(&(i + 1))).collect();
+    let dtheta: Vec<f64> = (0..n).map(|i| (local.result.design.theta0[i] - uniform.result.design.theta0[i]).abs()).collect();
+    let mean_where = |want: bool| {
+        let v: Vec<f64> = (0..n).filter(|&i| in_region[i] == want).map(|i| dtheta[i]).collect();
+        v.iter().sum::<f64>() / v.len().max(1) as f64
+    };
+    let (d_in, d_out) = (mean_where(true), mean_where(false));
+    let (el, eu) = (local.result.end_displacement, uniform.result.end_displacement);
+    let gap = match (el, eu) {
+        (Some(a), Some(b)) => (a - b).abs(),
+        _ => f64::INFINITY,
+    };
+    let nodes: Vec<usize> = loaded.iter().map(|j| j + 1).collect();
+    Ok(vec![
+        Claim::new(
+            "figure",
+            "\"end-point motion indifference to the variation of localized loading\" (Sec. 5.1)",
+            format!("both designs end clean and their end displacements differ by ≤ {END_TOLERANCE:.0e} m"),
+            local.result.is_clean() && uniform.result.is_clean() && gap <= END_TOLERANCE,
+            format!("X(θ2) − L_x: localized {el:?} m, uniform {eu:?} m (difference {gap:.1e} m)"),
+        ),
+        Claim::new(
+            "figure",
+            "\"localized stiffening of the structure\" (Sec. 5.1)",
+            format!("mean K at the more loaded nodes {nodes:?} (paper numbering, base = 1) higher under the localized load than under the uniform load"),
+            k_local > k_uniform,
+            format!("mean K there: localized {k_local:.1} N·m/rad, uniform {k_uniform:.1} N·m/rad (ratio {:.3})", k_local / k_uniform),
+        ),
+        Claim::new(
+            "figure",
+            "\"by changing the orientation of links of the loaded region the effect of the extra load is mitigated\" (Sec. 5.1)",
+            "mean |θ0_localized − θ0_uniform| larger on the links touching the loaded nodes than on the others",
+            d_in > d_out,
+            format!("loaded region {d_in:.4} rad, elsewhere {d_out:.4} rad"),
+        ),
+    ])
+}
+
+/// Fig. 5: `θ0` and `K` of every run (one per transverse load) on one pair of panels.
+pub fn load_sweep_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+    let mut out = FigureOutput::default();
+    let mut shape = Panel::new("(a) design angle θ0 under various loads", "link i", "θ0_i (rad)");
+    let mut stiffness = Panel::new("(b) nodal stiffness K under various loads", "node j", "K_j (N·m/rad)");
+    let mut table = String::from("run,index,theta0_rad,stiffness_n_m_per_rad\n");
+    for (k, run) in runs.iter().enumerate() {
+        let s = expect_design(run)?;
+        let d = &s.result.design;
+        shape = shape.with(Series::line_markers(run.title(), points(&d.theta0, 1)).colour(k));
+        stiffness = stiffness.with(Series::line_markers(run.title(), points(&d.stiffness, 1)).colour(k));
+        for (j, kj) in d.stiffness.iter().enumerate() {
+            let t = d.theta0.get(j).map_or(String::new(), |t| format!("{t:e}"));
+            let _ = writeln!(table, "{},{},{t},{kj:e}", run.name, j + 1);
+        }
+        let (claims, summary) = design_claims(run.name, s);
+        out.claims.extend(claims);
+        out.summary.insert(run.name.to_string(), summary);
+    }
+    out.tables.push(("designs.csv".into(), table));
+    out.figures.push(("figure".into(), Figure::new(title, 2).with(shape).with(stiffness)));
+    Ok(out)
+}
