@@ -11,8 +11,8 @@ use crate::{Case, CaseError};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-/// The figure recipes this program has (`twolink` is Sec. 3, `study-ck` the C_K study).
-pub const FIGURES: &[&str] = &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12", "study-ck"];
+/// The figure recipes this program has (`twolink` is Sec. 3).
+pub const FIGURES: &[&str] = &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12"];
 
 /// One run of a figure.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -13,6 +13,7 @@ mod dynamics;
 mod equilibrium;
 mod figure;
 mod output;
+mod study;
 mod twolink;
 
 #[derive(Parser)]
@@ -59,6 +60,31 @@ struct PeriodicArgs {
     method: Option<String>,
 }
 
+#[derive(clap::Args)]
+struct StudyArgs {
+    /// The study: `ck` (eq. (34): C_K over half-decades, Ipopt scaling on and off).
+    #[arg(value_parser = ["ck"])]
+    study: String,
+    #[command(flatten)]
+    run: RunArgs,
+    /// The C_K values; default 1 to 10⁴ in half-decades.
+    #[arg(long, value_delimiter = ',')]
+    values: Option<Vec<f64>>,
+}
+
+#[derive(clap::Args)]
+struct ReportArgs {
+    /// The results folder: one sub-folder per case with its `result.json`.
+    #[arg(long, default_value = "results")]
+    results: PathBuf,
+    /// The cases in reading order (names of sub-folders).
+    #[arg(long, value_delimiter = ',', default_value = "twolink,fig3,fig4,fig5,fig6,fig7,fig8,fig9,fig10,fig11,fig12,study-ck")]
+    cases: Vec<String>,
+    /// The errata table to include.
+    #[arg(long, default_value = "docs/errata.md")]
+    errata: PathBuf,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Passive (θ1) and loaded (θ2) equilibria of a given design, with stability.
@@ -73,8 +99,12 @@ enum Command {
     Damping(RunArgs),
     /// The periodic-load design of eq. (37) by a genetic algorithm or a pattern search.
     Periodic(PeriodicArgs),
-    /// Runs any case file by its `kind`.
+    /// Runs any case file by its `kind` (a `figure` case: its runs, plots, tables and checked claims).
     Case(RunArgs),
+    /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
+    Study(StudyArgs),
+    /// Gathers the figures' results into `RESULTS/REPORT.md`.
+    Report(ReportArgs),
 }
 
 /// How a command ended.
@@ -89,8 +119,60 @@ pub enum Failure {
     Other(String),
 }
 
+fn exit(result: Result<Outcome, Failure>) -> ExitCode {
+    match result {
+        Ok(Outcome::Success) => ExitCode::SUCCESS,
+        Ok(Outcome::NotConverged) => ExitCode::from(3),
+        Err(Failure::Input(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Other(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn study(a: &StudyArgs) -> Result<Outcome, Failure> {
+    let path = a.run.case.display().to_string();
+    let text = std::fs::read_to_string(&a.run.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
+    let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+    let spine_case::Case::Design(c) = case else {
+        return Err(Failure::Input(format!("{path}: kind: the C_K study runs a \"design\" case, the file is \"{}\"", case.kind())));
+    };
+    let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+    let values = a.values.clone().unwrap_or_else(spine_paper::study::half_decades);
+    if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(Failure::Input(format!("--values: every C_K must be finite and > 0, got {v}")));
+    }
+    study::run(&c, &valid, &values, &output::Output::new(&a.run.out, a.run.deterministic))
+}
+
+fn report(a: &ReportArgs) -> Result<Outcome, Failure> {
+    let errata = std::fs::read_to_string(&a.errata).map_err(|e| Failure::Input(format!("{}: cannot read: {e}", a.errata.display())))?;
+    let mut results = Vec::new();
+    let mut missing = Vec::new();
+    for name in &a.cases {
+        let file = a.results.join(name).join("result.json");
+        match std::fs::read_to_string(&file).ok().and_then(|t| serde_json::from_str(&t).ok()) {
+            Some(value) => results.push(spine_paper::report::CaseResult { name: name.clone(), value }),
+            None => missing.push(name.clone()),
+        }
+    }
+    let text = spine_paper::report::report(&results, &errata, &missing);
+    output::Output::new(&a.results, false).write_text("REPORT.md", &text)?;
+    println!("wrote {} ({} cases, {} missing)", a.results.join("REPORT.md").display(), results.len(), missing.len());
+    Ok(if missing.is_empty() { Outcome::Success } else { Outcome::NotConverged })
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    match &cli.command {
+        Command::Study(a) => return exit(study(a)),
+        Command::Report(a) => return exit(report(a)),
+        _ => {}
+    }
     let mut overrides = design::Overrides::default();
     let mut method = None;
     let (args, expect) = match &cli.command {
@@ -111,19 +193,9 @@ fn main() -> ExitCode {
             (&a.run, Some("periodic"))
         }
         Command::Case(a) => (a, None),
+        Command::Study(_) | Command::Report(_) => unreachable!("handled above"),
     };
-    match run(args, expect, overrides, method) {
-        Ok(Outcome::Success) => ExitCode::SUCCESS,
-        Ok(Outcome::NotConverged) => ExitCode::from(3),
-        Err(Failure::Input(msg)) => {
-            eprintln!("error: {msg}");
-            ExitCode::from(2)
-        }
-        Err(Failure::Other(msg)) => {
-            eprintln!("error: {msg}");
-            ExitCode::from(1)
-        }
-    }
+    exit(run(args, expect, overrides, method))
 }
 
 fn run(

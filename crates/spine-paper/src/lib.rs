@@ -9,7 +9,9 @@
 pub mod claims;
 pub mod figures;
 pub mod metrics;
+pub mod report;
 pub mod run;
+pub mod study;
 
 pub use claims::{Check, Claim};
 pub use figures::{recipe, FigureOutput, NamedRun};
