@@ -12,9 +12,23 @@ test:
     if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
     cargo test --release --workspace --doc --quiet
 
-# Run a paper case by name, whatever its kind: `just case design5` runs paper-cases/design5.json into results/design5.
+# Run a paper case by name: `just case fig6` writes results/fig6 (result.json with checked claims, CSV, SVG, PNG).
 case NAME:
     cargo run --release --quiet -p spine-cli -- case paper-cases/{{NAME}}.json --out results/{{NAME}}
+
+# A study: `just study ck` sweeps C_K of eq. (34) over 1..1e4 (half-decades), Ipopt scaling on and off.
+study NAME:
+    cargo run --release --quiet -p spine-cli -- study {{NAME}} paper-cases/study-{{NAME}}.json --out results/study-{{NAME}}
+
+# Every figure and the C_K study, then results/REPORT.md (a failed solver check, exit 3, is reported, not fatal).
+paper:
+    cargo build --release --quiet -p spine-cli
+    for c in twolink fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 fig11 fig12; do \
+        echo "== $c"; code=0; ./target/release/spine case paper-cases/$c.json --out results/$c || code=$?; \
+        if [ "$code" != 0 ] && [ "$code" != 3 ]; then exit "$code"; fi; \
+    done
+    echo "== study-ck"; code=0; ./target/release/spine study ck paper-cases/study-ck.json --out results/study-ck || code=$?; if [ "$code" != 0 ] && [ "$code" != 3 ]; then exit "$code"; fi
+    ./target/release/spine report --results results
 
 # Criterion benchmarks (equilibrium solve times and their parts for N = 10 … 1000).
 bench:

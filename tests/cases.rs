@@ -72,14 +72,7 @@ proptest! {
         }
         let text = String::from_utf8_lossy(&bytes);
         if let Ok(case) = Case::from_json(&text) {
-            match case {
-                Case::Equilibrium(c) => { let _ = c.validate(); }
-                Case::Twolink(c) => { let _ = c.validate(); }
-                Case::Design(c) => { let _ = c.validate(); }
-                Case::Simulate(c) => { let _ = c.validate("simulate"); }
-                Case::Damping(c) => { let _ = c.validate("damping"); }
-                Case::Periodic(c) => { let _ = c.validate("periodic"); }
-            }
+            let _ = case.validate();
         }
     }
 }
@@ -92,14 +85,7 @@ fn every_paper_case_validates() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "json") {
             let text = std::fs::read_to_string(&path).unwrap();
-            let ok = match Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())) {
-                Case::Equilibrium(c) => c.validate().map(|_| ()),
-                Case::Twolink(c) => c.validate().map(|_| ()),
-                Case::Design(c) => c.validate().map(|_| ()),
-                Case::Simulate(c) => c.validate("simulate").map(|_| ()),
-                Case::Damping(c) => c.validate("damping").map(|_| ()),
-                Case::Periodic(c) => c.validate("periodic").map(|_| ()),
-            };
+            let ok = Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())).validate().map(|_| ());
             ok.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             count += 1;
         }

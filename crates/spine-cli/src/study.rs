@@ -32,6 +32,7 @@ pub fn run(case: &DesignCase, valid: &ValidDesign, values: &[f64], out: &Output)
         "claims": claims,
         "claims_passed": passed,
         "claims_total": claims.len(),
+        "conclusion": study.conclusion(),
         "files": ["ck_study.csv", "figure.svg", "figure.png"],
         "study_rows": value["rows"],
         "timings": timings,
@@ -49,6 +50,7 @@ pub fn run(case: &DesignCase, valid: &ValidDesign, values: &[f64], out: &Output)
     for c in &claims {
         println!("  {c}");
     }
+    println!("conclusion: {}", study.conclusion());
     println!("wrote {}", path.display());
     let solver_ok = claims.iter().all(|c| c.pass || c.check != Check::Solver);
     Ok(if solver_ok { Outcome::Success } else { Outcome::NotConverged })

@@ -142,18 +142,3 @@ fn missing_file_and_wrong_kind_exit_2() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("kind"));
 }
-
-#[test]
-fn twolink_paper_case_prints_the_comparison() {
-    let dir = tmpdir("twolink");
-    let case = workspace().join("paper-cases/twolink.json");
-    let o = spine(&["case", case.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("observed orders"), "{stdout}");
-    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
-    let orders = &r["study"]["orders"];
-    assert!((orders["eq10"].as_f64().unwrap() - 1.0).abs() < 0.05);
-    assert!((orders["first_order"].as_f64().unwrap() - 2.0).abs() < 0.05);
-    assert!((orders["eq11_relative"].as_f64().unwrap() - 1.0).abs() < 0.05);
-}

@@ -85,6 +85,9 @@ pub fn report(results: &[CaseResult], errata: &str, missing: &[String]) -> Strin
         md.push_str("\n## C_K across Figs. 6–8\n\n");
         md.push_str(&text);
     }
+    if let Some(c) = results.iter().find_map(|r| r.value.get("conclusion").and_then(Value::as_str)) {
+        let _ = writeln!(md, "\n## C_K study: conclusion\n\n{c}");
+    }
     md.push_str("\n## Figures\n");
     for r in results {
         let title = r.value.get("title").and_then(Value::as_str).unwrap_or("");
