@@ -4,68 +4,45 @@ use crate::output::Output;
 use crate::{Failure, Outcome};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
-use spine_case::{DesignSource, DynamicsCase, DynamicsTask, ValidDynamics};
+use spine_case::{DynamicsCase, DynamicsTask, ValidDynamics};
 use spine_dynamics::response::Sample;
 use spine_dynamics::{
     design_damping, design_periodic, periodic_response, step_response, DynamicProblem, DynamicsError, SearchMethod,
 };
 use spine_model::Design;
-use std::fmt::Write as _;
 
-/// The design of the case: given, or found by eq. (33) first (which must end clean).
+/// The design of the case: given, or found by eq. (33) first (which must end clean), and its
+/// summary for `result.json`.
 fn resolve_design(valid: &ValidDynamics) -> Result<(Design, Value), Failure> {
-    match &valid.design {
-        DesignSource::Given(d) => Ok((d.clone(), json!("given"))),
-        DesignSource::Optimise(v) => {
-            let r = spine_design::solve_design(&v.problem, &v.start, v.formulation, &v.settings, &mut |_| true)
-                .map_err(|e| Failure::Input(format!("static_design: {e}")))?;
-            println!(
-                "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {:?} m, {}",
-                r.solver.status,
-                r.solver.iterations,
-                r.objective,
-                r.end_displacement,
-                if r.is_clean() { "clean" } else { "NOT clean" }
-            );
-            if !r.is_clean() {
-                return Err(Failure::Other(format!(
-                    "the static design of eq. (33) did not end clean ({}; warnings: {:?}); no dynamics run on it",
-                    r.solver.status, r.warnings
-                )));
-            }
-            let summary = json!({
-                "source": "eq. (33)",
-                "status": r.solver.status,
-                "iterations": r.solver.iterations,
-                "objective": r.objective,
-                "end_displacement": r.end_displacement,
-                "delta_d": r.delta_d,
-            });
-            Ok((r.design.clone(), summary))
-        }
-    }
+    let used = spine_paper::run::resolve_design(valid).map_err(|e| match e {
+        spine_paper::RunError::Input(m) => Failure::Input(format!("static_design: {m}")),
+        spine_paper::RunError::Failed(m) => Failure::Other(m),
+    })?;
+    let Some(s) = &used.static_design else {
+        return Ok((used.design, json!("given")));
+    };
+    let r = &s.result;
+    println!(
+        "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {:?} m, clean",
+        r.solver.status, r.solver.iterations, r.objective, r.end_displacement
+    );
+    let summary = json!({
+        "source": "eq. (33)",
+        "status": r.solver.status,
+        "iterations": r.solver.iterations,
+        "objective": r.objective,
+        "end_displacement": r.end_displacement,
+        "delta_d": r.delta_d,
+    });
+    Ok((used.design, summary))
 }
 
 fn input_error(e: DynamicsError) -> Failure {
     Failure::Input(format!("design: {e}"))
 }
 
-/// `t, load_factor, delta, end_displacement, theta_1..theta_N` with full precision.
 fn write_csv(out: &Output, name: &str, samples: &[Sample]) -> Result<(), Failure> {
-    let n = samples.first().map_or(0, |s| s.theta.len());
-    let mut text = String::from("t_s,load_factor,delta_m,end_displacement_m");
-    for i in 1..=n {
-        let _ = write!(text, ",theta_{i}_rad");
-    }
-    text.push('\n');
-    for s in samples {
-        let _ = write!(text, "{:e},{:e},{:e},{:e}", s.t, s.load_factor, s.delta, s.end_displacement);
-        for t in &s.theta {
-            let _ = write!(text, ",{t:e}");
-        }
-        text.push('\n');
-    }
-    out.write_text(name, &text)
+    out.write_text(name, &spine_paper::figures::samples_csv(samples))
 }
 
 /// Moves `time_seconds` (wall times) out of a result into the `timings` map.
@@ -126,6 +103,18 @@ pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Optio
             for &target in targets {
                 let r = design_damping(&problem, target, settings).map_err(input_error)?;
                 write_csv(out, &format!("response_T{target}.csv"), &r.response.samples)?;
+                let periodic = if valid.forcing.period().is_some() {
+                    let p = spine_paper::run::dynamic_problem(valid, &design, &r.damping);
+                    let pr = periodic_response(&p, valid.forcing.clone(), None, &valid.periodic).map_err(input_error)?;
+                    write_csv(out, &format!("periodic_T{target}.csv"), &pr.samples)?;
+                    print_periodic(&pr);
+                    all_ok &= pr.settled;
+                    let mut v = serde_json::to_value(&pr).expect("serialises");
+                    take_time(&mut v, &format!("periodic_T{target}_seconds"), &mut timings);
+                    v
+                } else {
+                    Value::Null
+                };
                 let err = r.rise_time_error.unwrap_or(f64::INFINITY);
                 println!(
                     "{target:>8} {:>10} {:>12} {:>9.2e} {:>5}  {:?}",
@@ -141,6 +130,7 @@ pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Optio
                 if let Some(resp) = v.get_mut("response") {
                     take_time(resp, &format!("response_T{target}_seconds"), &mut timings);
                 }
+                v["periodic_response"] = periodic;
                 designs.push(v);
             }
             result["damping_designs"] = Value::Array(designs);

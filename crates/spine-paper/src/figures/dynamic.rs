@@ -210,8 +210,13 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOu
         format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {:?} after {} evaluations; U(θ1) = {:.4e} J",
             p.min_end_displacement, p.delta_d, 100.0 * p.relative_error, r.settled, p.search.status, p.search.evaluations, p.objective),
     ));
-    let reach = r.time_to_target.or(r.reach_time);
-    out.claims.push(time_claim(scope, "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)", reach, 0.5, "time from the onset to δ_d"));
+    // The time to δ_d itself when the end reaches it; else (the search's band lets the minimum stop
+    // short of δ_d) the time to 90 % of the swing.
+    let (reach, what) = match r.time_to_target {
+        Some(t) => (Some(t), "time from the onset to δ_d"),
+        None => (r.reach_time, "time from the onset to 90 % of the swing (δ_d itself is not reached, see above)"),
+    };
+    out.claims.push(time_claim(scope, "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)", reach, 0.5, what));
     out.claims.push(time_claim(scope, "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"", r.return_time, 0.25, "return time (90 %)"));
     out.claims.push(Claim::new(
         scope,
