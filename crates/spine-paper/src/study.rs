@@ -82,7 +82,7 @@ pub fn ck_study(case: &ValidDesign, values: &[f64], progress: &mut dyn FnMut(usi
 /// than solver tolerance).
 const TIE: f64 = 1e-3;
 /// The smallest relative change between the first and the last C_K that counts as an effect.
-const EFFECT: f64 = 0.10;
+pub(crate) const EFFECT: f64 = 0.10;
 
 fn differ(a: f64, b: f64) -> f64 {
     if (a - b).abs() <= TIE * a.abs().max(b.abs()) {
