@@ -194,7 +194,10 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOu
     let fig = Figure::new(title, 2)
         .with(stiffness_panel(
             "(a) nodal stiffness",
-            vec![Series::bars("start", points(&p.start_stiffness, 1)).colour(7), Series::bars(format!("eq. (37), {:?}", p.method), points(&p.stiffness, 1)).colour(0)],
+            vec![Series::bars("start", points(&p.start_stiffness, 1)).colour(7), Series::bars(format!("eq. (37), {}", match p.method {
+                spine_dynamics::SearchMethod::Ga => "genetic algorithm",
+                spine_dynamics::SearchMethod::Pattern => "pattern search",
+            }), points(&p.stiffness, 1)).colour(0)],
         ))
         .with(periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d)))
         .with(shapes.panel("(c) shapes of the design"));
