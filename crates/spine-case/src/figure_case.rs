@@ -44,12 +44,13 @@ pub struct FigureCase {
     pub runs: Vec<FigureRun>,
 }
 
-/// A run with its case merged and parsed.
+/// A run with its case merged, parsed and checked.
 #[derive(Clone, Debug)]
 pub struct ValidRun {
     pub name: String,
     pub label: String,
     pub case: Case,
+    pub valid: crate::ValidCase,
 }
 
 /// RFC 7396 JSON merge patch: `patch` applied to `target`.
@@ -99,8 +100,8 @@ impl FigureCase {
             if matches!(case, Case::Figure(_)) {
                 return Err(CaseError::invalid(format!("{at}.case.kind"), "a figure's run cannot be a figure"));
             }
-            case.validate().map_err(|e| e.under(&format!("{at}.case")))?;
-            runs.push(ValidRun { name: run.name.clone(), label: run.label.clone(), case });
+            let valid = case.validate().map_err(|e| e.under(&format!("{at}.case")))?;
+            runs.push(ValidRun { name: run.name.clone(), label: run.label.clone(), case, valid });
         }
         Ok(runs)
     }

@@ -38,12 +38,11 @@ pub fn run(case: &FigureCase, runs: &[ValidRun], out: &Output) -> Result<Outcome
     let mut timings = Map::new();
     let clock = std::time::Instant::now();
     for (k, r) in runs.iter().enumerate() {
-        let valid = r.case.validate().map_err(|e| Failure::Input(format!("runs[{k}].case.{e}")))?;
         let bar = ProgressBar::new(0);
         bar.set_style(ProgressStyle::with_template("  {msg} {bar:30} {pos}/{len} [{elapsed_precise}]").expect("valid template"));
         bar.set_message(format!("run {} ({})", r.name, r.case.kind()));
         let started = std::time::Instant::now();
-        let output = spine_paper::run::run(&valid, &mut |done, total| {
+        let output = spine_paper::run::run(&r.valid, &mut |done, total| {
             bar.set_length(total as u64);
             bar.set_position(done as u64);
         })

@@ -168,11 +168,6 @@ fn report(a: &ReportArgs) -> Result<Outcome, Failure> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match &cli.command {
-        Command::Study(a) => return exit(study(a)),
-        Command::Report(a) => return exit(report(a)),
-        _ => {}
-    }
     let mut overrides = design::Overrides::default();
     let mut method = None;
     let (args, expect) = match &cli.command {
@@ -193,7 +188,8 @@ fn main() -> ExitCode {
             (&a.run, Some("periodic"))
         }
         Command::Case(a) => (a, None),
-        Command::Study(_) | Command::Report(_) => unreachable!("handled above"),
+        Command::Study(a) => return exit(study(a)),
+        Command::Report(a) => return exit(report(a)),
     };
     exit(run(args, expect, overrides, method))
 }
