@@ -1,10 +1,34 @@
-//! Benchmark fixtures: the scaled family of `PEERS.md` (`s = N/10`, `K = 10³ s²` N·m/rad,
-//! `P_X = −400 s` N, `P_Y = −5` N per node, `L_x = 1` m) on a symmetric arch of amplitude 0.4 rad.
+//! # spine-benchmarks: the evidence for speed and exactness
+//!
+//! The operations that `benches/derivatives.rs` times, written once here so that the tests in
+//! `tests/agreement.rs` check the very same calls: the equilibrium residual (eq. (5)) and its
+//! Jacobian three ways (forward AD, the paper's hand-derived eqs. (47)–(53), central differences),
+//! one Newton step, the gradients of `J` and of the end position with respect to `(θ0, K)` four
+//! ways (AD adjoint, hand adjoint of Appendices I–II, direct forward AD, central differences), and
+//! the sparse Hessian of the Lagrangian of eq. (33) by second-order AD.
+//!
+//! Fixtures are families that grow with `N` without changing character:
+//! * [`scaled_arch`]: an arch under transverse and axial load (equilibrium benchmarks);
+//! * [`DesignFixture`]: the scaled family of `../shared/PEERS.md` at the arch start (design
+//!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
 
-use spine_model::fixtures::{arch, uniform_loads};
-use spine_solve::StaticProblem;
+pub mod report;
 
-/// The benchmark problem for `n` links.
+use spine_design::adjoint::{self, ReducedGradients};
+use spine_design::assembly::Assembled;
+use spine_design::fixtures::{arch_start, scaled_family};
+use spine_design::full_space::{self, Layout};
+use spine_design::DesignProblem;
+use spine_model::finite_difference::{self, CENTRAL_STEP};
+use spine_model::fixtures::{arch, uniform_loads, FixtureRng};
+use spine_model::sparse::BorderedTridiagonal;
+use spine_model::{hand, jacobian, residual, Design, LinkLoads, State};
+use spine_solve::linalg::BorderedLu;
+use spine_solve::{solve_static, ContinuationOptions, StaticProblem};
+
+/// The equilibrium benchmark problem for `n` links: `s = N/10`, `K = 10³ s²` N·m/rad,
+/// `P_X = −400 s` N at the end, `P_Y = −5` N per node, `L_x = 1` m, link mass `0.5/N` kg, on a
+/// symmetric arch of amplitude 0.4 rad.
 pub fn scaled_arch(n: usize) -> StaticProblem {
     let s = n as f64 / 10.0;
     let (mut chain, design) = arch(n, 1.0, 0.4, 1e3 * s * s);
@@ -12,4 +36,148 @@ pub fn scaled_arch(n: usize) -> StaticProblem {
     let mut passive = uniform_loads(n, -5.0, 0.0);
     passive.p_x = vec![0.0; n + 1];
     StaticProblem { chain, design, passive, actuation: uniform_loads(n, 0.0, -400.0 * s) }
+}
+
+/// The loaded equilibrium of [`scaled_arch`]: a point where every Jacobian entry is nonzero
+/// (`λ ≠ 0`, bent links, self-weight on).
+pub struct StateFixture {
+    pub spans: Vec<f64>,
+    pub design: Design,
+    pub loads: LinkLoads,
+    pub state: State,
+}
+
+impl StateFixture {
+    pub fn new(n: usize) -> Self {
+        let problem = scaled_arch(n);
+        let solution = solve_static(&problem, &ContinuationOptions::default());
+        let loaded = solution.loaded.expect("the scaled arch has a loaded equilibrium");
+        assert_eq!(loaded.load_factor, 1.0, "N = {n}: the scaled arch reaches full load");
+        StateFixture { loads: problem.total_loads(), spans: problem.chain.spans, design: problem.design, state: loaded.state }
+    }
+
+    /// The residual of eq. (5).
+    pub fn residual(&self) -> Vec<f64> {
+        residual::equilibrium_residual(&self.spans, &self.design, &self.loads, &self.state)
+    }
+
+    /// Residual and `∂r/∂(θ, λ)` by element-wise forward AD.
+    pub fn jacobian_ad(&self) -> (Vec<f64>, BorderedTridiagonal) {
+        jacobian::residual_and_state_jacobian(&self.spans, &self.design, &self.loads, &self.state)
+    }
+
+    /// Residual and `∂r/∂(θ, λ)` from the hand-derived entries (eqs. (46)–(49)).
+    pub fn jacobian_hand(&self) -> (Vec<f64>, BorderedTridiagonal) {
+        (self.residual(), hand::state_jacobian(&self.spans, &self.design, &self.loads, &self.state))
+    }
+
+    /// Residual and `∂r/∂(θ, λ)` by element-wise central differences.
+    pub fn jacobian_fd(&self) -> (Vec<f64>, BorderedTridiagonal) {
+        finite_difference::residual_and_state_jacobian(&self.spans, &self.design, &self.loads, &self.state, CENTRAL_STEP)
+    }
+
+    /// One Newton step on `(θ, λ)` from `start`: residual and AD Jacobian, the O(N) bordered
+    /// factorisation, the solve. Returns the new state.
+    pub fn newton_step(&self, start: &State) -> State {
+        let (r, jac) = jacobian::residual_and_state_jacobian(&self.spans, &self.design, &self.loads, start);
+        let step = BorderedLu::factor(&jac).expect("nonsingular at the fixture").solve(&r);
+        let n = start.theta.len();
+        State { theta: start.theta.iter().zip(&step).map(|(t, d)| t - d).collect(), lambda: start.lambda - step[n] }
+    }
+
+    /// The equilibrium with every angle moved by `size` rad (alternating signs): a Newton start.
+    pub fn perturbed(&self, size: f64) -> State {
+        let theta = self.state.theta.iter().enumerate().map(|(i, t)| t + if i % 2 == 0 { size } else { -size }).collect();
+        State { theta, lambda: self.state.lambda }
+    }
+}
+
+/// Eq. (33) on the scaled family at its arch start (`θ0` amplitude 0.3 rad, `K = 10³ s²`), with
+/// both equilibria of the start design.
+pub struct DesignFixture {
+    pub problem: DesignProblem,
+    pub design: Design,
+    pub passive: State,
+    pub loaded: State,
+}
+
+impl DesignFixture {
+    pub fn new(n: usize) -> Self {
+        let problem = scaled_family(n);
+        let s = n as f64 / 10.0;
+        let design = arch_start(n, 0.3, 1e3 * s * s);
+        let opts = ContinuationOptions { residual_tolerance: 1e-12, ..ContinuationOptions::default() };
+        let solution = solve_static(&problem.static_problem(&design), &opts);
+        assert_eq!(solution.passive.load_factor, 1.0, "N = {n}: passive equilibrium of the start");
+        let loaded = solution.loaded.expect("loaded equilibrium of the start");
+        assert_eq!(loaded.load_factor, 1.0, "N = {n}: loaded equilibrium of the start");
+        DesignFixture { problem, design, passive: solution.passive.state, loaded: loaded.state }
+    }
+
+    /// `dJ/d(θ0, K)` and `dX/d(θ0, K)` by the implicit-function-theorem adjoint with AD partials.
+    pub fn gradients_ad(&self) -> ReducedGradients {
+        adjoint::adjoint_ad(&self.problem, &self.design, &self.passive, &self.loaded).expect("nonsingular")
+    }
+
+    /// The same by the hand-derived adjoint of Appendices I and II.
+    pub fn gradients_hand(&self) -> ReducedGradients {
+        adjoint::adjoint_hand(&self.problem, &self.design, &self.passive, &self.loaded).expect("nonsingular")
+    }
+
+    /// The same by the direct method (one forward sensitivity per design variable), AD partials.
+    pub fn gradients_forward(&self) -> ReducedGradients {
+        adjoint::forward_ad(&self.problem, &self.design, &self.passive, &self.loaded).expect("nonsingular")
+    }
+
+    /// The same by central differences of re-solved equilibria.
+    pub fn gradients_fd(&self) -> ReducedGradients {
+        let opts = ContinuationOptions { residual_tolerance: 1e-13, ..ContinuationOptions::default() };
+        adjoint::central_differences(&self.problem, &self.design, &self.passive, &self.loaded, 1e-5, &opts)
+            .expect("Newton converges next to the fixture")
+    }
+
+    /// The full-space point of the fixture (design, both equilibria, node heights).
+    pub fn full_space_point(&self) -> Vec<f64> {
+        let layout = Layout { n: self.problem.n_links() };
+        let heights = self.problem.node_heights(&self.design.theta0);
+        layout.pack(&self.design, self.problem.stiffness_scale, &self.passive, &self.loaded, &heights)
+    }
+}
+
+/// The Hessian of the Lagrangian of eq. (33) in the full space at [`DesignFixture`]'s point, with
+/// fixed multipliers drawn from `[−1, 1]` (seeded).
+pub struct HessianFixture {
+    pub assembled: Assembled,
+    pub x: Vec<f64>,
+    pub sigma: f64,
+    pub lambda: Vec<f64>,
+}
+
+impl HessianFixture {
+    pub fn new(design: &DesignFixture) -> Self {
+        let layout = Layout { n: design.problem.n_links() };
+        let mut rng = FixtureRng::new(17);
+        let lambda = (0..layout.num_constraints()).map(|_| rng.uniform(-1.0, 1.0)).collect();
+        HessianFixture { assembled: full_space::assemble(&design.problem), x: design.full_space_point(), sigma: 1.0, lambda }
+    }
+
+    /// The lower-triangle values of `σ ∇²f + Σ λ_r ∇²g_r` (positions as in `patterns.hessian`).
+    pub fn hessian(&self, values: &mut [f64]) {
+        self.assembled.hessian(&self.x, self.sigma, &self.lambda, values);
+    }
+
+    /// `∇_x L = σ ∇f + Jᵀ λ` at `x` by first-order AD (the finite-difference reference of the
+    /// Hessian differentiates this).
+    pub fn lagrangian_gradient(&self, x: &[f64]) -> Vec<f64> {
+        let mut gradient = vec![0.0; x.len()];
+        let mut jacobian = vec![0.0; self.assembled.patterns.jacobian.len()];
+        self.assembled.first_derivatives(x, &mut gradient, &mut jacobian);
+        for g in gradient.iter_mut() {
+            *g *= self.sigma;
+        }
+        for (&(r, c), v) in self.assembled.patterns.jacobian.iter().zip(&jacobian) {
+            gradient[c] += self.lambda[r] * v;
+        }
+        gradient
+    }
 }

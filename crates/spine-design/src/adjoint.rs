@@ -4,20 +4,27 @@
 //! Appendices I and II).
 //!
 //! * [`adjoint_hand`]: the adjoint method with the paper's hand-derived derivatives
-//!   ([`spine_model::hand`]): one transposed solve per function,
-//!   `Aᵀψ = ∂F/∂u`, `dF/dd = ∂F/∂d − ψᵀ ∂R/∂d` (Appendix II chooses the multipliers `Λ` "to eliminate
-//!   `∂θ/∂K`": that is `ψ`). O(N) per gradient.
+//!   ([`spine_model::hand`]): one transposed solve per function, `Aᵀψ = ∂F/∂u`,
+//!   `dF/dd = ∂F/∂d − ψᵀ ∂R/∂d` (Appendix II chooses the multipliers `Λ` "to eliminate `∂θ/∂K`":
+//!   that is `ψ`). O(N) per gradient.
+//! * [`adjoint_ad`]: the same implicit-function-theorem adjoint through the equilibrium (the KKT
+//!   system of `U + V` under `Φ = 0`), with every partial derivative from forward AD: the sparse
+//!   AD Jacobians of [`spine_model::jacobian`] and the element gradients of
+//!   [`spine_model::local`]. O(N); nothing written by hand but the chain rule.
 //! * [`forward_ad`]: the direct method of eqs. (23), (24), (46) with the AD Jacobians: one solve
-//!   `A ∂u/∂d_k = −∂R/∂d_k` per design variable, O(N²). It is the independent check of the
-//!   adjoint (and what the paper's Appendix I literally writes).
+//!   `A ∂u/∂d_k = −∂R/∂d_k` per design variable, O(N²). It is what the paper's Appendix I
+//!   literally writes, and an independent check of the adjoints.
+//! * [`central_differences`]: both equilibria re-solved at `d ± h e_k` for every `k`; O(N²).
 //!
-//! Both return `K`-gradients in physical units (per N·m/rad); multiply by `C_K` for `k = K / C_K`.
+//! All return `K`-gradients in physical units (per N·m/rad); multiply by `C_K` for `k = K / C_K`.
 
 use crate::problem::DesignProblem;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
-use spine_model::{energy, hand, kinematics, Design, State};
-use num_dual::Dual64;
+use spine_model::local::{self, LinkRun, SpringEnergy};
+use spine_model::sparse::BorderedTridiagonal;
+use spine_model::{energy, hand, kinematics, Design, LinkLoads, State};
 use spine_solve::linalg::{BorderedLu, SingularMatrix};
+use spine_solve::ContinuationOptions;
 
 /// Values and design gradients of the two reduced functions.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,100 +39,144 @@ pub struct ReducedGradients {
     pub end_x_gradient: Vec<f64>,
 }
 
-fn with_zero_constraint_entry(mut v: Vec<f64>) -> Vec<f64> {
-    v.push(0.0);
-    v
+impl ReducedGradients {
+    fn at(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State, energy_gradient: Vec<f64>, end_x_gradient: Vec<f64>) -> Self {
+        ReducedGradients {
+            energy: energy::strain_energy(&passive.theta, &design.theta0, &design.stiffness),
+            energy_gradient,
+            end_x: kinematics::end_x(&problem.chain.spans, &design.theta0, &loaded.theta),
+            end_x_gradient,
+        }
+    }
+}
+
+/// One adjoint gradient: `Aᵀψ = [∂F/∂θ; 0]` (the function does not depend on `λ`), then
+/// `dF/dd = ∂F/∂d − ψᵀ ∂R/∂d`, with `ψᵀ ∂R/∂d` given by `design_product(ψ)`.
+fn adjoint_gradient(
+    state_jacobian: &BorderedTridiagonal,
+    mut partial_state: Vec<f64>,
+    mut partial_design: Vec<f64>,
+    design_product: impl FnOnce(&[f64]) -> Vec<f64>,
+) -> Result<Vec<f64>, SingularMatrix> {
+    partial_state.push(0.0);
+    let psi = BorderedLu::factor(state_jacobian)?.solve_transpose(&partial_state);
+    for (g, p) in partial_design.iter_mut().zip(design_product(&psi)) {
+        *g -= p;
+    }
+    Ok(partial_design)
 }
 
 /// The adjoint gradients from the hand-derived derivatives of Appendix I (corrected, errata E7).
 pub fn adjoint_hand(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Result<ReducedGradients, SingularMatrix> {
     let spans = &problem.chain.spans;
-    let (passive_loads, total_loads) = (problem.passive_loads(), problem.total_loads());
+    let hand_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
+        let a = hand::state_jacobian(spans, design, loads, state);
+        adjoint_gradient(&a, by_state, by_design, |psi| hand::design_jacobian_transpose_mul(spans, design, loads, state, psi))
+    };
+    let energy_gradient = hand_adjoint(&problem.passive_loads(), passive, hand::strain_energy_partials(design, passive))?;
+    let end_x_gradient = hand_adjoint(&problem.total_loads(), loaded, hand::end_x_partials(spans, design, loaded))?;
+    Ok(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
+}
 
-    let (du_dtheta, mut energy_gradient) = hand::strain_energy_partials(design, passive);
-    let a1 = BorderedLu::factor(&hand::state_jacobian(spans, design, &passive_loads, passive))?;
-    let psi1 = a1.solve_transpose(&with_zero_constraint_entry(du_dtheta));
-    let product = hand::design_jacobian_transpose_mul(spans, design, &passive_loads, passive, &psi1);
-    for (g, p) in energy_gradient.iter_mut().zip(product) {
-        *g -= p;
-    }
-
-    let (dx_dtheta, mut end_x_gradient) = hand::end_x_partials(spans, design, loaded);
-    let a2 = BorderedLu::factor(&hand::state_jacobian(spans, design, &total_loads, loaded))?;
-    let psi2 = a2.solve_transpose(&with_zero_constraint_entry(dx_dtheta));
-    let product = hand::design_jacobian_transpose_mul(spans, design, &total_loads, loaded, &psi2);
-    for (g, p) in end_x_gradient.iter_mut().zip(product) {
-        *g -= p;
-    }
-
-    Ok(ReducedGradients {
-        energy: energy::strain_energy(&passive.theta, &design.theta0, &design.stiffness),
-        energy_gradient,
-        end_x: kinematics::end_x(spans, &design.theta0, &loaded.theta),
-        end_x_gradient,
-    })
+/// The adjoint gradients with every partial derivative from forward AD (see the module docs).
+pub fn adjoint_ad(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Result<ReducedGradients, SingularMatrix> {
+    let spans = &problem.chain.spans;
+    let ad_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
+        let (_, a) = residual_and_state_jacobian(spans, design, loads, state);
+        adjoint_gradient(&a, by_state, by_design, |psi| design_jacobian(spans, design, loads, state).transpose_mul_vec(psi))
+    };
+    let energy_gradient = ad_adjoint(&problem.passive_loads(), passive, energy_partials_ad(design, passive))?;
+    let end_x_gradient = ad_adjoint(&problem.total_loads(), loaded, end_partials_ad(spans, design, loaded))?;
+    Ok(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
 }
 
 /// The direct (forward-sensitivity) gradients with the AD Jacobians: `∂u/∂d_k` for every design
-/// variable `k`, then the chain rule. O(N²); a test oracle for [`adjoint_hand`].
+/// variable `k`, then the chain rule. O(N²); a test oracle for the adjoints.
 pub fn forward_ad(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Result<ReducedGradients, SingularMatrix> {
     let spans = &problem.chain.spans;
     let n = spans.len();
-    let sensitivities = |loads, state: &State| -> Result<Vec<Vec<f64>>, SingularMatrix> {
+    let direct = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| -> Result<Vec<f64>, SingularMatrix> {
         let (_, jac) = residual_and_state_jacobian(spans, design, loads, state);
         let lu = BorderedLu::factor(&jac)?;
-        let dr_dd = design_jacobian(spans, design, loads, state).to_dense();
+        let mut columns = vec![vec![0.0; n + 1]; 2 * n + 1];
+        for &(r, c, v) in &design_jacobian(spans, design, loads, state).entries {
+            columns[c][r] -= v;
+        }
         Ok((0..2 * n + 1)
-            .map(|k| {
-                let column: Vec<f64> = dr_dd.iter().map(|row| -row[k]).collect();
-                lu.solve(&column)
-            })
+            .map(|k| by_design[k] + by_state.iter().zip(lu.solve(&columns[k])).map(|(a, b)| a * b).sum::<f64>())
             .collect())
     };
-    let (passive_loads, total_loads) = (problem.passive_loads(), problem.total_loads());
-    let s1 = sensitivities(&passive_loads, passive)?;
-    let s2 = sensitivities(&total_loads, loaded)?;
-    let (du_dtheta, du_ddesign) = energy_partials_ad(design, passive);
-    let (dx_dtheta, dx_ddesign) = end_partials_ad(spans, design, loaded);
-    let chain = |partial_state: &[f64], partial_design: &[f64], s: &[Vec<f64>]| -> Vec<f64> {
-        (0..2 * n + 1)
-            .map(|k| partial_design[k] + partial_state.iter().zip(&s[k]).map(|(a, b)| a * b).sum::<f64>())
-            .collect()
-    };
-    Ok(ReducedGradients {
-        energy: energy::strain_energy(&passive.theta, &design.theta0, &design.stiffness),
-        energy_gradient: chain(&du_dtheta, &du_ddesign, &s1),
-        end_x: kinematics::end_x(spans, &design.theta0, &loaded.theta),
-        end_x_gradient: chain(&dx_dtheta, &dx_ddesign, &s2),
-    })
+    let energy_gradient = direct(&problem.passive_loads(), passive, energy_partials_ad(design, passive))?;
+    let end_x_gradient = direct(&problem.total_loads(), loaded, end_partials_ad(spans, design, loaded))?;
+    Ok(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
 }
 
-/// The gradient of `f` at `values` by forward AD, one `Dual64` pass per entry (O(N²) for the
-/// functions here; test oracle only).
-fn dual_gradient(values: &[f64], f: impl Fn(&[Dual64]) -> Dual64) -> Vec<f64> {
-    (0..values.len())
-        .map(|k| {
-            let v: Vec<Dual64> =
-                values.iter().enumerate().map(|(i, &x)| if i == k { Dual64::from(x).derivative() } else { Dual64::from(x) }).collect();
-            f(&v).eps
-        })
-        .collect()
+/// The gradients by central differences: for each design variable `d_k`, both equilibria are
+/// re-solved by Newton at `d ± h e_k` (from `passive` and `loaded`, which must be the equilibria at
+/// `design`), `h = step · max(1, |d_k|)`. `None` when a re-solve fails. O(N²).
+pub fn central_differences(
+    problem: &DesignProblem,
+    design: &Design,
+    passive: &State,
+    loaded: &State,
+    step: f64,
+    continuation: &ContinuationOptions,
+) -> Option<ReducedGradients> {
+    let n = problem.n_links();
+    let spans = &problem.chain.spans;
+    let mut energy_gradient = Vec::with_capacity(2 * n + 1);
+    let mut end_x_gradient = Vec::with_capacity(2 * n + 1);
+    for k in 0..2 * n + 1 {
+        let value = if k < n { design.theta0[k] } else { design.stiffness[k - n] };
+        let h = step * value.abs().max(1.0);
+        let at = |v: f64| -> Option<(f64, f64)> {
+            let mut moved = design.clone();
+            if k < n {
+                moved.theta0[k] = v;
+            } else {
+                moved.stiffness[k - n] = v;
+            }
+            let (p, l) = problem.equilibria_near(&moved, passive, loaded, continuation)?;
+            Some((energy::strain_energy(&p.theta, &moved.theta0, &moved.stiffness), kinematics::end_x(spans, &moved.theta0, &l.theta)))
+        };
+        let (jp, xp) = at(value + h)?;
+        let (jm, xm) = at(value - h)?;
+        energy_gradient.push((jp - jm) / (2.0 * h));
+        end_x_gradient.push((xp - xm) / (2.0 * h));
+    }
+    Some(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
 }
 
-/// `∂U/∂θ` and `∂U/∂(θ0, K)` by forward AD of [`energy::strain_energy`].
+/// `∂U/∂θ` and `∂U/∂(θ0, K)` from the AD gradients of the spring elements (eq. (31)), O(N).
 fn energy_partials_ad(design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     let n = state.theta.len();
-    let all: Vec<f64> = state.theta.iter().chain(&design.theta0).chain(&design.stiffness).copied().collect();
-    let grad = dual_gradient(&all, |v| energy::strain_energy(&v[..n], &v[n..2 * n], &v[2 * n..]));
-    (grad[..n].to_vec(), grad[n..].to_vec())
+    let spring = SpringEnergy { stiffness_scale: 1.0 };
+    let (mut by_state, mut by_design) = (vec![0.0; n], vec![0.0; 2 * n + 1]);
+    for j in 0..=n {
+        let link = |i: isize| (i >= 0 && (i as usize) < n).then_some(i as usize);
+        let (prev, this) = (link(j as isize - 1), link(j as isize));
+        let pick = |v: &[f64], i: Option<usize>| i.map_or(0.0, |i| v[i]);
+        let x = [pick(&state.theta, prev), pick(&design.theta0, prev), pick(&state.theta, this), pick(&design.theta0, this), design.stiffness[j]];
+        let (_, g) = local::gradient(&spring, &x);
+        for (i, (d_theta, d_theta0)) in [(prev, (g[0], g[1])), (this, (g[2], g[3]))] {
+            if let Some(i) = i {
+                by_state[i] += d_theta;
+                by_design[i] += d_theta0;
+            }
+        }
+        by_design[n + j] += g[4];
+    }
+    (by_state, by_design)
 }
 
-/// `∂X/∂θ` and `∂X/∂(θ0, K)` by forward AD of [`kinematics::end_x`].
+/// `∂X/∂θ` and `∂X/∂(θ0, K)` from the AD gradients of the link runs `L_i cos θ_i`, O(N).
 fn end_partials_ad(spans: &[f64], design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     let n = state.theta.len();
-    let all: Vec<f64> = state.theta.iter().chain(&design.theta0).copied().collect();
-    let grad = dual_gradient(&all, |v| kinematics::end_x(spans, &v[n..], &v[..n]));
-    let mut by_design = grad[n..].to_vec();
-    by_design.extend(std::iter::repeat_n(0.0, n + 1));
-    (grad[..n].to_vec(), by_design)
+    let (mut by_state, mut by_design) = (vec![0.0; n], vec![0.0; 2 * n + 1]);
+    for i in 0..n {
+        let (_, g) = local::gradient(&LinkRun { span: spans[i] }, &[state.theta[i], design.theta0[i]]);
+        by_state[i] = g[0];
+        by_design[i] = g[1];
+    }
+    (by_state, by_design)
 }

@@ -1,7 +1,8 @@
 //! The static design problem of eq. (33), independent of how it is solved.
 
 use serde::Serialize;
-use spine_model::{Chain, Design, LinkLoads, NodalLoads};
+use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};
+use spine_solve::ContinuationOptions;
 
 /// Bounds of the design (paper Sec. 5, "Geometrical and stiffness values").
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -51,6 +52,26 @@ impl DesignProblem {
     /// Load resultants of the passive load plus the actuation, self-weight included.
     pub fn total_loads(&self) -> LinkLoads {
         LinkLoads::from_nodal(&self.chain, &self.passive.plus(&self.actuation), true)
+    }
+
+    /// Both equilibria (passive, loaded) of `design` by Newton's method at full load from nearby
+    /// states (for example those of a slightly different design), or `None` when Newton does not
+    /// converge there. Used for re-solves after small design changes (finite differences, the
+    /// reduced-space Hessian).
+    pub fn equilibria_near(
+        &self,
+        design: &Design,
+        passive: &State,
+        loaded: &State,
+        continuation: &ContinuationOptions,
+    ) -> Option<(State, State)> {
+        let spans = &self.chain.spans;
+        let resolve = |loads: LinkLoads, start: &State| {
+            let path = spine_solve::LoadPath { spans, design, from: loads.clone(), to: loads, start: start.clone() };
+            let solution = spine_solve::solve_path(&path, continuation);
+            (solution.load_factor == 1.0).then_some(solution.state)
+        };
+        Some((resolve(self.passive_loads(), passive)?, resolve(self.total_loads(), loaded)?))
     }
 
     /// The problem as the equilibrium solver sees it, for one design.

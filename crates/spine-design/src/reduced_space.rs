@@ -157,14 +157,7 @@ impl<'a> ReducedSpaceNlp<'a> {
     fn weighted_gradient(&self, x: &[f64], sigma: f64, lambda_end: f64) -> Option<Vec<f64>> {
         let last = self.last.as_ref()?;
         let design = self.design(x);
-        let spans = &self.problem.chain.spans;
-        let resolve = |loads: spine_model::LinkLoads, start: &State| {
-            let path = spine_solve::LoadPath { spans, design: &design, from: loads.clone(), to: loads, start: start.clone() };
-            let solution = spine_solve::solve_path(&path, &self.continuation);
-            (solution.load_factor == 1.0).then_some(solution.state)
-        };
-        let passive = resolve(self.problem.passive_loads(), &last.passive)?;
-        let loaded = resolve(self.problem.total_loads(), &last.loaded)?;
+        let (passive, loaded) = self.problem.equilibria_near(&design, &last.passive, &last.loaded, &self.continuation)?;
         let g = adjoint_hand(self.problem, &design, &passive, &loaded).ok()?;
         let weighted = g.energy_gradient.iter().zip(&g.end_x_gradient).map(|(j, x)| sigma * j + lambda_end * x);
         let mut out = vec![0.0; 2 * self.layout.n + 1];

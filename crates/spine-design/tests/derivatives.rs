@@ -1,8 +1,8 @@
 //! The full-space derivatives against central differences, their sparsity patterns against what
-//! Ipopt is told, and the reduced-space gradients: hand adjoint = forward AD = central differences
+//! Ipopt is told, and the reduced-space gradients: hand adjoint = AD adjoint = forward AD = central differences
 //! through the equilibrium solver.
 
-use spine_design::adjoint::{adjoint_hand, forward_ad};
+use spine_design::adjoint::{adjoint_ad, adjoint_hand, forward_ad};
 use spine_design::fixtures::{arch_start, paper_problem, scaled_family};
 use spine_design::full_space::{FullSpaceNlp, Layout};
 use spine_design::DesignProblem;
@@ -182,11 +182,14 @@ fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver
         let (s1, s2) = equilibria(&problem, &design);
         let hand = adjoint_hand(&problem, &design, &s1, &s2).unwrap();
         let ad = forward_ad(&problem, &design, &s1, &s2).unwrap();
+        let ad_adjoint = adjoint_ad(&problem, &design, &s1, &s2).unwrap();
         let scale_j = hand.energy_gradient.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let scale_x = hand.end_x_gradient.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for k in 0..2 * n + 1 {
             assert!((hand.energy_gradient[k] - ad.energy_gradient[k]).abs() <= 1e-10 * scale_j, "N={n} dJ/dd{k}");
             assert!((hand.end_x_gradient[k] - ad.end_x_gradient[k]).abs() <= 1e-10 * scale_x, "N={n} dX/dd{k}");
+            assert!((hand.energy_gradient[k] - ad_adjoint.energy_gradient[k]).abs() <= 1e-10 * scale_j, "N={n} dJ/dd{k} (AD adjoint)");
+            assert!((hand.end_x_gradient[k] - ad_adjoint.end_x_gradient[k]).abs() <= 1e-10 * scale_x, "N={n} dX/dd{k} (AD adjoint)");
             // Fourth-order central differences through the continuation solver (truncation
             // O(h⁴): about 1e-12 for θ0 with h = 1e-3 rad, 1e-8 for K with h = 1e-2 K; rounding of
             // the solves about 1e-15 m in X divided by 12h). Each entry is compared

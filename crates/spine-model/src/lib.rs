@@ -22,6 +22,7 @@
 
 pub mod chain;
 pub mod energy;
+pub mod finite_difference;
 pub mod fixtures;
 pub mod jacobian;
 pub mod hand;

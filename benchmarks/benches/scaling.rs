@@ -1,0 +1,114 @@
+//! `just bench`: every benchmark of `spine-benchmarks` for N = 5 … 10 000 (criterion). Groups:
+//!
+//! * `residual`: the equilibrium residual of eq. (5);
+//! * `jacobian/{ad,hand,fd}`: residual and `∂r/∂(θ, λ)` by element-wise forward AD, by the paper's
+//!   hand-derived entries, by element-wise central differences;
+//! * `newton_step`: residual, AD Jacobian, O(N) bordered factorisation and solve;
+//! * `equilibrium_solve`: the whole `θ0 → θ1 → θ2` continuation with its stability certificates;
+//! * `gradients/{ad,hand,forward_ad,fd}`: `dJ/d(θ0, K)` and `dX/d(θ0, K)` by the AD adjoint, the
+//!   hand adjoint, the direct method and central differences (the last two are O(N²): N ≤ 1000);
+//! * `hessian`: the sparse Hessian of the Lagrangian of eq. (33) by second-order AD;
+//! * `design_solve/{full,reduced}`: a whole eq. (33) solve from the arch start (N ≤ 100 and
+//!   N ≤ 10; larger N are timed once by `just bench-peers`).
+//!
+//! `tests/agreement.rs` checks that the compared derivatives agree, so no benchmark times a wrong
+//! answer. `SPINE_BENCH_MAX_N` caps the sizes (for a quick run).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use spine_benchmarks::{scaled_arch, DesignFixture, HessianFixture, StateFixture};
+use spine_design::{solve_design, Formulation, SolverSettings};
+use spine_solve::{solve_static, ContinuationOptions};
+use std::hint::black_box;
+use std::time::Duration;
+
+const SIZES: [usize; 6] = [5, 10, 50, 100, 1000, 10_000];
+/// Largest N for the O(N²) gradients (direct method, central differences).
+const QUADRATIC_MAX_N: usize = 1000;
+const FULL_SOLVE_MAX_N: usize = 100;
+const REDUCED_SOLVE_MAX_N: usize = 10;
+
+fn sizes(limit: usize) -> impl Iterator<Item = usize> {
+    let cap = std::env::var("SPINE_BENCH_MAX_N").ok().and_then(|v| v.parse().ok()).unwrap_or(usize::MAX);
+    SIZES.into_iter().filter(move |&n| n <= limit.min(cap))
+}
+
+fn equilibrium(c: &mut Criterion) {
+    let mut g = c.benchmark_group("residual");
+    for n in sizes(usize::MAX) {
+        let f = StateFixture::new(n);
+        g.bench_with_input(BenchmarkId::from_parameter(n), &f, |b, f| b.iter(|| black_box(f).residual()));
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("jacobian");
+    for n in sizes(usize::MAX) {
+        let f = StateFixture::new(n);
+        g.bench_with_input(BenchmarkId::new("ad", n), &f, |b, f| b.iter(|| black_box(f).jacobian_ad()));
+        g.bench_with_input(BenchmarkId::new("hand", n), &f, |b, f| b.iter(|| black_box(f).jacobian_hand()));
+        g.bench_with_input(BenchmarkId::new("fd", n), &f, |b, f| b.iter(|| black_box(f).jacobian_fd()));
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("newton_step");
+    for n in sizes(usize::MAX) {
+        let f = StateFixture::new(n);
+        let start = f.perturbed(1e-3);
+        g.bench_with_input(BenchmarkId::from_parameter(n), &f, |b, f| b.iter(|| f.newton_step(black_box(&start))));
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("equilibrium_solve");
+    let opts = ContinuationOptions::default();
+    for n in sizes(usize::MAX) {
+        let p = scaled_arch(n);
+        g.bench_with_input(BenchmarkId::from_parameter(n), &p, |b, p| b.iter(|| solve_static(black_box(p), &opts)));
+    }
+    g.finish();
+}
+
+fn design(c: &mut Criterion) {
+    let mut g = c.benchmark_group("gradients");
+    for n in sizes(usize::MAX) {
+        let f = DesignFixture::new(n);
+        g.bench_with_input(BenchmarkId::new("ad", n), &f, |b, f| b.iter(|| black_box(f).gradients_ad()));
+        g.bench_with_input(BenchmarkId::new("hand", n), &f, |b, f| b.iter(|| black_box(f).gradients_hand()));
+        if n <= QUADRATIC_MAX_N {
+            g.bench_with_input(BenchmarkId::new("forward_ad", n), &f, |b, f| b.iter(|| black_box(f).gradients_forward()));
+            g.bench_with_input(BenchmarkId::new("fd", n), &f, |b, f| b.iter(|| black_box(f).gradients_fd()));
+        }
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("hessian");
+    for n in sizes(usize::MAX) {
+        let f = HessianFixture::new(&DesignFixture::new(n));
+        let mut values = vec![0.0; f.assembled.patterns.hessian.len()];
+        g.bench_with_input(BenchmarkId::from_parameter(n), &f, |b, f| b.iter(|| black_box(f).hessian(&mut values)));
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("design_solve");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    let settings = SolverSettings::default();
+    for n in sizes(FULL_SOLVE_MAX_N) {
+        let f = DesignFixture::new(n);
+        for formulation in [Formulation::Full, Formulation::Reduced] {
+            if formulation == Formulation::Reduced && n > REDUCED_SOLVE_MAX_N {
+                continue;
+            }
+            let check = solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true).expect("valid problem");
+            assert!(check.is_clean(), "N = {n} {}: {}", formulation.name(), check.solver.status);
+            g.bench_with_input(BenchmarkId::new(formulation.name(), n), &f, |b, f| {
+                b.iter(|| solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10).measurement_time(Duration::from_secs(1)).warm_up_time(Duration::from_millis(300));
+    targets = equilibrium, design
+}
+criterion_main!(benches);
