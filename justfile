@@ -30,9 +30,18 @@ paper:
     echo "== study-ck"; code=0; ./target/release/spine study ck paper-cases/study-ck.json --out results/study-ck || code=$?; if [ "$code" != 0 ] && [ "$code" != 3 ]; then exit "$code"; fi
     ./target/release/spine report --results results
 
-# Criterion benchmarks (equilibrium solve times and their parts for N = 10 … 1000).
+# Criterion benchmarks for N = 5 … 10 000 (about 10 min), then benchmarks/RESULTS.md and benchmarks/scaling.svg.
 bench:
-    cargo bench -p spine-benchmarks --bench equilibrium
+    cargo bench -p spine-benchmarks --bench scaling
+    cargo run --release --quiet -p spine-benchmarks --bin bench_report
+
+# Eq. (33) against CasADi + IPOPT on the same case files and start points (N default 5 … 1000; sets up
+# its own Python venv with CasADi), then the table in benchmarks/RESULTS.md.
+bench-peers *SIZES:
+    ./benchmarks/peers/setup.sh
+    cargo build --release --quiet -p spine-benchmarks --bins
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/release/bench_peers benchmarks/peers/.venv/bin/python {{SIZES}}
+    ./target/release/bench_report
 
 # Fuzz the case parser for SECONDS seconds (needs the nightly toolchain; installs cargo-fuzz).
 fuzz SECONDS="60":

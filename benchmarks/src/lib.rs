@@ -12,6 +12,7 @@
 //! * [`DesignFixture`]: the scaled family of `../shared/PEERS.md` at the arch start (design
 //!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
 
+pub mod peers;
 pub mod report;
 
 use spine_design::adjoint::{self, ReducedGradients};

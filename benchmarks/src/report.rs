@@ -1,1 +1,275 @@
-//! placeholder
+//! `just bench` → `benchmarks/RESULTS.md` and `benchmarks/scaling.svg`: criterion's mean times read
+//! back from `target/criterion`, the fitted exponent `p` of `time ∝ N^p` per benchmark, the
+//! targets of the benchmark issue checked against them, and the CasADi comparison of
+//! `just bench-peers` when it has been run (`benchmarks/peers/results.json`).
+
+use crate::peers::PeerRow;
+use spine_plot::{Figure, Panel, Series};
+use std::collections::BTreeMap;
+use std::fmt::Write;
+use std::path::Path;
+
+/// The benchmark groups of `benches/scaling.rs`, in report order, with what each times.
+pub const GROUPS: [(&str, &str); 7] = [
+    ("residual", "equilibrium residual, eq. (5)"),
+    ("jacobian", "residual + ∂r/∂(θ, λ), eqs. (46)–(49)"),
+    ("newton_step", "one Newton step (residual, AD Jacobian, O(N) factorisation, solve)"),
+    ("equilibrium_solve", "θ0 → θ1 → θ2 continuation with stability certificates"),
+    ("gradients", "dJ/d(θ0, K) and dX/d(θ0, K) (Appendices I–II)"),
+    ("hessian", "Hessian of the Lagrangian of eq. (33), second-order AD"),
+    ("design_solve", "whole eq. (33) solve from the arch start"),
+];
+
+/// Sizes at or above which the exponent is fitted (below, fixed costs dominate).
+pub const FIT_FROM_N: usize = 50;
+
+/// One benchmark: group, method (empty when the group has one), size, mean time in seconds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measurement {
+    pub group: String,
+    pub method: String,
+    pub n: usize,
+    pub seconds: f64,
+}
+
+impl Measurement {
+    pub fn name(&self) -> String {
+        if self.method.is_empty() {
+            self.group.clone()
+        } else {
+            format!("{}/{}", self.group, self.method)
+        }
+    }
+}
+
+/// Reads `<criterion>/<group>[/<method>]/<N>/new/estimates.json` for the groups in [`GROUPS`].
+pub fn read_criterion(criterion: &Path) -> Result<Vec<Measurement>, String> {
+    let mut out = Vec::new();
+    for (group, _) in GROUPS {
+        let dir = criterion.join(group);
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        let mut paths: Vec<_> = entries.filter_map(|e| e.ok()).map(|e| e.path()).collect();
+        paths.sort();
+        for path in paths {
+            let name = path.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
+            let mut push = |method: &str, n: usize, estimates: &Path| -> Result<(), String> {
+                let text = std::fs::read_to_string(estimates).map_err(|e| format!("{}: {e}", estimates.display()))?;
+                let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", estimates.display()))?;
+                let ns = json["mean"]["point_estimate"].as_f64().ok_or_else(|| format!("{}: no mean", estimates.display()))?;
+                out.push(Measurement { group: group.into(), method: method.into(), n, seconds: ns * 1e-9 });
+                Ok(())
+            };
+            if let Ok(n) = name.parse::<usize>() {
+                let estimates = path.join("new/estimates.json");
+                if estimates.exists() {
+                    push("", n, &estimates)?;
+                }
+            } else if path.is_dir() && name != "report" {
+                let mut sizes: Vec<_> = std::fs::read_dir(&path).map_err(|e| e.to_string())?.filter_map(|e| e.ok()).map(|e| e.path()).collect();
+                sizes.sort();
+                for size in sizes {
+                    let estimates = size.join("new/estimates.json");
+                    if let (Some(n), true) = (size.file_name().and_then(|s| s.to_str()).and_then(|s| s.parse().ok()), estimates.exists()) {
+                        push(&name, n, &estimates)?;
+                    }
+                }
+            }
+        }
+    }
+    out.sort_by(|a, b| (group_rank(&a.group), &a.method, a.n).cmp(&(group_rank(&b.group), &b.method, b.n)));
+    Ok(out)
+}
+
+fn group_rank(group: &str) -> usize {
+    GROUPS.iter().position(|(g, _)| *g == group).unwrap_or(usize::MAX)
+}
+
+/// Least-squares slope of `log t` against `log N` over the points with `N ≥ from` (`None` with
+/// fewer than two such points).
+pub fn fit_exponent(points: &[(usize, f64)], from: usize) -> Option<f64> {
+    let xy: Vec<(f64, f64)> = points.iter().filter(|(n, _)| *n >= from).map(|&(n, t)| ((n as f64).ln(), t.ln())).collect();
+    if xy.len() < 2 {
+        return None;
+    }
+    let m = xy.len() as f64;
+    let (sx, sy) = xy.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let (mx, my) = (sx / m, sy / m);
+    let (sxy, sxx) = xy.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + (x - mx) * (y - my), b + (x - mx) * (x - mx)));
+    Some(sxy / sxx)
+}
+
+/// Measurements by benchmark name, each as `(N, seconds)` in increasing `N`.
+pub fn series(measurements: &[Measurement]) -> BTreeMap<String, Vec<(usize, f64)>> {
+    let mut map: BTreeMap<String, Vec<(usize, f64)>> = BTreeMap::new();
+    for m in measurements {
+        map.entry(m.name()).or_default().push((m.n, m.seconds));
+    }
+    map
+}
+
+/// A time with a unit that keeps three significant digits.
+pub fn format_time(seconds: f64) -> String {
+    if seconds >= 1.0 {
+        format!("{seconds:.3} s")
+    } else if seconds >= 1e-3 {
+        format!("{:.3} ms", seconds * 1e3)
+    } else {
+        format!("{:.3} µs", seconds * 1e6)
+    }
+}
+
+/// The machine the numbers come from: CPU, cores, memory, OS kernel and the Rust compiler.
+pub fn machine() -> String {
+    let read = |p: &str| std::fs::read_to_string(p).unwrap_or_default();
+    let cpuinfo = read("/proc/cpuinfo");
+    let cpu = cpuinfo.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).unwrap_or("unknown").trim().to_string();
+    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0);
+    let memory = read("/proc/meminfo")
+        .lines()
+        .find(|l| l.starts_with("MemTotal"))
+        .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<f64>().ok()))
+        .map(|kb| format!("{:.1} GiB", kb / 1024.0 / 1024.0))
+        .unwrap_or_else(|| "unknown".into());
+    let os = read("/etc/os-release").lines().find(|l| l.starts_with("PRETTY_NAME=")).map(|l| l[12..].trim_matches('"').to_string()).unwrap_or_default();
+    let kernel = read("/proc/sys/kernel/osrelease").trim().to_string();
+    let rustc = std::process::Command::new("rustc").arg("--version").output().ok().map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string()).unwrap_or_default();
+    format!("{cpu}, {cores} cores available, {memory}; {os}, Linux {kernel}; {rustc}")
+}
+
+/// A target of the benchmark issue and whether the measurements meet it.
+#[derive(Clone, Debug)]
+pub struct Target {
+    pub statement: String,
+    pub measured: String,
+    pub met: Option<bool>,
+}
+
+/// Checks the issue's targets that criterion measures (the eq. (33) and CasADi targets come from
+/// the peers run).
+pub fn targets(measurements: &[Measurement], peers: &[PeerRow]) -> Vec<Target> {
+    let by_name = series(measurements);
+    let mut out = Vec::new();
+    let (ad, hand) = (by_name.get("jacobian/ad"), by_name.get("jacobian/hand"));
+    if let (Some(ad), Some(hand)) = (ad, hand) {
+        let ratios: Vec<(usize, f64)> =
+            ad.iter().filter_map(|&(n, t)| hand.iter().find(|(m, _)| *m == n).map(|&(_, h)| (n, t / h))).collect();
+        let worst = ratios.iter().fold(0.0f64, |m, r| m.max(r.1));
+        out.push(Target {
+            statement: "sparse AD Jacobian within 2× of the hand-coded one".into(),
+            measured: ratios.iter().map(|(n, r)| format!("N={n}: {r:.2}×")).collect::<Vec<_>>().join(", "),
+            met: Some(worst <= 2.0),
+        });
+    }
+    for name in ["residual", "jacobian/ad", "hessian", "newton_step"] {
+        let p = by_name.get(name).and_then(|s| fit_exponent(s, FIT_FROM_N));
+        out.push(Target {
+            statement: format!("p ≤ 1.2 for {name}"),
+            measured: p.map_or("not measured".into(), |p| format!("p = {p:.2}")),
+            met: p.map(|p| p <= 1.2),
+        });
+    }
+    let at = |n: usize| peers.iter().find(|r| r.n == n);
+    let full_1000 = at(1000);
+    out.push(Target {
+        statement: "whole eq. (33) solve at N = 1000 under 1 s".into(),
+        measured: full_1000.map_or("not measured (run `just bench-peers`)".into(), |r| {
+            format!("{} in {} ({} iterations)", r.ours.status, format_time(r.ours.wall_seconds), r.ours.iterations)
+        }),
+        met: full_1000.map(|r| r.ours.converged && r.ours.wall_seconds < 1.0),
+    });
+    for n in [100, 1000] {
+        let row = at(n);
+        out.push(Target {
+            statement: format!("wall time at most half of CasADi's at N = {n}"),
+            measured: row.and_then(|r| r.ratio()).map_or("not measured".into(), |ratio| format!("ours / CasADi = {ratio:.2}")),
+            met: row.and_then(|r| r.ratio()).map(|ratio| ratio <= 0.5),
+        });
+    }
+    out
+}
+
+/// `benchmarks/RESULTS.md`.
+pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine: &str, notes: &str) -> String {
+    let mut md = String::new();
+    let by_name = series(measurements);
+    let _ = writeln!(md, "# Benchmark results\n");
+    let _ = writeln!(md, "Written by `just bench` (criterion, mean of 10 samples; `just bench-peers` adds the CasADi table). Machines here are shared and noisy: compare ratios within one run.\n");
+    let _ = writeln!(md, "**Machine:** {machine}\n");
+    let _ = writeln!(md, "## Targets\n\n| target | measured | met |\n|---|---|---|");
+    for t in targets(measurements, peers) {
+        let met = match t.met {
+            Some(true) => "yes",
+            Some(false) => "**no**",
+            None => "not measured",
+        };
+        let _ = writeln!(md, "| {} | {} | {met} |", t.statement, t.measured);
+    }
+    let sizes: Vec<usize> = {
+        let mut s: Vec<usize> = measurements.iter().map(|m| m.n).collect();
+        s.sort();
+        s.dedup();
+        s
+    };
+    let _ = writeln!(md, "\n## Times per N and fitted exponents\n\n`p` is the least-squares slope of log time against log N over N ≥ {FIT_FROM_N}.\n");
+    let _ = write!(md, "| benchmark | what |");
+    for n in &sizes {
+        let _ = write!(md, " N = {n} |");
+    }
+    let _ = writeln!(md, " p |");
+    let _ = writeln!(md, "|---|---|{}---|", "---|".repeat(sizes.len()));
+    for (group, what) in GROUPS {
+        for (name, points) in by_name.iter().filter(|(k, _)| k.split('/').next() == Some(group)) {
+            let _ = write!(md, "| `{name}` | {what} |");
+            for n in &sizes {
+                let cell = points.iter().find(|(m, _)| m == n).map_or("–".into(), |&(_, t)| format_time(t));
+                let _ = write!(md, " {cell} |");
+            }
+            let p = fit_exponent(points, FIT_FROM_N).map_or("–".into(), |p| format!("{p:.2}"));
+            let _ = writeln!(md, " {p} |");
+        }
+    }
+    let ratio_rows: Vec<(&str, &str, &str)> =
+        vec![("jacobian", "ad", "hand"), ("jacobian", "fd", "hand"), ("gradients", "ad", "hand"), ("gradients", "forward_ad", "hand"), ("gradients", "fd", "hand")];
+    let _ = writeln!(md, "\n## Ratios to the hand-derived derivatives\n");
+    let _ = write!(md, "| ratio |");
+    for n in &sizes {
+        let _ = write!(md, " N = {n} |");
+    }
+    let _ = writeln!(md, "\n|---|{}", "---|".repeat(sizes.len()));
+    for (group, a, b) in ratio_rows {
+        let (Some(sa), Some(sb)) = (by_name.get(&format!("{group}/{a}")), by_name.get(&format!("{group}/{b}"))) else { continue };
+        let _ = write!(md, "| {group}: {a} / {b} |");
+        for n in &sizes {
+            let r = sa.iter().find(|(m, _)| m == n).zip(sb.iter().find(|(m, _)| m == n)).map(|(x, y)| x.1 / y.1);
+            let _ = write!(md, " {} |", r.map_or("–".into(), |r| format!("{r:.2}")));
+        }
+        let _ = writeln!(md);
+    }
+    let _ = writeln!(md, "\n## Eq. (33) against CasADi + IPOPT\n");
+    if peers.is_empty() {
+        let _ = writeln!(md, "Not run yet: `just bench-peers`.");
+    } else {
+        md.push_str(&crate::peers::table(peers));
+    }
+    let _ = writeln!(md, "\n![scaling](scaling.svg)\n");
+    md.push_str(notes);
+    md
+}
+
+/// The log-log plot: log10 of the time against log10 N, one line per benchmark, in two panels
+/// (derivatives and solves).
+pub fn figure(measurements: &[Measurement]) -> Figure {
+    let by_name = series(measurements);
+    let log = |points: &[(usize, f64)]| points.iter().map(|&(n, t)| ((n as f64).log10(), t.log10())).collect::<Vec<_>>();
+    let mut derivatives = Panel::new("Derivatives", "log10 N", "log10 time (s)");
+    let mut solves = Panel::new("Steps and solves", "log10 N", "log10 time (s)");
+    for (k, (name, points)) in by_name.iter().enumerate() {
+        let series = Series::line_markers(name.clone(), log(points)).colour(k);
+        if name.starts_with("jacobian") || name.starts_with("gradients") || name.starts_with("hessian") || name == "residual" {
+            derivatives = derivatives.with(series);
+        } else {
+            solves = solves.with(series);
+        }
+    }
+    Figure::new("Time against N (log-log; a slope of 1 is linear)", 2).with(derivatives).with(solves)
+}

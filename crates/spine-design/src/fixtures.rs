@@ -4,14 +4,14 @@
 use crate::problem::{DesignBounds, DesignProblem};
 use spine_model::fixtures::{arch, uniform_loads};
 use spine_model::{Chain, Design, NodalLoads};
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_6, PI};
 
 /// The paper's bounds (Sec. 5) for `n` links over `L_x`: `|θ0| ≤ π/6`, relative angles `≤ π/6`,
 /// `K ∈ [k_min, k_max]`, interior node heights in `[y_min, 0.25 L_x]`.
 pub fn paper_bounds(n: usize, length_x: f64, k_min: f64, k_max: f64, y_min: f64) -> DesignBounds {
     DesignBounds {
-        theta0_max: PI / 6.0,
-        relative_angle_max: PI / 6.0,
+        theta0_max: FRAC_PI_6,
+        relative_angle_max: FRAC_PI_6,
         stiffness_min: vec![k_min; n + 1],
         stiffness_max: vec![k_max; n + 1],
         height_min: y_min,

@@ -133,7 +133,7 @@ impl std::error::Error for DesignError {}
 
 /// Start states of the full space: the equilibria of the start design by continuation when they
 /// exist, else the unloaded shape with `λ = 0` (and a note saying so).
-fn start_states(problem: &DesignProblem, start: &Design, continuation: &ContinuationOptions, notes: &mut Vec<String>) -> (State, State) {
+pub fn start_states(problem: &DesignProblem, start: &Design, continuation: &ContinuationOptions, notes: &mut Vec<String>) -> (State, State) {
     let solution = solve_static(&problem.static_problem(start), continuation);
     let passive_ok = solution.passive.load_factor == 1.0;
     let passive = if passive_ok { solution.passive.state.clone() } else { State::unloaded(start) };

@@ -35,6 +35,11 @@ fn seeded_stencil<const M: usize>(i: usize, design: &Design, state: &State, firs
 ///
 /// The Jacobian is bordered tridiagonal: `∂r_i/∂θ_{i±1}` from the springs, `∂r_i/∂θ_i`,
 /// `∂r_i/∂λ = −L_i cos θ_i`, and the constraint row `∂Φ/∂θ_i = L_i cos θ_i`.
+///
+/// One AD pass per joint gives the whole row and the border entry of the constraint row: `r_i` is
+/// `∂(U + V − λΦ)/∂θ_i`, so `∂Φ/∂θ_i = −∂r_i/∂λ` exactly (the λ-derivative of the seeded pass;
+/// `tests/local_and_hand.rs` checks it against the AD of `Φ` itself). This halves the
+/// transcendental calls against a second pass over `L_i sin θ_i`.
 pub fn residual_and_state_jacobian(
     spans: &[f64],
     design: &Design,
@@ -57,7 +62,7 @@ pub fn residual_and_state_jacobian(
             jac.upper[i] = g[slot::THETA_NEXT];
         }
         jac.column[i] = g[slot::LAMBDA];
-        jac.row[i] = rise_derivatives(spans[i], design.theta0[i], state.theta[i]).0;
+        jac.row[i] = -g[slot::LAMBDA];
     }
     r.push(end_constraint(spans, &design.theta0, &state.theta));
     (r, jac)

@@ -197,3 +197,17 @@ fn hand_energy_and_end_partials_match_central_differences() {
         let _ = State::unloaded(&design);
     }
 }
+
+/// The constraint row of the AD state Jacobian is taken as `−∂r_i/∂λ` (the residual is the
+/// gradient of a Lagrangian); it equals the AD of `Φ = Σ L_i sin θ_i` term by term.
+#[test]
+fn constraint_row_of_the_state_jacobian_equals_the_ad_of_phi() {
+    for seed in 0..5 {
+        let (chain, design, loads, state) = random_problem(3 + seed as usize, seed);
+        let (_, jac) = residual_and_state_jacobian(&chain.spans, &design, &loads, &state);
+        for i in 0..chain.n_links() {
+            let direct = spine_model::jacobian::rise_derivatives(chain.spans[i], design.theta0[i], state.theta[i]).0;
+            assert!((jac.row[i] - direct).abs() <= 1e-15 * direct.abs().max(1.0), "seed {seed} link {i}: {} vs {direct}", jac.row[i]);
+        }
+    }
+}

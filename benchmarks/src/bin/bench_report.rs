@@ -1,0 +1,32 @@
+//! Writes `benchmarks/RESULTS.md` and `benchmarks/scaling.svg` from criterion's results in
+//! `target/criterion` (`just bench`) and `benchmarks/peers/results.json` (`just bench-peers`),
+//! followed by the hand-written analysis in `benchmarks/analysis.md`.
+
+use spine_benchmarks::peers::PeerRow;
+use spine_benchmarks::report::{figure, machine, read_criterion, results_markdown};
+use std::path::Path;
+
+fn main() {
+    let measurements = read_criterion(Path::new("target/criterion")).unwrap_or_else(|e| {
+        eprintln!("bench_report: {e}");
+        std::process::exit(1)
+    });
+    let peers: Vec<PeerRow> = match std::fs::read_to_string("benchmarks/peers/results.json") {
+        Ok(text) => serde_json::from_str(&text).unwrap_or_else(|e| {
+            eprintln!("bench_report: benchmarks/peers/results.json: {e}");
+            std::process::exit(1)
+        }),
+        Err(_) => Vec::new(),
+    };
+    let analysis = std::fs::read_to_string("benchmarks/analysis.md").unwrap_or_default();
+    let md = results_markdown(&measurements, &peers, &machine(), &analysis);
+    std::fs::write("benchmarks/RESULTS.md", md).expect("benchmarks/RESULTS.md");
+    if !measurements.is_empty() {
+        let svg = figure(&measurements).to_svg().unwrap_or_else(|e| {
+            eprintln!("bench_report: plot: {}", e.0);
+            std::process::exit(1)
+        });
+        std::fs::write("benchmarks/scaling.svg", svg).expect("benchmarks/scaling.svg");
+    }
+    eprintln!("wrote benchmarks/RESULTS.md ({} measurements, {} peer rows) and benchmarks/scaling.svg", measurements.len(), peers.len());
+}
