@@ -88,7 +88,14 @@ impl PeerRow {
             return format!("CasADi gave no result: {}", self.casadi_error.as_deref().unwrap_or("unknown"));
         };
         match (self.ours.converged, c.converged) {
-            (false, false) => return format!("neither converged (ours {}, CasADi {})", self.ours.status, c.status),
+            (false, false) => {
+                let acceptable = |s: &str| s.to_lowercase().contains("acceptable");
+                let diff = self.relative_difference().unwrap_or(f64::INFINITY);
+                if acceptable(&self.ours.status) && acceptable(&c.status) {
+                    return format!("both stopped at Ipopt's acceptable level only (not the 1e-9 tolerance); J differ by {diff:.1e}");
+                }
+                return format!("neither converged (ours {}, CasADi {})", self.ours.status, c.status);
+            }
             (false, true) => return format!("ours did not converge ({})", self.ours.status),
             (true, false) => return format!("CasADi did not converge ({})", c.status),
             (true, true) => {}

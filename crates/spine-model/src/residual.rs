@@ -64,10 +64,7 @@ impl<D: Scalar> JointStencil<D> {
             stiffness[i],
             stiffness[i + 1],
         ];
-        let mut values = [D::zero(); slot::COUNT];
-        for (s, v) in raw.into_iter().enumerate() {
-            values[s] = lift(s, v);
-        }
+        let values = std::array::from_fn(|s| lift(s, raw[s]));
         Self { values, has_prev, has_next }
     }
 
