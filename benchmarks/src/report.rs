@@ -107,6 +107,11 @@ pub fn series(measurements: &[Measurement]) -> BTreeMap<String, Vec<(usize, f64)
     map
 }
 
+/// `a / b` at every N that both series have.
+pub fn ratios(a: &[(usize, f64)], b: &[(usize, f64)]) -> Vec<(usize, f64)> {
+    a.iter().filter_map(|&(n, t)| b.iter().find(|(m, _)| *m == n).map(|&(_, u)| (n, t / u))).collect()
+}
+
 /// A time with a unit that keeps three significant digits.
 pub fn format_time(seconds: f64) -> String {
     if seconds >= 1.0 {
@@ -151,8 +156,7 @@ pub fn targets(measurements: &[Measurement], peers: &[PeerRow]) -> Vec<Target> {
     let mut out = Vec::new();
     let (ad, hand) = (by_name.get("jacobian/ad"), by_name.get("jacobian/hand"));
     if let (Some(ad), Some(hand)) = (ad, hand) {
-        let ratios: Vec<(usize, f64)> =
-            ad.iter().filter_map(|&(n, t)| hand.iter().find(|(m, _)| *m == n).map(|&(_, h)| (n, t / h))).collect();
+        let ratios = ratios(ad, hand);
         let worst = ratios.iter().fold(0.0f64, |m, r| m.max(r.1));
         out.push(Target {
             statement: "sparse AD Jacobian within 2× of the hand-coded one".into(),
@@ -239,8 +243,9 @@ pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine
     for (group, a, b) in ratio_rows {
         let (Some(sa), Some(sb)) = (by_name.get(&format!("{group}/{a}")), by_name.get(&format!("{group}/{b}"))) else { continue };
         let _ = write!(md, "| {group}: {a} / {b} |");
+        let by_size = ratios(sa, sb);
         for n in &sizes {
-            let r = sa.iter().find(|(m, _)| m == n).zip(sb.iter().find(|(m, _)| m == n)).map(|(x, y)| x.1 / y.1);
+            let r = by_size.iter().find(|(m, _)| m == n).map(|&(_, r)| r);
             let _ = write!(md, " {} |", r.map_or("–".into(), |r| format!("{r:.2}")));
         }
         let _ = writeln!(md);
