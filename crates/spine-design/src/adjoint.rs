@@ -20,6 +20,7 @@
 
 use crate::problem::DesignProblem;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
+use spine_model::chain::spring_links;
 use spine_model::local::{self, LinkRun, SpringEnergy};
 use spine_model::sparse::BorderedTridiagonal;
 use spine_model::{energy, hand, kinematics, Design, LinkLoads, State};
@@ -153,8 +154,7 @@ fn energy_partials_ad(design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     let spring = SpringEnergy { stiffness_scale: 1.0 };
     let (mut by_state, mut by_design) = (vec![0.0; n], vec![0.0; 2 * n + 1]);
     for j in 0..=n {
-        let link = |i: isize| (i >= 0 && (i as usize) < n).then_some(i as usize);
-        let (prev, this) = (link(j as isize - 1), link(j as isize));
+        let (prev, this) = spring_links(n, j);
         let pick = |v: &[f64], i: Option<usize>| i.map_or(0.0, |i| v[i]);
         let x = [pick(&state.theta, prev), pick(&design.theta0, prev), pick(&state.theta, this), pick(&design.theta0, this), design.stiffness[j]];
         let (_, g) = local::gradient(&spring, &x);

@@ -22,6 +22,7 @@ use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
 use crate::problem::DesignProblem;
 use spine_model::local::{Difference, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
 use spine_model::residual::slot;
+use spine_model::chain::spring_links;
 use spine_model::{Design, LinkLoads, State};
 
 /// Index map of the full-space variables and constraints.
@@ -136,9 +137,7 @@ pub fn assemble(problem: &DesignProblem) -> Assembled {
     }
     let springs = (0..=n)
         .map(|j| {
-            let link = |i: isize| (i >= 0 && (i as usize) < n).then(|| i as usize);
-            let prev = link(j as isize - 1);
-            let this = link(j as isize);
+            let (prev, this) = spring_links(n, j);
             Placed {
                 element: SpringEnergy { stiffness_scale: ck },
                 vars: [

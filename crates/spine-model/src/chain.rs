@@ -34,6 +34,12 @@ impl Chain {
     }
 }
 
+/// The links that spring `j` (`0..=N`) joins, `(j − 1, j)`: `None` for the ground side of the
+/// base spring (`j = 0`) and the slider side of the end spring (`j = N`).
+pub fn spring_links(n_links: usize, j: usize) -> (Option<usize>, Option<usize>) {
+    (j.checked_sub(1), (j < n_links).then_some(j))
+}
+
 /// A design: unloaded link angles `θ0` (rad, length `N`) and spring stiffnesses `K`
 /// (N·m/rad, length `N+1`, `K[0]` at the base, `K[N]` at the slider).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
