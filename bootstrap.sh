@@ -4,7 +4,7 @@
 set -euo pipefail
 
 need_pkgs=()
-for p in coinor-libipopt-dev cmake libclang-dev pkg-config; do
+for p in coinor-libipopt-dev pkg-config; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need_pkgs+=("$p")
 done
 if [ ${#need_pkgs[@]} -gt 0 ]; then

@@ -3,18 +3,34 @@
 //! iteration and the optimum J. Each configuration runs `REPEATS` times and reports the fastest
 //! (machines here are shared and noisy).
 //!
-//! Usage: `design_scaling [N ...]` (default 5 10 20 50 100 200 500 1000).
+//! Usage: `design_scaling [--refine=off|auto|FROM] [--repeats=R] [N ...]` (default N: 5 10 20 50 100
+//! 200 500 1000; default refine: the solver's default, "auto"; FROM: a ladder from FROM links, factor 2).
 
 use spine_design::fixtures::{arch_start, scaled_family};
+use spine_design::refine::{Ladder, Refine, RefineMode};
 use spine_design::{solve_design, Formulation, SolverSettings};
 
-const REPEATS: usize = 3;
 /// Largest N for the reduced space: its finite-difference Hessian costs 2(2N + 1) equilibrium
 /// solves per iteration and a dense (2N + 1)² block.
 const REDUCED_MAX_N: usize = 100;
 
 fn main() {
-    let sizes: Vec<usize> = std::env::args().skip(1).map(|a| a.parse().expect("N must be a positive integer")).collect();
+    let mut settings = SolverSettings::default();
+    let mut repeats = 3;
+    let mut sizes: Vec<usize> = Vec::new();
+    for arg in std::env::args().skip(1) {
+        if let Some(mode) = arg.strip_prefix("--refine=") {
+            settings.refine = match mode {
+                "off" => Refine::Mode(RefineMode::Off),
+                "auto" => Refine::Mode(RefineMode::Auto),
+                from => Refine::Ladder(Ladder { from: from.parse().expect("--refine=off|auto|FROM"), factor: 2.0 }),
+            };
+        } else if let Some(r) = arg.strip_prefix("--repeats=") {
+            repeats = r.parse().expect("--repeats=R");
+        } else {
+            sizes.push(arg.parse().expect("N must be a positive integer"));
+        }
+    }
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
     println!("| N | formulation | status | iterations | wall time (s) | time per iteration (ms) | J (J) | clean |");
     println!("|---|---|---|---|---|---|---|---|");
@@ -28,9 +44,9 @@ fn main() {
                 continue;
             }
             let mut best: Option<(f64, spine_design::DesignResult)> = None;
-            for _ in 0..REPEATS {
+            for _ in 0..repeats {
                 let clock = std::time::Instant::now();
-                let r = solve_design(&problem, &start, formulation, &SolverSettings::default(), &mut |_| true).expect("valid problem");
+                let r = solve_design(&problem, &start, formulation, &settings, &mut |_| true).expect("valid problem");
                 let t = clock.elapsed().as_secs_f64();
                 if best.as_ref().is_none_or(|(bt, _)| t < *bt) {
                     best = Some((t, r));
@@ -38,6 +54,11 @@ fn main() {
             }
             let (t, r) = best.expect("at least one repeat");
             let per_iteration = 1e3 * r.solver.ipopt_seconds / r.solver.iterations.max(1) as f64;
+            if let Some(refinement) = &r.refinement {
+                for l in &refinement.levels {
+                    eprintln!("  N = {n} level {}: {:?} {} after {} iterations, J = {:.9e}, {:.3} s (start {:.3} s)", l.links, l.start, l.status, l.iterations, l.objective, l.wall_seconds, l.start_seconds);
+                }
+            }
             println!(
                 "| {n} | {} | {} | {} | {t:.4} | {per_iteration:.3} | {:.9e} | {} |",
                 formulation.name(),

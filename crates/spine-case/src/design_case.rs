@@ -4,6 +4,7 @@ use crate::per_item::check_finite;
 use crate::schema::{check_options, non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
+use spine_design::refine::Refine;
 use spine_design::{DesignBounds, DesignProblem, Formulation, SolverSettings};
 use spine_model::Design;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
@@ -175,6 +176,13 @@ impl DesignCase {
             return Err(CaseError::invalid("solver.barrier_strategy", format!("must be \"monotone\" or \"adaptive\", got {:?}", s.barrier_strategy)));
         }
         check_options(&s.continuation).map_err(|e| e.with_prefix("solver.continuation"))?;
+        if let Refine::Ladder(ladder) = &s.refine {
+            ladder.check().map_err(|(field, why)| CaseError::invalid(format!("solver.refine.{field}"), why))?;
+            if self.formulation == Formulation::Reduced {
+                return Err(CaseError::invalid("solver.refine", "mesh sequencing needs formulation \"full\"; use \"off\" or \"auto\" with \"reduced\""));
+            }
+        }
+        s.warm_start.check().map_err(|(field, why)| CaseError::invalid(format!("solver.warm_start.{field}"), why))?;
 
         Ok(ValidDesign {
             problem: DesignProblem {

@@ -15,17 +15,20 @@ pub struct Overrides {
     pub formulation: Option<Formulation>,
     pub starts: Option<usize>,
     pub seed: Option<u64>,
+    pub refine: Option<spine_design::refine::Refine>,
 }
 
-/// The result as JSON with its timings moved under `timings` (dropped by `--deterministic`).
+/// The result as JSON with its timings moved under `timings` (dropped by `--deterministic`):
+/// Ipopt's and the evaluations' under their own names, every other `*_seconds` by its path.
 fn result_json(result: &DesignResult) -> (Value, Value) {
     let mut value = serde_json::to_value(result).expect("results serialise");
     let solver = value.get_mut("solver").and_then(Value::as_object_mut).expect("solver report");
-    let timings = json!({
-        "ipopt_seconds": solver.remove("ipopt_seconds"),
-        "evaluation_seconds": solver.remove("evaluation_seconds"),
-    });
-    (value, timings)
+    let mut timings = serde_json::Map::new();
+    for key in ["ipopt_seconds", "evaluation_seconds"] {
+        timings.insert(key.into(), solver.remove(key).unwrap_or(Value::Null));
+    }
+    crate::figure::split_timings(&mut value, "", &mut timings);
+    (value, Value::Object(timings))
 }
 
 fn run_one(valid: &ValidDesign, formulation: Formulation, start: &spine_model::Design) -> Result<DesignResult, Failure> {
@@ -39,6 +42,11 @@ fn print_summary(title: &str, r: &DesignResult) {
         "Ipopt: {} after {} iterations ({:.3} s, {:.3} s in evaluations)",
         r.solver.status, r.solver.iterations, r.solver.ipopt_seconds, r.solver.evaluation_seconds
     );
+    if let Some(refinement) = &r.refinement {
+        for l in &refinement.levels {
+            println!("  level {:>5} links ({:?} start): {} after {} iterations, J = {:.10e} J", l.links, l.start, l.status, l.iterations, l.objective);
+        }
+    }
     println!("J = U(θ1) = {:.10e} J", r.objective);
     if let Some(v) = &r.violations {
         println!("largest constraint violation {:.2e} (equilibria {:.1e} / {:.1e} N·m, end {:.1e} m)", v.max, v.passive_equilibrium, v.loaded_equilibrium, v.end_displacement);
@@ -64,6 +72,11 @@ fn print_summary(title: &str, r: &DesignResult) {
 }
 
 pub fn run(case: &DesignCase, valid: &ValidDesign, overrides: Overrides, out: &Output) -> Result<Outcome, Failure> {
+    let mut valid = valid.clone();
+    if let Some(refine) = overrides.refine {
+        valid.settings.refine = refine;
+    }
+    let valid = &valid;
     let formulation = overrides.formulation.unwrap_or(valid.formulation);
     let starts = overrides.starts.unwrap_or(valid.multistart.starts);
     let seed = overrides.seed.unwrap_or(valid.multistart.seed);

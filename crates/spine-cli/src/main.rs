@@ -49,6 +49,10 @@ struct DesignArgs {
     /// Seed of the multi-start; default: the case file's.
     #[arg(long)]
     seed: Option<u64>,
+    /// Mesh sequencing of the full space: `off`, `auto` (from 100 links: 50, 100, 200, … links),
+    /// `FROM` or `FROM:FACTOR`; default: the case file's `solver.refine`.
+    #[arg(long)]
+    refine: Option<spine_design::refine::Refine>,
 }
 
 #[derive(clap::Args)]
@@ -178,6 +182,7 @@ fn main() -> ExitCode {
                 formulation: a.formulation.as_deref().map(|f| if f == "reduced" { spine_design::Formulation::Reduced } else { spine_design::Formulation::Full }),
                 starts: a.starts,
                 seed: a.seed,
+                refine: a.refine,
             };
             (&a.run, Some("design"))
         }

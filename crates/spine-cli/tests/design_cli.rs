@@ -75,6 +75,11 @@ fn bad_design_input_exits_2_and_names_the_field() {
         ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"continuation\": {\"min_step\": 0}}", "solver.continuation.min_step"),
         ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"no_such_option\": 1}}", "solver"),
         ("[10000, 250, 250, 250, 250, 0]", "[10000, 250]", "start.stiffness"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"refine\": {\"from\": 1}}", "solver.refine.from"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"refine\": {\"from\": 2, \"factor\": 0.5}}", "solver.refine.factor"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"reduced\", \"solver\": {\"refine\": {\"from\": 2}}", "solver.refine"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"refine\": \"sometimes\"}", "solver"),
+        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"warm_start\": {\"mu_init\": 0}}", "solver.warm_start.mu_init"),
     ];
     for (from, to, field) in cases {
         assert!(good.contains(from), "{from}");
@@ -88,4 +93,30 @@ fn bad_design_input_exits_2_and_names_the_field() {
         assert!(stderr.contains(field), "{field}: {stderr}");
         assert!(!out.join("result.json").exists(), "{field}: wrote a result");
     }
+}
+
+#[test]
+fn refined_design_reports_every_level_and_is_deterministic() {
+    let case = workspace().join("paper-cases/design10.json");
+    let mut texts = Vec::new();
+    for tag in ["a", "b"] {
+        let out = tmpdir(&format!("refine-{tag}"));
+        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic", "--refine", "5:2"]);
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(matches!(o.status.code(), Some(0) | Some(3)), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(stdout.contains("level     5 links (Cold start)") && stdout.contains("level    10 links"), "{stdout}");
+        let r = read(&out.join("result.json"));
+        let levels = r["refinement"]["levels"].as_array().unwrap();
+        assert_eq!(levels.iter().map(|l| l["links"].as_u64().unwrap()).collect::<Vec<_>>(), vec![5, 10]);
+        assert_eq!(levels[0]["start"], "cold");
+        assert!(levels.iter().all(|l| l.get("wall_seconds").is_none()), "timings left in a deterministic result");
+        assert_eq!(r["solver"]["status"], levels[1]["status"]);
+        assert_eq!(r["solver"]["ipopt_options"]["honor_original_bounds"], "no");
+        assert!(r["solver"]["ipopt_version"].as_str().unwrap().starts_with("3."));
+        texts.push(std::fs::read(out.join("result.json")).unwrap());
+    }
+    assert_eq!(texts[0], texts[1], "same input, same bytes");
+    let o = spine(&["design", case.to_str().unwrap(), "--out", tmpdir("refine-bad").join("out").to_str().unwrap(), "--refine", "1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("refine"));
 }

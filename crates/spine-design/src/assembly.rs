@@ -153,7 +153,7 @@ impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
             if weight == 0.0 {
                 continue;
             }
-            let (_, _, h) = local::hessian(&item.element, &self.local(item, x));
+            let h = local::hessian(&item.element, &self.local(item, x));
             for (&(a, b), &position) in pairs.iter().zip(positions) {
                 if position != NONE {
                     hessian[position] += weight * h[a][b];

@@ -269,6 +269,8 @@ pub struct FullSpaceNlp<'a> {
     pub start: Vec<f64>,
     /// Called once per Ipopt iteration (progress, logging); return `false` to stop.
     pub on_iteration: Option<&'a mut dyn FnMut(&spine_ipopt::IterationInfo) -> bool>,
+    /// Start multipliers, used with Ipopt's `warm_start_init_point = yes` (mesh sequencing).
+    pub multipliers: Option<crate::refine::Multipliers>,
     /// `x`, `f` and `g` at the last point: Ipopt asks for both at the same point.
     values: Option<(Vec<f64>, f64, Vec<f64>)>,
     /// `x`, `∇f` and the Jacobian values at the last point: Ipopt asks for both at the same point.
@@ -282,7 +284,7 @@ impl<'a> FullSpaceNlp<'a> {
         let layout = Layout { n: problem.n_links() };
         let heights = problem.node_heights(&start.theta0);
         let start = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
-        FullSpaceNlp { problem, layout, assembled: assemble(problem), start, on_iteration: None, values: None, first_derivatives: None }
+        FullSpaceNlp { problem, layout, assembled: assemble(problem), start, on_iteration: None, multipliers: None, values: None, first_derivatives: None }
     }
 }
 
@@ -327,6 +329,13 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);
+    }
+    fn initial_multipliers(&self, z_lower: &mut [f64], z_upper: &mut [f64], lambda: &mut [f64]) -> bool {
+        let Some(m) = &self.multipliers else { return false };
+        z_lower.copy_from_slice(&m.z_lower);
+        z_upper.copy_from_slice(&m.z_upper);
+        lambda.copy_from_slice(&m.constraints);
+        true
     }
     fn objective(&mut self, x: &[f64], _new_x: bool) -> Option<f64> {
         let (f, _) = self.values_at(x);

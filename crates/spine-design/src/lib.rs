@@ -9,6 +9,7 @@
 //!   gradients by the hand-derived adjoint.
 //! * [`solve`]: runs either with Ipopt; [`result`]: the checked result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
+//! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
 
 pub mod adjoint;
 pub mod assembly;
@@ -17,6 +18,7 @@ pub mod full_space;
 pub mod multistart;
 pub mod problem;
 pub mod reduced_space;
+pub mod refine;
 pub mod result;
 pub mod solve;
 

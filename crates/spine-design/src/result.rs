@@ -2,6 +2,7 @@
 //! judged by the same numbers.
 
 use crate::problem::DesignProblem;
+use crate::refine::{Ladder, LevelStart, WarmStart};
 use crate::solve::Formulation;
 use serde::Serialize;
 use spine_ipopt::{EvaluationCounts, Solution};
@@ -13,6 +14,10 @@ use spine_solve::{solve_static, stability, ContinuationOptions, Stability};
 /// Ipopt's account of the run.
 #[derive(Clone, Debug, Serialize)]
 pub struct SolverReport {
+    /// The Ipopt the program is built against ([`spine_ipopt::IPOPT_VERSION`]).
+    pub ipopt_version: String,
+    /// Every option passed to Ipopt (the cold solve's; warm levels add `refinement.warm_start`).
+    pub ipopt_options: std::collections::BTreeMap<String, String>,
     /// Ipopt's return status (snake_case name).
     pub status: String,
     /// Converged to the requested tolerances.
@@ -25,9 +30,15 @@ pub struct SolverReport {
     /// Primal and dual infeasibility at the last iteration (Ipopt's scaled measures).
     pub final_primal_infeasibility: f64,
     pub final_dual_infeasibility: f64,
-    /// Wall time inside Ipopt, s, and the part spent in our function evaluations, s.
+    /// Wall time inside Ipopt, s, and the part spent in our function evaluations, s (last level
+    /// of a refined run).
     pub ipopt_seconds: f64,
     pub evaluation_seconds: f64,
+    /// Start equilibria by continuation before Ipopt (cold full space), the final check of the
+    /// design (equilibria, stability, load path), and the whole run with every level, s.
+    pub start_seconds: f64,
+    pub check_seconds: f64,
+    pub total_seconds: f64,
     #[serde(serialize_with = "serialize_counts")]
     pub evaluations: EvaluationCounts,
     /// Reduced space: distinct designs at which both equilibria were solved.
@@ -48,6 +59,8 @@ fn serialize_counts<S: serde::Serializer>(c: &EvaluationCounts, s: S) -> Result<
 impl SolverReport {
     pub fn from_ipopt(solution: &Solution, equilibrium_solves: usize) -> Self {
         SolverReport {
+            ipopt_version: spine_ipopt::IPOPT_VERSION.to_string(),
+            ipopt_options: Default::default(),
             status: solution.status.name(),
             optimal: solution.status.is_optimal(),
             converged: solution.status.is_converged(),
@@ -57,10 +70,40 @@ impl SolverReport {
             final_dual_infeasibility: solution.last_iteration.dual_infeasibility,
             ipopt_seconds: solution.wall_time.as_secs_f64(),
             evaluation_seconds: solution.callback_time.as_secs_f64(),
+            start_seconds: 0.0,
+            check_seconds: 0.0,
+            total_seconds: 0.0,
             evaluations: solution.evaluations,
             equilibrium_solves,
         }
     }
+}
+
+/// One level of a mesh-sequenced run ([`crate::refine`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct LevelReport {
+    /// Links of this level's chain.
+    pub links: usize,
+    pub start: LevelStart,
+    /// Ipopt's status at this level; `optimal`: `solve_succeeded`.
+    pub status: String,
+    pub optimal: bool,
+    pub iterations: usize,
+    /// `J` of this level's (coarse) problem, J.
+    pub objective: f64,
+    /// Preparing the start (prolongation and equilibria), and the whole level, s.
+    pub start_seconds: f64,
+    pub wall_seconds: f64,
+}
+
+/// How a mesh-sequenced run went.
+#[derive(Clone, Debug, Serialize)]
+pub struct RefinementReport {
+    pub ladder: Ladder,
+    pub warm_start: WarmStart,
+    /// A coarse level did not converge and the chain itself was solved cold.
+    pub fell_back_to_cold: bool,
+    pub levels: Vec<LevelReport>,
 }
 
 /// One load state of the result.
@@ -134,6 +177,9 @@ pub struct DesignResult {
     /// Everything a reader must not miss: non-convergence, unstable equilibria, a state off the
     /// load path. Empty for a clean optimum.
     pub warnings: Vec<String>,
+    /// The levels of a mesh-sequenced run (absent for a single solve).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<RefinementReport>,
 }
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -273,6 +319,7 @@ impl DesignResult {
             load_path,
             start_notes,
             warnings,
+            refinement: None,
         }
     }
 

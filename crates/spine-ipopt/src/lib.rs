@@ -1,4 +1,6 @@
-//! A thin safe wrapper over Ipopt's C interface (the `cnlp` shim of `ipopt-sys`).
+//! A thin safe wrapper over Ipopt's standard C interface (`IpStdCInterface.h`), for Debian's
+//! Ipopt 3.11.9 (the default build) or an Ipopt 3.14 named by `IPOPT_DIR` at build time
+//! ([`IPOPT_VERSION`] says which one is linked).
 //!
 //! Ipopt solves
 //!
@@ -11,7 +13,7 @@
 //! `σ∇²f + Σ λ_i ∇²g_i`, lower triangle only. [`solve`] runs Ipopt and returns a [`Solution`] whose
 //! [`Status`] names every Ipopt return code.
 //!
-//! This is the only crate of the workspace with `unsafe` code. Every callback runs inside
+//! This is the only crate of the workspace with `unsafe` code, all of it in the `ffi` module. Every callback runs inside
 //! `catch_unwind`: a panic in user code is caught, Ipopt is told the evaluation failed and is
 //! stopped at its next iteration, and the panic resumes after Ipopt has returned, so no Rust panic
 //! ever unwinds through C frames.
@@ -53,16 +55,14 @@
 //! assert!((solution.x[0] - 3.0).abs() < 1e-8);
 //! ```
 
+mod ffi;
 mod options;
 mod status;
 
 pub use options::{OptionValue, Options};
 pub use status::Status;
 
-use ipopt_sys as sys;
-use std::any::Any;
-use std::ffi::{c_void, CString};
-use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
+use std::panic::resume_unwind;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -188,8 +188,9 @@ pub enum SetupError {
     BadStructure(String),
     /// Ipopt refused an option (unknown name or wrong type).
     InvalidOption(String),
-    /// `cnlp_create_problem` failed with this code.
-    CreateFailed(u32),
+    /// `CreateIpoptProblem` refused the sizes (for example no variable, or constraints without
+    /// Jacobian entries).
+    CreateFailed(String),
 }
 
 impl std::fmt::Display for SetupError {
@@ -198,47 +199,19 @@ impl std::fmt::Display for SetupError {
             SetupError::TooLarge(what) => write!(f, "{what} exceeds Ipopt's 32-bit index range"),
             SetupError::BadStructure(what) => write!(f, "bad sparsity structure: {what}"),
             SetupError::InvalidOption(what) => write!(f, "Ipopt rejected the option {what}"),
-            SetupError::CreateFailed(code) => write!(f, "Ipopt could not create the problem (code {code})"),
+            SetupError::CreateFailed(what) => write!(f, "Ipopt could not create the problem ({what})"),
         }
     }
 }
 
 impl std::error::Error for SetupError {}
 
-/// MUMPS in Ipopt 3.11 is not thread-safe: one solve at a time per process.
+/// The version of the Ipopt this crate was built against (read from its headers), e.g. "3.11.9".
+pub const IPOPT_VERSION: &str = env!("SPINE_IPOPT_VERSION");
+
+/// MUMPS is not thread-safe (Ipopt 3.11 aborts when two solves overlap): one solve at a time per
+/// process.
 static SOLVE_LOCK: Mutex<()> = Mutex::new(());
-
-/// Everything a callback needs, behind the `user_data` pointer.
-struct Context<'a> {
-    problem: &'a mut dyn Problem,
-    n: usize,
-    m: usize,
-    jacobian: Vec<(usize, usize)>,
-    hessian: Option<Vec<(usize, usize)>>,
-    panic: Option<Box<dyn Any + Send>>,
-    last: IterationInfo,
-    evaluations: EvaluationCounts,
-    callback_time: Duration,
-}
-
-impl Context<'_> {
-    /// Runs `f` with panics caught and time recorded; a panic is stored and reported as failure.
-    fn guarded(&mut self, f: impl FnOnce(&mut Self) -> bool) -> sys::CNLP_Bool {
-        if self.panic.is_some() {
-            return 0;
-        }
-        let start = Instant::now();
-        let outcome = catch_unwind(AssertUnwindSafe(|| f(self)));
-        self.callback_time += start.elapsed();
-        match outcome {
-            Ok(ok) => ok as sys::CNLP_Bool,
-            Err(payload) => {
-                self.panic = Some(payload);
-                0
-            }
-        }
-    }
-}
 
 /// Solves `problem` with Ipopt.
 ///
@@ -261,11 +234,32 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
     }
     all_options.extend(options);
 
+    let mut start = ffi::Start {
+        x_lower: vec![f64::NEG_INFINITY; n],
+        x_upper: vec![f64::INFINITY; n],
+        g_lower: vec![f64::NEG_INFINITY; m],
+        g_upper: vec![f64::INFINITY; m],
+        x: vec![0.0; n],
+        mult_g: vec![0.0; m],
+        z_lower: vec![0.0; n],
+        z_upper: vec![0.0; n],
+    };
+    problem.variable_bounds(&mut start.x_lower, &mut start.x_upper);
+    problem.constraint_bounds(&mut start.g_lower, &mut start.g_upper);
+    // Ipopt reads ±1e19 as infinite; Rust's infinities map onto that.
+    for value in [&mut start.x_lower, &mut start.x_upper, &mut start.g_lower, &mut start.g_upper].into_iter().flat_map(|v| v.iter_mut()) {
+        *value = value.clamp(-1e20, 1e20);
+    }
+    problem.initial_point(&mut start.x);
+    if !problem.initial_multipliers(&mut start.z_lower, &mut start.z_upper, &mut start.mult_g) {
+        start.mult_g.fill(0.0);
+        start.z_lower.fill(0.0);
+        start.z_upper.fill(0.0);
+    }
+
     let _guard = SOLVE_LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-    let mut context = Context {
+    let mut context = ffi::Context {
         problem,
-        n,
-        m,
         jacobian,
         hessian,
         panic: None,
@@ -273,43 +267,26 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         evaluations: EvaluationCounts::default(),
         callback_time: Duration::ZERO,
     };
-    let raw = RawProblem::create()?;
-    for (name, value) in all_options.iter() {
-        raw.add_option(name, value)?;
+    let clock = Instant::now();
+    let finish = ffi::run(&mut context, start, &all_options.iter().collect::<Vec<_>>())?;
+    let wall_time = clock.elapsed();
+    if let Some(payload) = context.panic.take() {
+        resume_unwind(payload);
     }
-    let start = Instant::now();
-    let user_data = &mut context as *mut Context as *mut c_void;
-    // SAFETY: `raw` is a live problem; `user_data` points to `context`, which outlives the call and
-    // is only touched by the callbacks during it.
-    let result = unsafe { sys::cnlp_solve(raw.0, user_data) };
-    let wall_time = start.elapsed();
-    let copy = |ptr: *const f64, len: usize| -> Vec<f64> {
-        if ptr.is_null() || len == 0 {
-            vec![0.0; len]
-        } else {
-            // SAFETY: the solver data vectors belong to `raw` (still alive) and hold `len` values.
-            unsafe { std::slice::from_raw_parts(ptr, len) }.to_vec()
-        }
-    };
-    let solution = Solution {
-        status: Status::from_code(result.status),
-        x: copy(result.data.x, n),
-        objective: result.obj_val,
-        g: copy(result.g, m),
-        lambda: copy(result.data.mult_g, m),
-        z_lower: copy(result.data.mult_x_L, n),
-        z_upper: copy(result.data.mult_x_U, n),
+    Ok(Solution {
+        status: Status::from_code(finish.status),
+        x: finish.x,
+        objective: finish.objective,
+        g: finish.g,
+        lambda: finish.mult_g,
+        z_lower: finish.z_lower,
+        z_upper: finish.z_upper,
         iterations: context.last.iteration,
         last_iteration: context.last,
         evaluations: context.evaluations,
         wall_time,
         callback_time: context.callback_time,
-    };
-    drop(raw);
-    if let Some(payload) = context.panic.take() {
-        resume_unwind(payload);
-    }
-    Ok(solution)
+    })
 }
 
 fn check_sizes(
@@ -342,358 +319,4 @@ fn check_sizes(
         }
     }
     Ok(())
-}
-
-/// Owns a `CNLP_ProblemPtr` and frees it on drop.
-struct RawProblem(sys::CNLP_ProblemPtr);
-
-impl RawProblem {
-    fn create() -> Result<Self, SetupError> {
-        let mut ptr: sys::CNLP_ProblemPtr = std::ptr::null_mut();
-        // SAFETY: every callback is an `extern "C"` function of this module with the expected
-        // signature; `ptr` receives the new problem.
-        let code = unsafe {
-            sys::cnlp_create_problem(
-                &mut ptr,
-                0,
-                Some(sizes),
-                Some(init),
-                Some(bounds),
-                Some(eval_f),
-                Some(eval_g),
-                Some(eval_grad_f),
-                Some(eval_jac_g),
-                Some(eval_h),
-                None,
-            )
-        };
-        if code != sys::CNLP_CreateProblemStatus_CNLP_SUCCESS || ptr.is_null() {
-            return Err(SetupError::CreateFailed(code));
-        }
-        // SAFETY: `ptr` is a live problem and `intermediate` has the expected signature.
-        unsafe { sys::cnlp_set_intermediate_callback(ptr, Some(intermediate)) };
-        Ok(RawProblem(ptr))
-    }
-
-    fn add_option(&self, name: &str, value: &OptionValue) -> Result<(), SetupError> {
-        let invalid = || SetupError::InvalidOption(format!("{name} = {value}"));
-        let key = CString::new(name).map_err(|_| invalid())?;
-        // SAFETY: `self.0` is live; the strings are NUL-terminated and outlive the calls.
-        let accepted = unsafe {
-            match value {
-                OptionValue::Str(text) => {
-                    let text = CString::new(text.as_str()).map_err(|_| invalid())?;
-                    sys::cnlp_add_str_option(self.0, key.as_ptr(), text.as_ptr())
-                }
-                OptionValue::Num(number) => sys::cnlp_add_num_option(self.0, key.as_ptr(), *number),
-                OptionValue::Int(integer) => {
-                    let integer = i32::try_from(*integer).map_err(|_| invalid())?;
-                    sys::cnlp_add_int_option(self.0, key.as_ptr(), integer)
-                }
-            }
-        };
-        if accepted == 0 {
-            Err(invalid())
-        } else {
-            Ok(())
-        }
-    }
-}
-
-impl Drop for RawProblem {
-    fn drop(&mut self) {
-        // SAFETY: created by `cnlp_create_problem` and freed exactly once.
-        unsafe { sys::cnlp_free_problem(self.0) };
-    }
-}
-
-/// Recovers the context from Ipopt's `user_data`.
-///
-/// # Safety
-/// `user_data` must be the pointer passed to `cnlp_solve` by [`solve`].
-unsafe fn context<'a>(user_data: sys::CNLP_UserDataPtr) -> &'a mut Context<'a> {
-    &mut *(user_data as *mut Context)
-}
-
-/// A mutable slice over an Ipopt output buffer, empty when Ipopt passes NULL.
-///
-/// # Safety
-/// A non-null `ptr` must be valid for `len` writes for the lifetime `'a`.
-unsafe fn out_slice<'a>(ptr: *mut f64, len: usize) -> &'a mut [f64] {
-    if ptr.is_null() || len == 0 {
-        &mut []
-    } else {
-        std::slice::from_raw_parts_mut(ptr, len)
-    }
-}
-
-/// An input slice from Ipopt, empty when Ipopt passes NULL.
-///
-/// # Safety
-/// A non-null `ptr` must be valid for `len` reads for the lifetime `'a`.
-unsafe fn in_slice<'a>(ptr: *const f64, len: usize) -> &'a [f64] {
-    if ptr.is_null() || len == 0 {
-        &[]
-    } else {
-        std::slice::from_raw_parts(ptr, len)
-    }
-}
-
-/// Writes a sparsity structure into Ipopt's index arrays.
-///
-/// # Safety
-/// Non-null `rows`/`cols` must be valid for `entries.len()` writes.
-unsafe fn write_structure(entries: &[(usize, usize)], rows: *mut sys::CNLP_Index, cols: *mut sys::CNLP_Index) -> bool {
-    if entries.is_empty() {
-        return true;
-    }
-    if rows.is_null() || cols.is_null() {
-        return false;
-    }
-    let rows = std::slice::from_raw_parts_mut(rows, entries.len());
-    let cols = std::slice::from_raw_parts_mut(cols, entries.len());
-    for (k, &(r, c)) in entries.iter().enumerate() {
-        rows[k] = r as sys::CNLP_Index;
-        cols[k] = c as sys::CNLP_Index;
-    }
-    true
-}
-
-extern "C" fn sizes(
-    n: *mut sys::CNLP_Index,
-    m: *mut sys::CNLP_Index,
-    nnz_jac: *mut sys::CNLP_Index,
-    nnz_hess: *mut sys::CNLP_Index,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; the out-pointers are valid Ipopt scalars.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| {
-        let hessian_len = ctx.hessian.as_ref().map_or(0, Vec::len);
-        unsafe {
-            *n = ctx.n as sys::CNLP_Index;
-            *m = ctx.m as sys::CNLP_Index;
-            *nnz_jac = ctx.jacobian.len() as sys::CNLP_Index;
-            *nnz_hess = hessian_len as sys::CNLP_Index;
-        }
-        true
-    })
-}
-
-#[allow(clippy::too_many_arguments)]
-extern "C" fn init(
-    n: sys::CNLP_Index,
-    init_x: sys::CNLP_Bool,
-    x: *mut f64,
-    init_z: sys::CNLP_Bool,
-    z_l: *mut f64,
-    z_u: *mut f64,
-    m: sys::CNLP_Index,
-    init_lambda: sys::CNLP_Bool,
-    lambda: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; Ipopt's buffers hold n and m values.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        let (n, m) = (n as usize, m as usize);
-        if init_x != 0 {
-            ctx.problem.initial_point(out_slice(x, n));
-        }
-        if init_z != 0 || init_lambda != 0 {
-            let (mut zl, mut zu, mut lam) = (vec![0.0; n], vec![0.0; n], vec![0.0; m]);
-            if !ctx.problem.initial_multipliers(&mut zl, &mut zu, &mut lam) {
-                return false;
-            }
-            if init_z != 0 {
-                out_slice(z_l, n).copy_from_slice(&zl);
-                out_slice(z_u, n).copy_from_slice(&zu);
-            }
-            if init_lambda != 0 {
-                out_slice(lambda, m).copy_from_slice(&lam);
-            }
-        }
-        true
-    })
-}
-
-extern "C" fn bounds(
-    n: sys::CNLP_Index,
-    x_l: *mut f64,
-    x_u: *mut f64,
-    m: sys::CNLP_Index,
-    g_l: *mut f64,
-    g_u: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; Ipopt's buffers hold n and m values.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        let (n, m) = (n as usize, m as usize);
-        let (lower, upper) = (out_slice(x_l, n), out_slice(x_u, n));
-        lower.fill(f64::NEG_INFINITY);
-        upper.fill(f64::INFINITY);
-        ctx.problem.variable_bounds(lower, upper);
-        let (lower, upper) = (out_slice(g_l, m), out_slice(g_u, m));
-        lower.fill(f64::NEG_INFINITY);
-        upper.fill(f64::INFINITY);
-        ctx.problem.constraint_bounds(lower, upper);
-        // Ipopt reads ±1e19 as infinite; Rust's infinities map onto that.
-        for value in [out_slice(x_l, n), out_slice(x_u, n), out_slice(g_l, m), out_slice(g_u, m)]
-            .into_iter()
-            .flat_map(|s| s.iter_mut())
-        {
-            *value = value.clamp(-1e20, 1e20);
-        }
-        true
-    })
-}
-
-extern "C" fn eval_f(
-    n: sys::CNLP_Index,
-    x: *const f64,
-    new_x: sys::CNLP_Bool,
-    obj: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; `x` holds n values and `obj` is a valid scalar.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        ctx.evaluations.objective += 1;
-        match ctx.problem.objective(in_slice(x, n as usize), new_x != 0) {
-            Some(value) => {
-                *obj = value;
-                true
-            }
-            None => false,
-        }
-    })
-}
-
-extern "C" fn eval_grad_f(
-    n: sys::CNLP_Index,
-    x: *const f64,
-    new_x: sys::CNLP_Bool,
-    grad: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; `x` and `grad` hold n values.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        ctx.evaluations.gradient += 1;
-        let n = n as usize;
-        ctx.problem.objective_gradient(in_slice(x, n), new_x != 0, out_slice(grad, n))
-    })
-}
-
-extern "C" fn eval_g(
-    n: sys::CNLP_Index,
-    x: *const f64,
-    new_x: sys::CNLP_Bool,
-    m: sys::CNLP_Index,
-    g: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; `x` holds n values and `g` m values.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        ctx.evaluations.constraints += 1;
-        ctx.problem.constraints(in_slice(x, n as usize), new_x != 0, out_slice(g, m as usize))
-    })
-}
-
-#[allow(clippy::too_many_arguments)]
-extern "C" fn eval_jac_g(
-    n: sys::CNLP_Index,
-    x: *const f64,
-    new_x: sys::CNLP_Bool,
-    _m: sys::CNLP_Index,
-    nnz: sys::CNLP_Index,
-    rows: *mut sys::CNLP_Index,
-    cols: *mut sys::CNLP_Index,
-    values: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; Ipopt's buffers hold n and nnz values.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        if values.is_null() {
-            return write_structure(&ctx.jacobian, rows, cols);
-        }
-        ctx.evaluations.jacobian += 1;
-        ctx.problem.jacobian_values(in_slice(x, n as usize), new_x != 0, out_slice(values, nnz as usize))
-    })
-}
-
-#[allow(clippy::too_many_arguments)]
-extern "C" fn eval_h(
-    n: sys::CNLP_Index,
-    x: *const f64,
-    new_x: sys::CNLP_Bool,
-    sigma: f64,
-    m: sys::CNLP_Index,
-    lambda: *const f64,
-    new_lambda: sys::CNLP_Bool,
-    nnz: sys::CNLP_Index,
-    rows: *mut sys::CNLP_Index,
-    cols: *mut sys::CNLP_Index,
-    values: *mut f64,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`; Ipopt's buffers hold n, m and nnz values.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
-        let Some(structure) = ctx.hessian.as_ref() else {
-            // Limited-memory mode: Ipopt never asks, and must not get a Hessian if it does.
-            return false;
-        };
-        if values.is_null() {
-            return write_structure(structure, rows, cols);
-        }
-        ctx.evaluations.hessian += 1;
-        ctx.problem.hessian_values(
-            in_slice(x, n as usize),
-            new_x != 0,
-            sigma,
-            in_slice(lambda, m as usize),
-            new_lambda != 0,
-            out_slice(values, nnz as usize),
-        )
-    })
-}
-
-#[allow(clippy::too_many_arguments)]
-extern "C" fn intermediate(
-    mode: sys::CNLP_AlgorithmMode,
-    iteration: sys::CNLP_Index,
-    objective: f64,
-    inf_pr: f64,
-    inf_du: f64,
-    mu: f64,
-    d_norm: f64,
-    regularization: f64,
-    alpha_du: f64,
-    alpha_pr: f64,
-    ls_trials: sys::CNLP_Index,
-    user_data: sys::CNLP_UserDataPtr,
-) -> sys::CNLP_Bool {
-    // SAFETY: `user_data` comes from `solve`.
-    let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| {
-        ctx.last = IterationInfo {
-            iteration: iteration.max(0) as usize,
-            restoration: mode == sys::CNLP_AlgorithmMode_CNLP_RESTORATION_PHASE_MODE,
-            objective,
-            primal_infeasibility: inf_pr,
-            dual_infeasibility: inf_du,
-            barrier: mu,
-            step_norm: d_norm,
-            regularization,
-            alpha_dual: alpha_du,
-            alpha_primal: alpha_pr,
-            line_search_trials: ls_trials.max(0) as usize,
-        };
-        let info = ctx.last;
-        ctx.problem.intermediate(&info)
-    })
 }

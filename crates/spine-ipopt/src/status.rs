@@ -1,7 +1,5 @@
 //! Ipopt's return codes, one named variant each.
 
-use ipopt_sys as sys;
-
 /// How an Ipopt run ended (`ApplicationReturnStatus`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Status {
@@ -32,29 +30,28 @@ pub enum Status {
 }
 
 impl Status {
-    pub(crate) fn from_code(code: sys::CNLP_ApplicationReturnStatus) -> Status {
+    /// The status of an `ApplicationReturnStatus` code (the same codes in Ipopt 3.11 and 3.14).
+    pub(crate) fn from_code(code: i32) -> Status {
         match code {
-            sys::CNLP_ApplicationReturnStatus_CNLP_SOLVE_SUCCEEDED => Status::SolveSucceeded,
-            sys::CNLP_ApplicationReturnStatus_CNLP_SOLVED_TO_ACCEPTABLE_LEVEL => Status::SolvedToAcceptableLevel,
-            sys::CNLP_ApplicationReturnStatus_CNLP_INFEASIBLE_PROBLEM_DETECTED => Status::InfeasibleProblemDetected,
-            sys::CNLP_ApplicationReturnStatus_CNLP_SEARCH_DIRECTION_BECOMES_TOO_SMALL => {
-                Status::SearchDirectionBecomesTooSmall
-            }
-            sys::CNLP_ApplicationReturnStatus_CNLP_DIVERGING_ITERATES => Status::DivergingIterates,
-            sys::CNLP_ApplicationReturnStatus_CNLP_USER_REQUESTED_STOP => Status::UserRequestedStop,
-            sys::CNLP_ApplicationReturnStatus_CNLP_FEASIBLE_POINT_FOUND => Status::FeasiblePointFound,
-            sys::CNLP_ApplicationReturnStatus_CNLP_MAXIMUM_ITERATIONS_EXCEEDED => Status::MaximumIterationsExceeded,
-            sys::CNLP_ApplicationReturnStatus_CNLP_RESTORATION_FAILED => Status::RestorationFailed,
-            sys::CNLP_ApplicationReturnStatus_CNLP_ERROR_IN_STEP_COMPUTATION => Status::ErrorInStepComputation,
-            sys::CNLP_ApplicationReturnStatus_CNLP_MAXIMUM_CPUTIME_EXCEEDED => Status::MaximumCpuTimeExceeded,
-            sys::CNLP_ApplicationReturnStatus_CNLP_NOT_ENOUGH_DEGREES_OF_FREEDOM => Status::NotEnoughDegreesOfFreedom,
-            sys::CNLP_ApplicationReturnStatus_CNLP_INVALID_PROBLEM_DEFINITION => Status::InvalidProblemDefinition,
-            sys::CNLP_ApplicationReturnStatus_CNLP_INVALID_OPTION => Status::InvalidOption,
-            sys::CNLP_ApplicationReturnStatus_CNLP_INVALID_NUMBER_DETECTED => Status::InvalidNumberDetected,
-            sys::CNLP_ApplicationReturnStatus_CNLP_UNRECOVERABLE_EXCEPTION => Status::UnrecoverableException,
-            sys::CNLP_ApplicationReturnStatus_CNLP_NONIPOPT_EXCEPTION_THROWN => Status::NonIpoptExceptionThrown,
-            sys::CNLP_ApplicationReturnStatus_CNLP_INSUFFICIENT_MEMORY => Status::InsufficientMemory,
-            sys::CNLP_ApplicationReturnStatus_CNLP_INTERNAL_ERROR => Status::InternalError,
+            0 => Status::SolveSucceeded,
+            1 => Status::SolvedToAcceptableLevel,
+            2 => Status::InfeasibleProblemDetected,
+            3 => Status::SearchDirectionBecomesTooSmall,
+            4 => Status::DivergingIterates,
+            5 => Status::UserRequestedStop,
+            6 => Status::FeasiblePointFound,
+            -1 => Status::MaximumIterationsExceeded,
+            -2 => Status::RestorationFailed,
+            -3 => Status::ErrorInStepComputation,
+            -4 => Status::MaximumCpuTimeExceeded,
+            -10 => Status::NotEnoughDegreesOfFreedom,
+            -11 => Status::InvalidProblemDefinition,
+            -12 => Status::InvalidOption,
+            -13 => Status::InvalidNumberDetected,
+            -100 => Status::UnrecoverableException,
+            -101 => Status::NonIpoptExceptionThrown,
+            -102 => Status::InsufficientMemory,
+            -199 => Status::InternalError,
             other => Status::Unknown(other),
         }
     }

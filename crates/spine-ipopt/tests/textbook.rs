@@ -194,3 +194,16 @@ fn unknown_options_and_bad_structures_are_setup_errors() {
     let err = solve(&mut Upper(Hs071::new()), &Options::new()).unwrap_err();
     assert!(matches!(err, SetupError::BadStructure(_)), "{err}");
 }
+
+#[test]
+fn the_linked_ipopt_is_the_one_asked_for() {
+    let version = spine_ipopt::IPOPT_VERSION;
+    assert!(version.starts_with("3.11.") || version.starts_with("3.14."), "unexpected Ipopt {version}");
+    // `just ipopt314 test` sets SPINE_EXPECT_IPOPT=3.14: the tests must really run on that backend.
+    if let Ok(expected) = std::env::var("SPINE_EXPECT_IPOPT") {
+        assert!(version.starts_with(&format!("{expected}.")), "built against Ipopt {version}, expected {expected}");
+    }
+    // And the library answers like that version: HS071 converges on either.
+    let solution = solve(&mut Hs071::new(), &tight()).unwrap();
+    assert_eq!(solution.status, Status::SolveSucceeded);
+}

@@ -10,7 +10,7 @@ use crate::residual::{slot, JointStencil};
 use crate::kinematics::{link_length, link_rise};
 use crate::Scalar;
 use nalgebra::{Const, U1};
-use num_dual::{Dual2SVec64, DualSVec64};
+use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};
 
 /// A scalar function of `M` local variables.
 pub trait Element<const M: usize> {
@@ -20,6 +20,17 @@ pub trait Element<const M: usize> {
 
     /// The value at the local variables `x`.
     fn eval<D: Scalar>(&self, x: &[D; M]) -> D;
+
+    /// The local Hessian at `x`; entries outside [`Element::HESSIAN_PAIRS`] (and their mirror
+    /// images) may be left zero. The default is one forward pass with second-order duals over all
+    /// `M` slots ([`full_hessian`]); an element that knows it is linear in some slots may compute
+    /// fewer derivatives, still by AD of [`Element::eval`] (tested against the default).
+    fn hessian(&self, x: &[f64; M]) -> [[f64; M]; M]
+    where
+        Self: Sized,
+    {
+        full_hessian(self, x).2
+    }
 }
 
 /// Value of an element.
@@ -35,8 +46,14 @@ pub fn gradient<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> (f6
     (r.re, std::array::from_fn(|k| g[k]))
 }
 
-/// Value, gradient and Hessian of an element by one forward pass with `Dual2SVec64<M>`.
-pub fn hessian<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> (f64, [f64; M], [[f64; M]; M]) {
+/// The local Hessian by the element's own method ([`Element::hessian`]).
+pub fn hessian<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> [[f64; M]; M] {
+    element.hessian(x)
+}
+
+/// Value, gradient and Hessian of an element by one forward pass with `Dual2SVec64<M>` over all
+/// its slots: the reference for every specialised [`Element::hessian`].
+pub fn full_hessian<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> (f64, [f64; M], [[f64; M]; M]) {
     let seeded: [Dual2SVec64<M>; M] = std::array::from_fn(|k| Dual2SVec64::from_re(x[k]).derivative(k));
     let r = element.eval(&seeded);
     let g = r.v1.unwrap_generic(U1, Const::<M>);
@@ -73,6 +90,50 @@ impl Element<{ slot::COUNT }> for JointResidual {
         (slot::THETA0, slot::LAMBDA),
         (slot::THETA0, slot::THETA0),
     ];
+
+    /// The residual is linear in `θ_{i±1}`, `θ0_{i±1}`, `K_i`, `K_{i+1}` and `λ`, and its only
+    /// products of these are `K × angle`: second-order duals over `(θ_i, λ, θ0_i)` give the
+    /// nonlinear block, one hyper-dual pass (`ε₁` over the two stiffnesses, `ε₂` over the six
+    /// angles) the bilinear block. About a third of the work of [`full_hessian`].
+    fn hessian(&self, x: &[f64; slot::COUNT]) -> [[f64; slot::COUNT]; slot::COUNT] {
+        use slot::*;
+        const CORE: [usize; 3] = [THETA, LAMBDA, THETA0];
+        const FACTORS: [usize; 2] = [STIFFNESS_LEFT, STIFFNESS_RIGHT];
+        const ANGLES: [usize; 6] = [THETA_PREV, THETA, THETA_NEXT, THETA0_PREV, THETA0, THETA0_NEXT];
+        let mut h = [[0.0; slot::COUNT]; slot::COUNT];
+
+        let core: [Dual2SVec64<3>; slot::COUNT] = std::array::from_fn(|k| {
+            let d = Dual2SVec64::from_re(x[k]);
+            CORE.iter().position(|&c| c == k).map_or(d, |p| d.derivative(p))
+        });
+        let r = self.eval(&core);
+        let v2 = r.v2.unwrap_generic(Const::<3>, Const::<3>);
+        for (a, &sa) in CORE.iter().enumerate() {
+            for (b, &sb) in CORE.iter().enumerate() {
+                h[sa][sb] = v2[(a, b)];
+            }
+        }
+
+        let mixed: [HyperDualSVec64<2, 6>; slot::COUNT] = std::array::from_fn(|k| {
+            let mut d = HyperDualSVec64::from_re(x[k]);
+            if let Some(p) = FACTORS.iter().position(|&f| f == k) {
+                d = d.derivative1(p);
+            }
+            if let Some(q) = ANGLES.iter().position(|&a| a == k) {
+                d = d.derivative2(q);
+            }
+            d
+        });
+        let r = self.eval(&mixed);
+        let e12 = r.eps1eps2.unwrap_generic(Const::<2>, Const::<6>);
+        for (a, &sa) in FACTORS.iter().enumerate() {
+            for (b, &sb) in ANGLES.iter().enumerate() {
+                h[sa][sb] = e12[(a, b)];
+                h[sb][sa] = e12[(a, b)];
+            }
+        }
+        h
+    }
 
     fn eval<D: Scalar>(&self, x: &[D; slot::COUNT]) -> D {
         let mut values = *x;

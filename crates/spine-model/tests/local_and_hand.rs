@@ -15,7 +15,8 @@ fn random_point<const M: usize>(rng: &mut FixtureRng) -> [f64; M] {
 }
 
 /// Checks one element at random points: gradient and Hessian against central differences of the
-/// value and of the gradient (relative 1e-6), and the Hessian zero outside `HESSIAN_PAIRS`.
+/// value and of the gradient (relative 1e-6), the element's own Hessian method against the full
+/// second-order pass (1e-13), and the full Hessian zero outside `HESSIAN_PAIRS`.
 fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: [f64; M]) {
     let mut rng = FixtureRng::new(7);
     for _ in 0..20 {
@@ -24,11 +25,16 @@ fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: 
             x[k] *= scale[k];
         }
         let (v, g) = local::gradient(element, &x);
-        let (v2, g2, h) = local::hessian(element, &x);
+        let (v2, g2, h_full) = local::full_hessian(element, &x);
+        let h = local::hessian(element, &x);
         assert!((v - local::value(element, &x)).abs() <= 1e-14 * v.abs().max(1.0));
         assert!((v - v2).abs() <= 1e-14 * v.abs().max(1.0));
         let gmax = g.iter().fold(1e-12f64, |m, a| m.max(a.abs()));
-        let hmax = h.iter().flatten().fold(1e-12f64, |m, a| m.max(a.abs()));
+        let hmax = h_full.iter().flatten().fold(1e-12f64, |m, a| m.max(a.abs()));
+        for &(a, b) in E::HESSIAN_PAIRS {
+            assert!((h[a][b] - h_full[a][b]).abs() <= 1e-13 * hmax, "{name} ({a}, {b}): own {} full {}", h[a][b], h_full[a][b]);
+            assert_eq!(h[a][b], h[b][a], "{name}: own Hessian not symmetric at ({a}, {b})");
+        }
         for k in 0..M {
             assert!((g[k] - g2[k]).abs() <= 1e-12 * gmax);
             let step = 1e-6 * x[k].abs().max(1.0);
@@ -40,15 +46,15 @@ fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: 
             let (gp, gm) = (local::gradient(element, &xp).1, local::gradient(element, &xm).1);
             for a in 0..M {
                 let fd = (gp[a] - gm[a]) / (2.0 * step);
-                assert!((h[a][k] - fd).abs() <= 1e-6 * hmax, "{name} ∂²/∂x{a}∂x{k}: AD {} FD {fd}", h[a][k]);
+                assert!((h_full[a][k] - fd).abs() <= 1e-6 * hmax, "{name} ∂²/∂x{a}∂x{k}: AD {} FD {fd}", h[a][k]);
             }
         }
         for a in 0..M {
             for b in 0..=a {
-                assert_eq!(h[a][b], h[b][a]);
+                assert_eq!(h_full[a][b], h_full[b][a]);
                 let declared = E::HESSIAN_PAIRS.contains(&(a, b));
                 if !declared {
-                    assert_eq!(h[a][b], 0.0, "{name}: Hessian entry ({a}, {b}) is not declared but is {}", h[a][b]);
+                    assert_eq!(h_full[a][b], 0.0, "{name}: Hessian entry ({a}, {b}) is not declared but is {}", h[a][b]);
                 }
             }
         }
@@ -78,7 +84,7 @@ fn every_declared_hessian_pair_is_nonzero_somewhere() {
     // The declared pattern is exact, not just a superset: each pair is nonzero at a random point.
     fn check<const M: usize, E: Element<M>>(e: &E, name: &str) {
         let x: [f64; M] = random_point(&mut FixtureRng::new(3));
-        let (_, _, h) = local::hessian(e, &x);
+        let h = local::hessian(e, &x);
         for &(a, b) in E::HESSIAN_PAIRS {
             assert!(h[a][b] != 0.0, "{name}: declared pair ({a}, {b}) is zero");
         }

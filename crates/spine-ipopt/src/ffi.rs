@@ -1,0 +1,410 @@
+//! Ipopt's standard C interface (`IpStdCInterface.h`), declared by hand, and the callbacks that
+//! connect it to a [`Problem`]. Every `unsafe` block of the workspace is in this file.
+//!
+//! The interface is the same in Ipopt 3.11 and 3.14 except for `Bool` (C `int` up to 3.13, C99
+//! `bool` from 3.14); `build.rs` reads the header of the library it links and sets
+//! `cfg(ipopt_c99_bool)` accordingly, so the declarations always match the library.
+
+use crate::{EvaluationCounts, IterationInfo, OptionValue, Problem, SetupError};
+use std::any::Any;
+use std::ffi::{c_char, c_int, c_void, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::time::{Duration, Instant};
+
+#[cfg(ipopt_c99_bool)]
+type Bool = bool;
+#[cfg(not(ipopt_c99_bool))]
+type Bool = c_int;
+
+#[cfg(ipopt_c99_bool)]
+fn to_c(b: bool) -> Bool {
+    b
+}
+#[cfg(not(ipopt_c99_bool))]
+fn to_c(b: bool) -> Bool {
+    b as c_int
+}
+#[cfg(ipopt_c99_bool)]
+fn from_c(b: Bool) -> bool {
+    b
+}
+#[cfg(not(ipopt_c99_bool))]
+fn from_c(b: Bool) -> bool {
+    b != 0
+}
+
+type Index = c_int;
+type UserData = *mut c_void;
+
+#[repr(C)]
+struct IpoptProblemInfo {
+    _private: [u8; 0],
+}
+type IpoptProblem = *mut IpoptProblemInfo;
+
+type EvalF = extern "C" fn(Index, *mut f64, Bool, *mut f64, UserData) -> Bool;
+type EvalGradF = extern "C" fn(Index, *mut f64, Bool, *mut f64, UserData) -> Bool;
+type EvalG = extern "C" fn(Index, *mut f64, Bool, Index, *mut f64, UserData) -> Bool;
+type EvalJacG = extern "C" fn(Index, *mut f64, Bool, Index, Index, *mut Index, *mut Index, *mut f64, UserData) -> Bool;
+type EvalH =
+    extern "C" fn(Index, *mut f64, Bool, f64, Index, *mut f64, Bool, Index, *mut Index, *mut Index, *mut f64, UserData) -> Bool;
+type IntermediateCb = extern "C" fn(Index, Index, f64, f64, f64, f64, f64, f64, f64, f64, Index, UserData) -> Bool;
+
+extern "C" {
+    #[allow(clippy::too_many_arguments)]
+    fn CreateIpoptProblem(
+        n: Index,
+        x_l: *mut f64,
+        x_u: *mut f64,
+        m: Index,
+        g_l: *mut f64,
+        g_u: *mut f64,
+        nele_jac: Index,
+        nele_hess: Index,
+        index_style: Index,
+        eval_f: Option<EvalF>,
+        eval_g: Option<EvalG>,
+        eval_grad_f: Option<EvalGradF>,
+        eval_jac_g: Option<EvalJacG>,
+        eval_h: Option<EvalH>,
+    ) -> IpoptProblem;
+    fn FreeIpoptProblem(problem: IpoptProblem);
+    fn AddIpoptStrOption(problem: IpoptProblem, keyword: *mut c_char, val: *mut c_char) -> Bool;
+    fn AddIpoptNumOption(problem: IpoptProblem, keyword: *mut c_char, val: f64) -> Bool;
+    fn AddIpoptIntOption(problem: IpoptProblem, keyword: *mut c_char, val: Index) -> Bool;
+    fn SetIntermediateCallback(problem: IpoptProblem, cb: Option<IntermediateCb>) -> Bool;
+    #[allow(clippy::too_many_arguments)]
+    fn IpoptSolve(
+        problem: IpoptProblem,
+        x: *mut f64,
+        g: *mut f64,
+        obj_val: *mut f64,
+        mult_g: *mut f64,
+        mult_x_l: *mut f64,
+        mult_x_u: *mut f64,
+        user_data: UserData,
+    ) -> c_int;
+}
+
+/// Everything a callback needs, behind the `user_data` pointer.
+pub(crate) struct Context<'a> {
+    pub problem: &'a mut dyn Problem,
+    pub jacobian: Vec<(usize, usize)>,
+    pub hessian: Option<Vec<(usize, usize)>>,
+    pub panic: Option<Box<dyn Any + Send>>,
+    pub last: IterationInfo,
+    pub evaluations: EvaluationCounts,
+    pub callback_time: Duration,
+}
+
+impl Context<'_> {
+    /// Runs `f` with panics caught and time recorded; a panic is stored and reported as failure.
+    fn guarded(&mut self, f: impl FnOnce(&mut Self) -> bool) -> Bool {
+        if self.panic.is_some() {
+            return to_c(false);
+        }
+        let start = Instant::now();
+        let outcome = catch_unwind(AssertUnwindSafe(|| f(self)));
+        self.callback_time += start.elapsed();
+        match outcome {
+            Ok(ok) => to_c(ok),
+            Err(payload) => {
+                self.panic = Some(payload);
+                to_c(false)
+            }
+        }
+    }
+}
+
+/// The start of a solve: bounds, point and (optionally) multipliers, all of the right lengths.
+pub(crate) struct Start {
+    pub x_lower: Vec<f64>,
+    pub x_upper: Vec<f64>,
+    pub g_lower: Vec<f64>,
+    pub g_upper: Vec<f64>,
+    pub x: Vec<f64>,
+    pub mult_g: Vec<f64>,
+    pub z_lower: Vec<f64>,
+    pub z_upper: Vec<f64>,
+}
+
+/// What `IpoptSolve` wrote back.
+pub(crate) struct Finish {
+    pub status: i32,
+    pub x: Vec<f64>,
+    pub g: Vec<f64>,
+    pub objective: f64,
+    pub mult_g: Vec<f64>,
+    pub z_lower: Vec<f64>,
+    pub z_upper: Vec<f64>,
+}
+
+/// Owns an `IpoptProblem` and frees it on drop.
+struct RawProblem(IpoptProblem);
+
+impl Drop for RawProblem {
+    fn drop(&mut self) {
+        // SAFETY: created by `CreateIpoptProblem` (non-null) and freed exactly once.
+        unsafe { FreeIpoptProblem(self.0) };
+    }
+}
+
+fn index(value: usize, what: &'static str) -> Result<Index, SetupError> {
+    Index::try_from(value).map_err(|_| SetupError::TooLarge(what))
+}
+
+/// Creates the problem, sets the options and runs `IpoptSolve` with `context` as user data.
+pub(crate) fn run(context: &mut Context, mut start: Start, options: &[(&str, &OptionValue)]) -> Result<Finish, SetupError> {
+    let n = start.x.len();
+    let m = start.g_lower.len();
+    let nele_jac = index(context.jacobian.len(), "the Jacobian's number of entries")?;
+    let nele_hess = index(context.hessian.as_ref().map_or(0, Vec::len), "the Hessian's number of entries")?;
+    // SAFETY: the bound arrays hold n and m values (Ipopt copies them); every callback is an
+    // `extern "C"` function of this module with the declared signature.
+    let ptr = unsafe {
+        CreateIpoptProblem(
+            index(n, "the number of variables")?,
+            start.x_lower.as_mut_ptr(),
+            start.x_upper.as_mut_ptr(),
+            index(m, "the number of constraints")?,
+            start.g_lower.as_mut_ptr(),
+            start.g_upper.as_mut_ptr(),
+            nele_jac,
+            nele_hess,
+            0,
+            Some(eval_f),
+            Some(eval_g),
+            Some(eval_grad_f),
+            Some(eval_jac_g),
+            Some(eval_h),
+        )
+    };
+    if ptr.is_null() {
+        return Err(SetupError::CreateFailed(format!("n = {n}, m = {m}, {nele_jac} Jacobian entries")));
+    }
+    let raw = RawProblem(ptr);
+    // SAFETY: `raw.0` is live and `intermediate` has the declared signature.
+    unsafe { SetIntermediateCallback(raw.0, Some(intermediate)) };
+    for (name, value) in options {
+        let invalid = || SetupError::InvalidOption(format!("{name} = {value}"));
+        let key = CString::new(*name).map_err(|_| invalid())?;
+        // SAFETY: `raw.0` is live; the strings are NUL-terminated and outlive the calls (Ipopt
+        // copies them and never writes through the pointers).
+        let accepted = unsafe {
+            match value {
+                OptionValue::Str(text) => {
+                    let text = CString::new(text.as_str()).map_err(|_| invalid())?;
+                    AddIpoptStrOption(raw.0, key.as_ptr() as *mut c_char, text.as_ptr() as *mut c_char)
+                }
+                OptionValue::Num(number) => AddIpoptNumOption(raw.0, key.as_ptr() as *mut c_char, *number),
+                OptionValue::Int(integer) => {
+                    let integer = Index::try_from(*integer).map_err(|_| invalid())?;
+                    AddIpoptIntOption(raw.0, key.as_ptr() as *mut c_char, integer)
+                }
+            }
+        };
+        if !from_c(accepted) {
+            return Err(invalid());
+        }
+    }
+    let mut g = vec![0.0; m];
+    let mut objective = f64::NAN;
+    let user_data = context as *mut Context as *mut c_void;
+    // SAFETY: `raw` is live; x, g and the multiplier arrays hold n, m, m, n, n values; `user_data`
+    // points to `context`, which outlives the call and is only touched by the callbacks during it.
+    let status = unsafe {
+        IpoptSolve(
+            raw.0,
+            start.x.as_mut_ptr(),
+            g.as_mut_ptr(),
+            &mut objective,
+            start.mult_g.as_mut_ptr(),
+            start.z_lower.as_mut_ptr(),
+            start.z_upper.as_mut_ptr(),
+            user_data,
+        )
+    };
+    drop(raw);
+    Ok(Finish { status, x: start.x, g, objective, mult_g: start.mult_g, z_lower: start.z_lower, z_upper: start.z_upper })
+}
+
+/// Recovers the context from Ipopt's `user_data`.
+///
+/// # Safety
+/// `user_data` must be the pointer passed to `IpoptSolve` by [`run`].
+unsafe fn context<'a>(user_data: UserData) -> &'a mut Context<'a> {
+    &mut *(user_data as *mut Context)
+}
+
+/// A mutable slice over an Ipopt output buffer, empty when Ipopt passes NULL.
+///
+/// # Safety
+/// A non-null `ptr` must be valid for `len` writes for the lifetime `'a`.
+unsafe fn out_slice<'a>(ptr: *mut f64, len: Index) -> &'a mut [f64] {
+    if ptr.is_null() || len <= 0 {
+        &mut []
+    } else {
+        std::slice::from_raw_parts_mut(ptr, len as usize)
+    }
+}
+
+/// An input slice from Ipopt, empty when Ipopt passes NULL.
+///
+/// # Safety
+/// A non-null `ptr` must be valid for `len` reads for the lifetime `'a`.
+unsafe fn in_slice<'a>(ptr: *const f64, len: Index) -> &'a [f64] {
+    if ptr.is_null() || len <= 0 {
+        &[]
+    } else {
+        std::slice::from_raw_parts(ptr, len as usize)
+    }
+}
+
+/// Writes a sparsity structure into Ipopt's index arrays.
+///
+/// # Safety
+/// Non-null `rows`/`cols` must be valid for `entries.len()` writes.
+unsafe fn write_structure(entries: &[(usize, usize)], rows: *mut Index, cols: *mut Index) -> bool {
+    if entries.is_empty() {
+        return true;
+    }
+    if rows.is_null() || cols.is_null() {
+        return false;
+    }
+    let rows = std::slice::from_raw_parts_mut(rows, entries.len());
+    let cols = std::slice::from_raw_parts_mut(cols, entries.len());
+    for (k, &(r, c)) in entries.iter().enumerate() {
+        rows[k] = r as Index;
+        cols[k] = c as Index;
+    }
+    true
+}
+
+extern "C" fn eval_f(n: Index, x: *mut f64, new_x: Bool, obj: *mut f64, user_data: UserData) -> Bool {
+    // SAFETY: `user_data` comes from `run`; `x` holds n values and `obj` is a valid scalar.
+    let ctx = unsafe { context(user_data) };
+    ctx.guarded(|ctx| unsafe {
+        ctx.evaluations.objective += 1;
+        match ctx.problem.objective(in_slice(x, n), from_c(new_x)) {
+            Some(value) => {
+                *obj = value;
+                true
+            }
+            None => false,
+        }
+    })
+}
+
+extern "C" fn eval_grad_f(n: Index, x: *mut f64, new_x: Bool, grad: *mut f64, user_data: UserData) -> Bool {
+    // SAFETY: `user_data` comes from `run`; `x` and `grad` hold n values.
+    let ctx = unsafe { context(user_data) };
+    ctx.guarded(|ctx| unsafe {
+        ctx.evaluations.gradient += 1;
+        ctx.problem.objective_gradient(in_slice(x, n), from_c(new_x), out_slice(grad, n))
+    })
+}
+
+extern "C" fn eval_g(n: Index, x: *mut f64, new_x: Bool, m: Index, g: *mut f64, user_data: UserData) -> Bool {
+    // SAFETY: `user_data` comes from `run`; `x` holds n values and `g` m values.
+    let ctx = unsafe { context(user_data) };
+    ctx.guarded(|ctx| unsafe {
+        ctx.evaluations.constraints += 1;
+        ctx.problem.constraints(in_slice(x, n), from_c(new_x), out_slice(g, m))
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+extern "C" fn eval_jac_g(
+    n: Index,
+    x: *mut f64,
+    new_x: Bool,
+    _m: Index,
+    nnz: Index,
+    rows: *mut Index,
+    cols: *mut Index,
+    values: *mut f64,
+    user_data: UserData,
+) -> Bool {
+    // SAFETY: `user_data` comes from `run`; Ipopt's buffers hold n and nnz values.
+    let ctx = unsafe { context(user_data) };
+    ctx.guarded(|ctx| unsafe {
+        if values.is_null() {
+            return write_structure(&ctx.jacobian, rows, cols);
+        }
+        ctx.evaluations.jacobian += 1;
+        ctx.problem.jacobian_values(in_slice(x, n), from_c(new_x), out_slice(values, nnz))
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+extern "C" fn eval_h(
+    n: Index,
+    x: *mut f64,
+    new_x: Bool,
+    sigma: f64,
+    m: Index,
+    lambda: *mut f64,
+    new_lambda: Bool,
+    nnz: Index,
+    rows: *mut Index,
+    cols: *mut Index,
+    values: *mut f64,
+    user_data: UserData,
+) -> Bool {
+    // SAFETY: `user_data` comes from `run`; Ipopt's buffers hold n, m and nnz values.
+    let ctx = unsafe { context(user_data) };
+    ctx.guarded(|ctx| unsafe {
+        let Some(structure) = ctx.hessian.as_ref() else {
+            // Limited-memory mode: Ipopt never asks, and must not get a Hessian if it does.
+            return false;
+        };
+        if values.is_null() {
+            return write_structure(structure, rows, cols);
+        }
+        ctx.evaluations.hessian += 1;
+        ctx.problem.hessian_values(
+            in_slice(x, n),
+            from_c(new_x),
+            sigma,
+            in_slice(lambda, m),
+            from_c(new_lambda),
+            out_slice(values, nnz),
+        )
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+extern "C" fn intermediate(
+    mode: Index,
+    iteration: Index,
+    objective: f64,
+    inf_pr: f64,
+    inf_du: f64,
+    mu: f64,
+    d_norm: f64,
+    regularization: f64,
+    alpha_du: f64,
+    alpha_pr: f64,
+    ls_trials: Index,
+    user_data: UserData,
+) -> Bool {
+    // SAFETY: `user_data` comes from `run`.
+    let ctx = unsafe { context(user_data) };
+    ctx.guarded(|ctx| {
+        ctx.last = IterationInfo {
+            iteration: iteration.max(0) as usize,
+            restoration: mode == 1,
+            objective,
+            primal_infeasibility: inf_pr,
+            dual_infeasibility: inf_du,
+            barrier: mu,
+            step_norm: d_norm,
+            regularization,
+            alpha_dual: alpha_du,
+            alpha_primal: alpha_pr,
+            line_search_trials: ls_trials.max(0) as usize,
+        };
+        let info = ctx.last;
+        ctx.problem.intermediate(&info)
+    })
+}
