@@ -51,12 +51,16 @@ bench:
     cargo bench -p spine-benchmarks --bench scaling
     cargo run --release --quiet -p spine-benchmarks --bin bench_report
 
-# Eq. (33) against CasADi + IPOPT on the same case files and start points (N default 5 … 1000; sets up
+# Eq. (33) against CasADi + IPOPT on the same case files and start points (N default 5 … 1000; about
+# 20 min): ours cold and refined on both Ipopt backends, CasADi cold and through our ladder (sets up
 # its own Python venv with CasADi), then the table in benchmarks/RESULTS.md.
 bench-peers *SIZES:
     ./benchmarks/peers/setup.sh
     cargo build --release --quiet -p spine-benchmarks --bins
+    just ipopt314 build
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/release/bench_peers benchmarks/peers/.venv/bin/python {{SIZES}}
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/ipopt314/release/bench_peers benchmarks/peers/.venv/bin/python {{SIZES}}
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/release/bench_peers benchmarks/peers/.venv/bin/python --casadi-refined {{SIZES}}
     ./target/release/bench_report
 
 # Fuzz the case parser for SECONDS seconds (needs the nightly toolchain; installs cargo-fuzz).

@@ -36,7 +36,7 @@ KNOWN = {
     "chain": {"links", "length_x", "spans", "masses", "gravity"},
     "loads": {"p_y", "p_x", "self_weight"},
     "bounds": {"theta0_max", "relative_angle_max", "stiffness_min", "stiffness_max", "height_min", "height_max"},
-    "solver": {"tolerance", "constraint_tolerance", "max_iterations", "scaling", "barrier_strategy"},
+    "solver": {"tolerance", "constraint_tolerance", "max_iterations", "scaling", "barrier_strategy", "refine", "ipopt_options"},
 }
 
 
@@ -81,6 +81,11 @@ def read_case(path):
         gravity = 0.0
     b = case.get("bounds", {})
     solver = case.get("solver", {})
+    if solver.get("refine", "off") != "off":
+        fail("solver.refine: this script solves one chain; only \"off\" is implemented (bench_peers drives the ladder level by level)")
+    warm = solver.get("ipopt_options", {})
+    if set(warm) - {"mu_init", "bound_push", "bound_frac"}:
+        fail("solver.ipopt_options: only mu_init, bound_push and bound_frac (the warm start of a ladder level) are implemented")
     return {
         "n": n,
         "spans": spans,
@@ -102,6 +107,7 @@ def read_case(path):
         "max_iter": int(solver.get("max_iterations", 3000)),
         "scaling": solver.get("scaling", "gradient-based"),
         "mu_strategy": solver.get("barrier_strategy", "monotone"),
+        "warm": {k: float(v) for k, v in warm.items()},
     }
 
 
@@ -176,6 +182,7 @@ def main():
         "ipopt.nlp_scaling_method": p["scaling"],
         "ipopt.mu_strategy": p["mu_strategy"],
         "ipopt.print_level": 0,
+        **{"ipopt." + k: v for k, v in p["warm"].items()},
         "ipopt.sb": "yes",
         "print_time": False,
     }
@@ -204,6 +211,7 @@ def main():
         "theta2": x[3 * n + 2:4 * n + 2],
         "lambda2": x[4 * n + 2],
         "casadi_version": ca.__version__,
+        "ipopt_version": "CasADi " + ca.__version__ + " bundled Ipopt",
     }
     with open(sys.argv[3], "w") as f:
         json.dump(out, f)

@@ -50,6 +50,8 @@ fn run(objective: f64, seconds: f64, converged: bool) -> SolverRun {
         constraint_violation: 1e-12,
         theta0: vec![],
         stiffness: vec![],
+        ipopt_version: "3.11.9".into(),
+        levels: vec![],
     }
 }
 
@@ -62,6 +64,10 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
         casadi,
         casadi_error: Some("not installed".into()),
         cross_check,
+        ours_refined: None,
+        ipopt314: None,
+        ipopt314_refined: None,
+        casadi_refined: None,
     };
     let same = row(run(1.0, 0.5, true), Some(run(1.0 + 1e-8, 2.0, true)), None);
     assert_eq!(same.verdict(), "same optimum");
@@ -73,9 +79,16 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
     assert_eq!(failed.verdict(), "CasADi did not converge (Maximum_Iterations_Exceeded)");
     let missing = row(run(1.0, 0.5, true), None, None);
     assert_eq!(missing.verdict(), "CasADi gave no result: not installed");
-    let md = table(&[same, missing]);
-    assert_eq!(md.lines().count(), 4);
-    assert!(md.contains("| 100 | 1.000000000e0 |"));
+    // The best converged run of ours is compared with CasADi's cold run.
+    let mut best = row(run(1.0, 0.5, true), Some(run(1.0, 2.0, true)), None);
+    best.ours_refined = Some(run(1.0, 0.2, true));
+    best.ipopt314_refined = Some(run(1.0, 0.1, false));
+    assert_eq!(best.best().map(|(name, _)| name), Some("refined 3.11"));
+    assert_eq!(best.best_ratio(), Some(0.1));
+    let md = table(&[same, missing, best]);
+    assert_eq!(md.lines().count(), 5);
+    assert!(md.contains("| 100 | ✓ 40 it, 0.500 s | – | – | – | ✓ 40 it, 2.000 s | – | 0.25 (cold 3.11) |"), "{md}");
+    assert!(md.contains("Maximum_Iterations_Exceeded 40 it, 0.100 s"), "{md}");
 }
 
 #[test]
@@ -86,4 +99,12 @@ fn targets_report_the_ad_to_hand_ratio_and_unmeasured_targets() {
     assert!(t[0].measured.contains("N=100: 1.50×") && t[0].measured.contains("N=1000: 3.00×"), "{}", t[0].measured);
     assert_eq!(t[0].met, Some(false));
     assert!(t.iter().filter(|t| t.statement.contains("CasADi")).all(|t| t.met.is_none()));
+}
+
+#[test]
+fn the_readme_block_is_replaced_between_its_markers_only() {
+    use spine_benchmarks::report::replace_block;
+    let text = "intro\n<!-- BEGIN t -->\nold\n<!-- END t -->\nrest\n";
+    assert_eq!(replace_block(text, "t", "new\n").unwrap(), "intro\n<!-- BEGIN t -->\nnew\n<!-- END t -->\nrest\n");
+    assert!(replace_block(text, "other", "x").is_none());
 }

@@ -3,8 +3,14 @@
 //! and the same start point, one N at a time. Prints the comparison table and writes
 //! `benchmarks/peers/results.json` (read by `bench_report` into `benchmarks/RESULTS.md`).
 //!
-//! Usage: `bench_peers PYTHON [N ...]` (default N: 5 10 20 50 100 200 1000). The case files and
-//! start points go to `target/bench-peers/`.
+//! Usage: `bench_peers PYTHON [N ...]` (default N: 5 10 20 50 100 200 500 1000). The case files
+//! and start points go to `target/bench-peers/`.
+//!
+//! Built against Debian's Ipopt (the default), it runs ours cold and refined (mesh sequencing,
+//! [`peers::bench_ladder`]) and CasADi cold, and writes the rows. Built against Ipopt 3.14
+//! (`just ipopt314 build`), it runs ours cold and refined on that backend and adds them to the
+//! rows already in `benchmarks/peers/results.json`. With `--casadi-refined` it runs CasADi through
+//! the same ladder as ours (see [`casadi_refined`]) and adds that to the rows.
 //!
 //! Where the two optima differ, our solver is started from CasADi's optimum (its design and both
 //! states; barrier parameter 1e-9 and bound push 1e-10 so that Ipopt does not move away from the
@@ -12,7 +18,8 @@
 //! the two programs solve the same problem and only their paths differ.
 
 use serde_json::json;
-use spine_benchmarks::peers::{self, CrossCheck, PeerRow, SolverRun};
+use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
+use spine_design::refine::{Refine, RefineMode};
 use spine_case::{Case, ValidCase};
 use spine_design::full_space::{FullSpaceNlp, Layout};
 use spine_design::solve::{start_states, ExtraOption};
@@ -32,7 +39,35 @@ fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
         constraint_violation: r.violations.as_ref().map_or(f64::NAN, |v| v.max),
         theta0: r.design.theta0.clone(),
         stiffness: r.design.stiffness.clone(),
+        ipopt_version: r.solver.ipopt_version.clone(),
+        levels: r.refinement.as_ref().map_or(Vec::new(), |rf| {
+            rf.levels.iter().map(|l| LevelRun { links: l.links, status: l.status.clone(), iterations: l.iterations, wall_seconds: l.wall_seconds }).collect()
+        }),
     }
+}
+
+/// Ours on the case, cold (`refine` off) or with the bench ladder.
+fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<SolverRun> {
+    let mut settings = valid.settings.clone();
+    if refined {
+        settings.refine = Refine::Ladder(peers::bench_ladder(n)?);
+    } else {
+        settings.refine = Refine::Mode(RefineMode::Off);
+    }
+    let clock = Instant::now();
+    let r = solve_design(&valid.problem, &valid.start, Formulation::Full, &settings, &mut |_| true).expect("valid problem");
+    let run = run_of(&r, clock.elapsed().as_secs_f64());
+    eprintln!(
+        "N = {n}: ours {} ({}) {} in {:.3} s ({} iterations{}), J = {:.9e}",
+        if refined { "refined" } else { "cold" },
+        run.ipopt_version,
+        run.status,
+        run.wall_seconds,
+        run.iterations,
+        if refined { format!("; levels {}", run.ladder()) } else { String::new() },
+        run.objective
+    );
+    Some(run)
 }
 
 fn write(path: &Path, value: &serde_json::Value) {
@@ -62,6 +97,8 @@ fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(Solver
         constraint_violation: v["constraint_violation"].as_f64().unwrap_or(f64::NAN),
         theta0: floats("theta0"),
         stiffness: floats("stiffness"),
+        ipopt_version: v["ipopt_version"].as_str().unwrap_or("CasADi").into(),
+        levels: Vec::new(),
     };
     let passive = State { theta: floats("theta1"), lambda: v["lambda1"].as_f64().unwrap_or(0.0) };
     let loaded = State { theta: floats("theta2"), lambda: v["lambda2"].as_f64().unwrap_or(0.0) };
@@ -70,11 +107,55 @@ fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(Solver
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let python = args.next().expect("usage: bench_peers PYTHON [N ...]");
-    let sizes: Vec<usize> = args.map(|a| a.parse().expect("N must be a positive integer")).collect();
-    let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 1000] } else { sizes };
+    let python = args.next().expect("usage: bench_peers PYTHON [--casadi-refined] [N ...]");
+    let mut casadi_ladder = false;
+    let mut sizes: Vec<usize> = Vec::new();
+    for a in args {
+        if a == "--casadi-refined" {
+            casadi_ladder = true;
+        } else {
+            sizes.push(a.parse().expect("N must be a positive integer"));
+        }
+    }
+    let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
     let dir = PathBuf::from("target/bench-peers");
     std::fs::create_dir_all(&dir).expect("target/bench-peers");
+    let results = Path::new("benchmarks/peers/results.json");
+    if casadi_ladder {
+        let text = std::fs::read_to_string(results).expect("run bench_peers first: benchmarks/peers/results.json");
+        let mut rows: Vec<PeerRow> = serde_json::from_str(&text).expect("benchmarks/peers/results.json");
+        for n in sizes {
+            let Some(row) = rows.iter_mut().find(|r| r.n == n) else { continue };
+            match casadi_refined(&python, n, &dir) {
+                Ok(run) => {
+                    eprintln!("N = {n}: CasADi refined {} in {:.3} s; levels {}", run.status, run.wall_seconds, run.ladder());
+                    row.casadi_refined = Some(run);
+                }
+                Err(e) => eprintln!("N = {n}: CasADi refined: {e}"),
+            }
+        }
+        println!("{}", peers::table(&rows));
+        std::fs::write(results, serde_json::to_string_pretty(&rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
+        return;
+    }
+    if spine_ipopt::IPOPT_VERSION.starts_with("3.14") {
+        let text = std::fs::read_to_string(results).expect("run bench_peers on the default backend first: benchmarks/peers/results.json");
+        let mut rows: Vec<PeerRow> = serde_json::from_str(&text).expect("benchmarks/peers/results.json");
+        for n in sizes {
+            let Some(row) = rows.iter_mut().find(|r| r.n == n) else {
+                eprintln!("N = {n}: no row from the default backend; skipped");
+                continue;
+            };
+            let case = Case::from_json(&peers::scaled_family_case(n).to_string()).and_then(|c| c.validate()).expect("the generated case is valid");
+            let ValidCase::Design(valid) = case else { unreachable!("a design case") };
+            row.ipopt314 = ours(&valid, n, false);
+            row.ipopt314_refined = ours(&valid, n, true).or_else(|| row.ipopt314.clone());
+        }
+        println!("{}", peers::table(&rows));
+        std::fs::write(results, serde_json::to_string_pretty(&rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
+        eprintln!("added the Ipopt {} runs to {}", spine_ipopt::IPOPT_VERSION, results.display());
+        return;
+    }
     let mut rows = Vec::new();
     for n in sizes {
         let case_path = dir.join(format!("scaled-{n}.json"));
@@ -101,10 +182,9 @@ fn main() {
             }),
         );
 
-        let clock = Instant::now();
-        let ours = solve_design(problem, &valid.start, Formulation::Full, settings, &mut |_| true).expect("valid problem");
-        let ours = run_of(&ours, clock.elapsed().as_secs_f64());
-        eprintln!("N = {n}: ours {} in {:.3} s ({} iterations), J = {:.9e}", ours.status, ours.wall_seconds, ours.iterations, ours.objective);
+        let cold = ours(&valid, n, false).expect("a cold run");
+        let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
+        let ours = cold;
 
         let out_path = dir.join(format!("casadi-{n}.json"));
         let (casadi_run, casadi_error, cross_check) = match casadi(&python, &case_path, &start_path, &out_path) {
@@ -119,10 +199,20 @@ fn main() {
                 (None, Some(e), None)
             }
         };
-        rows.push(PeerRow { n, case: case_path.display().to_string(), ours, casadi: casadi_run, casadi_error, cross_check });
+        rows.push(PeerRow {
+            n,
+            case: case_path.display().to_string(),
+            ours,
+            casadi: casadi_run,
+            casadi_error,
+            cross_check,
+            ours_refined,
+            ipopt314: None,
+            ipopt314_refined: None,
+            casadi_refined: None,
+        });
     }
     println!("{}", peers::table(&rows));
-    let results = Path::new("benchmarks/peers/results.json");
     std::fs::write(results, serde_json::to_string_pretty(&rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
     eprintln!("wrote {}", results.display());
 }
@@ -142,4 +232,87 @@ fn cross_check(problem: &spine_design::DesignProblem, settings: &SolverSettings,
         iterations: solution.iterations,
         objective: solution.objective,
     }
+}
+
+/// A coarse level of the ladder as a case file for the peer script (its lumped loads and scaled
+/// stiffness bounds per node), with the warm-start options of our warm levels.
+fn level_case(level: &spine_design::DesignProblem, template: &spine_design::SolverSettings, start: &Design, warm: bool) -> serde_json::Value {
+    let m = level.n_links();
+    assert!(level.passive.p_x.iter().all(|v| *v == 0.0) && level.actuation.p_y.iter().all(|v| *v == 0.0));
+    assert!(level.actuation.p_x[..m].iter().all(|v| *v == 0.0), "axial load at the end only");
+    let w = &template.warm_start;
+    let mut solver = json!({ "tolerance": template.tolerance, "constraint_tolerance": template.constraint_tolerance, "refine": "off" });
+    if warm {
+        solver["ipopt_options"] = json!({ "mu_init": w.mu_init, "bound_push": w.bound_push, "bound_frac": w.bound_frac });
+    }
+    let b = &level.bounds;
+    json!({
+        "kind": "design",
+        "title": format!("ladder level, {m} links"),
+        "chain": { "links": m, "spans": level.chain.spans, "masses": level.chain.masses, "gravity": level.chain.gravity },
+        "loads": { "p_y": level.passive.p_y, "p_x": level.actuation.p_x[m], "self_weight": false },
+        "delta_d": level.delta_d,
+        "stiffness_scale": level.stiffness_scale,
+        "bounds": { "theta0_max": b.theta0_max, "relative_angle_max": b.relative_angle_max, "stiffness_min": b.stiffness_min, "stiffness_max": b.stiffness_max, "height_min": b.height_min, "height_max": b.height_max },
+        "start": { "theta0": start.theta0, "stiffness": start.stiffness },
+        "formulation": "full",
+        "solver": solver
+    })
+}
+
+/// CasADi through our ladder ([`peers::bench_ladder`]): the coarsest level cold from the case's
+/// start restricted to it, every finer level from our prolongation of CasADi's previous optimum
+/// (the same `refine::prolong` and `warm_states` as our own refined runs) with the same warm-start
+/// options. Wall time: CasADi's solver calls plus the prolongations.
+fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, String> {
+    use spine_design::refine;
+    let ladder = peers::bench_ladder(n).ok_or("no ladder below 10 links")?;
+    let case = Case::from_json(&peers::scaled_family_case(n).to_string()).and_then(|c| c.validate()).map_err(|e| e.to_string())?;
+    let ValidCase::Design(valid) = case else { return Err("not a design case".into()) };
+    let (problem, settings) = (&valid.problem, &valid.settings);
+    let (start, _) = problem.project_start(&valid.start);
+    let mut previous: Option<(spine_design::DesignProblem, Design, (State, State))> = None;
+    let (mut total, mut levels) = (0.0, Vec::new());
+    for &m in &ladder.levels(n) {
+        let clock = Instant::now();
+        let (level, nodes) = if m < n { refine::coarsen(problem, m) } else { (problem.clone(), (0..=n).collect()) };
+        let (design, states) = match &previous {
+            None => {
+                let design = refine::restrict(problem, &level, &nodes, &start);
+                let states = start_states(&level, &design, &settings.continuation, &mut Vec::new());
+                (design, states)
+            }
+            Some((coarser, d, s)) => {
+                let (design, interpolated) = refine::prolong(coarser, &level, d, s);
+                (design.clone(), refine::warm_states(&level, &design, interpolated, &settings.continuation).0)
+            }
+        };
+        let x0 = FullSpaceNlp::new(&level, &design, &states.0, &states.1).start;
+        let layout = Layout { n: m };
+        let case_path = dir.join(format!("ladder-{n}-{m}.json"));
+        let start_path = dir.join(format!("ladder-start-{n}-{m}.json"));
+        let out_path = dir.join(format!("ladder-casadi-{n}-{m}.json"));
+        write(&case_path, &level_case(&level, settings, &design, previous.is_some()));
+        write(
+            &start_path,
+            &json!({
+                "theta0": x0[..m], "k": x0[m..2 * m + 1],
+                "theta1": states.0.theta, "lambda1": states.0.lambda,
+                "theta2": states.1.theta, "lambda2": states.1.lambda,
+                "heights": (1..m).map(|j| x0[layout.height(j).unwrap()]).collect::<Vec<_>>(),
+            }),
+        );
+        let preparation = clock.elapsed().as_secs_f64();
+        let (run, passive, loaded) = casadi(python, &case_path, &start_path, &out_path)?;
+        total += preparation + run.wall_seconds;
+        levels.push(LevelRun { links: m, status: if run.converged { "solve_succeeded".into() } else { run.status.clone() }, iterations: run.iterations, wall_seconds: run.wall_seconds });
+        if m == n {
+            return Ok(SolverRun { wall_seconds: total, levels, ..run });
+        }
+        if !(run.converged || run.status.to_lowercase().contains("acceptable")) {
+            return Err(format!("level {m} ended {}", run.status));
+        }
+        previous = Some((level, Design { theta0: run.theta0.clone(), stiffness: run.stiffness.clone() }, (passive, loaded)));
+    }
+    Err("empty ladder".into())
 }

@@ -3,7 +3,7 @@
 //! followed by the hand-written analysis in `benchmarks/analysis.md`.
 
 use spine_benchmarks::peers::PeerRow;
-use spine_benchmarks::report::{figure, machine, read_criterion, results_markdown};
+use spine_benchmarks::report::{figure, machine, read_criterion, replace_block, results_markdown};
 use std::path::Path;
 
 fn main() {
@@ -18,6 +18,15 @@ fn main() {
         }),
         Err(_) => Vec::new(),
     };
+    if !peers.is_empty() {
+        // The README's measured table is this table, regenerated, never typed by hand.
+        let readme = std::fs::read_to_string("README.md").expect("README.md");
+        let block = format!("{}\n{}", spine_benchmarks::peers::table(&peers), spine_benchmarks::peers::ladder_table(&peers));
+        match replace_block(&readme, "bench-peers", &block) {
+            Some(text) => std::fs::write("README.md", text).expect("README.md"),
+            None => eprintln!("bench_report: README.md has no <!-- BEGIN bench-peers --> … <!-- END bench-peers --> block"),
+        }
+    }
     let analysis = std::fs::read_to_string("benchmarks/analysis.md").unwrap_or_default();
     let md = results_markdown(&measurements, &peers, &machine(), &analysis);
     std::fs::write("benchmarks/RESULTS.md", md).expect("benchmarks/RESULTS.md");
