@@ -70,6 +70,40 @@ fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<Solv
     Some(run)
 }
 
+/// The scaled-family case of `N` links, validated.
+fn scaled_case(n: usize) -> spine_case::ValidDesign {
+    let case = Case::from_json(&peers::scaled_family_case(n).to_string()).and_then(|c| c.validate()).expect("the generated case is valid");
+    let ValidCase::Design(valid) = case else { unreachable!("a design case") };
+    valid
+}
+
+/// The start point of our full space (design, both states, node heights) as the peer script reads it.
+fn start_point(problem: &spine_design::DesignProblem, design: &Design, states: &(State, State)) -> serde_json::Value {
+    let n = problem.n_links();
+    let x0 = FullSpaceNlp::new(problem, design, &states.0, &states.1).start;
+    let layout = Layout { n };
+    json!({
+        "theta0": x0[..n],
+        "k": x0[n..2 * n + 1],
+        "theta1": states.0.theta, "lambda1": states.0.lambda,
+        "theta2": states.1.theta, "lambda2": states.1.lambda,
+        "heights": (1..n).map(|j| x0[layout.height(j).unwrap()]).collect::<Vec<_>>(),
+    })
+}
+
+/// The rows of an earlier run, which the 3.14 and CasADi-ladder runs add to.
+fn read_rows(results: &Path) -> Vec<PeerRow> {
+    let text = std::fs::read_to_string(results).expect("run bench_peers on the default backend first: benchmarks/peers/results.json");
+    serde_json::from_str(&text).expect("benchmarks/peers/results.json")
+}
+
+/// Prints the table and writes the rows.
+fn write_rows(results: &Path, rows: &[PeerRow]) {
+    println!("{}", peers::table(rows));
+    std::fs::write(results, serde_json::to_string_pretty(rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
+    eprintln!("wrote {}", results.display());
+}
+
 fn write(path: &Path, value: &serde_json::Value) {
     std::fs::write(path, serde_json::to_string_pretty(value).expect("JSON")).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
@@ -122,8 +156,7 @@ fn main() {
     std::fs::create_dir_all(&dir).expect("target/bench-peers");
     let results = Path::new("benchmarks/peers/results.json");
     if casadi_ladder {
-        let text = std::fs::read_to_string(results).expect("run bench_peers first: benchmarks/peers/results.json");
-        let mut rows: Vec<PeerRow> = serde_json::from_str(&text).expect("benchmarks/peers/results.json");
+        let mut rows = read_rows(results);
         for n in sizes {
             let Some(row) = rows.iter_mut().find(|r| r.n == n) else { continue };
             match casadi_refined(&python, n, &dir) {
@@ -134,26 +167,21 @@ fn main() {
                 Err(e) => eprintln!("N = {n}: CasADi refined: {e}"),
             }
         }
-        println!("{}", peers::table(&rows));
-        std::fs::write(results, serde_json::to_string_pretty(&rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
+        write_rows(results, &rows);
         return;
     }
     if spine_ipopt::IPOPT_VERSION.starts_with("3.14") {
-        let text = std::fs::read_to_string(results).expect("run bench_peers on the default backend first: benchmarks/peers/results.json");
-        let mut rows: Vec<PeerRow> = serde_json::from_str(&text).expect("benchmarks/peers/results.json");
+        let mut rows = read_rows(results);
         for n in sizes {
             let Some(row) = rows.iter_mut().find(|r| r.n == n) else {
                 eprintln!("N = {n}: no row from the default backend; skipped");
                 continue;
             };
-            let case = Case::from_json(&peers::scaled_family_case(n).to_string()).and_then(|c| c.validate()).expect("the generated case is valid");
-            let ValidCase::Design(valid) = case else { unreachable!("a design case") };
+            let valid = scaled_case(n);
             row.ipopt314 = ours(&valid, n, false);
             row.ipopt314_refined = ours(&valid, n, true).or_else(|| row.ipopt314.clone());
         }
-        println!("{}", peers::table(&rows));
-        std::fs::write(results, serde_json::to_string_pretty(&rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
-        eprintln!("added the Ipopt {} runs to {}", spine_ipopt::IPOPT_VERSION, results.display());
+        write_rows(results, &rows);
         return;
     }
     let mut rows = Vec::new();
@@ -161,26 +189,14 @@ fn main() {
         let case_path = dir.join(format!("scaled-{n}.json"));
         let case_value = peers::scaled_family_case(n);
         write(&case_path, &case_value);
-        let case = Case::from_json(&case_value.to_string()).and_then(|c| c.validate()).expect("the generated case is valid");
-        let ValidCase::Design(valid) = case else { unreachable!("a design case") };
+        let valid = scaled_case(n);
         let (problem, settings) = (&valid.problem, &valid.settings);
 
         // The exact start point of our full space, handed to the peer.
         let (projected, _) = problem.project_start(&valid.start);
-        let (passive, loaded) = start_states(problem, &projected, &settings.continuation, &mut Vec::new());
-        let x0 = FullSpaceNlp::new(problem, &projected, &passive, &loaded).start;
-        let layout = Layout { n };
+        let states = start_states(problem, &projected, &settings.continuation, &mut Vec::new());
         let start_path = dir.join(format!("start-{n}.json"));
-        write(
-            &start_path,
-            &json!({
-                "theta0": x0[..n],
-                "k": x0[n..2 * n + 1],
-                "theta1": passive.theta, "lambda1": passive.lambda,
-                "theta2": loaded.theta, "lambda2": loaded.lambda,
-                "heights": (1..n).map(|j| x0[layout.height(j).unwrap()]).collect::<Vec<_>>(),
-            }),
-        );
+        write(&start_path, &start_point(problem, &projected, &states));
 
         let cold = ours(&valid, n, false).expect("a cold run");
         let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
@@ -212,9 +228,7 @@ fn main() {
             casadi_refined: None,
         });
     }
-    println!("{}", peers::table(&rows));
-    std::fs::write(results, serde_json::to_string_pretty(&rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
-    eprintln!("wrote {}", results.display());
+    write_rows(results, &rows);
 }
 
 /// Our solver from CasADi's optimum (see the module docs).
@@ -262,46 +276,26 @@ fn level_case(level: &spine_design::DesignProblem, template: &spine_design::Solv
 
 /// CasADi through our ladder ([`peers::bench_ladder`]): the coarsest level cold from the case's
 /// start restricted to it, every finer level from our prolongation of CasADi's previous optimum
-/// (the same `refine::prolong` and `warm_states` as our own refined runs) with the same warm-start
+/// (`refine::prepare_level`, as in our own refined runs) with the same warm-start
 /// options. Wall time: CasADi's solver calls plus the prolongations.
 fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, String> {
     use spine_design::refine;
     let ladder = peers::bench_ladder(n).ok_or("no ladder below 10 links")?;
-    let case = Case::from_json(&peers::scaled_family_case(n).to_string()).and_then(|c| c.validate()).map_err(|e| e.to_string())?;
-    let ValidCase::Design(valid) = case else { return Err("not a design case".into()) };
+    let valid = scaled_case(n);
     let (problem, settings) = (&valid.problem, &valid.settings);
     let (start, _) = problem.project_start(&valid.start);
     let mut previous: Option<(spine_design::DesignProblem, Design, (State, State))> = None;
     let (mut total, mut levels) = (0.0, Vec::new());
     for &m in &ladder.levels(n) {
         let clock = Instant::now();
-        let (level, nodes) = if m < n { refine::coarsen(problem, m) } else { (problem.clone(), (0..=n).collect()) };
-        let (design, states) = match &previous {
-            None => {
-                let design = refine::restrict(problem, &level, &nodes, &start);
-                let states = start_states(&level, &design, &settings.continuation, &mut Vec::new());
-                (design, states)
-            }
-            Some((coarser, d, s)) => {
-                let (design, interpolated) = refine::prolong(coarser, &level, d, s);
-                (design.clone(), refine::warm_states(&level, &design, interpolated, &settings.continuation).0)
-            }
-        };
-        let x0 = FullSpaceNlp::new(&level, &design, &states.0, &states.1).start;
-        let layout = Layout { n: m };
+        let previous_level = previous.as_ref().map(|(p, d, s)| (p, d, s));
+        let setup = refine::prepare_level(problem, m, previous_level, &start, &settings.continuation, &mut Vec::new());
+        let level = setup.problem(problem);
         let case_path = dir.join(format!("ladder-{n}-{m}.json"));
         let start_path = dir.join(format!("ladder-start-{n}-{m}.json"));
         let out_path = dir.join(format!("ladder-casadi-{n}-{m}.json"));
-        write(&case_path, &level_case(&level, settings, &design, previous.is_some()));
-        write(
-            &start_path,
-            &json!({
-                "theta0": x0[..m], "k": x0[m..2 * m + 1],
-                "theta1": states.0.theta, "lambda1": states.0.lambda,
-                "theta2": states.1.theta, "lambda2": states.1.lambda,
-                "heights": (1..m).map(|j| x0[layout.height(j).unwrap()]).collect::<Vec<_>>(),
-            }),
-        );
+        write(&case_path, &level_case(level, settings, &setup.design, previous.is_some()));
+        write(&start_path, &start_point(level, &setup.design, &setup.states));
         let preparation = clock.elapsed().as_secs_f64();
         let (run, passive, loaded) = casadi(python, &case_path, &start_path, &out_path)?;
         total += preparation + run.wall_seconds;
@@ -312,7 +306,7 @@ fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, Strin
         if !(run.converged || run.status.to_lowercase().contains("acceptable")) {
             return Err(format!("level {m} ended {}", run.status));
         }
-        previous = Some((level, Design { theta0: run.theta0.clone(), stiffness: run.stiffness.clone() }, (passive, loaded)));
+        previous = Some((level.clone(), Design { theta0: run.theta0.clone(), stiffness: run.stiffness.clone() }, (passive, loaded)));
     }
     Err("empty ladder".into())
 }

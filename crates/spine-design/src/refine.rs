@@ -159,6 +159,18 @@ impl Default for WarmStart {
     }
 }
 
+impl WarmStart {
+    /// Why these options are not usable, naming the field.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        for (name, v) in [("mu_init", self.mu_init), ("bound_push", self.bound_push), ("bound_frac", self.bound_frac), ("mult_bound_push", self.mult_bound_push)] {
+            if !(v.is_finite() && v > 0.0 && v <= 0.5) {
+                return Err((name, format!("must be a number in (0, 0.5], got {v}")));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The fine node of each coarse node: `b_c = round(c N / M)`, `c = 0..=M` (strictly increasing
 /// for `M ≤ N`).
 pub fn coarse_nodes(n: usize, m: usize) -> Vec<usize> {
@@ -340,6 +352,54 @@ pub fn warm_states(
     }
 }
 
+/// One level of the ladder, ready for Ipopt: its chain (coarse, or the problem itself), how it
+/// started, the start design and the start states.
+pub struct LevelSetup {
+    /// The coarse problem and the fine node of each coarse node; `None` at the problem's own `N`.
+    pub coarse: Option<(DesignProblem, Vec<usize>)>,
+    pub start: LevelStart,
+    pub design: Design,
+    pub states: (State, State),
+}
+
+impl LevelSetup {
+    /// The level's problem: the coarse one, or `fine` itself.
+    pub fn problem<'a>(&'a self, fine: &'a DesignProblem) -> &'a DesignProblem {
+        self.coarse.as_ref().map_or(fine, |(c, _)| c)
+    }
+}
+
+/// Prepares the level of `m` links of `problem`: cold from `start` restricted to it (states by
+/// continuation, their notes added to `notes` with the level named) when there is no `previous`
+/// level, else warm from the prolonged `previous` optimum (problem, design, states).
+pub fn prepare_level(
+    problem: &DesignProblem,
+    m: usize,
+    previous: Option<(&DesignProblem, &Design, &(State, State))>,
+    start: &Design,
+    continuation: &spine_solve::ContinuationOptions,
+    notes: &mut Vec<String>,
+) -> LevelSetup {
+    let n = problem.n_links();
+    let coarse = (m < n).then(|| coarsen(problem, m));
+    let level = coarse.as_ref().map_or(problem, |(c, _)| c);
+    let (how, design, states) = match previous {
+        None => {
+            let design = coarse.as_ref().map_or_else(|| start.clone(), |(c, nodes)| restrict(problem, c, nodes, start));
+            let mut level_notes = Vec::new();
+            let states = crate::solve::start_states(level, &design, continuation, &mut level_notes);
+            notes.extend(level_notes.into_iter().map(|s| if m < n { format!("refinement level {m} links: {s}") } else { s }));
+            (LevelStart::Cold, design, states)
+        }
+        Some((coarser, d, s)) => {
+            let (design, interpolated) = prolong(coarser, level, d, s);
+            let (states, how) = warm_states(level, &design, interpolated, continuation);
+            (how, design, states)
+        }
+    };
+    LevelSetup { coarse, start: how, design, states }
+}
+
 /// Design and states of a full-space solution vector.
 pub fn solution_parts(nlp: &FullSpaceNlp, x: &[f64]) -> (Design, (State, State)) {
     let layout = nlp.layout;
@@ -421,16 +481,4 @@ pub fn prolong_multipliers(coarse: &DesignProblem, fine: &DesignProblem, m: &Mul
         }
     }
     Multipliers { constraints, z_lower, z_upper }
-}
-
-impl WarmStart {
-    /// Why these options are not usable, naming the field.
-    pub fn check(&self) -> Result<(), (&'static str, String)> {
-        for (name, v) in [("mu_init", self.mu_init), ("bound_push", self.bound_push), ("bound_frac", self.bound_frac), ("mult_bound_push", self.mult_bound_push)] {
-            if !(v.is_finite() && v > 0.0 && v <= 0.5) {
-                return Err((name, format!("must be a number in (0, 0.5], got {v}")));
-            }
-        }
-        Ok(())
-    }
 }

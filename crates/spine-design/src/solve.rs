@@ -271,24 +271,11 @@ fn solve_refined(
     loop {
         let m = if fell_back { n } else { sizes[next] };
         let clock = Instant::now();
-        let coarse = (m < n).then(|| refine::coarsen(problem, m));
-        let level = coarse.as_ref().map_or(problem, |(c, _)| c);
-        let (how, design, states) = match &previous {
-            None => {
-                let design = coarse.as_ref().map_or_else(|| start.clone(), |(c, nodes)| refine::restrict(problem, c, nodes, start));
-                let mut level_notes = Vec::new();
-                let states = start_states(level, &design, &settings.continuation, &mut level_notes);
-                notes.extend(level_notes.into_iter().map(|s| if m < n { format!("refinement level {m} links: {s}") } else { s }));
-                (LevelStart::Cold, design, states)
-            }
-            Some((coarser, d, s, _)) => {
-                let (design, interpolated) = refine::prolong(coarser, level, d, s);
-                let (states, how) = refine::warm_states(level, &design, interpolated, &settings.continuation);
-                (how, design, states)
-            }
-        };
+        let previous_level = previous.as_ref().map(|(p, d, s, _)| (p, d, s));
+        let setup = refine::prepare_level(problem, m, previous_level, start, &settings.continuation, notes);
+        let (level, how, design, states) = (setup.problem(problem), setup.start, &setup.design, &setup.states);
         let start_seconds = clock.elapsed().as_secs_f64();
-        let mut nlp = FullSpaceNlp::new(level, &design, &states.0, &states.1);
+        let mut nlp = FullSpaceNlp::new(level, design, &states.0, &states.1);
         nlp.on_iteration = Some(&mut *observer);
         if let (Some((coarser, _, _, multipliers)), true) = (&previous, warm.multipliers) {
             let size = nlp.layout.num_variables();
