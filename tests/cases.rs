@@ -85,7 +85,8 @@ fn every_paper_case_validates() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "json") {
             let text = std::fs::read_to_string(&path).unwrap();
-            let ok = Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())).validate().map(|_| ());
+            let ok =
+                Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())).validate().map(|_| ());
             ok.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             count += 1;
         }

@@ -73,7 +73,9 @@ fn design(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("ad", n), &f, |b, f| b.iter(|| black_box(f).gradients_ad()));
         g.bench_with_input(BenchmarkId::new("hand", n), &f, |b, f| b.iter(|| black_box(f).gradients_hand()));
         if n <= QUADRATIC_MAX_N {
-            g.bench_with_input(BenchmarkId::new("forward_ad", n), &f, |b, f| b.iter(|| black_box(f).gradients_forward()));
+            g.bench_with_input(BenchmarkId::new("forward_ad", n), &f, |b, f| {
+                b.iter(|| black_box(f).gradients_forward())
+            });
             g.bench_with_input(BenchmarkId::new("fd", n), &f, |b, f| b.iter(|| black_box(f).gradients_fd()));
         }
     }
@@ -96,7 +98,8 @@ fn design(c: &mut Criterion) {
             if formulation == Formulation::Reduced && n > REDUCED_SOLVE_MAX_N {
                 continue;
             }
-            let check = solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true).expect("valid problem");
+            let check =
+                solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true).expect("valid problem");
             assert!(check.is_clean(), "N = {n} {}: {}", formulation.name(), check.solver.status);
             g.bench_with_input(BenchmarkId::new(formulation.name(), n), &f, |b, f| {
                 b.iter(|| solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true))

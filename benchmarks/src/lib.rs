@@ -54,7 +54,12 @@ impl StateFixture {
         let solution = solve_static(&problem, &ContinuationOptions::default());
         let loaded = solution.loaded.expect("the scaled arch has a loaded equilibrium");
         assert_eq!(loaded.load_factor, 1.0, "N = {n}: the scaled arch reaches full load");
-        StateFixture { loads: problem.total_loads(), spans: problem.chain.spans, design: problem.design, state: loaded.state }
+        StateFixture {
+            loads: problem.total_loads(),
+            spans: problem.chain.spans,
+            design: problem.design,
+            state: loaded.state,
+        }
     }
 
     /// The residual of eq. (5).
@@ -74,7 +79,13 @@ impl StateFixture {
 
     /// Residual and `∂r/∂(θ, λ)` by element-wise central differences.
     pub fn jacobian_fd(&self) -> (Vec<f64>, BorderedTridiagonal) {
-        finite_difference::residual_and_state_jacobian(&self.spans, &self.design, &self.loads, &self.state, CENTRAL_STEP)
+        finite_difference::residual_and_state_jacobian(
+            &self.spans,
+            &self.design,
+            &self.loads,
+            &self.state,
+            CENTRAL_STEP,
+        )
     }
 
     /// One Newton step on `(θ, λ)` from `start`: residual and AD Jacobian, the O(N) bordered
@@ -88,7 +99,8 @@ impl StateFixture {
 
     /// The equilibrium with every angle moved by `size` rad (alternating signs): a Newton start.
     pub fn perturbed(&self, size: f64) -> State {
-        let theta = self.state.theta.iter().enumerate().map(|(i, t)| t + if i % 2 == 0 { size } else { -size }).collect();
+        let theta =
+            self.state.theta.iter().enumerate().map(|(i, t)| t + if i % 2 == 0 { size } else { -size }).collect();
         State { theta, lambda: self.state.lambda }
     }
 }
@@ -159,7 +171,12 @@ impl HessianFixture {
         let layout = Layout { n: design.problem.n_links() };
         let mut rng = FixtureRng::new(17);
         let lambda = (0..layout.num_constraints()).map(|_| rng.uniform(-1.0, 1.0)).collect();
-        HessianFixture { assembled: full_space::assemble(&design.problem), x: design.full_space_point(), sigma: 1.0, lambda }
+        HessianFixture {
+            assembled: full_space::assemble(&design.problem),
+            x: design.full_space_point(),
+            sigma: 1.0,
+            lambda,
+        }
     }
 
     /// The lower-triangle values of `σ ∇²f + Σ λ_r ∇²g_r` (positions as in `patterns.hessian`).

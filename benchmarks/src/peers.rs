@@ -103,7 +103,13 @@ impl SolverRun {
 
     /// `links:iterations` of every level, e.g. `50:125 100:208 1000:123`.
     pub fn ladder(&self) -> String {
-        self.levels.iter().map(|l| format!("{}:{}{}", l.links, l.iterations, if l.status == "solve_succeeded" { "" } else { "(acc.)" })).collect::<Vec<_>>().join(" ")
+        self.levels
+            .iter()
+            .map(|l| {
+                format!("{}:{}{}", l.links, l.iterations, if l.status == "solve_succeeded" { "" } else { "(acc.)" })
+            })
+            .collect::<Vec<_>>()
+            .join(" ")
     }
 }
 
@@ -146,7 +152,9 @@ pub struct PeerRow {
 impl PeerRow {
     /// `|J_ours − J_casadi| / |J_casadi|`.
     pub fn relative_difference(&self) -> Option<f64> {
-        self.casadi.as_ref().map(|c| (self.ours.objective - c.objective).abs() / c.objective.abs().max(f64::MIN_POSITIVE))
+        self.casadi
+            .as_ref()
+            .map(|c| (self.ours.objective - c.objective).abs() / c.objective.abs().max(f64::MIN_POSITIVE))
     }
 
     /// Our wall time over CasADi's.
@@ -183,7 +191,9 @@ impl PeerRow {
                 let acceptable = |s: &str| s.to_lowercase().contains("acceptable");
                 let diff = self.relative_difference().unwrap_or(f64::INFINITY);
                 if acceptable(&self.ours.status) && acceptable(&c.status) {
-                    return format!("both stopped at Ipopt's acceptable level only (not the requested tol); J differ by {diff:.1e}");
+                    return format!(
+                        "both stopped at Ipopt's acceptable level only (not the requested tol); J differ by {diff:.1e}"
+                    );
                 }
                 return format!("neither converged (ours {}, CasADi {})", self.ours.status, c.status);
             }
@@ -199,9 +209,17 @@ impl PeerRow {
         if let Some(x) = &self.cross_check {
             let back = (x.objective - c.objective).abs() / c.objective.abs();
             if x.converged && back <= SAME_OPTIMUM {
-                let _ = write!(s, "; ours from CasADi's optimum stays there ({} iterations, J within {back:.0e}): same NLP", x.iterations);
+                let _ = write!(
+                    s,
+                    "; ours from CasADi's optimum stays there ({} iterations, J within {back:.0e}): same NLP",
+                    x.iterations
+                );
             } else {
-                let _ = write!(s, "; ours from CasADi's optimum: {} after {} iterations, J rel. diff {back:.1e}", x.status, x.iterations);
+                let _ = write!(
+                    s,
+                    "; ours from CasADi's optimum: {} after {} iterations, J rel. diff {back:.1e}",
+                    x.status, x.iterations
+                );
             }
         }
         s
@@ -252,7 +270,12 @@ pub fn ladder_table(rows: &[PeerRow]) -> String {
         }
         let _ = write!(md, "| {} |", r.n);
         for x in runs {
-            let _ = write!(md, " {} | {} |", x.map_or("–".into(), SolverRun::ladder), x.map_or("–".into(), |x| format!("{:.9e}", x.objective)));
+            let _ = write!(
+                md,
+                " {} | {} |",
+                x.map_or("–".into(), SolverRun::ladder),
+                x.map_or("–".into(), |x| format!("{:.9e}", x.objective))
+            );
         }
         let _ = writeln!(md);
     }

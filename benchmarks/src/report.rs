@@ -54,8 +54,11 @@ pub fn read_criterion(criterion: &Path) -> Result<Vec<Measurement>, String> {
             let name = path.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
             let mut push = |method: &str, n: usize, estimates: &Path| -> Result<(), String> {
                 let text = std::fs::read_to_string(estimates).map_err(|e| format!("{}: {e}", estimates.display()))?;
-                let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", estimates.display()))?;
-                let ns = json["mean"]["point_estimate"].as_f64().ok_or_else(|| format!("{}: no mean", estimates.display()))?;
+                let json: serde_json::Value =
+                    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", estimates.display()))?;
+                let ns = json["mean"]["point_estimate"]
+                    .as_f64()
+                    .ok_or_else(|| format!("{}: no mean", estimates.display()))?;
                 out.push(Measurement { group: group.into(), method: method.into(), n, seconds: ns * 1e-9 });
                 Ok(())
             };
@@ -65,11 +68,17 @@ pub fn read_criterion(criterion: &Path) -> Result<Vec<Measurement>, String> {
                     push("", n, &estimates)?;
                 }
             } else if path.is_dir() && name != "report" {
-                let mut sizes: Vec<_> = std::fs::read_dir(&path).map_err(|e| e.to_string())?.filter_map(|e| e.ok()).map(|e| e.path()).collect();
+                let mut sizes: Vec<_> = std::fs::read_dir(&path)
+                    .map_err(|e| e.to_string())?
+                    .filter_map(|e| e.ok())
+                    .map(|e| e.path())
+                    .collect();
                 sizes.sort();
                 for size in sizes {
                     let estimates = size.join("new/estimates.json");
-                    if let (Some(n), true) = (size.file_name().and_then(|s| s.to_str()).and_then(|s| s.parse().ok()), estimates.exists()) {
+                    if let (Some(n), true) =
+                        (size.file_name().and_then(|s| s.to_str()).and_then(|s| s.parse().ok()), estimates.exists())
+                    {
                         push(&name, n, &estimates)?;
                     }
                 }
@@ -87,7 +96,8 @@ fn group_rank(group: &str) -> usize {
 /// Least-squares slope of `log t` against `log N` over the points with `N ≥ from` (`None` with
 /// fewer than two such points).
 pub fn fit_exponent(points: &[(usize, f64)], from: usize) -> Option<f64> {
-    let xy: Vec<(f64, f64)> = points.iter().filter(|(n, _)| *n >= from).map(|&(n, t)| ((n as f64).ln(), t.ln())).collect();
+    let xy: Vec<(f64, f64)> =
+        points.iter().filter(|(n, _)| *n >= from).map(|&(n, t)| ((n as f64).ln(), t.ln())).collect();
     if xy.len() < 2 {
         return None;
     }
@@ -127,7 +137,13 @@ pub fn format_time(seconds: f64) -> String {
 pub fn machine() -> String {
     let read = |p: &str| std::fs::read_to_string(p).unwrap_or_default();
     let cpuinfo = read("/proc/cpuinfo");
-    let cpu = cpuinfo.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).unwrap_or("unknown").trim().to_string();
+    let cpu = cpuinfo
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .unwrap_or("unknown")
+        .trim()
+        .to_string();
     let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0);
     let memory = read("/proc/meminfo")
         .lines()
@@ -135,9 +151,18 @@ pub fn machine() -> String {
         .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<f64>().ok()))
         .map(|kb| format!("{:.1} GiB", kb / 1024.0 / 1024.0))
         .unwrap_or_else(|| "unknown".into());
-    let os = read("/etc/os-release").lines().find(|l| l.starts_with("PRETTY_NAME=")).map(|l| l[12..].trim_matches('"').to_string()).unwrap_or_default();
+    let os = read("/etc/os-release")
+        .lines()
+        .find(|l| l.starts_with("PRETTY_NAME="))
+        .map(|l| l[12..].trim_matches('"').to_string())
+        .unwrap_or_default();
     let kernel = read("/proc/sys/kernel/osrelease").trim().to_string();
-    let rustc = std::process::Command::new("rustc").arg("--version").output().ok().map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string()).unwrap_or_default();
+    let rustc = std::process::Command::new("rustc")
+        .arg("--version")
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
     format!("{cpu}, {cores} cores available, {memory}; {os}, Linux {kernel}; {rustc}")
 }
 
@@ -180,25 +205,42 @@ pub fn targets(measurements: &[Measurement], peers: &[PeerRow]) -> Vec<Target> {
 /// N = 1000 within 20 s (Debian's Ipopt) and 5 s (Ipopt 3.14), and the wall-time ratios to CasADi.
 pub fn peer_targets(peers: &[PeerRow]) -> Vec<Target> {
     let mut out = Vec::new();
-    let measured = |v: Vec<String>| if v.is_empty() { "not measured (run `just bench-peers`)".to_string() } else { v.join(", ") };
+    let measured =
+        |v: Vec<String>| if v.is_empty() { "not measured (run `just bench-peers`)".to_string() } else { v.join(", ") };
     let refined: Vec<_> = peers.iter().filter_map(|r| r.ours_refined.as_ref().map(|x| (r.n, x))).collect();
     out.push(Target {
         statement: "refined path, default backend: `solve_succeeded` (tol 1e-8) at every N".into(),
-        measured: measured(refined.iter().map(|(n, x)| format!("N={n}: {}", if x.converged { "yes".to_string() } else { x.status.clone() })).collect()),
+        measured: measured(
+            refined
+                .iter()
+                .map(|(n, x)| format!("N={n}: {}", if x.converged { "yes".to_string() } else { x.status.clone() }))
+                .collect(),
+        ),
         met: (!refined.is_empty()).then(|| refined.iter().all(|(_, x)| x.converged)),
     });
     let at_1000 = peers.iter().find(|r| r.n == 1000);
     for (statement, run, limit) in [
-        ("N = 1000 converged in under 20 s, default backend (refined)", at_1000.and_then(|r| r.ours_refined.as_ref()), 20.0),
-        ("N = 1000 converged in under 5 s, Ipopt 3.14 backend (refined)", at_1000.and_then(|r| r.ipopt314_refined.as_ref()), 5.0),
+        (
+            "N = 1000 converged in under 20 s, default backend (refined)",
+            at_1000.and_then(|r| r.ours_refined.as_ref()),
+            20.0,
+        ),
+        (
+            "N = 1000 converged in under 5 s, Ipopt 3.14 backend (refined)",
+            at_1000.and_then(|r| r.ipopt314_refined.as_ref()),
+            5.0,
+        ),
     ] {
         out.push(Target {
             statement: statement.into(),
-            measured: run.map_or("not measured (run `just bench-peers`)".into(), |x| format!("{} in {} ({} iterations at N)", x.status, format_time(x.wall_seconds), x.iterations)),
+            measured: run.map_or("not measured (run `just bench-peers`)".into(), |x| {
+                format!("{} in {} ({} iterations at N)", x.status, format_time(x.wall_seconds), x.iterations)
+            }),
             met: run.map(|x| x.converged && x.wall_seconds < limit),
         });
     }
-    let ratios: Vec<_> = peers.iter().filter_map(|r| r.best_ratio().map(|x| (r.n, x, r.best().map_or("", |b| b.0)))).collect();
+    let ratios: Vec<_> =
+        peers.iter().filter_map(|r| r.best_ratio().map(|x| (r.n, x, r.best().map_or("", |b| b.0)))).collect();
     let same_ladder: Vec<_> = peers
         .iter()
         .filter_map(|r| match (r.ours_refined.as_ref(), r.casadi_refined.as_ref()) {
@@ -259,8 +301,13 @@ pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine
             let _ = writeln!(md, " {p} |");
         }
     }
-    let ratio_rows: Vec<(&str, &str, &str)> =
-        vec![("jacobian", "ad", "hand"), ("jacobian", "fd", "hand"), ("gradients", "ad", "hand"), ("gradients", "forward_ad", "hand"), ("gradients", "fd", "hand")];
+    let ratio_rows: Vec<(&str, &str, &str)> = vec![
+        ("jacobian", "ad", "hand"),
+        ("jacobian", "fd", "hand"),
+        ("gradients", "ad", "hand"),
+        ("gradients", "forward_ad", "hand"),
+        ("gradients", "fd", "hand"),
+    ];
     let _ = writeln!(md, "\n## Ratios to the hand-derived derivatives\n");
     let _ = write!(md, "| ratio |");
     for n in &sizes {
@@ -268,7 +315,9 @@ pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine
     }
     let _ = writeln!(md, "\n|---|{}", "---|".repeat(sizes.len()));
     for (group, a, b) in ratio_rows {
-        let (Some(sa), Some(sb)) = (by_name.get(&format!("{group}/{a}")), by_name.get(&format!("{group}/{b}"))) else { continue };
+        let (Some(sa), Some(sb)) = (by_name.get(&format!("{group}/{a}")), by_name.get(&format!("{group}/{b}"))) else {
+            continue;
+        };
         let _ = write!(md, "| {group}: {a} / {b} |");
         let by_size = ratios(sa, sb);
         for n in &sizes {
@@ -295,12 +344,17 @@ pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine
 /// (derivatives and solves).
 pub fn figure(measurements: &[Measurement]) -> Figure {
     let by_name = series(measurements);
-    let log = |points: &[(usize, f64)]| points.iter().map(|&(n, t)| ((n as f64).log10(), t.log10())).collect::<Vec<_>>();
+    let log =
+        |points: &[(usize, f64)]| points.iter().map(|&(n, t)| ((n as f64).log10(), t.log10())).collect::<Vec<_>>();
     let mut derivatives = Panel::new("Derivatives", "log10 N", "log10 time (s)");
     let mut solves = Panel::new("Steps and solves", "log10 N", "log10 time (s)");
     for (k, (name, points)) in by_name.iter().enumerate() {
         let series = Series::line_markers(name.clone(), log(points)).colour(k);
-        if name.starts_with("jacobian") || name.starts_with("gradients") || name.starts_with("hessian") || name == "residual" {
+        if name.starts_with("jacobian")
+            || name.starts_with("gradients")
+            || name.starts_with("hessian")
+            || name == "residual"
+        {
             derivatives = derivatives.with(series);
         } else {
             solves = solves.with(series);

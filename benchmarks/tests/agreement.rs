@@ -40,7 +40,8 @@ fn one_newton_step_converges_quadratically_at_every_size() {
         let size = 1e-3;
         let start = f.perturbed(size);
         let next = f.newton_step(&start);
-        let error = |s: &spine_model::State| s.theta.iter().zip(&f.state.theta).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let error =
+            |s: &spine_model::State| s.theta.iter().zip(&f.state.theta).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!((error(&start) - size).abs() < 1e-12);
         // Quadratic convergence: the error after one step is O(size²), far below size.
         assert!(error(&next) < 100.0 * size * size, "N = {n}: error {} after one step from {size}", error(&next));
@@ -50,13 +51,25 @@ fn one_newton_step_converges_quadratically_at_every_size() {
 /// Entry by entry, `|a − b| ≤ relative · |a| + absolute · scale`. For `dJ/dd` the scale is the
 /// largest spring moment `|K_m Δθ|` (the adjoint formula subtracts terms of that size, so rounding
 /// is relative to it, not to the difference); for `dX/dd` the largest entry.
-fn assert_gradients_agree(f: &DesignFixture, what: &str, reference: &ReducedGradients, other: &ReducedGradients, relative: f64, absolute: f64) {
+fn assert_gradients_agree(
+    f: &DesignFixture,
+    what: &str,
+    reference: &ReducedGradients,
+    other: &ReducedGradients,
+    relative: f64,
+    absolute: f64,
+) {
     let n = f.problem.n_links();
     assert_eq!(reference.energy, other.energy);
     assert_eq!(reference.end_x, other.end_x);
     let moments = spine_model::hand::strain_energy_partials(&f.design, &f.passive).0;
     for (name, a, b, scale) in [
-        ("dJ/d(θ0, K)", &reference.energy_gradient, &other.energy_gradient, max_abs(&moments).max(max_abs(&reference.energy_gradient))),
+        (
+            "dJ/d(θ0, K)",
+            &reference.energy_gradient,
+            &other.energy_gradient,
+            max_abs(&moments).max(max_abs(&reference.energy_gradient)),
+        ),
         ("dX/d(θ0, K)", &reference.end_x_gradient, &other.end_x_gradient, max_abs(&reference.end_x_gradient)),
     ] {
         assert_eq!(a.len(), 2 * n + 1);
@@ -65,7 +78,12 @@ fn assert_gradients_agree(f: &DesignFixture, what: &str, reference: &ReducedGrad
         for k in 0..a.len() {
             let error = (a[k] - b[k]).abs();
             let allowed = relative * a[k].abs() + absolute * scale;
-            assert!(error <= allowed, "N = {n} {name}[{k}] {what}: hand {} vs {} (error {error:e} > {allowed:e})", a[k], b[k]);
+            assert!(
+                error <= allowed,
+                "N = {n} {name}[{k}] {what}: hand {} vs {} (error {error:e} > {allowed:e})",
+                a[k],
+                b[k]
+            );
         }
     }
 }
@@ -107,7 +125,11 @@ fn lagrangian_hessian_by_second_order_ad_equals_central_differences_of_the_gradi
             let (gp, gm) = (f.lagrangian_gradient(&plus), f.lagrangian_gradient(&minus));
             for r in 0..dim {
                 let fd = (gp[r] - gm[r]) / (2.0 * h);
-                assert!((fd - dense[r][k]).abs() <= 1e-6 * scale.max(1.0), "N = {n} ∂²L/∂x{r}∂x{k}: AD {} FD {fd}", dense[r][k]);
+                assert!(
+                    (fd - dense[r][k]).abs() <= 1e-6 * scale.max(1.0),
+                    "N = {n} ∂²L/∂x{r}∂x{k}: AD {} FD {fd}",
+                    dense[r][k]
+                );
             }
         }
     }

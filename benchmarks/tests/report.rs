@@ -2,7 +2,7 @@
 //! power laws, and the comparison table says what each row shows.
 
 use spine_benchmarks::peers::{scaled_family_case, table, CrossCheck, PeerRow, SolverRun};
-use spine_benchmarks::report::{fit_exponent, Measurement, targets};
+use spine_benchmarks::report::{fit_exponent, targets, Measurement};
 use spine_case::{Case, ValidCase};
 use spine_design::fixtures::{arch_start, scaled_family};
 
@@ -29,7 +29,9 @@ fn the_peer_case_file_is_the_scaled_family_at_the_arch_start() {
 
 #[test]
 fn exponent_fit_recovers_power_laws_from_the_fit_range_only() {
-    let law = |p: f64| -> Vec<(usize, f64)> { [5, 10, 50, 100, 1000].iter().map(|&n| (n, 3e-7 * (n as f64).powf(p))).collect() };
+    let law = |p: f64| -> Vec<(usize, f64)> {
+        [5, 10, 50, 100, 1000].iter().map(|&n| (n, 3e-7 * (n as f64).powf(p))).collect()
+    };
     for p in [0.5, 1.0, 2.0] {
         assert!((fit_exponent(&law(p), 50).unwrap() - p).abs() < 1e-12);
     }
@@ -74,7 +76,11 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
     assert_eq!(same.ratio(), Some(0.25));
     let back = CrossCheck { status: "solve_succeeded".into(), converged: true, iterations: 3, objective: 1.1 };
     let different = row(run(1.0, 0.5, true), Some(run(1.1, 2.0, true)), Some(back));
-    assert!(different.verdict().starts_with("different local optima; ours from CasADi's optimum stays there (3 iterations"), "{}", different.verdict());
+    assert!(
+        different.verdict().starts_with("different local optima; ours from CasADi's optimum stays there (3 iterations"),
+        "{}",
+        different.verdict()
+    );
     let failed = row(run(1.0, 0.5, true), Some(run(1.1, 2.0, false)), None);
     assert_eq!(failed.verdict(), "CasADi did not converge (Maximum_Iterations_Exceeded)");
     let missing = row(run(1.0, 0.5, true), None, None);
@@ -93,7 +99,12 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
 
 #[test]
 fn targets_report_the_ad_to_hand_ratio_and_unmeasured_targets() {
-    let m = |method: &str, n: usize, seconds: f64| Measurement { group: "jacobian".into(), method: method.into(), n, seconds };
+    let m = |method: &str, n: usize, seconds: f64| Measurement {
+        group: "jacobian".into(),
+        method: method.into(),
+        n,
+        seconds,
+    };
     let measurements = vec![m("ad", 100, 3e-6), m("hand", 100, 2e-6), m("ad", 1000, 3e-5), m("hand", 1000, 1e-5)];
     let t = targets(&measurements, &[]);
     assert!(t[0].measured.contains("N=100: 1.50×") && t[0].measured.contains("N=1000: 3.00×"), "{}", t[0].measured);

@@ -30,7 +30,10 @@ fn locate() -> (PathBuf, PathBuf) {
     if let Some(dir) = std::env::var_os("IPOPT_DIR") {
         let dir = PathBuf::from(dir);
         let lib = first_with(&[dir.join("lib"), dir.clone()], "libipopt.so");
-        let include = first_with(&[dir.join("include/coin-or"), dir.join("include/coin"), dir.join("include")], "IpStdCInterface.h");
+        let include = first_with(
+            &[dir.join("include/coin-or"), dir.join("include/coin"), dir.join("include")],
+            "IpStdCInterface.h",
+        );
         match (lib, include) {
             (Some(lib), Some(include)) => return (lib, include),
             _ => panic!(
@@ -65,8 +68,14 @@ fn main() {
         .lines()
         .find_map(|l| l.trim().strip_prefix("#define IPOPT_VERSION ").map(|v| v.trim().trim_matches('"').to_string()))
         .unwrap_or_else(|| "unknown".into());
-    if config.lines().any(|l| l.trim().starts_with("#define IPOPT_INT64") || l.trim().starts_with("#define IPOPT_SINGLE")) {
-        panic!("Ipopt {version} at {} uses 64-bit indices or single precision; this binding needs int indices and double", include.display());
+    if config
+        .lines()
+        .any(|l| l.trim().starts_with("#define IPOPT_INT64") || l.trim().starts_with("#define IPOPT_SINGLE"))
+    {
+        panic!(
+            "Ipopt {version} at {} uses 64-bit indices or single precision; this binding needs int indices and double",
+            include.display()
+        );
     }
     let c99_bool = interface.contains("typedef bool Bool");
     let int_bool = interface.contains("typedef int Bool");

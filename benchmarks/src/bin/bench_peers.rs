@@ -19,9 +19,9 @@
 
 use serde_json::json;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
-use spine_design::refine::{Refine, RefineMode};
 use spine_case::{Case, ValidCase};
 use spine_design::full_space::{FullSpaceNlp, Layout};
+use spine_design::refine::{Refine, RefineMode};
 use spine_design::solve::{start_states, ExtraOption};
 use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
 use spine_model::{Design, State};
@@ -41,7 +41,15 @@ fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
         stiffness: r.design.stiffness.clone(),
         ipopt_version: r.solver.ipopt_version.clone(),
         levels: r.refinement.as_ref().map_or(Vec::new(), |rf| {
-            rf.levels.iter().map(|l| LevelRun { links: l.links, status: l.status.clone(), iterations: l.iterations, wall_seconds: l.wall_seconds }).collect()
+            rf.levels
+                .iter()
+                .map(|l| LevelRun {
+                    links: l.links,
+                    status: l.status.clone(),
+                    iterations: l.iterations,
+                    wall_seconds: l.wall_seconds,
+                })
+                .collect()
         }),
     }
 }
@@ -55,7 +63,8 @@ fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<Solv
         settings.refine = Refine::Mode(RefineMode::Off);
     }
     let clock = Instant::now();
-    let r = solve_design(&valid.problem, &valid.start, Formulation::Full, &settings, &mut |_| true).expect("valid problem");
+    let r =
+        solve_design(&valid.problem, &valid.start, Formulation::Full, &settings, &mut |_| true).expect("valid problem");
     let run = run_of(&r, clock.elapsed().as_secs_f64());
     eprintln!(
         "N = {n}: ours {} ({}) {} in {:.3} s ({} iterations{}), J = {:.9e}",
@@ -72,7 +81,9 @@ fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<Solv
 
 /// The scaled-family case of `N` links, validated.
 fn scaled_case(n: usize) -> spine_case::ValidDesign {
-    let case = Case::from_json(&peers::scaled_family_case(n).to_string()).and_then(|c| c.validate()).expect("the generated case is valid");
+    let case = Case::from_json(&peers::scaled_family_case(n).to_string())
+        .and_then(|c| c.validate())
+        .expect("the generated case is valid");
     let ValidCase::Design(valid) = case else { unreachable!("a design case") };
     valid
 }
@@ -93,19 +104,22 @@ fn start_point(problem: &spine_design::DesignProblem, design: &Design, states: &
 
 /// The rows of an earlier run, which the 3.14 and CasADi-ladder runs add to.
 fn read_rows(results: &Path) -> Vec<PeerRow> {
-    let text = std::fs::read_to_string(results).expect("run bench_peers on the default backend first: benchmarks/peers/results.json");
+    let text = std::fs::read_to_string(results)
+        .expect("run bench_peers on the default backend first: benchmarks/peers/results.json");
     serde_json::from_str(&text).expect("benchmarks/peers/results.json")
 }
 
 /// Prints the table and writes the rows.
 fn write_rows(results: &Path, rows: &[PeerRow]) {
     println!("{}", peers::table(rows));
-    std::fs::write(results, serde_json::to_string_pretty(rows).expect("JSON") + "\n").expect("benchmarks/peers/results.json");
+    std::fs::write(results, serde_json::to_string_pretty(rows).expect("JSON") + "\n")
+        .expect("benchmarks/peers/results.json");
     eprintln!("wrote {}", results.display());
 }
 
 fn write(path: &Path, value: &serde_json::Value) {
-    std::fs::write(path, serde_json::to_string_pretty(value).expect("JSON")).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    std::fs::write(path, serde_json::to_string_pretty(value).expect("JSON"))
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
 
 fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(SolverRun, State, State), String> {
@@ -121,7 +135,9 @@ fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(Solver
     }
     let text = std::fs::read_to_string(out).map_err(|e| e.to_string())?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
-    let floats = |k: &str| -> Vec<f64> { v[k].as_array().map(|a| a.iter().filter_map(|x| x.as_f64()).collect()).unwrap_or_default() };
+    let floats = |k: &str| -> Vec<f64> {
+        v[k].as_array().map(|a| a.iter().filter_map(|x| x.as_f64()).collect()).unwrap_or_default()
+    };
     let run = SolverRun {
         status: v["status"].as_str().unwrap_or("unknown").into(),
         converged: v["converged"].as_bool().unwrap_or(false),
@@ -161,7 +177,12 @@ fn main() {
             let Some(row) = rows.iter_mut().find(|r| r.n == n) else { continue };
             match casadi_refined(&python, n, &dir) {
                 Ok(run) => {
-                    eprintln!("N = {n}: CasADi refined {} in {:.3} s; levels {}", run.status, run.wall_seconds, run.ladder());
+                    eprintln!(
+                        "N = {n}: CasADi refined {} in {:.3} s; levels {}",
+                        run.status,
+                        run.wall_seconds,
+                        run.ladder()
+                    );
                     row.casadi_refined = Some(run);
                 }
                 Err(e) => eprintln!("N = {n}: CasADi refined: {e}"),
@@ -205,7 +226,10 @@ fn main() {
         let out_path = dir.join(format!("casadi-{n}.json"));
         let (casadi_run, casadi_error, cross_check) = match casadi(&python, &case_path, &start_path, &out_path) {
             Ok((run, passive, loaded)) => {
-                eprintln!("N = {n}: CasADi {} in {:.3} s ({} iterations), J = {:.9e}", run.status, run.wall_seconds, run.iterations, run.objective);
+                eprintln!(
+                    "N = {n}: CasADi {} in {:.3} s ({} iterations), J = {:.9e}",
+                    run.status, run.wall_seconds, run.iterations, run.objective
+                );
                 let differs = (run.objective - ours.objective).abs() > peers::SAME_OPTIMUM * run.objective.abs();
                 let check = (differs && run.converged).then(|| cross_check(problem, settings, &run, &passive, &loaded));
                 (Some(run), None, check)
@@ -232,7 +256,13 @@ fn main() {
 }
 
 /// Our solver from CasADi's optimum (see the module docs).
-fn cross_check(problem: &spine_design::DesignProblem, settings: &SolverSettings, run: &SolverRun, passive: &State, loaded: &State) -> CrossCheck {
+fn cross_check(
+    problem: &spine_design::DesignProblem,
+    settings: &SolverSettings,
+    run: &SolverRun,
+    passive: &State,
+    loaded: &State,
+) -> CrossCheck {
     let design = Design { theta0: run.theta0.clone(), stiffness: run.stiffness.clone() };
     let mut warm = settings.clone();
     for (k, v) in [("mu_init", 1e-9), ("bound_push", 1e-10), ("bound_frac", 1e-10)] {
@@ -250,14 +280,20 @@ fn cross_check(problem: &spine_design::DesignProblem, settings: &SolverSettings,
 
 /// A coarse level of the ladder as a case file for the peer script (its lumped loads and scaled
 /// stiffness bounds per node), with the warm-start options of our warm levels.
-fn level_case(level: &spine_design::DesignProblem, template: &spine_design::SolverSettings, start: &Design, warm: bool) -> serde_json::Value {
+fn level_case(
+    level: &spine_design::DesignProblem,
+    template: &spine_design::SolverSettings,
+    start: &Design,
+    warm: bool,
+) -> serde_json::Value {
     let m = level.n_links();
     assert!(level.passive.p_x.iter().all(|v| *v == 0.0) && level.actuation.p_y.iter().all(|v| *v == 0.0));
     assert!(level.actuation.p_x[..m].iter().all(|v| *v == 0.0), "axial load at the end only");
     let w = &template.warm_start;
     let mut solver = json!({ "tolerance": template.tolerance, "constraint_tolerance": template.constraint_tolerance, "refine": "off" });
     if warm {
-        solver["ipopt_options"] = json!({ "mu_init": w.mu_init, "bound_push": w.bound_push, "bound_frac": w.bound_frac });
+        solver["ipopt_options"] =
+            json!({ "mu_init": w.mu_init, "bound_push": w.bound_push, "bound_frac": w.bound_frac });
     }
     let b = &level.bounds;
     json!({
@@ -299,14 +335,23 @@ fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, Strin
         let preparation = clock.elapsed().as_secs_f64();
         let (run, passive, loaded) = casadi(python, &case_path, &start_path, &out_path)?;
         total += preparation + run.wall_seconds;
-        levels.push(LevelRun { links: m, status: if run.converged { "solve_succeeded".into() } else { run.status.clone() }, iterations: run.iterations, wall_seconds: run.wall_seconds });
+        levels.push(LevelRun {
+            links: m,
+            status: if run.converged { "solve_succeeded".into() } else { run.status.clone() },
+            iterations: run.iterations,
+            wall_seconds: run.wall_seconds,
+        });
         if m == n {
             return Ok(SolverRun { wall_seconds: total, levels, ..run });
         }
         if !(run.converged || run.status.to_lowercase().contains("acceptable")) {
             return Err(format!("level {m} ended {}", run.status));
         }
-        previous = Some((level.clone(), Design { theta0: run.theta0.clone(), stiffness: run.stiffness.clone() }, (passive, loaded)));
+        previous = Some((
+            level.clone(),
+            Design { theta0: run.theta0.clone(), stiffness: run.stiffness.clone() },
+            (passive, loaded),
+        ));
     }
     Err("empty ladder".into())
 }

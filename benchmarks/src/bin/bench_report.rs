@@ -21,10 +21,13 @@ fn main() {
     if !peers.is_empty() {
         // The README's measured table is this table, regenerated, never typed by hand.
         let readme = std::fs::read_to_string("README.md").expect("README.md");
-        let block = format!("{}\n{}", spine_benchmarks::peers::table(&peers), spine_benchmarks::peers::ladder_table(&peers));
+        let block =
+            format!("{}\n{}", spine_benchmarks::peers::table(&peers), spine_benchmarks::peers::ladder_table(&peers));
         match replace_block(&readme, "bench-peers", &block) {
             Some(text) => std::fs::write("README.md", text).expect("README.md"),
-            None => eprintln!("bench_report: README.md has no <!-- BEGIN bench-peers --> … <!-- END bench-peers --> block"),
+            None => {
+                eprintln!("bench_report: README.md has no <!-- BEGIN bench-peers --> … <!-- END bench-peers --> block")
+            }
         }
     }
     let analysis = std::fs::read_to_string("benchmarks/analysis.md").unwrap_or_default();
@@ -37,5 +40,9 @@ fn main() {
         });
         std::fs::write("benchmarks/scaling.svg", svg).expect("benchmarks/scaling.svg");
     }
-    eprintln!("wrote benchmarks/RESULTS.md ({} measurements, {} peer rows) and benchmarks/scaling.svg", measurements.len(), peers.len());
+    eprintln!(
+        "wrote benchmarks/RESULTS.md ({} measurements, {} peer rows) and benchmarks/scaling.svg",
+        measurements.len(),
+        peers.len()
+    );
 }

@@ -56,7 +56,10 @@ fn main() {
             let per_iteration = 1e3 * r.solver.ipopt_seconds / r.solver.iterations.max(1) as f64;
             if let Some(refinement) = &r.refinement {
                 for l in &refinement.levels {
-                    eprintln!("  N = {n} level {}: {:?} {} after {} iterations, J = {:.9e}, {:.3} s (start {:.3} s)", l.links, l.start, l.status, l.iterations, l.objective, l.wall_seconds, l.start_seconds);
+                    eprintln!(
+                        "  N = {n} level {}: {:?} {} after {} iterations, J = {:.9e}, {:.3} s (start {:.3} s)",
+                        l.links, l.start, l.status, l.iterations, l.objective, l.wall_seconds, l.start_seconds
+                    );
                 }
             }
             println!(

@@ -12,14 +12,16 @@ use spine_dynamics::{step_response, StepSettings};
 const REPEATS: usize = 3;
 
 fn main() {
-    let sizes: Vec<usize> = std::env::args().skip(1).map(|a| a.parse().expect("N must be a positive integer")).collect();
+    let sizes: Vec<usize> =
+        std::env::args().skip(1).map(|a| a.parse().expect("N must be a positive integer")).collect();
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50] } else { sizes };
     println!("| N | wall time for 1 s (s) | accepted steps | rejected | f evaluations | Jacobians | Newton iterations | T_90 (s) | max abs(Phi) (m) |");
     println!("|---|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
         let problem = arch_problem(n, 50.0);
         let settings = StepSettings { t_end: 1.0, samples: 11, ..Default::default() };
-        let runs: Vec<_> = (0..REPEATS).map(|_| step_response(&problem, &settings, false).expect("stable ends")).collect();
+        let runs: Vec<_> =
+            (0..REPEATS).map(|_| step_response(&problem, &settings, false).expect("stable ends")).collect();
         let r = runs.iter().min_by(|a, b| a.time_seconds.total_cmp(&b.time_seconds)).expect("runs");
         println!(
             "| {n} | {:.4} | {} | {} | {} | {} | {} | {} | {:.1e} |",

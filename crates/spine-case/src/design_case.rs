@@ -129,13 +129,19 @@ impl DesignCase {
         let n = chain.n_links();
         let (passive, actuation) = self.loads.resolve(&mut chain)?;
         if !self.delta_d.is_finite() {
-            return Err(CaseError::invalid("delta_d", format!("must be a finite displacement (m), got {}", self.delta_d)));
+            return Err(CaseError::invalid(
+                "delta_d",
+                format!("must be a finite displacement (m), got {}", self.delta_d),
+            ));
         }
         positive("stiffness_scale", self.stiffness_scale, "(C_K)")?;
 
         let b = &self.bounds;
         if !(b.theta0_max > 0.0 && b.theta0_max < FRAC_PI_2) {
-            return Err(CaseError::invalid("bounds.theta0_max", format!("must be in (0, π/2) rad, got {}", b.theta0_max)));
+            return Err(CaseError::invalid(
+                "bounds.theta0_max",
+                format!("must be in (0, π/2) rad, got {}", b.theta0_max),
+            ));
         }
         positive("bounds.relative_angle_max", b.relative_angle_max, "rad")?;
         let stiffness_min = b.stiffness_min.expand("bounds.stiffness_min", n + 1, "one per spring, N + 1")?;
@@ -153,15 +159,24 @@ impl DesignCase {
             return Err(CaseError::invalid("bounds.height_min", "must be a finite height (m)"));
         }
         if !(height_max.is_finite() && height_max > b.height_min) {
-            return Err(CaseError::invalid("bounds.height_max", format!("must be a finite height (m) > height_min = {}, got {height_max}", b.height_min)));
+            return Err(CaseError::invalid(
+                "bounds.height_max",
+                format!("must be a finite height (m) > height_min = {}, got {height_max}", b.height_min),
+            ));
         }
 
         if self.start.theta0.len() != n {
-            return Err(CaseError::invalid("start.theta0", format!("expected {n} entries (one per link), got {}", self.start.theta0.len())));
+            return Err(CaseError::invalid(
+                "start.theta0",
+                format!("expected {n} entries (one per link), got {}", self.start.theta0.len()),
+            ));
         }
         check_finite("start.theta0", &self.start.theta0)?;
         if let Some(i) = self.start.theta0.iter().position(|t| t.abs() >= FRAC_PI_2) {
-            return Err(CaseError::invalid(format!("start.theta0[{i}]"), format!("must satisfy |θ0| < π/2 rad, got {}", self.start.theta0[i])));
+            return Err(CaseError::invalid(
+                format!("start.theta0[{i}]"),
+                format!("must satisfy |θ0| < π/2 rad, got {}", self.start.theta0[i]),
+            ));
         }
         let stiffness = self.start.stiffness.expand("start.stiffness", n + 1, "one per spring, N + 1")?;
         non_negative("start.stiffness", &stiffness, "N·m/rad")?;
@@ -173,13 +188,19 @@ impl DesignCase {
             return Err(CaseError::invalid("solver.max_iterations", "must be between 1 and 2147483647"));
         }
         if !["monotone", "adaptive"].contains(&s.barrier_strategy.as_str()) {
-            return Err(CaseError::invalid("solver.barrier_strategy", format!("must be \"monotone\" or \"adaptive\", got {:?}", s.barrier_strategy)));
+            return Err(CaseError::invalid(
+                "solver.barrier_strategy",
+                format!("must be \"monotone\" or \"adaptive\", got {:?}", s.barrier_strategy),
+            ));
         }
         check_options(&s.continuation).map_err(|e| e.with_prefix("solver.continuation"))?;
         if let Refine::Ladder(ladder) = &s.refine {
             ladder.check().map_err(|(field, why)| CaseError::invalid(format!("solver.refine.{field}"), why))?;
             if self.formulation == Formulation::Reduced {
-                return Err(CaseError::invalid("solver.refine", "mesh sequencing needs formulation \"full\"; use \"off\" or \"auto\" with \"reduced\""));
+                return Err(CaseError::invalid(
+                    "solver.refine",
+                    "mesh sequencing needs formulation \"full\"; use \"off\" or \"auto\" with \"reduced\"",
+                ));
             }
         }
         s.warm_start.check().map_err(|(field, why)| CaseError::invalid(format!("solver.warm_start.{field}"), why))?;

@@ -121,8 +121,15 @@ pub enum DesignSource {
 pub enum DynamicsTask {
     /// A step response (forcing `step`) or a periodic response.
     Simulate,
-    Damping { targets: Vec<f64>, settings: DampingSettings },
-    Periodic { delta_d: f64, method: SearchMethod, settings: PeriodicDesignSettings },
+    Damping {
+        targets: Vec<f64>,
+        settings: DampingSettings,
+    },
+    Periodic {
+        delta_d: f64,
+        method: SearchMethod,
+        settings: PeriodicDesignSettings,
+    },
 }
 
 /// A checked dynamic case.
@@ -178,10 +185,16 @@ impl DynamicsCase {
         let design = match (&self.design, &self.static_design) {
             (DesignSpec::Given(d), None) => DesignSource::Given(d.validate(&chain)?),
             (DesignSpec::Given(_), Some(_)) => {
-                return Err(CaseError::invalid("static_design", "only with \"design\": \"optimise\"; remove it or optimise the design"))
+                return Err(CaseError::invalid(
+                    "static_design",
+                    "only with \"design\": \"optimise\"; remove it or optimise the design",
+                ))
             }
             (DesignSpec::ToBeOptimised, None) => {
-                return Err(CaseError::invalid("static_design", "\"design\": \"optimise\" needs a static_design section (delta_d, start, …)"))
+                return Err(CaseError::invalid(
+                    "static_design",
+                    "\"design\": \"optimise\" needs a static_design section (delta_d, start, …)",
+                ))
             }
             (DesignSpec::ToBeOptimised, Some(s)) => {
                 let as_design = DesignCase {
@@ -219,7 +232,10 @@ impl DynamicsCase {
         crate::schema::check_options(&s.continuation).map_err(|e| e.with_prefix("simulation.continuation"))?;
         let p = &self.periodic;
         if p.max_periods < 2 {
-            return Err(CaseError::invalid("periodic.max_periods", format!("must be at least 2, got {}", p.max_periods)));
+            return Err(CaseError::invalid(
+                "periodic.max_periods",
+                format!("must be at least 2, got {}", p.max_periods),
+            ));
         }
         positive("periodic.settle_tolerance", p.settle_tolerance, "")?;
         check_fraction("periodic.reach_fraction", p.reach_fraction)?;
@@ -232,13 +248,19 @@ impl DynamicsCase {
         let task = match kind {
             "simulate" => {
                 if self.forcing == Forcing::Off {
-                    return Err(CaseError::invalid("forcing.type", "a simulation needs a force: \"step\", \"pulse_train\" or \"sinusoid\""));
+                    return Err(CaseError::invalid(
+                        "forcing.type",
+                        "a simulation needs a force: \"step\", \"pulse_train\" or \"sinusoid\"",
+                    ));
                 }
                 DynamicsTask::Simulate
             }
             "damping" => {
                 let Some(dd) = &self.damping_design else {
-                    return Err(CaseError::invalid("damping_design", "a damping case needs a damping_design section with targets (s)"));
+                    return Err(CaseError::invalid(
+                        "damping_design",
+                        "a damping case needs a damping_design section with targets (s)",
+                    ));
                 };
                 // Eq. (35) always designs the step response; a periodic forcing is then applied to each
                 // designed structure (the paper's Fig. 11).
@@ -253,11 +275,17 @@ impl DynamicsCase {
                 }
                 positive("damping_design.damping_min", dd.damping_min, "N·m·s/rad")?;
                 if !(dd.damping_max.is_finite() && dd.damping_max > dd.damping_min) {
-                    return Err(CaseError::invalid("damping_design.damping_max", format!("must be finite and > damping_min = {}, got {}", dd.damping_min, dd.damping_max)));
+                    return Err(CaseError::invalid(
+                        "damping_design.damping_max",
+                        format!("must be finite and > damping_min = {}, got {}", dd.damping_min, dd.damping_max),
+                    ));
                 }
                 positive("damping_design.tolerance", dd.tolerance, "")?;
                 if dd.max_iterations == 0 || dd.max_iterations > i32::MAX as usize {
-                    return Err(CaseError::invalid("damping_design.max_iterations", "must be between 1 and 2147483647"));
+                    return Err(CaseError::invalid(
+                        "damping_design.max_iterations",
+                        "must be between 1 and 2147483647",
+                    ));
                 }
                 DynamicsTask::Damping {
                     targets: dd.targets.clone(),
@@ -272,18 +300,30 @@ impl DynamicsCase {
             }
             "periodic" => {
                 let Some(pd) = &self.periodic_design else {
-                    return Err(CaseError::invalid("periodic_design", "a periodic case needs a periodic_design section (delta_d, method)"));
+                    return Err(CaseError::invalid(
+                        "periodic_design",
+                        "a periodic case needs a periodic_design section (delta_d, method)",
+                    ));
                 };
                 if !periodic_forcing {
-                    return Err(CaseError::invalid("forcing.type", "eq. (37) needs a periodic force: \"pulse_train\" or \"sinusoid\""));
+                    return Err(CaseError::invalid(
+                        "forcing.type",
+                        "eq. (37) needs a periodic force: \"pulse_train\" or \"sinusoid\"",
+                    ));
                 }
                 if !(pd.delta_d.is_finite() && pd.delta_d != 0.0) {
-                    return Err(CaseError::invalid("periodic_design.delta_d", format!("must be a finite, nonzero displacement (m), got {}", pd.delta_d)));
+                    return Err(CaseError::invalid(
+                        "periodic_design.delta_d",
+                        format!("must be a finite, nonzero displacement (m), got {}", pd.delta_d),
+                    ));
                 }
                 let st = &pd.settings;
                 positive("periodic_design.settings.stiffness_min", st.stiffness_min, "N·m/rad")?;
                 if !(st.stiffness_max.is_finite() && st.stiffness_max > st.stiffness_min) {
-                    return Err(CaseError::invalid("periodic_design.settings.stiffness_max", format!("must be finite and > stiffness_min = {}, got {}", st.stiffness_min, st.stiffness_max)));
+                    return Err(CaseError::invalid(
+                        "periodic_design.settings.stiffness_max",
+                        format!("must be finite and > stiffness_min = {}, got {}", st.stiffness_min, st.stiffness_max),
+                    ));
                 }
                 positive("periodic_design.settings.tolerance", st.tolerance, "")?;
                 if st.ga.population < 4 {
@@ -292,7 +332,10 @@ impl DynamicsCase {
                 positive("periodic_design.settings.pattern.initial_mesh", st.pattern.initial_mesh, "")?;
                 positive("periodic_design.settings.pattern.mesh_tolerance", st.pattern.mesh_tolerance, "")?;
                 if st.response.max_periods < 2 {
-                    return Err(CaseError::invalid("periodic_design.settings.response.max_periods", "must be at least 2"));
+                    return Err(CaseError::invalid(
+                        "periodic_design.settings.response.max_periods",
+                        "must be at least 2",
+                    ));
                 }
                 check_integrator("periodic_design.settings.response.integrator", &st.response.integrator)?;
                 DynamicsTask::Periodic { delta_d: pd.delta_d, method: pd.method, settings: st.clone() }

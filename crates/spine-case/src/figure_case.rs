@@ -12,7 +12,8 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 /// The figure recipes this program has (`twolink` is Sec. 3).
-pub const FIGURES: &[&str] = &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12"];
+pub const FIGURES: &[&str] =
+    &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12"];
 
 /// One run of a figure.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -89,10 +90,16 @@ impl FigureCase {
         for (i, run) in self.runs.iter().enumerate() {
             let at = format!("runs[{i}]");
             if run.name.is_empty() || !run.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
-                return Err(CaseError::invalid(format!("{at}.name"), format!("must be non-empty letters, digits, '-' or '_', got {:?}", run.name)));
+                return Err(CaseError::invalid(
+                    format!("{at}.name"),
+                    format!("must be non-empty letters, digits, '-' or '_', got {:?}", run.name),
+                ));
             }
             if runs.iter().any(|r| r.name == run.name) {
-                return Err(CaseError::invalid(format!("{at}.name"), format!("{:?} is used by an earlier run", run.name)));
+                return Err(CaseError::invalid(
+                    format!("{at}.name"),
+                    format!("{:?} is used by an earlier run", run.name),
+                ));
             }
             let merged = merge_patch(&self.base, &run.case);
             let text = serde_json::to_string(&merged).expect("JSON values serialise");

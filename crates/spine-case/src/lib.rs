@@ -23,11 +23,13 @@ mod per_item;
 mod schema;
 
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
-pub use dynamics_case::{DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics};
+pub use dynamics_case::{
+    DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics,
+};
 pub use error::CaseError;
 pub use figure_case::{merge_patch, FigureCase, FigureRun, ValidRun, FIGURES};
 pub use per_item::PerItem;
 pub use schema::{
-    Assumption, Case, ChainSpec, DesignSpec, EquilibriumCase, GivenDesign, LoadSpec, Notes, TwoLinkCase,
-    ValidCase, ValidEquilibrium, ValidTwoLink,
+    Assumption, Case, ChainSpec, DesignSpec, EquilibriumCase, GivenDesign, LoadSpec, Notes, TwoLinkCase, ValidCase,
+    ValidEquilibrium, ValidTwoLink,
 };

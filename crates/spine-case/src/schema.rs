@@ -316,7 +316,6 @@ pub(crate) fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<()
     }
 }
 
-
 pub fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
     positive("solver.residual_tolerance", o.residual_tolerance, "")?;
     positive("solver.max_angle_step", o.max_angle_step, "rad")?;
@@ -360,12 +359,17 @@ impl ChainSpec {
                 }
                 spans.clone()
             }
-            _ => return Err(CaseError::invalid("chain", "give exactly one of `length_x` (m) and `spans` (m per link)")),
+            _ => {
+                return Err(CaseError::invalid("chain", "give exactly one of `length_x` (m) and `spans` (m per link)"))
+            }
         };
         let masses = self.masses.expand("chain.masses", n, "one per link")?;
         non_negative("chain.masses", &masses, "kg")?;
         if !(self.gravity.is_finite() && self.gravity >= 0.0) {
-            return Err(CaseError::invalid("chain.gravity", format!("must be a finite number ≥ 0 m/s², got {}", self.gravity)));
+            return Err(CaseError::invalid(
+                "chain.gravity",
+                format!("must be a finite number ≥ 0 m/s², got {}", self.gravity),
+            ));
         }
         Ok(Chain { spans, masses, gravity: self.gravity })
     }
@@ -396,7 +400,9 @@ impl GivenDesign {
         if phi.abs() > tol {
             return Err(CaseError::invalid(
                 "design.theta0",
-                format!("the unloaded end must lie on the X axis: Σ a_i tan θ0_i = {phi:.3e} m, allowed |Φ| ≤ {tol:.1e} m"),
+                format!(
+                    "the unloaded end must lie on the X axis: Σ a_i tan θ0_i = {phi:.3e} m, allowed |Φ| ≤ {tol:.1e} m"
+                ),
             ));
         }
         let design = Design { theta0: self.theta0.clone(), stiffness };

@@ -31,7 +31,11 @@ fn result_json(result: &DesignResult) -> (Value, Value) {
     (value, Value::Object(timings))
 }
 
-fn run_one(valid: &ValidDesign, formulation: Formulation, start: &spine_model::Design) -> Result<DesignResult, Failure> {
+fn run_one(
+    valid: &ValidDesign,
+    formulation: Formulation,
+    start: &spine_model::Design,
+) -> Result<DesignResult, Failure> {
     solve_design(&valid.problem, start, formulation, &valid.settings, &mut |_| true)
         .map_err(|e| Failure::Input(format!("solver: {e}")))
 }
@@ -44,12 +48,18 @@ fn print_summary(title: &str, r: &DesignResult) {
     );
     if let Some(refinement) = &r.refinement {
         for l in &refinement.levels {
-            println!("  level {:>5} links ({:?} start): {} after {} iterations, J = {:.10e} J", l.links, l.start, l.status, l.iterations, l.objective);
+            println!(
+                "  level {:>5} links ({:?} start): {} after {} iterations, J = {:.10e} J",
+                l.links, l.start, l.status, l.iterations, l.objective
+            );
         }
     }
     println!("J = U(θ1) = {:.10e} J", r.objective);
     if let Some(v) = &r.violations {
-        println!("largest constraint violation {:.2e} (equilibria {:.1e} / {:.1e} N·m, end {:.1e} m)", v.max, v.passive_equilibrium, v.loaded_equilibrium, v.end_displacement);
+        println!(
+            "largest constraint violation {:.2e} (equilibria {:.1e} / {:.1e} N·m, end {:.1e} m)",
+            v.max, v.passive_equilibrium, v.loaded_equilibrium, v.end_displacement
+        );
     }
     match r.end_displacement {
         Some(d) => println!("end displacement X(θ2) − L_x = {d:.9e} m (target δ_d = {:.9e} m)", r.delta_d),
@@ -58,7 +68,10 @@ fn print_summary(title: &str, r: &DesignResult) {
     for (name, s) in [("θ1 passive", &r.passive), ("θ2 loaded", &r.loaded)] {
         if let Some(s) = s {
             let eig = s.stability.min_eigenvalue.map_or("none".into(), |e| format!("{e:.4e}"));
-            println!("{name:<11} {} (smallest reduced-Hessian eigenvalue {eig} N·m/rad)", if s.stability.stable { "stable" } else { "UNSTABLE" });
+            println!(
+                "{name:<11} {} (smallest reduced-Hessian eigenvalue {eig} N·m/rad)",
+                if s.stability.stable { "stable" } else { "UNSTABLE" }
+            );
         }
     }
     println!("θ0 (rad) = {:?}", r.design.theta0.iter().map(|t| (t * 1e6).round() / 1e6).collect::<Vec<_>>());
@@ -87,7 +100,10 @@ pub fn run(case: &DesignCase, valid: &ValidDesign, overrides: Overrides, out: &O
     if starts > 0 {
         let designs = feasible_starts(&valid.problem, starts, seed);
         let bar = ProgressBar::new(starts as u64);
-        bar.set_style(ProgressStyle::with_template("multi-start {bar:40} {pos}/{len} [{elapsed_precise}]").expect("valid template"));
+        bar.set_style(
+            ProgressStyle::with_template("multi-start {bar:40} {pos}/{len} [{elapsed_precise}]")
+                .expect("valid template"),
+        );
         let mut results = vec![main.clone()];
         for d in &designs {
             results.push(run_one(valid, formulation, d)?);
@@ -100,7 +116,12 @@ pub fn run(case: &DesignCase, valid: &ValidDesign, overrides: Overrides, out: &O
             summary.starts, summary.converged, summary.optima.len()
         );
         for (k, o) in summary.optima.iter().enumerate() {
-            println!("  optimum {k}: J = {:.10e} J, reached by {} run(s){}", o.objective, o.count, if o.clean { "" } else { " (not clean: see warnings of its runs)" });
+            println!(
+                "  optimum {k}: J = {:.10e} J, reached by {} run(s){}",
+                o.objective,
+                o.count,
+                if o.clean { "" } else { " (not clean: see warnings of its runs)" }
+            );
         }
         multistart = serde_json::to_value(&summary).expect("summary serialises");
     }

@@ -52,7 +52,13 @@ fn take_time(value: &mut Value, key: &str, timings: &mut serde_json::Map<String,
     }
 }
 
-pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Option<SearchMethod>, out: &Output) -> Result<Outcome, Failure> {
+pub fn run(
+    case: &DynamicsCase,
+    valid: &ValidDynamics,
+    kind: &str,
+    method: Option<SearchMethod>,
+    out: &Output,
+) -> Result<Outcome, Failure> {
     let (design, design_source) = resolve_design(valid)?;
     let problem = DynamicProblem {
         chain: valid.chain.clone(),
@@ -78,12 +84,38 @@ pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Optio
             let mut v = serde_json::to_value(&r).expect("serialises");
             take_time(&mut v, "integration_seconds", &mut timings);
             result["step_response"] = v;
-            println!("static ends: θ1 {} (X − L_x = {:.6e} m), θ2 {} (X − L_x = {:.6e} m)", r.ends.passive_status, r.ends.passive_displacement, r.ends.loaded_status, r.ends.loaded_displacement);
-            println!("integration: {:?}, {} steps ({} rejected), {} f-evaluations, {} Jacobians, {:.3} s", r.outcome, r.stats.accepted_steps, r.stats.rejected_steps, r.stats.rhs_evaluations, r.stats.jacobian_evaluations, r.time_seconds);
-            println!("Δ∞ = {:.6e} m; T_{:.0} = {} ; τ = ln(10)/T_90 = {}", r.delta_inf, 100.0 * valid.step.rise_fraction,
-                r.rise_time.map_or("not reached".into(), |t| format!("{t:.6} s")), r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.4} 1/s")));
-            println!("first-order fit Δ∞(1 − e^(−τt)): τ = {:.4} 1/s, RMS error {:.2} % of Δ∞ (max {:.2} %)", r.fit.tau, 100.0 * r.fit.rms_error, 100.0 * r.fit.max_error);
-            println!("settled in θ2: {} (|Δ(t_end) − Δ∞| = {:.2e} of Δ∞, max |θ − θ2| = {:.2e} rad)", if r.settled { "yes" } else { "NO" }, r.settle_error, r.final_state_gap);
+            println!(
+                "static ends: θ1 {} (X − L_x = {:.6e} m), θ2 {} (X − L_x = {:.6e} m)",
+                r.ends.passive_status, r.ends.passive_displacement, r.ends.loaded_status, r.ends.loaded_displacement
+            );
+            println!(
+                "integration: {:?}, {} steps ({} rejected), {} f-evaluations, {} Jacobians, {:.3} s",
+                r.outcome,
+                r.stats.accepted_steps,
+                r.stats.rejected_steps,
+                r.stats.rhs_evaluations,
+                r.stats.jacobian_evaluations,
+                r.time_seconds
+            );
+            println!(
+                "Δ∞ = {:.6e} m; T_{:.0} = {} ; τ = ln(10)/T_90 = {}",
+                r.delta_inf,
+                100.0 * valid.step.rise_fraction,
+                r.rise_time.map_or("not reached".into(), |t| format!("{t:.6} s")),
+                r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.4} 1/s"))
+            );
+            println!(
+                "first-order fit Δ∞(1 − e^(−τt)): τ = {:.4} 1/s, RMS error {:.2} % of Δ∞ (max {:.2} %)",
+                r.fit.tau,
+                100.0 * r.fit.rms_error,
+                100.0 * r.fit.max_error
+            );
+            println!(
+                "settled in θ2: {} (|Δ(t_end) − Δ∞| = {:.2e} of Δ∞, max |θ − θ2| = {:.2e} rad)",
+                if r.settled { "yes" } else { "NO" },
+                r.settle_error,
+                r.final_state_gap
+            );
             println!("constraint drift: |Φ| ≤ {:.1e} m, |Φ̇| ≤ {:.1e} m/s at steps; {:.1e} m, {:.1e} m/s on the dense output; largest projection {:.1e}", r.drift.max_constraint, r.drift.max_constraint_rate, r.drift.max_constraint_dense, r.drift.max_constraint_rate_dense, r.drift.max_projection);
             r.settled && r.rise_time.is_some()
         }
@@ -99,13 +131,17 @@ pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Optio
         DynamicsTask::Damping { targets, settings } => {
             let mut designs = Vec::new();
             let mut all_ok = true;
-            println!("{:>8} {:>10} {:>12} {:>10} {:>5}  dampers C (N·m·s/rad)", "T_d (s)", "status", "T_90 (s)", "error", "iter");
+            println!(
+                "{:>8} {:>10} {:>12} {:>10} {:>5}  dampers C (N·m·s/rad)",
+                "T_d (s)", "status", "T_90 (s)", "error", "iter"
+            );
             for &target in targets {
                 let r = design_damping(&problem, target, settings).map_err(input_error)?;
                 write_csv(out, &format!("response_T{target}.csv"), &r.response.samples)?;
                 let periodic = if valid.forcing.period().is_some() {
                     let p = spine_paper::run::dynamic_problem(valid, &design, &r.damping);
-                    let pr = periodic_response(&p, valid.forcing.clone(), None, &valid.periodic).map_err(input_error)?;
+                    let pr =
+                        periodic_response(&p, valid.forcing.clone(), None, &valid.periodic).map_err(input_error)?;
                     write_csv(out, &format!("periodic_T{target}.csv"), &pr.samples)?;
                     print_periodic(&pr);
                     all_ok &= pr.settled;
@@ -142,7 +178,10 @@ pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Optio
                 SearchMethod::Ga => settings.ga.generations as u64,
                 SearchMethod::Pattern => settings.pattern.max_evaluations as u64,
             });
-            bar.set_style(ProgressStyle::with_template("eq. (37) {msg} {bar:40} {pos}/{len} [{elapsed_precise}]").expect("valid template"));
+            bar.set_style(
+                ProgressStyle::with_template("eq. (37) {msg} {bar:40} {pos}/{len} [{elapsed_precise}]")
+                    .expect("valid template"),
+            );
             bar.set_message(format!("{method:?}"));
             let r = design_periodic(&problem, valid.forcing.clone(), *delta_d, method, settings, &mut |p| {
                 bar.set_position(match method {
@@ -155,11 +194,22 @@ pub fn run(case: &DynamicsCase, valid: &ValidDynamics, kind: &str, method: Optio
             write_csv(out, "response.csv", &r.response.samples)?;
             println!(
                 "eq. (37) by {:?}: {:?} after {} iterations, {} evaluations; {}",
-                method, r.search.status, r.search.iterations, r.search.evaluations,
+                method,
+                r.search.status,
+                r.search.iterations,
+                r.search.evaluations,
                 if r.feasible { "feasible" } else { "NOT feasible" }
             );
-            println!("U(θ1) = {:.6e} J (start {:.6e} J, violation {:.2e})", r.objective, r.start.objective, r.start.violation);
-            println!("min_t (X − L_x) = {:.6e} m against δ_d = {:.6e} m ({:.2} % off)", r.min_end_displacement, r.delta_d, 100.0 * r.relative_error);
+            println!(
+                "U(θ1) = {:.6e} J (start {:.6e} J, violation {:.2e})",
+                r.objective, r.start.objective, r.start.violation
+            );
+            println!(
+                "min_t (X − L_x) = {:.6e} m against δ_d = {:.6e} m ({:.2} % off)",
+                r.min_end_displacement,
+                r.delta_d,
+                100.0 * r.relative_error
+            );
             println!("K (N·m/rad) = {:?}", r.stiffness.iter().map(|k| (k * 10.0).round() / 10.0).collect::<Vec<_>>());
             print_periodic(&r.response);
             let mut v = serde_json::to_value(&r).expect("serialises");
@@ -181,11 +231,17 @@ fn print_periodic(r: &spine_dynamics::PeriodicResponse) {
     let opt = |v: Option<f64>| v.map_or("not reached".to_string(), |t| format!("{t:.4} s"));
     println!(
         "periodic response: {} after {} periods (last two differ by {:.1e} of the swing), period {:.4} s",
-        if r.settled { "settled" } else { "NOT settled" }, r.periods_run, r.period_change, r.period
+        if r.settled { "settled" } else { "NOT settled" },
+        r.periods_run,
+        r.period_change,
+        r.period
     );
     println!(
         "last period: min X − L_x = {:.6e} m ({:.4} s after onset), max {:.6e} m; reach (90 %) {} (paper: about 0.5 s), return (90 %) {} (paper: about 0.25 s)",
         r.min_end_displacement, r.time_of_minimum, r.max_end_displacement, opt(r.reach_time), opt(r.return_time)
     );
-    println!("constraint drift: |Φ| ≤ {:.1e} m at steps, {:.1e} m on the dense output", r.drift.max_constraint, r.drift.max_constraint_dense);
+    println!(
+        "constraint drift: |Φ| ≤ {:.1e} m at steps, {:.1e} m on the dense output",
+        r.drift.max_constraint, r.drift.max_constraint_dense
+    );
 }

@@ -76,7 +76,9 @@ pub fn run(case: &EquilibriumCase, valid: &ValidEquilibrium, out: &Output) -> Re
         None => println!("loaded   not attempted: the passive path did not reach its load"),
     }
     match sol.end_displacement {
-        Some(d) => println!("end displacement X(θ2) − L_x = {d:.9e} m (passive alone {:.9e} m)", sol.passive_end_displacement),
+        Some(d) => {
+            println!("end displacement X(θ2) − L_x = {d:.9e} m (passive alone {:.9e} m)", sol.passive_end_displacement)
+        }
         None => println!("end displacement: none (loaded path incomplete)"),
     }
     println!("wrote {}", path.display());

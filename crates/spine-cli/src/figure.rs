@@ -39,7 +39,9 @@ pub fn run(case: &FigureCase, runs: &[ValidRun], out: &Output) -> Result<Outcome
     let clock = std::time::Instant::now();
     for (k, r) in runs.iter().enumerate() {
         let bar = ProgressBar::new(0);
-        bar.set_style(ProgressStyle::with_template("  {msg} {bar:30} {pos}/{len} [{elapsed_precise}]").expect("valid template"));
+        bar.set_style(
+            ProgressStyle::with_template("  {msg} {bar:30} {pos}/{len} [{elapsed_precise}]").expect("valid template"),
+        );
         bar.set_message(format!("run {} ({})", r.name, r.case.kind()));
         let started = std::time::Instant::now();
         let output = spine_paper::run::run(&r.valid, &mut |done, total| {
@@ -56,7 +58,8 @@ pub fn run(case: &FigureCase, runs: &[ValidRun], out: &Output) -> Result<Outcome
         timings.insert(format!("run_{}_seconds", r.name), json!(seconds));
         outputs.push(output);
     }
-    let named: Vec<NamedRun> = runs.iter().zip(&outputs).map(|(r, o)| NamedRun { name: &r.name, label: &r.label, output: o }).collect();
+    let named: Vec<NamedRun> =
+        runs.iter().zip(&outputs).map(|(r, o)| NamedRun { name: &r.name, label: &r.label, output: o }).collect();
     let made = recipe(&case.figure, &title, &named).map_err(|m| Failure::Input(format!("{}: {m}", case.figure)))?;
 
     let mut files = Vec::new();

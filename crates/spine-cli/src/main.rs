@@ -17,7 +17,11 @@ mod study;
 mod twolink;
 
 #[derive(Parser)]
-#[command(name = "spine", version, about = "Design and analysis of flexible spines (planar link chains with torsional springs)")]
+#[command(
+    name = "spine",
+    version,
+    about = "Design and analysis of flexible spines (planar link chains with torsional springs)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -82,7 +86,11 @@ struct ReportArgs {
     #[arg(long, default_value = "results")]
     results: PathBuf,
     /// The cases in reading order (names of sub-folders).
-    #[arg(long, value_delimiter = ',', default_value = "twolink,fig3,fig4,fig5,fig6,fig7,fig8,fig9,fig10,fig11,fig12,study-ck")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "twolink,fig3,fig4,fig5,fig6,fig7,fig8,fig9,fig10,fig11,fig12,study-ck"
+    )]
     cases: Vec<String>,
     /// The errata table to include.
     #[arg(long, default_value = "docs/errata.md")]
@@ -143,7 +151,10 @@ fn study(a: &StudyArgs) -> Result<Outcome, Failure> {
     let text = std::fs::read_to_string(&a.run.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
     let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     let spine_case::Case::Design(c) = case else {
-        return Err(Failure::Input(format!("{path}: kind: the C_K study runs a \"design\" case, the file is \"{}\"", case.kind())));
+        return Err(Failure::Input(format!(
+            "{path}: kind: the C_K study runs a \"design\" case, the file is \"{}\"",
+            case.kind()
+        )));
     };
     let valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     let values = a.values.clone().unwrap_or_else(spine_paper::study::half_decades);
@@ -154,7 +165,8 @@ fn study(a: &StudyArgs) -> Result<Outcome, Failure> {
 }
 
 fn report(a: &ReportArgs) -> Result<Outcome, Failure> {
-    let errata = std::fs::read_to_string(&a.errata).map_err(|e| Failure::Input(format!("{}: cannot read: {e}", a.errata.display())))?;
+    let errata = std::fs::read_to_string(&a.errata)
+        .map_err(|e| Failure::Input(format!("{}: cannot read: {e}", a.errata.display())))?;
     let mut results = Vec::new();
     let mut missing = Vec::new();
     for name in &a.cases {
@@ -179,7 +191,13 @@ fn main() -> ExitCode {
         Command::Twolink(a) => (a, Some("twolink")),
         Command::Design(a) => {
             overrides = design::Overrides {
-                formulation: a.formulation.as_deref().map(|f| if f == "reduced" { spine_design::Formulation::Reduced } else { spine_design::Formulation::Full }),
+                formulation: a.formulation.as_deref().map(|f| {
+                    if f == "reduced" {
+                        spine_design::Formulation::Reduced
+                    } else {
+                        spine_design::Formulation::Full
+                    }
+                }),
                 starts: a.starts,
                 seed: a.seed,
                 refine: a.refine,
@@ -189,7 +207,13 @@ fn main() -> ExitCode {
         Command::Simulate(a) => (a, Some("simulate")),
         Command::Damping(a) => (a, Some("damping")),
         Command::Periodic(a) => {
-            method = a.method.as_deref().map(|m| if m == "pattern" { spine_dynamics::SearchMethod::Pattern } else { spine_dynamics::SearchMethod::Ga });
+            method = a.method.as_deref().map(|m| {
+                if m == "pattern" {
+                    spine_dynamics::SearchMethod::Pattern
+                } else {
+                    spine_dynamics::SearchMethod::Ga
+                }
+            });
             (&a.run, Some("periodic"))
         }
         Command::Case(a) => (a, None),

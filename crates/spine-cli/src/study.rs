@@ -12,9 +12,13 @@ pub fn run(case: &DesignCase, valid: &ValidDesign, values: &[f64], out: &Output)
     let title = format!("C_K study, eq. (34): {}", if case.title.is_empty() { "design case" } else { &case.title });
     println!("{title}: C_K = {values:?}, Ipopt scaling gradient-based and none");
     let bar = ProgressBar::new((2 * values.len()) as u64);
-    bar.set_style(ProgressStyle::with_template("  eq. (33) solves {bar:40} {pos}/{len} [{elapsed_precise}]").expect("valid template"));
+    bar.set_style(
+        ProgressStyle::with_template("  eq. (33) solves {bar:40} {pos}/{len} [{elapsed_precise}]")
+            .expect("valid template"),
+    );
     let clock = std::time::Instant::now();
-    let study = ck_study(valid, values, &mut |done, _| bar.set_position(done as u64)).map_err(|e| Failure::Input(e.to_string()))?;
+    let study = ck_study(valid, values, &mut |done, _| bar.set_position(done as u64))
+        .map_err(|e| Failure::Input(e.to_string()))?;
     bar.finish_and_clear();
     let claims = study.claims();
     out.write_text("ck_study.csv", &study.csv())?;
@@ -38,12 +42,21 @@ pub fn run(case: &DesignCase, valid: &ValidDesign, values: &[f64], out: &Output)
         "timings": timings,
     });
     let path = out.write_json("result.json", result)?;
-    println!("{:>10} {:>15} {:>22} {:>5} {:>12} {:>8} {:>10} {:>10}", "C_K", "scaling", "status", "iter", "J (J)", "CV(K)", "maxK/minK", "‖Δθ0‖");
+    println!(
+        "{:>10} {:>15} {:>22} {:>5} {:>12} {:>8} {:>10} {:>10}",
+        "C_K", "scaling", "status", "iter", "J (J)", "CV(K)", "maxK/minK", "‖Δθ0‖"
+    );
     for r in &study.rows {
         println!(
             "{:>10.4e} {:>15} {:>22} {:>5} {:>12.5e} {:>8.4} {:>10.2} {:>10.4}",
-            r.stiffness_scale, format!("{:?}", r.scaling), if r.clean { r.status.clone() } else { format!("{} (NOT clean)", r.status) }, r.iterations,
-            r.objective, r.change.stiffness_variation, r.change.stiffness_max_over_min, r.change.theta0_change
+            r.stiffness_scale,
+            format!("{:?}", r.scaling),
+            if r.clean { r.status.clone() } else { format!("{} (NOT clean)", r.status) },
+            r.iterations,
+            r.objective,
+            r.change.stiffness_variation,
+            r.change.stiffness_max_over_min,
+            r.change.theta0_change
         );
     }
     println!("claims ({passed} of {} PASS):", claims.len());

@@ -14,7 +14,6 @@ const GOOD: &str = r#"{
   "loads": { "p_y": -5.0, "p_x": -100.0 }
 }"#;
 
-
 fn run_case(text: &str, tag: &str, extra: &[&str]) -> (Output, PathBuf) {
     let dir = tmpdir(tag);
     let case = dir.join("case.json");
@@ -29,7 +28,8 @@ fn run_case(text: &str, tag: &str, extra: &[&str]) -> (Output, PathBuf) {
 fn good_case_writes_result_with_status_and_stability() {
     let (o, out) = run_case(GOOD, "good", &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
     for key in ["passive", "loaded"] {
         assert_eq!(r[key]["status"]["kind"], "stable");
         assert!(r[key]["residual_norm"].as_f64().unwrap() <= 1e-10);
@@ -47,7 +47,8 @@ fn same_input_same_bytes_with_deterministic() {
     let (a, out_a) = run_case(GOOD, "det-a", &["--deterministic"]);
     let (b, out_b) = run_case(GOOD, "det-b", &["--deterministic"]);
     assert!(a.status.success() && b.status.success());
-    let (ra, rb) = (std::fs::read(out_a.join("result.json")).unwrap(), std::fs::read(out_b.join("result.json")).unwrap());
+    let (ra, rb) =
+        (std::fs::read(out_a.join("result.json")).unwrap(), std::fs::read(out_b.join("result.json")).unwrap());
     assert_eq!(ra, rb);
     assert!(!String::from_utf8_lossy(&ra).contains("timings"));
 }
@@ -60,7 +61,8 @@ fn unstable_result_is_reported_not_hidden() {
       "loads": {"p_y": 0.0, "p_x": -100000.0}}"#;
     let (o, out) = run_case(text, "unstable", &[]);
     assert_eq!(o.status.code(), Some(3));
-    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
     assert_eq!(r["loaded"]["status"]["kind"], "unstable");
     assert_eq!(r["loaded"]["stability"]["stable"], false);
     assert!(String::from_utf8_lossy(&o.stdout).contains("UNSTABLE"));

@@ -5,7 +5,6 @@ mod common;
 use common::{spine, tmpdir, workspace};
 use std::path::Path;
 
-
 fn read(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -16,7 +15,8 @@ fn paper_five_link_case_runs_in_both_formulations_and_reports_everything() {
     let mut objectives = Vec::new();
     for formulation in ["full", "reduced"] {
         let out = tmpdir(formulation);
-        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--formulation", formulation]);
+        let o =
+            spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--formulation", formulation]);
         assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
         let stdout = String::from_utf8_lossy(&o.stdout);
         assert!(stdout.contains("solve_succeeded") && stdout.contains("projected"), "{stdout}");
@@ -46,7 +46,17 @@ fn design_output_is_deterministic_and_multistart_counts_optima() {
     let mut texts = Vec::new();
     for tag in ["a", "b"] {
         let out = tmpdir(&format!("det-{tag}"));
-        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic", "--starts", "4", "--seed", "7"]);
+        let o = spine(&[
+            "design",
+            case.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--deterministic",
+            "--starts",
+            "4",
+            "--seed",
+            "7",
+        ]);
         assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
         texts.push(std::fs::read(out.join("result.json")).unwrap());
         let r = read(&out.join("result.json"));
@@ -69,17 +79,53 @@ fn bad_design_input_exits_2_and_names_the_field() {
         ("\"delta_d\": -0.02", "\"delta_d\": \"far\"", "delta_d"),
         ("\"stiffness_scale\": 100", "\"stiffness_scale\": -1", "stiffness_scale"),
         ("\"formulation\": \"full\"", "\"formulation\": \"sideways\"", "formulation"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"bounds\": {\"theta0_max\": 2.0}", "bounds.theta0_max"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"bounds\": {\"stiffness_min\": 500, \"stiffness_max\": 100}", "bounds.stiffness_max[0]"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"barrier_strategy\": \"fast\"}", "solver.barrier_strategy"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"continuation\": {\"min_step\": 0}}", "solver.continuation.min_step"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"no_such_option\": 1}}", "solver"),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"bounds\": {\"theta0_max\": 2.0}",
+            "bounds.theta0_max",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"bounds\": {\"stiffness_min\": 500, \"stiffness_max\": 100}",
+            "bounds.stiffness_max[0]",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"barrier_strategy\": \"fast\"}",
+            "solver.barrier_strategy",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"continuation\": {\"min_step\": 0}}",
+            "solver.continuation.min_step",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"no_such_option\": 1}}",
+            "solver",
+        ),
         ("[10000, 250, 250, 250, 250, 0]", "[10000, 250]", "start.stiffness"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"refine\": {\"from\": 1}}", "solver.refine.from"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"refine\": {\"from\": 2, \"factor\": 0.5}}", "solver.refine.factor"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"reduced\", \"solver\": {\"refine\": {\"from\": 2}}", "solver.refine"),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"refine\": {\"from\": 1}}",
+            "solver.refine.from",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"refine\": {\"from\": 2, \"factor\": 0.5}}",
+            "solver.refine.factor",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"reduced\", \"solver\": {\"refine\": {\"from\": 2}}",
+            "solver.refine",
+        ),
         ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"refine\": \"sometimes\"}", "solver"),
-        ("\"formulation\": \"full\"", "\"formulation\": \"full\", \"solver\": {\"warm_start\": {\"mu_init\": 0}}", "solver.warm_start.mu_init"),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"warm_start\": {\"mu_init\": 0}}",
+            "solver.warm_start.mu_init",
+        ),
     ];
     for (from, to, field) in cases {
         assert!(good.contains(from), "{from}");
@@ -101,7 +147,15 @@ fn refined_design_reports_every_level_and_is_deterministic() {
     let mut texts = Vec::new();
     for tag in ["a", "b"] {
         let out = tmpdir(&format!("refine-{tag}"));
-        let o = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic", "--refine", "5:2"]);
+        let o = spine(&[
+            "design",
+            case.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--deterministic",
+            "--refine",
+            "5:2",
+        ]);
         let stdout = String::from_utf8_lossy(&o.stdout);
         assert!(matches!(o.status.code(), Some(0) | Some(3)), "{}", String::from_utf8_lossy(&o.stderr));
         assert!(stdout.contains("level     5 links (Cold start)") && stdout.contains("level    10 links"), "{stdout}");
@@ -116,7 +170,14 @@ fn refined_design_reports_every_level_and_is_deterministic() {
         texts.push(std::fs::read(out.join("result.json")).unwrap());
     }
     assert_eq!(texts[0], texts[1], "same input, same bytes");
-    let o = spine(&["design", case.to_str().unwrap(), "--out", tmpdir("refine-bad").join("out").to_str().unwrap(), "--refine", "1"]);
+    let o = spine(&[
+        "design",
+        case.to_str().unwrap(),
+        "--out",
+        tmpdir("refine-bad").join("out").to_str().unwrap(),
+        "--refine",
+        "1",
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("refine"));
 }

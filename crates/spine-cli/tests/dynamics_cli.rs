@@ -55,15 +55,27 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
         ("simulate", Box::new(|c| c["damping"] = json!(-2.0)), "damping[0]"),
         ("simulate", Box::new(|c| c["simulation"]["t_end"] = json!(0.0)), "simulation.t_end"),
         ("simulate", Box::new(|c| c["simulation"]["t_end"] = json!(-1.0)), "simulation.t_end"),
-        ("simulate", Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 1.5})), "forcing.duty"),
+        (
+            "simulate",
+            Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 1.5})),
+            "forcing.duty",
+        ),
         ("simulate", Box::new(|c| c["simulation"]["integrator"] = json!({"rtol": 0.0})), "simulation.integrator.rtol"),
         ("damping", Box::new(|c| c["kind"] = json!("damping")), "damping_design"),
-        ("periodic", Box::new(|c| { c["kind"] = json!("periodic"); c["periodic_design"] = json!({"delta_d": -0.05}); }), "forcing.type"),
+        (
+            "periodic",
+            Box::new(|c| {
+                c["kind"] = json!("periodic");
+                c["periodic_design"] = json!({"delta_d": -0.05});
+            }),
+            "forcing.type",
+        ),
         // A shallow arch under a push far beyond its buckling load: θ2 is not a stable final state.
         (
             "simulate",
             Box::new(|c| {
-                let t: Vec<f64> = (0..4).map(|i| 0.02 * (std::f64::consts::PI * (i as f64 + 0.5) / 4.0).cos()).collect();
+                let t: Vec<f64> =
+                    (0..4).map(|i| 0.02 * (std::f64::consts::PI * (i as f64 + 0.5) / 4.0).cos()).collect();
                 c["design"] = json!({"theta0": t, "stiffness": [1000, 1000, 1000, 1000, 0]});
                 c["loads"]["p_x"] = json!(-1.0e4);
             }),

@@ -14,7 +14,13 @@ fn read_json(path: &Path) -> Value {
 /// A paper figure case keeping only the runs named in `keep`.
 fn figure_with_runs(name: &str, keep: &[&str]) -> Value {
     let mut case = read_json(&workspace().join(format!("paper-cases/{name}.json")));
-    let runs: Vec<Value> = case["runs"].as_array().unwrap().iter().filter(|r| keep.contains(&r["name"].as_str().unwrap())).cloned().collect();
+    let runs: Vec<Value> = case["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| keep.contains(&r["name"].as_str().unwrap()))
+        .cloned()
+        .collect();
     assert_eq!(runs.len(), keep.len());
     case["runs"] = Value::Array(runs);
     case
@@ -48,7 +54,12 @@ fn assert_files(dir: &Path, result: &Value, expected: &[&str]) {
 #[test]
 fn twolink_figure_checks_the_closed_forms() {
     let dir = tmpdir("paper-twolink");
-    let o = spine(&["case", workspace().join("paper-cases/twolink.json").to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    let o = spine(&[
+        "case",
+        workspace().join("paper-cases/twolink.json").to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let r = read_json(&dir.join("result.json"));
     assert_eq!(r["kind"], "figure");
@@ -88,14 +99,21 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
     let shape = std::fs::read_to_string(out.join("shape_n5.csv")).unwrap();
     assert_eq!(shape.lines().count(), 1 + 6, "header and six nodes");
     let svg = std::fs::read_to_string(out.join("figure.svg")).unwrap();
-    for text in ["(a) 5 links, -10 N per node: shapes", "(b) 5 links, -10 N per node: nodal stiffness", "X (m)", "K_j (N·m/rad)"] {
+    for text in [
+        "(a) 5 links, -10 N per node: shapes",
+        "(b) 5 links, -10 N per node: nodal stiffness",
+        "X (m)",
+        "K_j (N·m/rad)",
+    ] {
         assert!(svg.contains(text), "{text}");
     }
     // Same input, same bytes.
-    let first: Vec<Vec<u8>> = ["result.json", "figure.svg", "shape_n5.csv"].iter().map(|f| std::fs::read(out.join(f)).unwrap()).collect();
+    let first: Vec<Vec<u8>> =
+        ["result.json", "figure.svg", "shape_n5.csv"].iter().map(|f| std::fs::read(out.join(f)).unwrap()).collect();
     let o = run_case(&case, &dir, &["--deterministic"]);
     assert!(o.status.success());
-    let second: Vec<Vec<u8>> = ["result.json", "figure.svg", "shape_n5.csv"].iter().map(|f| std::fs::read(out.join(f)).unwrap()).collect();
+    let second: Vec<Vec<u8>> =
+        ["result.json", "figure.svg", "shape_n5.csv"].iter().map(|f| std::fs::read(out.join(f)).unwrap()).collect();
     assert_eq!(first, second);
 }
 
@@ -148,10 +166,23 @@ fn bad_figure_input_exits_2_names_the_field_and_writes_nothing() {
 #[test]
 fn report_gathers_claims_figures_and_errata() {
     let results = tmpdir("paper-report");
-    let o = spine(&["case", workspace().join("paper-cases/twolink.json").to_str().unwrap(), "--out", results.join("twolink").to_str().unwrap()]);
+    let o = spine(&[
+        "case",
+        workspace().join("paper-cases/twolink.json").to_str().unwrap(),
+        "--out",
+        results.join("twolink").to_str().unwrap(),
+    ]);
     assert!(o.status.success());
     let errata = workspace().join("docs/errata.md");
-    let o = spine(&["report", "--results", results.to_str().unwrap(), "--cases", "twolink,fig3", "--errata", errata.to_str().unwrap()]);
+    let o = spine(&[
+        "report",
+        "--results",
+        results.to_str().unwrap(),
+        "--cases",
+        "twolink,fig3",
+        "--errata",
+        errata.to_str().unwrap(),
+    ]);
     // fig3 has no result here: reported as missing, exit 3.
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();

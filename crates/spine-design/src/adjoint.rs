@@ -19,8 +19,8 @@
 //! All return `K`-gradients in physical units (per N·m/rad); multiply by `C_K` for `k = K / C_K`.
 
 use crate::problem::DesignProblem;
-use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::chain::spring_links;
+use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::local::{self, LinkRun, SpringEnergy};
 use spine_model::sparse::BorderedTridiagonal;
 use spine_model::{energy, hand, kinematics, Design, LinkLoads, State};
@@ -41,7 +41,14 @@ pub struct ReducedGradients {
 }
 
 impl ReducedGradients {
-    fn at(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State, energy_gradient: Vec<f64>, end_x_gradient: Vec<f64>) -> Self {
+    fn at(
+        problem: &DesignProblem,
+        design: &Design,
+        passive: &State,
+        loaded: &State,
+        energy_gradient: Vec<f64>,
+        end_x_gradient: Vec<f64>,
+    ) -> Self {
         ReducedGradients {
             energy: energy::strain_energy(&passive.theta, &design.theta0, &design.stiffness),
             energy_gradient,
@@ -68,23 +75,38 @@ fn adjoint_gradient(
 }
 
 /// The adjoint gradients from the hand-derived derivatives of Appendix I (corrected, errata E7).
-pub fn adjoint_hand(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Result<ReducedGradients, SingularMatrix> {
+pub fn adjoint_hand(
+    problem: &DesignProblem,
+    design: &Design,
+    passive: &State,
+    loaded: &State,
+) -> Result<ReducedGradients, SingularMatrix> {
     let spans = &problem.chain.spans;
     let hand_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
         let a = hand::state_jacobian(spans, design, loads, state);
-        adjoint_gradient(&a, by_state, by_design, |psi| hand::design_jacobian_transpose_mul(spans, design, loads, state, psi))
+        adjoint_gradient(&a, by_state, by_design, |psi| {
+            hand::design_jacobian_transpose_mul(spans, design, loads, state, psi)
+        })
     };
-    let energy_gradient = hand_adjoint(&problem.passive_loads(), passive, hand::strain_energy_partials(design, passive))?;
+    let energy_gradient =
+        hand_adjoint(&problem.passive_loads(), passive, hand::strain_energy_partials(design, passive))?;
     let end_x_gradient = hand_adjoint(&problem.total_loads(), loaded, hand::end_x_partials(spans, design, loaded))?;
     Ok(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
 }
 
 /// The adjoint gradients with every partial derivative from forward AD (see the module docs).
-pub fn adjoint_ad(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Result<ReducedGradients, SingularMatrix> {
+pub fn adjoint_ad(
+    problem: &DesignProblem,
+    design: &Design,
+    passive: &State,
+    loaded: &State,
+) -> Result<ReducedGradients, SingularMatrix> {
     let spans = &problem.chain.spans;
     let ad_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
         let (_, a) = residual_and_state_jacobian(spans, design, loads, state);
-        adjoint_gradient(&a, by_state, by_design, |psi| design_jacobian(spans, design, loads, state).transpose_mul_vec(psi))
+        adjoint_gradient(&a, by_state, by_design, |psi| {
+            design_jacobian(spans, design, loads, state).transpose_mul_vec(psi)
+        })
     };
     let energy_gradient = ad_adjoint(&problem.passive_loads(), passive, energy_partials_ad(design, passive))?;
     let end_x_gradient = ad_adjoint(&problem.total_loads(), loaded, end_partials_ad(spans, design, loaded))?;
@@ -93,10 +115,18 @@ pub fn adjoint_ad(problem: &DesignProblem, design: &Design, passive: &State, loa
 
 /// The direct (forward-sensitivity) gradients with the AD Jacobians: `∂u/∂d_k` for every design
 /// variable `k`, then the chain rule. O(N²); a test oracle for the adjoints.
-pub fn forward_ad(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Result<ReducedGradients, SingularMatrix> {
+pub fn forward_ad(
+    problem: &DesignProblem,
+    design: &Design,
+    passive: &State,
+    loaded: &State,
+) -> Result<ReducedGradients, SingularMatrix> {
     let spans = &problem.chain.spans;
     let n = spans.len();
-    let direct = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| -> Result<Vec<f64>, SingularMatrix> {
+    let direct = |loads: &LinkLoads,
+                  state: &State,
+                  (by_state, by_design): (Vec<f64>, Vec<f64>)|
+     -> Result<Vec<f64>, SingularMatrix> {
         let (_, jac) = residual_and_state_jacobian(spans, design, loads, state);
         let lu = BorderedLu::factor(&jac)?;
         let mut columns = vec![vec![0.0; n + 1]; 2 * n + 1];
@@ -138,7 +168,10 @@ pub fn central_differences(
                 moved.stiffness[k - n] = v;
             }
             let (p, l) = problem.equilibria_near(&moved, passive, loaded, continuation)?;
-            Some((energy::strain_energy(&p.theta, &moved.theta0, &moved.stiffness), kinematics::end_x(spans, &moved.theta0, &l.theta)))
+            Some((
+                energy::strain_energy(&p.theta, &moved.theta0, &moved.stiffness),
+                kinematics::end_x(spans, &moved.theta0, &l.theta),
+            ))
         };
         let (jp, xp) = at(value + h)?;
         let (jm, xm) = at(value - h)?;
@@ -156,7 +189,13 @@ fn energy_partials_ad(design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     for j in 0..=n {
         let (prev, this) = spring_links(n, j);
         let pick = |v: &[f64], i: Option<usize>| i.map_or(0.0, |i| v[i]);
-        let x = [pick(&state.theta, prev), pick(&design.theta0, prev), pick(&state.theta, this), pick(&design.theta0, this), design.stiffness[j]];
+        let x = [
+            pick(&state.theta, prev),
+            pick(&design.theta0, prev),
+            pick(&state.theta, this),
+            pick(&design.theta0, this),
+            design.stiffness[j],
+        ];
         let (_, g) = local::gradient(&spring, &x);
         for (i, (d_theta, d_theta0)) in [(prev, (g[0], g[1])), (this, (g[2], g[3]))] {
             if let Some(i) = i {

@@ -20,9 +20,9 @@
 
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
 use crate::problem::DesignProblem;
+use spine_model::chain::spring_links;
 use spine_model::local::{Difference, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
 use spine_model::residual::slot;
-use spine_model::chain::spring_links;
 use spine_model::{Design, LinkLoads, State};
 
 /// Index map of the full-space variables and constraints.
@@ -85,7 +85,14 @@ impl Layout {
     }
 
     /// Packs a design, both states and the node heights into a variable vector.
-    pub fn pack(&self, design: &Design, stiffness_scale: f64, passive: &State, loaded: &State, heights: &[f64]) -> Vec<f64> {
+    pub fn pack(
+        &self,
+        design: &Design,
+        stiffness_scale: f64,
+        passive: &State,
+        loaded: &State,
+        heights: &[f64],
+    ) -> Vec<f64> {
         let mut x = vec![0.0; self.num_variables()];
         for i in 0..self.n {
             x[self.theta0(i)] = design.theta0[i];
@@ -202,7 +209,12 @@ fn push_equilibrium(
         vars[slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
         vars[slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
         joints.push(Placed {
-            element: JointResidual { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i], stiffness_scale },
+            element: JointResidual {
+                span: spans[i],
+                vertical: loads.vertical[i],
+                axial: loads.axial[i],
+                stiffness_scale,
+            },
             vars,
             row: Row::Constraint(layout.equilibrium_row(state, i)),
         });
@@ -284,7 +296,16 @@ impl<'a> FullSpaceNlp<'a> {
         let layout = Layout { n: problem.n_links() };
         let heights = problem.node_heights(&start.theta0);
         let start = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
-        FullSpaceNlp { problem, layout, assembled: assemble(problem), start, on_iteration: None, multipliers: None, values: None, first_derivatives: None }
+        FullSpaceNlp {
+            problem,
+            layout,
+            assembled: assemble(problem),
+            start,
+            on_iteration: None,
+            multipliers: None,
+            values: None,
+            first_derivatives: None,
+        }
     }
 }
 
@@ -361,7 +382,15 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
     fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
         Some(self.assembled.patterns.hessian.clone())
     }
-    fn hessian_values(&mut self, x: &[f64], _new_x: bool, sigma: f64, lambda: &[f64], _new_lambda: bool, values: &mut [f64]) -> bool {
+    fn hessian_values(
+        &mut self,
+        x: &[f64],
+        _new_x: bool,
+        sigma: f64,
+        lambda: &[f64],
+        _new_lambda: bool,
+        values: &mut [f64],
+    ) -> bool {
         self.assembled.hessian(x, sigma, lambda, values);
         values.iter().all(|v| v.is_finite())
     }

@@ -45,7 +45,8 @@ pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<
                 continue;
             }
             let t: Vec<f64> = (0..n).map(|i| ((heights[i + 1] - heights[i]) / spans[i]).atan()).collect();
-            let angles_ok = t.iter().all(|v| v.abs() <= b.theta0_max) && t.windows(2).all(|w| (w[0] - w[1]).abs() <= b.relative_angle_max);
+            let angles_ok = t.iter().all(|v| v.abs() <= b.theta0_max)
+                && t.windows(2).all(|w| (w[0] - w[1]).abs() <= b.relative_angle_max);
             if angles_ok {
                 theta0 = Some(t);
                 break;
@@ -115,7 +116,13 @@ pub fn cluster(results: &[DesignResult], seed: u64) -> MultiStartSummary {
                 o.count += 1;
                 o.starts.push(k);
             }
-            None => optima.push(Optimum { objective: r.objective, design: r.design.clone(), count: 1, starts: vec![k], clean: r.is_clean() }),
+            None => optima.push(Optimum {
+                objective: r.objective,
+                design: r.design.clone(),
+                count: 1,
+                starts: vec![k],
+                clean: r.is_clean(),
+            }),
         }
     }
     optima.sort_by(|a, b| a.objective.total_cmp(&b.objective));

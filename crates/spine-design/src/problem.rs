@@ -94,7 +94,10 @@ impl DesignProblem {
         for (i, t) in design.theta0.iter_mut().enumerate() {
             let clamped = t.clamp(-b.theta0_max, b.theta0_max);
             if clamped != *t {
-                notes.push(format!("theta0[{i}] = {t:.6} rad projected to {clamped:.6} rad (|theta0| <= {:.6})", b.theta0_max));
+                notes.push(format!(
+                    "theta0[{i}] = {t:.6} rad projected to {clamped:.6} rad (|theta0| <= {:.6})",
+                    b.theta0_max
+                ));
                 *t = clamped;
             }
         }

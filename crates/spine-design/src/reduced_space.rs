@@ -86,7 +86,12 @@ pub struct ReducedSpaceNlp<'a> {
 }
 
 impl<'a> ReducedSpaceNlp<'a> {
-    pub fn new(problem: &'a DesignProblem, start: &Design, continuation: ContinuationOptions, hessian: ReducedHessian) -> Self {
+    pub fn new(
+        problem: &'a DesignProblem,
+        start: &Design,
+        continuation: ContinuationOptions,
+        hessian: ReducedHessian,
+    ) -> Self {
         let n = problem.n_links();
         let layout = ReducedLayout { n };
         let heights: Vec<Placed<HeightStep, 3>> = (0..n)
@@ -97,9 +102,14 @@ impl<'a> ReducedSpaceNlp<'a> {
             })
             .collect();
         let relatives: Vec<Placed<Difference, 2>> = (0..n.saturating_sub(1))
-            .map(|i| Placed { element: Difference, vars: [Some(i), Some(i + 1)], row: Row::Constraint(layout.relative_row(i)) })
+            .map(|i| Placed {
+                element: Difference,
+                vars: [Some(i), Some(i + 1)],
+                row: Row::Constraint(layout.relative_row(i)),
+            })
             .collect();
-        let groups: Vec<Box<dyn AnyGroup + Send>> = vec![Box::new(Group::new(heights)), Box::new(Group::new(relatives))];
+        let groups: Vec<Box<dyn AnyGroup + Send>> =
+            vec![Box::new(Group::new(heights)), Box::new(Group::new(relatives))];
         let mut x0 = vec![0.0; layout.num_variables()];
         x0[..n].copy_from_slice(&start.theta0);
         for j in 0..=n {
@@ -126,7 +136,10 @@ impl<'a> ReducedSpaceNlp<'a> {
     /// The design in physical units.
     pub fn design(&self, x: &[f64]) -> Design {
         let n = self.layout.n;
-        Design { theta0: x[..n].to_vec(), stiffness: x[n..2 * n + 1].iter().map(|k| k * self.problem.stiffness_scale).collect() }
+        Design {
+            theta0: x[..n].to_vec(),
+            stiffness: x[n..2 * n + 1].iter().map(|k| k * self.problem.stiffness_scale).collect(),
+        }
     }
 
     /// Solves both equilibria and the adjoint gradients at `x` (cached by `x`).
@@ -136,7 +149,8 @@ impl<'a> ReducedSpaceNlp<'a> {
             self.equilibrium_evaluations += 1;
             let design = self.design(x);
             let solution = solve_static(&self.problem.static_problem(&design), &self.continuation);
-            let reached = solution.passive.load_factor == 1.0 && solution.loaded.as_ref().is_some_and(|l| l.load_factor == 1.0);
+            let reached =
+                solution.passive.load_factor == 1.0 && solution.loaded.as_ref().is_some_and(|l| l.load_factor == 1.0);
             if !reached {
                 self.failed_evaluations += 1;
                 return None;
@@ -157,7 +171,8 @@ impl<'a> ReducedSpaceNlp<'a> {
     fn weighted_gradient(&self, x: &[f64], sigma: f64, lambda_end: f64) -> Option<Vec<f64>> {
         let last = self.last.as_ref()?;
         let design = self.design(x);
-        let (passive, loaded) = self.problem.equilibria_near(&design, &last.passive, &last.loaded, &self.continuation)?;
+        let (passive, loaded) =
+            self.problem.equilibria_near(&design, &last.passive, &last.loaded, &self.continuation)?;
         let g = adjoint_hand(self.problem, &design, &passive, &loaded).ok()?;
         let weighted = g.energy_gradient.iter().zip(&g.end_x_gradient).map(|(j, x)| sigma * j + lambda_end * x);
         let mut out = vec![0.0; 2 * self.layout.n + 1];
@@ -228,7 +243,8 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
     }
     fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
         let d = 2 * self.layout.n + 1;
-        (self.hessian == ReducedHessian::AdjointDifferences).then(|| (0..d).flat_map(|r| (0..=r).map(move |c| (r, c))).collect())
+        (self.hessian == ReducedHessian::AdjointDifferences)
+            .then(|| (0..d).flat_map(|r| (0..=r).map(move |c| (r, c))).collect())
     }
     fn hessian_values(&mut self, x: &[f64], _: bool, sigma: f64, lambda: &[f64], _: bool, values: &mut [f64]) -> bool {
         let d = 2 * self.layout.n + 1;
@@ -242,7 +258,9 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
             let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
             xp[k] += h;
             xm[k] -= h;
-            let (Some(gp), Some(gm)) = (self.weighted_gradient(&xp, sigma, lambda_end), self.weighted_gradient(&xm, sigma, lambda_end)) else {
+            let (Some(gp), Some(gm)) =
+                (self.weighted_gradient(&xp, sigma, lambda_end), self.weighted_gradient(&xm, sigma, lambda_end))
+            else {
                 return false;
             };
             columns.push(gp.iter().zip(&gm).map(|(a, b)| (a - b) / (2.0 * h)).collect::<Vec<f64>>());

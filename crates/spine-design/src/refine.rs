@@ -115,7 +115,8 @@ impl std::str::FromStr for Refine {
             _ => {
                 let (from, factor) = text.split_once(':').unwrap_or((text, "2"));
                 let bad = || format!("expected off, auto, FROM or FROM:FACTOR (e.g. 50:2), got {text:?}");
-                let ladder = Ladder { from: from.parse().map_err(|_| bad())?, factor: factor.parse().map_err(|_| bad())? };
+                let ladder =
+                    Ladder { from: from.parse().map_err(|_| bad())?, factor: factor.parse().map_err(|_| bad())? };
                 ladder.check().map_err(|(field, why)| format!("{field} {why}"))?;
                 Refine::Ladder(ladder)
             }
@@ -162,7 +163,12 @@ impl Default for WarmStart {
 impl WarmStart {
     /// Why these options are not usable, naming the field.
     pub fn check(&self) -> Result<(), (&'static str, String)> {
-        for (name, v) in [("mu_init", self.mu_init), ("bound_push", self.bound_push), ("bound_frac", self.bound_frac), ("mult_bound_push", self.mult_bound_push)] {
+        for (name, v) in [
+            ("mu_init", self.mu_init),
+            ("bound_push", self.bound_push),
+            ("bound_frac", self.bound_frac),
+            ("mult_bound_push", self.mult_bound_push),
+        ] {
             if !(v.is_finite() && v > 0.0 && v <= 0.5) {
                 return Err((name, format!("must be a number in (0, 0.5], got {v}")));
             }
@@ -253,11 +259,8 @@ pub fn coarsen(problem: &DesignProblem, m: usize) -> (DesignProblem, Vec<usize>)
 /// projected into the coarse bounds.
 pub fn restrict(fine: &DesignProblem, coarse: &DesignProblem, nodes: &[usize], design: &Design) -> Design {
     let heights = fine.node_heights(&design.theta0);
-    let theta0 = nodes
-        .windows(2)
-        .zip(&coarse.chain.spans)
-        .map(|(w, a)| ((heights[w[1]] - heights[w[0]]) / a).atan())
-        .collect();
+    let theta0 =
+        nodes.windows(2).zip(&coarse.chain.spans).map(|(w, a)| ((heights[w[1]] - heights[w[0]]) / a).atan()).collect();
     let stiffness = nodes
         .iter()
         .enumerate()
@@ -296,7 +299,12 @@ fn midpoints(spans: &[f64]) -> Vec<f64> {
 
 /// A fine start from a coarse solution: the design (exactly feasible for the design constraints)
 /// and interpolated states (not yet equilibria: see [`warm_states`]).
-pub fn prolong(coarse: &DesignProblem, fine: &DesignProblem, design: &Design, states: &(State, State)) -> (Design, (State, State)) {
+pub fn prolong(
+    coarse: &DesignProblem,
+    fine: &DesignProblem,
+    design: &Design,
+    states: &(State, State),
+) -> (Design, (State, State)) {
     let coarse_x = node_x(&coarse.chain.spans);
     let fine_x = node_x(&fine.chain.spans);
     let heights = interpolate(&coarse_x, &coarse.node_heights(&design.theta0), &fine_x);
@@ -388,7 +396,13 @@ pub fn prepare_level(
             let design = coarse.as_ref().map_or_else(|| start.clone(), |(c, nodes)| restrict(problem, c, nodes, start));
             let mut level_notes = Vec::new();
             let states = crate::solve::start_states(level, &design, continuation, &mut level_notes);
-            notes.extend(level_notes.into_iter().map(|s| if m < n { format!("refinement level {m} links: {s}") } else { s }));
+            notes.extend(level_notes.into_iter().map(|s| {
+                if m < n {
+                    format!("refinement level {m} links: {s}")
+                } else {
+                    s
+                }
+            }));
             (LevelStart::Cold, design, states)
         }
         Some((coarser, d, s)) => {
@@ -426,13 +440,22 @@ pub struct Multipliers {
 /// interpolated and multiplied by `h_fine / h_coarse`. A bound multiplier is kept only where the
 /// fine variable sits on that bound (`x_fine` within `1e-7` of it), else it is zero and Ipopt's
 /// `warm_start_mult_bound_push` sets it.
-pub fn prolong_multipliers(coarse: &DesignProblem, fine: &DesignProblem, m: &Multipliers, x_fine: &[f64], lower: &[f64], upper: &[f64]) -> Multipliers {
+pub fn prolong_multipliers(
+    coarse: &DesignProblem,
+    fine: &DesignProblem,
+    m: &Multipliers,
+    x_fine: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+) -> Multipliers {
     let (mc, nf) = (coarse.n_links(), fine.n_links());
     let (cl, fl) = (Layout { n: mc }, Layout { n: nf });
     let ratio = mc as f64 / nf as f64;
     let (cmid, fmid) = (midpoints(&coarse.chain.spans), midpoints(&fine.chain.spans));
     let (cx, fx) = (node_x(&coarse.chain.spans), node_x(&fine.chain.spans));
-    let field = |values: Vec<f64>, at: &[f64], to: &[f64], scale: f64| -> Vec<f64> { interpolate(at, &values, to).into_iter().map(|v| v * scale).collect() };
+    let field = |values: Vec<f64>, at: &[f64], to: &[f64], scale: f64| -> Vec<f64> {
+        interpolate(at, &values, to).into_iter().map(|v| v * scale).collect()
+    };
 
     let mut constraints = vec![0.0; fl.num_constraints()];
     for s in [LoadState::Passive, LoadState::Loaded] {
@@ -442,12 +465,15 @@ pub fn prolong_multipliers(coarse: &DesignProblem, fine: &DesignProblem, m: &Mul
         }
         constraints[fl.constraint_row(s)] = m.constraints[cl.constraint_row(s)];
     }
-    for (j, v) in field((0..mc).map(|j| m.constraints[cl.height_row(j)]).collect(), &cmid, &fmid, 1.0).into_iter().enumerate() {
+    for (j, v) in
+        field((0..mc).map(|j| m.constraints[cl.height_row(j)]).collect(), &cmid, &fmid, 1.0).into_iter().enumerate()
+    {
         constraints[fl.height_row(j)] = v;
     }
     constraints[fl.end_row()] = m.constraints[cl.end_row()];
     if mc >= 2 && nf >= 2 {
-        let relative = field((0..mc - 1).map(|i| m.constraints[cl.relative_row(i)]).collect(), &cx[1..mc], &fx[1..nf], ratio);
+        let relative =
+            field((0..mc - 1).map(|i| m.constraints[cl.relative_row(i)]).collect(), &cx[1..mc], &fx[1..nf], ratio);
         for (i, v) in relative.into_iter().enumerate() {
             constraints[fl.relative_row(i)] = v;
         }
@@ -462,7 +488,8 @@ pub fn prolong_multipliers(coarse: &DesignProblem, fine: &DesignProblem, m: &Mul
             out[fl.stiffness(j)] = v;
         }
         if mc >= 2 && nf >= 2 {
-            let heights = field((1..mc).map(|j| z[cl.height(j).expect("interior")]).collect(), &cx[1..mc], &fx[1..nf], ratio);
+            let heights =
+                field((1..mc).map(|j| z[cl.height(j).expect("interior")]).collect(), &cx[1..mc], &fx[1..nf], ratio);
             for (j, v) in heights.into_iter().enumerate() {
                 out[fl.height(j + 1).expect("interior")] = v;
             }

@@ -239,13 +239,20 @@ impl DesignResult {
                     loaded_equilibrium: r2.residual,
                     unloaded_end_height: end_constraint(spans, &design.theta0, &design.theta0).abs(),
                     end_displacement: (end - problem.delta_d).abs(),
-                    theta0_bounds: design.theta0.iter().map(|t| excess(*t, -b.theta0_max, b.theta0_max)).fold(0.0, f64::max),
+                    theta0_bounds: design
+                        .theta0
+                        .iter()
+                        .map(|t| excess(*t, -b.theta0_max, b.theta0_max))
+                        .fold(0.0, f64::max),
                     relative_angle_bounds: design
                         .theta0
                         .windows(2)
                         .map(|w| excess(w[0] - w[1], -b.relative_angle_max, b.relative_angle_max))
                         .fold(0.0, f64::max),
-                    height_bounds: heights[1..n].iter().map(|y| excess(*y, b.height_min, b.height_max)).fold(0.0, f64::max),
+                    height_bounds: heights[1..n]
+                        .iter()
+                        .map(|y| excess(*y, b.height_min, b.height_max))
+                        .fold(0.0, f64::max),
                     stiffness_bounds: design
                         .stiffness
                         .iter()

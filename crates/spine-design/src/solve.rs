@@ -138,7 +138,10 @@ impl SolverSettings {
     /// The options of a warm level of mesh sequencing: these settings plus [`WarmStart`], unless
     /// the case sets those options itself.
     pub fn warm_ipopt(&self, warm: &WarmStart) -> Options {
-        let mut options = Options::new().number("mu_init", warm.mu_init).number("bound_push", warm.bound_push).number("bound_frac", warm.bound_frac);
+        let mut options = Options::new()
+            .number("mu_init", warm.mu_init)
+            .number("bound_push", warm.bound_push)
+            .number("bound_frac", warm.bound_frac);
         if warm.multipliers {
             options = options
                 .string("warm_start_init_point", "yes")
@@ -171,7 +174,12 @@ impl std::error::Error for DesignError {}
 
 /// Start states of the full space: the equilibria of the start design by continuation when they
 /// exist, else the unloaded shape with `λ = 0` (and a note saying so).
-pub fn start_states(problem: &DesignProblem, start: &Design, continuation: &ContinuationOptions, notes: &mut Vec<String>) -> (State, State) {
+pub fn start_states(
+    problem: &DesignProblem,
+    start: &Design,
+    continuation: &ContinuationOptions,
+    notes: &mut Vec<String>,
+) -> (State, State) {
     let solution = solve_static(&problem.static_problem(start), continuation);
     let passive_ok = solution.passive.load_factor == 1.0;
     let passive = if passive_ok { solution.passive.state.clone() } else { State::unloaded(start) };
@@ -208,7 +216,8 @@ pub fn solve_design(
             let ladder = settings.refine.ladder(problem.n_links());
             let (solution, design, states) = match ladder {
                 Some(ladder) => {
-                    let (solution, design, states, report) = solve_refined(problem, &start, settings, ladder, observer, &mut notes)?;
+                    let (solution, design, states, report) =
+                        solve_refined(problem, &start, settings, ladder, observer, &mut notes)?;
                     refinement = Some(report);
                     (solution, design, states)
                 }
@@ -225,7 +234,8 @@ pub fn solve_design(
             (solution, design, Some(states), 0)
         }
         Formulation::Reduced => {
-            let mut nlp = ReducedSpaceNlp::new(problem, &start, settings.continuation.clone(), settings.reduced_hessian);
+            let mut nlp =
+                ReducedSpaceNlp::new(problem, &start, settings.continuation.clone(), settings.reduced_hessian);
             nlp.on_iteration = Some(observer);
             let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
             let design = nlp.design(&solution.x);
@@ -281,7 +291,8 @@ fn solve_refined(
             let size = nlp.layout.num_variables();
             let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; size], vec![f64::INFINITY; size]);
             spine_ipopt::Problem::variable_bounds(&nlp, &mut lower, &mut upper);
-            nlp.multipliers = Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper));
+            nlp.multipliers =
+                Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper));
         }
         let options = if how == LevelStart::Cold { &cold_options } else { &warm_options };
         let solution = spine_ipopt::solve(&mut nlp, options).map_err(DesignError::Setup)?;
@@ -301,11 +312,18 @@ fn solve_refined(
             return Ok((solution, design, states, report));
         }
         if solution.status.is_converged() {
-            let multipliers = Multipliers { constraints: solution.lambda.clone(), z_lower: solution.z_lower.clone(), z_upper: solution.z_upper.clone() };
+            let multipliers = Multipliers {
+                constraints: solution.lambda.clone(),
+                z_lower: solution.z_lower.clone(),
+                z_upper: solution.z_upper.clone(),
+            };
             previous = Some((level.clone(), design, states, multipliers));
             next += 1;
         } else {
-            notes.push(format!("refinement level {m} links ended {}: the full chain is solved cold instead", solution.status.name()));
+            notes.push(format!(
+                "refinement level {m} links ended {}: the full chain is solved cold instead",
+                solution.status.name()
+            ));
             fell_back = true;
             previous = None;
         }

@@ -74,7 +74,11 @@ fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is
                 let (fp, gp, _) = nlp_parts(&mut nlp, &xp);
                 let (fm, gm, _) = nlp_parts(&mut nlp, &xm);
                 let fd = (fp - fm) / (2.0 * h);
-                assert!((fd - grad[k]).abs() <= 1e-6 * grad[k].abs().max(1.0), "N={n} ∂f/∂x{k}: AD {} FD {fd}", grad[k]);
+                assert!(
+                    (fd - grad[k]).abs() <= 1e-6 * grad[k].abs().max(1.0),
+                    "N={n} ∂f/∂x{k}: AD {} FD {fd}",
+                    grad[k]
+                );
                 for r in 0..m {
                     let fd = (gp[r] - gm[r]) / (2.0 * h);
                     let ad = dense[r][k];
@@ -188,8 +192,14 @@ fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver
         for k in 0..2 * n + 1 {
             assert!((hand.energy_gradient[k] - ad.energy_gradient[k]).abs() <= 1e-10 * scale_j, "N={n} dJ/dd{k}");
             assert!((hand.end_x_gradient[k] - ad.end_x_gradient[k]).abs() <= 1e-10 * scale_x, "N={n} dX/dd{k}");
-            assert!((hand.energy_gradient[k] - ad_adjoint.energy_gradient[k]).abs() <= 1e-10 * scale_j, "N={n} dJ/dd{k} (AD adjoint)");
-            assert!((hand.end_x_gradient[k] - ad_adjoint.end_x_gradient[k]).abs() <= 1e-10 * scale_x, "N={n} dX/dd{k} (AD adjoint)");
+            assert!(
+                (hand.energy_gradient[k] - ad_adjoint.energy_gradient[k]).abs() <= 1e-10 * scale_j,
+                "N={n} dJ/dd{k} (AD adjoint)"
+            );
+            assert!(
+                (hand.end_x_gradient[k] - ad_adjoint.end_x_gradient[k]).abs() <= 1e-10 * scale_x,
+                "N={n} dX/dd{k} (AD adjoint)"
+            );
             // Fourth-order central differences through the continuation solver (truncation
             // O(h⁴): about 1e-12 for θ0 with h = 1e-3 rad, 1e-8 for K with h = 1e-2 K; rounding of
             // the solves about 1e-15 m in X divided by 12h). Each entry is compared
@@ -213,7 +223,11 @@ fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver
             let fd_x = (8.0 * (xp - xm) - (xp2 - xm2)) / (12.0 * h);
             let err_j = (fd_j - hand.energy_gradient[k]).abs() / hand.energy_gradient[k].abs().max(1e-7 * scale_j);
             let err_x = (fd_x - hand.end_x_gradient[k]).abs() / hand.end_x_gradient[k].abs().max(1e-7 * scale_x);
-            assert!(err_j <= 1e-7, "N={n} dJ/dd{k}: adjoint {} FD {fd_j} (relative {err_j:e})", hand.energy_gradient[k]);
+            assert!(
+                err_j <= 1e-7,
+                "N={n} dJ/dd{k}: adjoint {} FD {fd_j} (relative {err_j:e})",
+                hand.energy_gradient[k]
+            );
             assert!(err_x <= 1e-7, "N={n} dX/dd{k}: adjoint {} FD {fd_x} (relative {err_x:e})", hand.end_x_gradient[k]);
         }
     }

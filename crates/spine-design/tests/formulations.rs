@@ -105,10 +105,11 @@ fn scaling_off_and_iteration_limits_are_reported() {
     assert_eq!(r.solver.status, "maximum_iterations_exceeded");
     assert!(r.warnings.iter().any(|w| w.contains("did not converge")));
     let mut calls = 0;
-    let r = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &SolverSettings::default(), &mut |_| {
-        calls += 1;
-        calls < 3
-    })
-    .unwrap();
+    let r =
+        solve_design(&problem, &paper_five_link_start(), Formulation::Full, &SolverSettings::default(), &mut |_| {
+            calls += 1;
+            calls < 3
+        })
+        .unwrap();
     assert_eq!(r.solver.status, "user_requested_stop");
 }

@@ -77,7 +77,12 @@ fn coarsening_keeps_forces_their_moments_and_the_scaled_stiffness() {
         assert!((mass(&coarse) - mass(&fine)).abs() < 1e-14);
         let (mf, mc) = (moments(&fine), moments(&coarse));
         for k in 0..4 {
-            assert!((mf[k] - mc[k]).abs() < 1e-11 * mf[k].abs().max(1.0), "m = {m}, moment {k}: {} vs {}", mf[k], mc[k]);
+            assert!(
+                (mf[k] - mc[k]).abs() < 1e-11 * mf[k].abs().max(1.0),
+                "m = {m}, moment {k}: {} vs {}",
+                mf[k],
+                mc[k]
+            );
         }
         // K h (a bending stiffness) keeps its bounds; with equal groups k = K / C_K does too.
         let mean_span = |spans: &[f64], j: usize| match (j.checked_sub(1).map(|i| spans[i]), spans.get(j)) {
@@ -138,8 +143,17 @@ fn refined_and_cold_solves_end_at_optima_of_the_same_nlp() {
     for n in [20, 40, 100] {
         let problem = scaled_family(n);
         let ladder = Ladder { from: 10, factor: 2.0 };
-        let cold = solve_design(&problem, &start_of(n), Formulation::Full, &settings(Refine::Mode(RefineMode::Off)), &mut |_| true).unwrap();
-        let refined = solve_design(&problem, &start_of(n), Formulation::Full, &settings(Refine::Ladder(ladder)), &mut |_| true).unwrap();
+        let cold = solve_design(
+            &problem,
+            &start_of(n),
+            Formulation::Full,
+            &settings(Refine::Mode(RefineMode::Off)),
+            &mut |_| true,
+        )
+        .unwrap();
+        let refined =
+            solve_design(&problem, &start_of(n), Formulation::Full, &settings(Refine::Ladder(ladder)), &mut |_| true)
+                .unwrap();
         assert!(cold.refinement.is_none());
         let report = refined.refinement.as_ref().expect("a refined run reports its levels");
         let sizes: Vec<usize> = report.levels.iter().map(|l| l.links).collect();
@@ -168,7 +182,10 @@ fn refined_and_cold_solves_end_at_optima_of_the_same_nlp() {
                 assert!(j <= r.objective * (1.0 + 1e-6), "N = {n}: J rose from {} to {j}", r.objective);
             }
         }
-        eprintln!("N = {n}: J cold {:.9e} ({} it), refined {:.9e} ({} it at N), rel. diff {rel:.1e}", cold.objective, cold.solver.iterations, refined.objective, refined.solver.iterations);
+        eprintln!(
+            "N = {n}: J cold {:.9e} ({} it), refined {:.9e} ({} it at N), rel. diff {rel:.1e}",
+            cold.objective, cold.solver.iterations, refined.objective, refined.solver.iterations
+        );
     }
 }
 
@@ -185,7 +202,14 @@ fn a_failed_coarse_level_falls_back_to_a_cold_solve_and_says_so() {
         }
         true
     };
-    let r = solve_design(&problem, &start_of(n), Formulation::Full, &settings(Refine::Ladder(Ladder { from: 10, factor: 2.0 })), &mut observer).unwrap();
+    let r = solve_design(
+        &problem,
+        &start_of(n),
+        Formulation::Full,
+        &settings(Refine::Ladder(Ladder { from: 10, factor: 2.0 })),
+        &mut observer,
+    )
+    .unwrap();
     let report = r.refinement.as_ref().unwrap();
     assert!(report.fell_back_to_cold);
     assert_eq!(report.levels.len(), 2);

@@ -10,6 +10,14 @@ fn main() {
     let r = design_damping(&problem, target, &DampingSettings::default()).expect("stable ends");
     println!(
         "{} ({} it, {} sims, {:.2} s): C0 = {:?}, C = {:.3?}, T90 = {:?} (err {:?}), J = {:.4e}",
-        r.status, r.iterations, r.simulations, r.time_seconds, r.uniform_start, r.damping, r.rise_time, r.rise_time_error, r.objective
+        r.status,
+        r.iterations,
+        r.simulations,
+        r.time_seconds,
+        r.uniform_start,
+        r.damping,
+        r.rise_time,
+        r.rise_time_error,
+        r.objective
     );
 }

@@ -9,7 +9,9 @@
 
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
-use crate::response::{rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings};
+use crate::response::{
+    rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings,
+};
 use serde::{Deserialize, Serialize};
 use spine_ipopt::{Problem, Status};
 
@@ -207,7 +209,12 @@ pub fn design_damping(
                 .string("mu_strategy", "adaptive");
             let sol = spine_ipopt::solve(&mut eq35, &options).expect("eq. (35) is a valid Ipopt problem");
             simulations += eq35.simulations;
-            (sol.status.name(), sol.status == Status::SolveSucceeded || sol.status.is_converged(), sol.iterations, sol.x)
+            (
+                sol.status.name(),
+                sol.status == Status::SolveSucceeded || sol.status.is_converged(),
+                sol.iterations,
+                sol.x,
+            )
         }
     };
     let mut d = base.clone();

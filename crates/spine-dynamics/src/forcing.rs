@@ -99,7 +99,10 @@ impl Forcing {
             }
             Forcing::Sinusoid { angular_frequency } => {
                 if !(angular_frequency.is_finite() && angular_frequency > 0.0) {
-                    return bad("angular_frequency", format!("must be a finite rate > 0 rad/s, got {angular_frequency}"));
+                    return bad(
+                        "angular_frequency",
+                        format!("must be a finite rate > 0 rad/s, got {angular_frequency}"),
+                    );
                 }
                 Ok(())
             }

@@ -104,11 +104,17 @@ impl Stats {
 pub enum Outcome {
     Completed,
     /// The step size fell below round-off at `t`.
-    StepTooSmall { t: f64 },
+    StepTooSmall {
+        t: f64,
+    },
     /// `max_steps` accepted steps before reaching the end, at `t`.
-    StepLimit { t: f64 },
+    StepLimit {
+        t: f64,
+    },
     /// The caller's stop condition held at `t`.
-    Stopped { t: f64 },
+    Stopped {
+        t: f64,
+    },
 }
 
 /// One accepted step: the data of its cubic Hermite interpolant.
@@ -142,13 +148,17 @@ impl Interval {
     /// `y(t)` on this interval.
     pub fn value(&self, t: f64) -> Vec<f64> {
         let (b, _) = self.weights(t);
-        (0..self.y0.len()).map(|i| b[0] * self.y0[i] + b[1] * self.f0[i] + b[2] * self.y1[i] + b[3] * self.f1[i]).collect()
+        (0..self.y0.len())
+            .map(|i| b[0] * self.y0[i] + b[1] * self.f0[i] + b[2] * self.y1[i] + b[3] * self.f1[i])
+            .collect()
     }
 
     /// `ẏ(t)` of the interpolant.
     pub fn derivative(&self, t: f64) -> Vec<f64> {
         let (_, d) = self.weights(t);
-        (0..self.y0.len()).map(|i| d[0] * self.y0[i] + d[1] * self.f0[i] + d[2] * self.y1[i] + d[3] * self.f1[i]).collect()
+        (0..self.y0.len())
+            .map(|i| d[0] * self.y0[i] + d[1] * self.f0[i] + d[2] * self.y1[i] + d[3] * self.f1[i])
+            .collect()
     }
 
     /// `S(t) = ∂y(t)/∂p` on this interval.

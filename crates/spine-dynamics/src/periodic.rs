@@ -18,7 +18,7 @@
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
 use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
-use crate::response::{sample, DynamicProblem, DynamicsError, Drift, Sample, StaticEnds};
+use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
 use crate::system::SpineOde;
 use serde::{Deserialize, Serialize};
 use spine_solve::ContinuationOptions;
@@ -139,7 +139,8 @@ pub fn simulate_periodic(
         }
         y = traj.intervals.last().expect("at least one step").y1.clone();
         if let Some(prev) = &previous {
-            let swing = trace.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - trace.iter().cloned().fold(f64::INFINITY, f64::min);
+            let swing = trace.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+                - trace.iter().cloned().fold(f64::INFINITY, f64::min);
             let diff = trace.iter().zip(prev).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
             period_change = diff / swing.max(1e-300);
             if period_change <= settings.settle_tolerance {

@@ -13,7 +13,9 @@ use crate::forcing::Forcing;
 use crate::periodic::{simulate_periodic, PeriodicResponse, PeriodicSettings};
 use crate::response::{DynamicProblem, DynamicsError};
 use serde::{Deserialize, Serialize};
-use spine_search::{genetic_algorithm, pattern_search, Bounds, Evaluation, GaSettings, PatternSettings, Progress, SearchResult};
+use spine_search::{
+    genetic_algorithm, pattern_search, Bounds, Evaluation, GaSettings, PatternSettings, Progress, SearchResult,
+};
 
 /// Which search solves eq. (37).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -40,13 +42,19 @@ pub struct PeriodicDesignSettings {
 
 impl Default for PeriodicDesignSettings {
     fn default() -> Self {
-        let response = PeriodicSettings { max_periods: 6, settle_tolerance: 1e-3, samples_per_period: 200, ..Default::default() };
+        let response =
+            PeriodicSettings { max_periods: 6, settle_tolerance: 1e-3, samples_per_period: 200, ..Default::default() };
         Self {
             stiffness_min: 1e2,
             stiffness_max: 1e4,
             tolerance: 0.01,
             ga: GaSettings { population: 24, generations: 25, stall_generations: 10, ..Default::default() },
-            pattern: PatternSettings { initial_mesh: 0.125, mesh_tolerance: 1e-3, max_evaluations: 600, ..Default::default() },
+            pattern: PatternSettings {
+                initial_mesh: 0.125,
+                mesh_tolerance: 1e-3,
+                max_evaluations: 600,
+                ..Default::default()
+            },
             response,
         }
     }

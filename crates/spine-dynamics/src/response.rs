@@ -151,9 +151,16 @@ pub fn sample(d: &Dynamics, traj: &Trajectory, count: usize, x_start: f64, lengt
             let y = traj.value(t);
             let (theta, omega) = y.split_at(n);
             drift.max_constraint_dense = drift.max_constraint_dense.max(d.constraint(theta).abs());
-            drift.max_constraint_rate_dense = drift.max_constraint_rate_dense.max(d.constraint_rate(theta, omega).abs());
+            drift.max_constraint_rate_dense =
+                drift.max_constraint_rate_dense.max(d.constraint_rate(theta, omega).abs());
             let x = d.end_x(theta);
-            Sample { t, load_factor: d.forcing.factor(t, t), delta: x - x_start, end_displacement: x - length_x, theta: theta.to_vec() }
+            Sample {
+                t,
+                load_factor: d.forcing.factor(t, t),
+                delta: x - x_start,
+                end_displacement: x - length_x,
+                theta: theta.to_vec(),
+            }
         })
         .collect();
     (samples, drift)
@@ -227,8 +234,11 @@ pub fn fit_first_order(times: &[f64], delta: &[f64], delta_inf: f64) -> FirstOrd
         }
     }
     let tau = (0.5 * (a + b)).exp();
-    let residuals: Vec<f64> =
-        times.iter().zip(delta).map(|(&t, &d)| (d - delta_inf * (1.0 - (-tau * t).exp())).abs() / delta_inf.abs()).collect();
+    let residuals: Vec<f64> = times
+        .iter()
+        .zip(delta)
+        .map(|(&t, &d)| (d - delta_inf * (1.0 - (-tau * t).exp())).abs() / delta_inf.abs())
+        .collect();
     let rms_error = (residuals.iter().map(|r| r * r).sum::<f64>() / residuals.len() as f64).sqrt();
     FirstOrderFit { tau, rms_error, max_error: residuals.iter().cloned().fold(0.0, f64::max) }
 }
@@ -264,7 +274,11 @@ pub struct StepResponse {
 
 /// Runs the step response: at rest at `θ1`, the full actuation from `t = 0`. With `gradient` also
 /// `dT_90/dC` by forward sensitivities through the integrator.
-pub fn step_response(problem: &DynamicProblem, settings: &StepSettings, gradient: bool) -> Result<StepResponse, DynamicsError> {
+pub fn step_response(
+    problem: &DynamicProblem,
+    settings: &StepSettings,
+    gradient: bool,
+) -> Result<StepResponse, DynamicsError> {
     let ends = problem.static_ends(&settings.continuation)?;
     let d = problem.dynamics(Forcing::Step);
     Ok(simulate_step(&d, ends, settings, gradient))
@@ -295,7 +309,12 @@ fn run_step(
 }
 
 /// `T_90` and, with `gradient`, `dT_90/dC`, integrating only until the rise (s, s per N·m·s/rad).
-pub fn rise_time(d: &Dynamics, ends: &StaticEnds, settings: &StepSettings, gradient: bool) -> (Option<f64>, Option<Vec<f64>>) {
+pub fn rise_time(
+    d: &Dynamics,
+    ends: &StaticEnds,
+    settings: &StepSettings,
+    gradient: bool,
+) -> (Option<f64>, Option<Vec<f64>>) {
     let (_, event) = run_step(d, ends, settings, gradient, true);
     match event {
         Some(e) => (Some(e.t), e.t_sensitivity),
@@ -329,7 +348,9 @@ pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gr
         fit,
         final_delta,
         settle_error,
-        settled: traj.outcome == Outcome::Completed && settle_error <= settings.settle_tolerance && final_state_gap <= SETTLED_ANGLE,
+        settled: traj.outcome == Outcome::Completed
+            && settle_error <= settings.settle_tolerance
+            && final_state_gap <= SETTLED_ANGLE,
         final_state_gap,
         drift,
         stats: traj.stats,

@@ -21,7 +21,10 @@ impl SpineOde<'_> {
 }
 
 fn seeded(y: &[f64], direction: usize) -> Vec<Dual64> {
-    y.iter().enumerate().map(|(i, &v)| if i == direction { Dual64::from(v).derivative() } else { Dual64::from(v) }).collect()
+    y.iter()
+        .enumerate()
+        .map(|(i, &v)| if i == direction { Dual64::from(v).derivative() } else { Dual64::from(v) })
+        .collect()
 }
 
 impl OdeSystem for SpineOde<'_> {
@@ -86,4 +89,3 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.forcing.breakpoints(t0, t1)
     }
 }
-

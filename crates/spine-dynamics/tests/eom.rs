@@ -63,11 +63,18 @@ fn centrifugal_terms_follow_from_the_kinetic_energy() {
         let w: Vec<Dual64> = omega.iter().map(|&v| Dual64::from(v)).collect();
         for i in 0..n {
             let m_dot_omega: f64 = (0..n).map(|j| (m[i][j] * w[j]).eps).sum();
-            let th_i: Vec<Dual64> =
-                theta.iter().enumerate().map(|(k, &t)| if k == i { Dual64::from(t).derivative() } else { Dual64::from(t) }).collect();
+            let th_i: Vec<Dual64> = theta
+                .iter()
+                .enumerate()
+                .map(|(k, &t)| if k == i { Dual64::from(t).derivative() } else { Dual64::from(t) })
+                .collect();
             let dt_dtheta = dynamics.kinetic_energy(&th_i, &w).eps;
             let expected = m_dot_omega - dt_dtheta;
-            assert!((h[i] - expected).abs() < 1e-11 * (1.0 + expected.abs()), "h[{i}] = {} vs {expected} (n = {n})", h[i]);
+            assert!(
+                (h[i] - expected).abs() < 1e-11 * (1.0 + expected.abs()),
+                "h[{i}] = {} vs {expected} (n = {n})",
+                h[i]
+            );
         }
     }
 }
@@ -109,10 +116,11 @@ fn symmetric_two_link_motion_matches_the_hand_derived_equation() {
     let d = Dynamics::new(&chain, &design, vec![0.0, c, 0.0], &passive, &actuation, Forcing::Step);
     for (theta, omega) in [(0.2, 0.0), (0.31, 1.7), (0.1, -3.0)] {
         let rhs = d.rhs(0.0, 0.0, &[theta, -theta, omega, -omega], &d.damping);
-        let expected = -(m * l * l * (2.0 * theta).sin() * omega * omega + 4.0 * c * omega + 4.0 * k * (theta - theta0)
-            - (p_y - m * g) * l * theta.cos()
-            + 2.0 * p_x * l * theta.sin())
-            / (m * l * l * (5.0 / 3.0 - (2.0 * theta).cos()));
+        let expected =
+            -(m * l * l * (2.0 * theta).sin() * omega * omega + 4.0 * c * omega + 4.0 * k * (theta - theta0)
+                - (p_y - m * g) * l * theta.cos()
+                + 2.0 * p_x * l * theta.sin())
+                / (m * l * l * (5.0 / 3.0 - (2.0 * theta).cos()));
         assert!((rhs[2] - expected).abs() < 1e-10 * expected.abs().max(1.0), "θ̈ = {} vs {expected}", rhs[2]);
         assert!((rhs[3] + expected).abs() < 1e-10 * expected.abs().max(1.0), "symmetric");
     }
@@ -124,7 +132,12 @@ fn a_static_equilibrium_is_a_rest_point_and_the_load_potential_generates_the_loa
     chain.masses = vec![0.3; 6];
     let passive = uniform_loads(6, -5.0, 0.0);
     let actuation = uniform_loads(6, 0.0, -300.0);
-    let problem = spine_solve::StaticProblem { chain: chain.clone(), design: design.clone(), passive: passive.clone(), actuation: actuation.clone() };
+    let problem = spine_solve::StaticProblem {
+        chain: chain.clone(),
+        design: design.clone(),
+        passive: passive.clone(),
+        actuation: actuation.clone(),
+    };
     let sol = spine_solve::solve_static(&problem, &Default::default());
     let d = Dynamics::new(&chain, &design, vec![10.0; 7], &passive, &actuation, Forcing::Off);
     let mut y = sol.passive.state.theta.clone();
@@ -132,7 +145,10 @@ fn a_static_equilibrium_is_a_rest_point_and_the_load_potential_generates_the_loa
     let f = d.rhs(0.0, 0.0, &y, &d.damping);
     let (_, lambda) = d.acceleration(&d.passive, &sol.passive.state.theta, &[0.0; 6], &d.damping);
     assert!(f.iter().all(|v| v.abs() < 1e-7), "accelerations at θ1: {f:?}");
-    assert!((lambda - sol.passive.state.lambda).abs() < 1e-7 * (1.0 + lambda.abs()), "the reaction is the static multiplier");
+    assert!(
+        (lambda - sol.passive.state.lambda).abs() < 1e-7 * (1.0 + lambda.abs()),
+        "the reaction is the static multiplier"
+    );
 
     // P = −∂V/∂θ, and V differs from the nodal potential of spine-model by a constant.
     let theta = sol.passive.state.theta.clone();
@@ -140,8 +156,11 @@ fn a_static_equilibrium_is_a_rest_point_and_the_load_potential_generates_the_loa
     let all = passive.plus(&actuation);
     let v_model = |t: &[f64]| spine_model::energy::load_potential(&chain, &all, true, &design.theta0, t);
     for i in 0..6 {
-        let th: Vec<Dual64> =
-            theta.iter().enumerate().map(|(k, &t)| if k == i { Dual64::from(t).derivative() } else { Dual64::from(t) }).collect();
+        let th: Vec<Dual64> = theta
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| if k == i { Dual64::from(t).derivative() } else { Dual64::from(t) })
+            .collect();
         assert!((d.load_potential(&d.loaded, &th).eps + p[i]).abs() < 1e-10);
     }
     let shifted: Vec<f64> = theta.iter().map(|t| t + 0.05).collect();

@@ -28,7 +28,11 @@ fn stiff_problem_is_solved_to_tolerance_in_few_steps() {
     assert_eq!(traj.outcome, Outcome::Completed);
     let err = traj.points().map(|(t, y)| (y[0] - t.cos()).abs()).fold(0.0, f64::max);
     assert!(err < 1e-5, "max error {err}");
-    assert!(traj.stats.accepted_steps < 3000, "{} steps: the stiff mode must not limit the step", traj.stats.accepted_steps);
+    assert!(
+        traj.stats.accepted_steps < 3000,
+        "{} steps: the stiff mode must not limit the step",
+        traj.stats.accepted_steps
+    );
     // Dense output between the steps is accurate too.
     let dense = (0..1000).map(|k| k as f64 * 0.01).map(|t| (traj.value(t)[0] - t.cos()).abs()).fold(0.0, f64::max);
     assert!(dense < 1e-5, "dense output error {dense}");
@@ -53,7 +57,14 @@ impl OdeSystem for Oscillator {
 fn second_order_convergence_on_fixed_steps() {
     let error = |n: usize| {
         let steps: Vec<f64> = (1..=n).map(|k| k as f64 / n as f64).collect();
-        let traj = integrate(&Oscillator, 0.0, &[1.0, 0.0], 1.0, &Options::default(), Extras { steps: Some(&steps), ..Default::default() });
+        let traj = integrate(
+            &Oscillator,
+            0.0,
+            &[1.0, 0.0],
+            1.0,
+            &Options::default(),
+            Extras { steps: Some(&steps), ..Default::default() },
+        );
         let y = traj.value(1.0);
         (y[0] - 1f64.cos()).abs().max((y[1] + 1f64.sin()).abs())
     };
@@ -90,7 +101,11 @@ fn steps_land_on_forcing_switches() {
         // ∫₀ᵗ s: whole periods plus the part of the current one.
         let k = ((t - 0.05) / 0.3).floor().max(0.0);
         let phase = (t - 0.05 - k * 0.3).max(0.0);
-        if t < 0.05 { 0.0 } else { k * 0.12 + phase.min(0.12) }
+        if t < 0.05 {
+            0.0
+        } else {
+            k * 0.12 + phase.min(0.12)
+        }
     };
     for (t, y) in traj.points() {
         assert!((y[0] - exact(t)).abs() < 1e-12, "t = {t}: {} vs {}", y[0], exact(t));
@@ -156,8 +171,13 @@ fn with_damping_energy_never_increases_and_the_dissipation_balances() {
     // E(T) − E(0) = −∫ θ̇ᵀ C_m θ̇ dt (trapezoidal rule on the dense output).
     let m = 20_000;
     let power = |t: f64| d.dissipation(&traj.value(t)[5..]);
-    let dissipated: f64 = (0..m).map(|k| 0.5 * (power(k as f64 / m as f64) + power((k + 1) as f64 / m as f64)) / m as f64).sum();
-    assert!(((e[0] - e[e.len() - 1]) - dissipated).abs() < 1e-4 * dissipated, "{} vs {dissipated}", e[0] - e[e.len() - 1]);
+    let dissipated: f64 =
+        (0..m).map(|k| 0.5 * (power(k as f64 / m as f64) + power((k + 1) as f64 / m as f64)) / m as f64).sum();
+    assert!(
+        ((e[0] - e[e.len() - 1]) - dissipated).abs() < 1e-4 * dissipated,
+        "{} vs {dissipated}",
+        e[0] - e[e.len() - 1]
+    );
 }
 
 #[test]
@@ -165,7 +185,14 @@ fn damper_sensitivities_equal_finite_differences_of_the_discrete_solution() {
     let (d, y0) = spine(3, 3.0, Forcing::Step);
     let opts = Options { rtol: 1e-7, atol: 1e-9, newton_tolerance: 1e-6, ..Default::default() };
     let ode = SpineOde { dynamics: &d, damping_sensitivities: true };
-    let traj = integrate(&ode, 0.0, &y0, 0.3, &opts, Extras { sensitivities: Some(DMatrix::zeros(6, 4)), ..Default::default() });
+    let traj = integrate(
+        &ode,
+        0.0,
+        &y0,
+        0.3,
+        &opts,
+        Extras { sensitivities: Some(DMatrix::zeros(6, 4)), ..Default::default() },
+    );
     let steps: Vec<f64> = traj.points().map(|(t, _)| t).collect();
     let t_probe = 0.137;
     let s = traj.intervals.iter().find(|iv| iv.t1 >= t_probe).unwrap().sensitivity(t_probe).unwrap();

@@ -27,8 +27,16 @@ fn slow_pulses_swing_between_the_two_static_states() {
     let r = periodic_response(&p, forcing, Some(0.5 * loaded), &PeriodicSettings::default()).unwrap();
     assert!(r.settled, "period change {:.2e}", r.period_change);
     let (on, off) = (r.ends.loaded_displacement, r.ends.passive_displacement);
-    assert!((r.min_end_displacement - on).abs() < 1e-4 * on.abs(), "min {} vs X(θ2) − L_x = {on}", r.min_end_displacement);
-    assert!((r.max_end_displacement - off).abs() < 1e-3 * on.abs(), "max {} vs X(θ1) − L_x = {off}", r.max_end_displacement);
+    assert!(
+        (r.min_end_displacement - on).abs() < 1e-4 * on.abs(),
+        "min {} vs X(θ2) − L_x = {on}",
+        r.min_end_displacement
+    );
+    assert!(
+        (r.max_end_displacement - off).abs() < 1e-3 * on.abs(),
+        "max {} vs X(θ1) − L_x = {off}",
+        r.max_end_displacement
+    );
     let (reach, back) = (r.reach_time.unwrap(), r.return_time.unwrap());
     assert!(reach > 0.0 && reach < 0.5 && back > 0.0 && back < 0.5, "reach {reach} s, return {back} s");
     let hit = r.time_to_target.unwrap();
@@ -41,7 +49,10 @@ fn sinusoidal_force_gives_a_settled_periodic_motion() {
     let forcing = Forcing::Sinusoid { angular_frequency: 20.0 };
     let r = periodic_response(&problem(3), forcing, None, &PeriodicSettings::default()).unwrap();
     assert!(r.settled);
-    assert!(r.min_end_displacement < r.ends.passive_displacement && r.min_end_displacement > 1.5 * r.ends.loaded_displacement);
+    assert!(
+        r.min_end_displacement < r.ends.passive_displacement
+            && r.min_end_displacement > 1.5 * r.ends.loaded_displacement
+    );
 }
 
 #[test]
@@ -54,7 +65,8 @@ fn eq37_searches_lower_the_strain_energy_and_keep_the_displacement() {
     // δ_d: the start's own minimum, so the start is feasible and any improvement is real.
     let start = periodic_response(&p, forcing.clone(), None, &settings.response).unwrap();
     let delta_d = start.min_end_displacement * 1.2;
-    settings.pattern = PatternSettings { initial_mesh: 0.1, mesh_tolerance: 0.01, max_evaluations: 60, ..Default::default() };
+    settings.pattern =
+        PatternSettings { initial_mesh: 0.1, mesh_tolerance: 0.01, max_evaluations: 60, ..Default::default() };
     settings.ga = GaSettings { population: 8, generations: 4, stall_generations: 4, seed: 5, ..Default::default() };
     for method in [SearchMethod::Pattern, SearchMethod::Ga] {
         let a = design_periodic(&p, forcing.clone(), delta_d, method, &settings, &mut |_| {}).unwrap();

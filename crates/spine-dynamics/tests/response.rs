@@ -1,7 +1,7 @@
 //! Step response and the damping design of eq. (35).
 
-use spine_dynamics::response::{fit_first_order, rise_time};
 use spine_dynamics::fixtures::arch_problem as problem;
+use spine_dynamics::response::{fit_first_order, rise_time};
 use spine_dynamics::{design_damping, step_response, DampingSettings, Forcing, StepSettings};
 
 #[test]
@@ -49,7 +49,11 @@ fn rise_time_gradient_equals_central_differences() {
             rise_time(&dk, &ends, &settings, false).0.unwrap()
         };
         let fd = (at(d.damping[k] + h) - at(d.damping[k] - h)) / (2.0 * h);
-        assert!((fd - grad[k]).abs() <= 1e-5 * grad.iter().map(|g| g.abs()).fold(0.0, f64::max), "dT90/dC{k}: {} vs FD {fd}", grad[k]);
+        assert!(
+            (fd - grad[k]).abs() <= 1e-5 * grad.iter().map(|g| g.abs()).fold(0.0, f64::max),
+            "dT90/dC{k}: {} vs FD {fd}",
+            grad[k]
+        );
     }
     assert!(grad.iter().all(|g| *g > 0.0), "more damping, slower rise: {grad:?} (T90 = {t90})");
 }

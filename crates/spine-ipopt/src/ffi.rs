@@ -46,8 +46,20 @@ type EvalF = extern "C" fn(Index, *mut f64, Bool, *mut f64, UserData) -> Bool;
 type EvalGradF = extern "C" fn(Index, *mut f64, Bool, *mut f64, UserData) -> Bool;
 type EvalG = extern "C" fn(Index, *mut f64, Bool, Index, *mut f64, UserData) -> Bool;
 type EvalJacG = extern "C" fn(Index, *mut f64, Bool, Index, Index, *mut Index, *mut Index, *mut f64, UserData) -> Bool;
-type EvalH =
-    extern "C" fn(Index, *mut f64, Bool, f64, Index, *mut f64, Bool, Index, *mut Index, *mut Index, *mut f64, UserData) -> Bool;
+type EvalH = extern "C" fn(
+    Index,
+    *mut f64,
+    Bool,
+    f64,
+    Index,
+    *mut f64,
+    Bool,
+    Index,
+    *mut Index,
+    *mut Index,
+    *mut f64,
+    UserData,
+) -> Bool;
 type IntermediateCb = extern "C" fn(Index, Index, f64, f64, f64, f64, f64, f64, f64, f64, Index, UserData) -> Bool;
 
 extern "C" {
@@ -154,7 +166,11 @@ fn index(value: usize, what: &'static str) -> Result<Index, SetupError> {
 }
 
 /// Creates the problem, sets the options and runs `IpoptSolve` with `context` as user data.
-pub(crate) fn run(context: &mut Context, mut start: Start, options: &[(&str, &OptionValue)]) -> Result<Finish, SetupError> {
+pub(crate) fn run(
+    context: &mut Context,
+    mut start: Start,
+    options: &[(&str, &OptionValue)],
+) -> Result<Finish, SetupError> {
     let n = start.x.len();
     let m = start.g_lower.len();
     let nele_jac = index(context.jacobian.len(), "the Jacobian's number of entries")?;
@@ -225,7 +241,15 @@ pub(crate) fn run(context: &mut Context, mut start: Start, options: &[(&str, &Op
         )
     };
     drop(raw);
-    Ok(Finish { status, x: start.x, g, objective, mult_g: start.mult_g, z_lower: start.z_lower, z_upper: start.z_upper })
+    Ok(Finish {
+        status,
+        x: start.x,
+        g,
+        objective,
+        mult_g: start.mult_g,
+        z_lower: start.z_lower,
+        z_upper: start.z_upper,
+    })
 }
 
 /// Recovers the context from Ipopt's `user_data`.

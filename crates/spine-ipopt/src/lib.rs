@@ -247,7 +247,10 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
     problem.variable_bounds(&mut start.x_lower, &mut start.x_upper);
     problem.constraint_bounds(&mut start.g_lower, &mut start.g_upper);
     // Ipopt reads ±1e19 as infinite; Rust's infinities map onto that.
-    for value in [&mut start.x_lower, &mut start.x_upper, &mut start.g_lower, &mut start.g_upper].into_iter().flat_map(|v| v.iter_mut()) {
+    for value in [&mut start.x_lower, &mut start.x_upper, &mut start.g_lower, &mut start.g_upper]
+        .into_iter()
+        .flat_map(|v| v.iter_mut())
+    {
         *value = value.clamp(-1e20, 1e20);
     }
     problem.initial_point(&mut start.x);

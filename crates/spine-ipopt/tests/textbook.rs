@@ -15,7 +15,13 @@ struct Hs071 {
 
 impl Hs071 {
     fn new() -> Self {
-        Hs071 { exact_hessian: true, stop_after: None, panic_in_objective_after: None, objective_calls: 0, lower_product: 25.0 }
+        Hs071 {
+            exact_hessian: true,
+            stop_after: None,
+            panic_in_objective_after: None,
+            objective_calls: 0,
+            lower_product: 25.0,
+        }
     }
 }
 
@@ -178,18 +184,42 @@ fn unknown_options_and_bad_structures_are_setup_errors() {
 
     struct Upper(Hs071);
     impl Problem for Upper {
-        fn num_variables(&self) -> usize { 4 }
-        fn num_constraints(&self) -> usize { 2 }
-        fn variable_bounds(&self, l: &mut [f64], u: &mut [f64]) { self.0.variable_bounds(l, u) }
-        fn constraint_bounds(&self, l: &mut [f64], u: &mut [f64]) { self.0.constraint_bounds(l, u) }
-        fn initial_point(&self, x: &mut [f64]) { self.0.initial_point(x) }
-        fn objective(&mut self, x: &[f64], n: bool) -> Option<f64> { self.0.objective(x, n) }
-        fn objective_gradient(&mut self, x: &[f64], n: bool, g: &mut [f64]) -> bool { self.0.objective_gradient(x, n, g) }
-        fn constraints(&mut self, x: &[f64], n: bool, g: &mut [f64]) -> bool { self.0.constraints(x, n, g) }
-        fn jacobian_structure(&self) -> Vec<(usize, usize)> { self.0.jacobian_structure() }
-        fn jacobian_values(&mut self, x: &[f64], n: bool, v: &mut [f64]) -> bool { self.0.jacobian_values(x, n, v) }
-        fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> { Some(vec![(0, 1)]) }
-        fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool { true }
+        fn num_variables(&self) -> usize {
+            4
+        }
+        fn num_constraints(&self) -> usize {
+            2
+        }
+        fn variable_bounds(&self, l: &mut [f64], u: &mut [f64]) {
+            self.0.variable_bounds(l, u)
+        }
+        fn constraint_bounds(&self, l: &mut [f64], u: &mut [f64]) {
+            self.0.constraint_bounds(l, u)
+        }
+        fn initial_point(&self, x: &mut [f64]) {
+            self.0.initial_point(x)
+        }
+        fn objective(&mut self, x: &[f64], n: bool) -> Option<f64> {
+            self.0.objective(x, n)
+        }
+        fn objective_gradient(&mut self, x: &[f64], n: bool, g: &mut [f64]) -> bool {
+            self.0.objective_gradient(x, n, g)
+        }
+        fn constraints(&mut self, x: &[f64], n: bool, g: &mut [f64]) -> bool {
+            self.0.constraints(x, n, g)
+        }
+        fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+            self.0.jacobian_structure()
+        }
+        fn jacobian_values(&mut self, x: &[f64], n: bool, v: &mut [f64]) -> bool {
+            self.0.jacobian_values(x, n, v)
+        }
+        fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
+            Some(vec![(0, 1)])
+        }
+        fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
+            true
+        }
     }
     let err = solve(&mut Upper(Hs071::new()), &Options::new()).unwrap_err();
     assert!(matches!(err, SetupError::BadStructure(_)), "{err}");

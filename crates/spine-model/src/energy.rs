@@ -26,13 +26,7 @@ pub fn strain_energy<D: Scalar>(theta: &[D], theta0: &[D], stiffness: &[D]) -> D
 /// Potential of the loads, J:
 /// `V = −Σ_j (P_X,j X_j + P_Y,j Y_j) + Σ_k m_k g (Y_k + ½ L_k sin θ_k)`.
 /// Self-weight is included when `with_weight`. Node positions use the design's link lengths.
-pub fn load_potential<D: Scalar>(
-    chain: &Chain,
-    loads: &NodalLoads,
-    with_weight: bool,
-    theta0: &[D],
-    theta: &[D],
-) -> D {
+pub fn load_potential<D: Scalar>(chain: &Chain, loads: &NodalLoads, with_weight: bool, theta0: &[D], theta: &[D]) -> D {
     let lengths = link_lengths(&chain.spans, theta0);
     let nodes = node_positions(&lengths, theta);
     let mut v = D::zero();

@@ -38,7 +38,8 @@ pub fn residual_and_state_jacobian(
     let mut jac = BorderedTridiagonal::zeros(n);
     let mut r = Vec::with_capacity(n + 1);
     for i in 0..n {
-        let stencil = JointStencil::<f64>::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |_, v| v);
+        let stencil =
+            JointStencil::<f64>::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |_, v| v);
         let row = |s: &JointStencil<f64>| s.residual(spans[i], loads.vertical[i], loads.axial[i]);
         let partial = |k: usize| {
             central(stencil.values[k], step, |v| {

@@ -34,9 +34,8 @@ impl FixtureRng {
 /// `Σ tan θ0_i = 0` (the unloaded end is on the X axis) and the middle is highest.
 pub fn arch(n_links: usize, length_x: f64, amplitude: f64, stiffness: f64) -> (Chain, Design) {
     let chain = Chain::uniform(n_links, length_x);
-    let theta0 = (0..n_links)
-        .map(|i| amplitude * (std::f64::consts::PI * (i as f64 + 0.5) / n_links as f64).cos())
-        .collect();
+    let theta0 =
+        (0..n_links).map(|i| amplitude * (std::f64::consts::PI * (i as f64 + 0.5) / n_links as f64).cos()).collect();
     let mut k = vec![stiffness; n_links + 1];
     k[n_links] = 0.0;
     (chain, Design { theta0, stiffness: k })

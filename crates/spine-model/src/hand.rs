@@ -30,7 +30,8 @@ pub fn state_jacobian(spans: &[f64], design: &Design, loads: &LinkLoads, state: 
     for i in 0..n {
         let length = link_length(spans[i], design.theta0[i]);
         let (s, c) = state.theta[i].sin_cos();
-        jac.diag[i] = k[i] + k[i + 1] + length * (loads.vertical[i] * s + loads.axial[i] * c) + state.lambda * length * s;
+        jac.diag[i] =
+            k[i] + k[i + 1] + length * (loads.vertical[i] * s + loads.axial[i] * c) + state.lambda * length * s;
         if i + 1 < n {
             jac.upper[i] = -k[i + 1];
             jac.lower[i] = -k[i + 1];
@@ -82,9 +83,8 @@ pub fn strain_energy_partials(design: &Design, state: &State) -> (Vec<f64>, Vec<
     let n = state.theta.len();
     let k = &design.stiffness;
     let d = |i: isize| deviation(design, state, i);
-    let km_delta: Vec<f64> = (0..n as isize)
-        .map(|i| k[i as usize] * (d(i) - d(i - 1)) - k[i as usize + 1] * (d(i + 1) - d(i)))
-        .collect();
+    let km_delta: Vec<f64> =
+        (0..n as isize).map(|i| k[i as usize] * (d(i) - d(i - 1)) - k[i as usize + 1] * (d(i + 1) - d(i))).collect();
     let mut by_design: Vec<f64> = km_delta.iter().map(|v| -v).collect();
     by_design.extend((0..=n as isize).map(|j| 0.5 * (d(j) - d(j - 1)).powi(2)));
     (km_delta, by_design)

@@ -20,7 +20,12 @@ pub fn rise_derivatives(span: f64, theta0: f64, theta: f64) -> (f64, f64) {
 }
 
 /// Joint `i`'s stencil with the `M` slots `first..first + M` seeded as independent variables.
-fn seeded_stencil<const M: usize>(i: usize, design: &Design, state: &State, first: usize) -> JointStencil<DualSVec64<M>> {
+fn seeded_stencil<const M: usize>(
+    i: usize,
+    design: &Design,
+    state: &State,
+    first: usize,
+) -> JointStencil<DualSVec64<M>> {
     JointStencil::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |s, v| {
         let d = DualSVec64::<M>::from_re(v);
         if (first..first + M).contains(&s) {
@@ -82,10 +87,7 @@ pub fn design_jacobian(spans: &[f64], design: &Design, loads: &LinkLoads, state:
     let mut m = SparseMatrix::new(n + 1, 2 * n + 1);
     for i in 0..n {
         let st = seeded_stencil::<5>(i, design, state, slot::THETA0_PREV);
-        let g = st
-            .residual(spans[i], loads.vertical[i], loads.axial[i])
-            .eps
-            .unwrap_generic(Const::<5>, U1);
+        let g = st.residual(spans[i], loads.vertical[i], loads.axial[i]).eps.unwrap_generic(Const::<5>, U1);
         let local = |s: usize| g[s - slot::THETA0_PREV];
         if st.has_prev {
             m.push(i, i - 1, local(slot::THETA0_PREV));

@@ -6,8 +6,8 @@
 //! five. Evaluating elements one by one with `DualSVec64<M>` (gradient) or `Dual2SVec64<M>`
 //! (Hessian) costs O(M²) per element and O(N) in total, with no allocation.
 
-use crate::residual::{slot, JointStencil};
 use crate::kinematics::{link_length, link_rise};
+use crate::residual::{slot, JointStencil};
 use crate::Scalar;
 use nalgebra::{Const, U1};
 use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};

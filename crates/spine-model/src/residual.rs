@@ -92,7 +92,8 @@ pub fn equilibrium_residual(spans: &[f64], design: &Design, loads: &LinkLoads, s
     let n = spans.len();
     let mut r = Vec::with_capacity(n + 1);
     for i in 0..n {
-        let st = JointStencil::<f64>::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |_, v| v);
+        let st =
+            JointStencil::<f64>::gather(i, &state.theta, state.lambda, &design.theta0, &design.stiffness, |_, v| v);
         r.push(st.residual(spans[i], loads.vertical[i], loads.axial[i]));
     }
     r.push(end_constraint(spans, &design.theta0, &state.theta));

@@ -91,7 +91,8 @@ impl TwoLink {
     pub fn stiffness_eq11(&self, theta0: f64, delta: f64) -> f64 {
         let (l, px, py) = (self.length, self.p_x, self.p_y);
         let (s, c) = theta0.sin_cos();
-        l / (2.0 * delta) * (2.0 * px * l * s * s - py * l * s * c - delta / (2.0 * l) * (2.0 * px * l * c + py * l * s))
+        l / (2.0 * delta)
+            * (2.0 * px * l * s * s - py * l * s * c - delta / (2.0 * l) * (2.0 * px * l * c + py * l * s))
     }
 
     /// `∂J/∂K` as printed in eq. (16): `2(θ1−θ0)² (1 − 2P_Y L sin θ1 / (4K + P_Y L sin θ1))`.

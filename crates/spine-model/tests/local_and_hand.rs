@@ -1,13 +1,13 @@
 //! Local elements (value, AD gradient, AD Hessian, declared Hessian pattern) against central
 //! differences, and the hand-written derivatives of Appendix I against the AD ones.
 
+use spine_model::energy::strain_energy;
 use spine_model::fixtures::{random_problem, FixtureRng};
 use spine_model::hand;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
+use spine_model::kinematics::end_x;
 use spine_model::local::{self, Difference, Element, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
 use spine_model::residual::{equilibrium_residual, slot};
-use spine_model::energy::strain_energy;
-use spine_model::kinematics::end_x;
 use spine_model::State;
 
 fn random_point<const M: usize>(rng: &mut FixtureRng) -> [f64; M] {
@@ -32,7 +32,12 @@ fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: 
         let gmax = g.iter().fold(1e-12f64, |m, a| m.max(a.abs()));
         let hmax = h_full.iter().flatten().fold(1e-12f64, |m, a| m.max(a.abs()));
         for &(a, b) in E::HESSIAN_PAIRS {
-            assert!((h[a][b] - h_full[a][b]).abs() <= 1e-13 * hmax, "{name} ({a}, {b}): own {} full {}", h[a][b], h_full[a][b]);
+            assert!(
+                (h[a][b] - h_full[a][b]).abs() <= 1e-13 * hmax,
+                "{name} ({a}, {b}): own {} full {}",
+                h[a][b],
+                h_full[a][b]
+            );
             assert_eq!(h[a][b], h[b][a], "{name}: own Hessian not symmetric at ({a}, {b})");
         }
         for k in 0..M {
@@ -54,7 +59,11 @@ fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: 
                 assert_eq!(h_full[a][b], h_full[b][a]);
                 let declared = E::HESSIAN_PAIRS.contains(&(a, b));
                 if !declared {
-                    assert_eq!(h_full[a][b], 0.0, "{name}: Hessian entry ({a}, {b}) is not declared but is {}", h[a][b]);
+                    assert_eq!(
+                        h_full[a][b], 0.0,
+                        "{name}: Hessian entry ({a}, {b}) is not declared but is {}",
+                        h[a][b]
+                    );
                 }
             }
         }
@@ -116,7 +125,12 @@ fn joint_element_is_the_model_residual() {
             x[slot::LAMBDA] = state.lambda;
             x[slot::STIFFNESS_LEFT] = design.stiffness[i] / 4.0;
             x[slot::STIFFNESS_RIGHT] = design.stiffness[i + 1] / 4.0;
-            let e = JointResidual { span: chain.spans[i], vertical: loads.vertical[i], axial: loads.axial[i], stiffness_scale: 4.0 };
+            let e = JointResidual {
+                span: chain.spans[i],
+                vertical: loads.vertical[i],
+                axial: loads.axial[i],
+                stiffness_scale: 4.0,
+            };
             let v = local::value(&e, &x);
             assert!((v - r[i]).abs() <= 1e-12 * r[i].abs().max(1.0), "row {i}: {v} vs {}", r[i]);
         }
@@ -124,13 +138,20 @@ fn joint_element_is_the_model_residual() {
             .map(|j| {
                 let get = |v: &[f64], i: isize| if i >= 0 && (i as usize) < n { v[i as usize] } else { 0.0 };
                 let jj = j as isize;
-                let x = [get(&state.theta, jj - 1), get(&design.theta0, jj - 1), get(&state.theta, jj), get(&design.theta0, jj), design.stiffness[j]];
+                let x = [
+                    get(&state.theta, jj - 1),
+                    get(&design.theta0, jj - 1),
+                    get(&state.theta, jj),
+                    get(&design.theta0, jj),
+                    design.stiffness[j],
+                ];
                 local::value(&SpringEnergy { stiffness_scale: 1.0 }, &x)
             })
             .sum::<f64>();
         let expected = strain_energy(&state.theta, &design.theta0, &design.stiffness);
         assert!((energy - expected).abs() <= 1e-12 * expected.max(1.0));
-        let run: f64 = (0..n).map(|i| local::value(&LinkRun { span: chain.spans[i] }, &[state.theta[i], design.theta0[i]])).sum();
+        let run: f64 =
+            (0..n).map(|i| local::value(&LinkRun { span: chain.spans[i] }, &[state.theta[i], design.theta0[i]])).sum();
         assert!((run - end_x(&chain.spans, &design.theta0, &state.theta)).abs() < 1e-14);
     }
 }
@@ -180,14 +201,16 @@ fn hand_energy_and_end_partials_match_central_differences() {
             let (mut tp, mut tm) = (state.theta.clone(), state.theta.clone());
             tp[i] += h;
             tm[i] -= h;
-            let fd = (energy(&tp, &design.theta0, &design.stiffness) - energy(&tm, &design.theta0, &design.stiffness)) / (2.0 * h);
+            let fd = (energy(&tp, &design.theta0, &design.stiffness) - energy(&tm, &design.theta0, &design.stiffness))
+                / (2.0 * h);
             assert!((fd - du_dtheta[i]).abs() < 1e-6 * du_dtheta[i].abs().max(1.0));
             let fd = (endx(&tp, &design.theta0) - endx(&tm, &design.theta0)) / (2.0 * h);
             assert!((fd - dx_dtheta[i]).abs() < 1e-8);
             let (mut dp, mut dm) = (design.theta0.clone(), design.theta0.clone());
             dp[i] += h;
             dm[i] -= h;
-            let fd = (energy(&state.theta, &dp, &design.stiffness) - energy(&state.theta, &dm, &design.stiffness)) / (2.0 * h);
+            let fd = (energy(&state.theta, &dp, &design.stiffness) - energy(&state.theta, &dm, &design.stiffness))
+                / (2.0 * h);
             assert!((fd - du_ddesign[i]).abs() < 1e-6 * du_ddesign[i].abs().max(1.0));
             let fd = (endx(&state.theta, &dp) - endx(&state.theta, &dm)) / (2.0 * h);
             assert!((fd - dx_ddesign[i]).abs() < 1e-8);
@@ -196,7 +219,8 @@ fn hand_energy_and_end_partials_match_central_differences() {
             let (mut kp, mut km) = (design.stiffness.clone(), design.stiffness.clone());
             kp[j] += h;
             km[j] -= h;
-            let fd = (energy(&state.theta, &design.theta0, &kp) - energy(&state.theta, &design.theta0, &km)) / (2.0 * h);
+            let fd =
+                (energy(&state.theta, &design.theta0, &kp) - energy(&state.theta, &design.theta0, &km)) / (2.0 * h);
             assert!((fd - du_ddesign[n + j]).abs() < 1e-6, "∂U/∂K{j}: FD {fd} hand {}", du_ddesign[n + j]);
             assert_eq!(dx_ddesign[n + j], 0.0);
         }
@@ -213,7 +237,11 @@ fn constraint_row_of_the_state_jacobian_equals_the_ad_of_phi() {
         let (_, jac) = residual_and_state_jacobian(&chain.spans, &design, &loads, &state);
         for i in 0..chain.n_links() {
             let direct = spine_model::jacobian::rise_derivatives(chain.spans[i], design.theta0[i], state.theta[i]).0;
-            assert!((jac.row[i] - direct).abs() <= 1e-15 * direct.abs().max(1.0), "seed {seed} link {i}: {} vs {direct}", jac.row[i]);
+            assert!(
+                (jac.row[i] - direct).abs() <= 1e-15 * direct.abs().max(1.0),
+                "seed {seed} link {i}: {} vs {direct}",
+                jac.row[i]
+            );
         }
     }
 }

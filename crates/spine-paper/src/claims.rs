@@ -32,11 +32,24 @@ pub struct Claim {
 impl Claim {
     /// A statement of the paper.
     pub fn new(scope: &str, statement: &str, test: impl Into<String>, pass: bool, measured: impl Into<String>) -> Self {
-        Self { check: Check::Paper, scope: scope.into(), statement: statement.into(), test: test.into(), pass, measured: measured.into() }
+        Self {
+            check: Check::Paper,
+            scope: scope.into(),
+            statement: statement.into(),
+            test: test.into(),
+            pass,
+            measured: measured.into(),
+        }
     }
 
     /// A check of this program's own computation.
-    pub fn solver(scope: &str, statement: &str, test: impl Into<String>, pass: bool, measured: impl Into<String>) -> Self {
+    pub fn solver(
+        scope: &str,
+        statement: &str,
+        test: impl Into<String>,
+        pass: bool,
+        measured: impl Into<String>,
+    ) -> Self {
         Self { check: Check::Solver, ..Self::new(scope, statement, test, pass, measured) }
     }
 

@@ -41,7 +41,8 @@ impl DesignChange {
         let sd = (k.iter().map(|v| (v - km).powi(2)).sum::<f64>() / k.len() as f64).sqrt();
         DesignChange {
             theta0_relative_change: norm(dtheta.iter().copied()) / norm(start.theta0.iter().copied()),
-            stiffness_relative_change: norm(k.iter().zip(&start.stiffness).map(|(a, b)| a - b)) / norm(start.stiffness.iter().copied()),
+            stiffness_relative_change: norm(k.iter().zip(&start.stiffness).map(|(a, b)| a - b))
+                / norm(start.stiffness.iter().copied()),
             theta0_change: norm(dtheta.iter().copied()),
             end_half_change: mean(&dtheta[n / 2..]),
             base_half_change: mean(&dtheta[..n / 2]),

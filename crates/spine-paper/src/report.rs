@@ -79,7 +79,16 @@ pub fn report(results: &[CaseResult], errata: &str, missing: &[String]) -> Strin
         for c in r.value.get("claims").and_then(Value::as_array).into_iter().flatten() {
             let s = |k: &str| c.get(k).and_then(Value::as_str).unwrap_or("");
             let verdict = if c.get("pass") == Some(&Value::Bool(true)) { "PASS" } else { "**FAIL**" };
-            let _ = writeln!(md, "| {} | {} | {} | {} | {} | {verdict} | {} |", r.name, cell(s("scope")), s("check"), cell(s("statement")), cell(s("test")), cell(s("measured")));
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {verdict} | {} |",
+                r.name,
+                cell(s("scope")),
+                s("check"),
+                cell(s("statement")),
+                cell(s("test")),
+                cell(s("measured"))
+            );
         }
     }
     if let Some(text) = ck_across_figures(results) {
@@ -98,10 +107,17 @@ pub fn report(results: &[CaseResult], errata: &str, missing: &[String]) -> Strin
                 let _ = writeln!(md, "![{} {f}]({}/{f})\n", r.name, r.name);
             }
         }
-        let _ = writeln!(md, "Case file `paper-cases/{}.json`; data: `results/{}/` (`result.json` and CSV files).", r.name, r.name);
+        let _ = writeln!(
+            md,
+            "Case file `paper-cases/{}.json`; data: `results/{}/` (`result.json` and CSV files).",
+            r.name, r.name
+        );
     }
-    md.push_str("\n## Errata\n\nThe slips found in the paper (`docs/errata.md`), each with the test that proves it.\n\n");
-    let table: Vec<&str> = errata.lines().skip_while(|l| !l.starts_with('|')).take_while(|l| l.starts_with('|')).collect();
+    md.push_str(
+        "\n## Errata\n\nThe slips found in the paper (`docs/errata.md`), each with the test that proves it.\n\n",
+    );
+    let table: Vec<&str> =
+        errata.lines().skip_while(|l| !l.starts_with('|')).take_while(|l| l.starts_with('|')).collect();
     md.push_str(&table.join("\n"));
     md.push('\n');
     md

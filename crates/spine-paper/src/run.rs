@@ -54,12 +54,21 @@ pub struct UsedDesign {
 #[derive(Clone, Debug, Serialize)]
 #[serde(tag = "task", rename_all = "snake_case")]
 pub enum DynamicOutput {
-    Step { response: StepResponse },
-    Periodic { response: PeriodicResponse },
+    Step {
+        response: StepResponse,
+    },
+    Periodic {
+        response: PeriodicResponse,
+    },
     /// Eq. (35): one design per target, and each design's response to a periodic forcing when the
     /// case gives one.
-    Damping { designs: Vec<DampingDesign>, periodic: Vec<PeriodicResponse> },
-    PeriodicDesign { design: PeriodicDesign },
+    Damping {
+        designs: Vec<DampingDesign>,
+        periodic: Vec<PeriodicResponse>,
+    },
+    PeriodicDesign {
+        design: PeriodicDesign,
+    },
 }
 
 /// What one run computed.
@@ -88,7 +97,9 @@ pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
 /// The design of a dynamic case: given, or found by eq. (33) first, which must end clean.
 pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
     match &valid.design {
-        DesignSource::Given(d) => Ok(UsedDesign { design: d.clone(), spans: valid.chain.spans.clone(), static_design: None }),
+        DesignSource::Given(d) => {
+            Ok(UsedDesign { design: d.clone(), spans: valid.chain.spans.clone(), static_design: None })
+        }
         DesignSource::Optimise(v) => {
             let s = run_design(v)?;
             if !s.result.is_clean() {
@@ -126,7 +137,8 @@ pub fn run_dynamics(valid: &ValidDynamics, progress: &mut dyn FnMut(usize, usize
             DynamicOutput::Step { response: step_response(&problem, &valid.step, false).map_err(dynamics_error)? }
         }
         DynamicsTask::Simulate => DynamicOutput::Periodic {
-            response: periodic_response(&problem, valid.forcing.clone(), None, &valid.periodic).map_err(dynamics_error)?,
+            response: periodic_response(&problem, valid.forcing.clone(), None, &valid.periodic)
+                .map_err(dynamics_error)?,
         },
         DynamicsTask::Damping { targets, settings } => {
             let mut designs = Vec::new();
@@ -136,7 +148,9 @@ pub fn run_dynamics(valid: &ValidDynamics, progress: &mut dyn FnMut(usize, usize
                 let d = design_damping(&problem, target, settings).map_err(dynamics_error)?;
                 if valid.forcing.period().is_some() {
                     let p = dynamic_problem(valid, &used.design, &d.damping);
-                    periodic.push(periodic_response(&p, valid.forcing.clone(), None, &valid.periodic).map_err(dynamics_error)?);
+                    periodic.push(
+                        periodic_response(&p, valid.forcing.clone(), None, &valid.periodic).map_err(dynamics_error)?,
+                    );
                 }
                 designs.push(d);
             }
@@ -178,7 +192,9 @@ pub fn run(valid: &ValidCase, progress: &mut dyn FnMut(usize, usize)) -> Result<
         ValidCase::Twolink(v) => Ok(run_twolink(v)),
         ValidCase::Design(v) => Ok(RunOutput::Design(Box::new(run_design(v)?))),
         ValidCase::Dynamics(v) => run_dynamics(v, progress),
-        ValidCase::Equilibrium(_) => Err(RunError::Input("an equilibrium case has no figure recipe; use `spine equilibrium`".into())),
+        ValidCase::Equilibrium(_) => {
+            Err(RunError::Input("an equilibrium case has no figure recipe; use `spine equilibrium`".into()))
+        }
         ValidCase::Figure(_) => Err(RunError::Input("a figure cannot run inside a figure".into())),
     }
 }

@@ -49,7 +49,11 @@ fn scaling_name(s: ScalingMethod) -> &'static str {
 }
 
 /// Solves `case` for every `C_K` of `values` with each scaling; `progress(done, total)`.
-pub fn ck_study(case: &ValidDesign, values: &[f64], progress: &mut dyn FnMut(usize, usize)) -> Result<CkStudy, RunError> {
+pub fn ck_study(
+    case: &ValidDesign,
+    values: &[f64],
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<CkStudy, RunError> {
     let total = values.len() * SCALINGS.len();
     let mut rows = Vec::new();
     for scaling in SCALINGS {
@@ -197,8 +201,17 @@ impl CkStudy {
             let _ = writeln!(
                 text,
                 "{:e},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
-                r.stiffness_scale, scaling_name(r.scaling), r.status, r.clean, r.iterations, r.objective,
-                c.stiffness_variation, c.stiffness_max_over_min, c.theta0_change, c.theta0_relative_change, c.stiffness_relative_change
+                r.stiffness_scale,
+                scaling_name(r.scaling),
+                r.status,
+                r.clean,
+                r.iterations,
+                r.objective,
+                c.stiffness_variation,
+                c.stiffness_max_over_min,
+                c.theta0_change,
+                c.theta0_relative_change,
+                c.stiffness_relative_change
             );
         }
         text
@@ -209,13 +222,28 @@ impl CkStudy {
         let x = "log10 C_K (C_K dimensionless)";
         let series = |f: &dyn Fn(&CkRow) -> f64, panel: Panel| {
             SCALINGS.iter().enumerate().fold(panel, |p, (k, &s)| {
-                p.with(Series::line_markers(format!("Ipopt scaling {}", scaling_name(s)), self.of(s).iter().map(|r| (r.stiffness_scale.log10(), f(r))).collect()).colour(k))
+                p.with(
+                    Series::line_markers(
+                        format!("Ipopt scaling {}", scaling_name(s)),
+                        self.of(s).iter().map(|r| (r.stiffness_scale.log10(), f(r))).collect(),
+                    )
+                    .colour(k),
+                )
             })
         };
         Figure::new(title, 2)
-            .with(series(&|r| r.change.stiffness_variation, Panel::new("(a) stiffness spread: coefficient of variation of K", x, "std(K) / mean(K)")))
-            .with(series(&|r| r.change.stiffness_max_over_min.log10(), Panel::new("(b) stiffness spread: max K / min K", x, "log10 (max K / min K)")))
-            .with(series(&|r| r.change.theta0_change, Panel::new("(c) shape change ‖θ0 − θ0_start‖", x, "‖θ0 − θ0_start‖ (rad)")))
+            .with(series(
+                &|r| r.change.stiffness_variation,
+                Panel::new("(a) stiffness spread: coefficient of variation of K", x, "std(K) / mean(K)"),
+            ))
+            .with(series(
+                &|r| r.change.stiffness_max_over_min.log10(),
+                Panel::new("(b) stiffness spread: max K / min K", x, "log10 (max K / min K)"),
+            ))
+            .with(series(
+                &|r| r.change.theta0_change,
+                Panel::new("(c) shape change ‖θ0 − θ0_start‖", x, "‖θ0 − θ0_start‖ (rad)"),
+            ))
             .with(series(&|r| r.objective * 1e3, Panel::new("(d) stored energy J at the optimum", x, "J (mJ)")))
     }
 }

@@ -179,7 +179,12 @@ impl Figure {
         (rows, columns, (self.panel_size.0 * columns as u32, self.panel_size.1 * rows as u32 + TITLE_HEIGHT))
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, rows: usize, columns: usize) -> Result<(), PlotError> {
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+        rows: usize,
+        columns: usize,
+    ) -> Result<(), PlotError> {
         register_font();
         root.fill(&WHITE).map_err(err)?;
         let (head, body) = root.split_vertically(TITLE_HEIGHT);
@@ -246,11 +251,13 @@ fn ranges(panel: &Panel, plot_px: (f64, f64)) -> ((f64, f64), (f64, f64)) {
     (x, y)
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel, size: (u32, u32)) -> Result<(), PlotError> {
-    let plot_px = (
-        f64::from(size.0 - Y_LABEL_AREA - 2 * MARGIN),
-        f64::from(size.1 - X_LABEL_AREA - CAPTION - 2 * MARGIN),
-    );
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    size: (u32, u32),
+) -> Result<(), PlotError> {
+    let plot_px =
+        (f64::from(size.0 - Y_LABEL_AREA - 2 * MARGIN), f64::from(size.1 - X_LABEL_AREA - CAPTION - 2 * MARGIN));
     let (x, y) = ranges(panel, plot_px);
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, (FAMILY, 15))
@@ -268,25 +275,26 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel, 
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(err)?;
-    let bar_series: Vec<usize> = panel.series.iter().enumerate().filter(|(_, s)| s.style == Style::Bars).map(|(i, _)| i).collect();
+    let bar_series: Vec<usize> =
+        panel.series.iter().enumerate().filter(|(_, s)| s.style == Style::Bars).map(|(i, _)| i).collect();
     let mut labelled = false;
     for (k, s) in panel.series.iter().enumerate() {
         let colour = COLOURS[s.colour.unwrap_or(k) % COLOURS.len()];
         let points: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
-        let legend = |c: RGBColor| move |(px, py): (i32, i32)| PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2));
+        let legend = |c: RGBColor| {
+            move |(px, py): (i32, i32)| PathElement::new(vec![(px, py), (px + 18, py)], c.stroke_width(2))
+        };
         let drawn = match s.style {
             Style::Line => chart.draw_series(LineSeries::new(points, colour.stroke_width(2))).map_err(err)?,
-            Style::Dashed => chart
-                .draw_series(DashedLineSeries::new(points, 6, 4, colour.stroke_width(2).into()))
-                .map_err(err)?,
-            Style::Markers => chart
-                .draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled())))
-                .map_err(err)?,
+            Style::Dashed => {
+                chart.draw_series(DashedLineSeries::new(points, 6, 4, colour.stroke_width(2).into())).map_err(err)?
+            }
+            Style::Markers => {
+                chart.draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled()))).map_err(err)?
+            }
             Style::LineMarkers => {
                 chart.draw_series(LineSeries::new(points.clone(), colour.stroke_width(2))).map_err(err)?;
-                chart
-                    .draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled())))
-                    .map_err(err)?
+                chart.draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled()))).map_err(err)?
             }
             Style::Bars => {
                 let slot = bar_series.iter().position(|&i| i == k).unwrap_or(0) as f64;
@@ -369,7 +377,8 @@ mod tests {
 
     #[test]
     fn non_finite_points_are_skipped_not_fatal() {
-        let f = Figure::new("nan", 1).with(Panel::new("p", "x", "y").with(Series::line("s", vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0)])));
+        let f = Figure::new("nan", 1)
+            .with(Panel::new("p", "x", "y").with(Series::line("s", vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0)])));
         assert!(f.to_svg().is_ok());
     }
 }

@@ -74,7 +74,8 @@ pub fn genetic_algorithm(
         values.push(f(x));
         evaluations += 1;
     }
-    let best_of = |values: &[Evaluation]| (0..values.len()).fold(0, |b, k| if values[k].better_than(&values[b]) { k } else { b });
+    let best_of =
+        |values: &[Evaluation]| (0..values.len()).fold(0, |b, k| if values[k].better_than(&values[b]) { k } else { b });
     let mut best = best_of(&values);
     let (mut best_x, mut best_value) = (population[best].clone(), values[best]);
     let mut history = vec![Progress { iteration: 0, evaluations, best: best_value }];
@@ -104,7 +105,8 @@ pub fn genetic_algorithm(
                 a.cmp(&b)
             }
         });
-        let mut next: Vec<Vec<f64>> = order.iter().take(settings.elites.min(pop_size)).map(|&k| population[k].clone()).collect();
+        let mut next: Vec<Vec<f64>> =
+            order.iter().take(settings.elites.min(pop_size)).map(|&k| population[k].clone()).collect();
         let mut next_values: Vec<Evaluation> = order.iter().take(next.len()).map(|&k| values[k]).collect();
         let tournament = |rng: &mut StdRng| {
             let (a, b) = (rng.random_range(0..pop_size), rng.random_range(0..pop_size));
@@ -121,7 +123,8 @@ pub fn genetic_algorithm(
             if rng.random::<f64>() < settings.crossover_probability {
                 for i in 0..n {
                     if rng.random::<f64>() < 0.5 {
-                        let (a, b) = sbx(c1[i], c2[i], bounds.lower[i], bounds.upper[i], settings.crossover_eta, &mut rng);
+                        let (a, b) =
+                            sbx(c1[i], c2[i], bounds.lower[i], bounds.upper[i], settings.crossover_eta, &mut rng);
                         c1[i] = a;
                         c2[i] = b;
                     }
@@ -130,7 +133,13 @@ pub fn genetic_algorithm(
             for c in [&mut c1, &mut c2] {
                 for i in 0..n {
                     if rng.random::<f64>() < p_mut {
-                        c[i] = polynomial_mutation(c[i], bounds.lower[i], bounds.upper[i], settings.mutation_eta, &mut rng);
+                        c[i] = polynomial_mutation(
+                            c[i],
+                            bounds.lower[i],
+                            bounds.upper[i],
+                            settings.mutation_eta,
+                            &mut rng,
+                        );
                     }
                 }
             }
@@ -173,7 +182,11 @@ fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> (f64, 
     let u: f64 = rng.random();
     let child = |beta: f64| {
         let alpha = 2.0 - beta.powf(-(eta + 1.0));
-        let bq = if u <= 1.0 / alpha { (u * alpha).powf(1.0 / (eta + 1.0)) } else { (1.0 / (2.0 - u * alpha)).powf(1.0 / (eta + 1.0)) };
+        let bq = if u <= 1.0 / alpha {
+            (u * alpha).powf(1.0 / (eta + 1.0))
+        } else {
+            (1.0 / (2.0 - u * alpha)).powf(1.0 / (eta + 1.0))
+        };
         bq
     };
     let bq1 = child(1.0 + 2.0 * (y1 - lo) / (y2 - y1));

@@ -3,7 +3,9 @@
 use spine_search::{genetic_algorithm, pattern_search, Bounds, Evaluation, GaSettings, PatternSettings};
 
 fn rosenbrock(x: &[f64]) -> Evaluation {
-    Evaluation::unconstrained((0..x.len() - 1).map(|i| 100.0 * (x[i + 1] - x[i] * x[i]).powi(2) + (1.0 - x[i]).powi(2)).sum())
+    Evaluation::unconstrained(
+        (0..x.len() - 1).map(|i| 100.0 * (x[i + 1] - x[i] * x[i]).powi(2) + (1.0 - x[i]).powi(2)).sum(),
+    )
 }
 
 fn rastrigin(x: &[f64]) -> Evaluation {
@@ -26,7 +28,8 @@ fn pattern_search_finds_the_rosenbrock_minimum() {
 
 #[test]
 fn ga_finds_the_global_rastrigin_minimum_among_many_local_ones() {
-    let settings = GaSettings { population: 60, generations: 200, stall_generations: 200, seed: 7, ..Default::default() };
+    let settings =
+        GaSettings { population: 60, generations: 200, stall_generations: 200, seed: 7, ..Default::default() };
     let r = genetic_algorithm(&mut rastrigin, &boxed(3, -5.12, 5.12), None, &settings, &mut |_| {});
     assert!(r.best.objective < 0.05, "f = {} at {:?}", r.best.objective, r.x);
     assert!(r.x.iter().all(|v| v.abs() < 0.05), "{:?}", r.x);
@@ -34,24 +37,46 @@ fn ga_finds_the_global_rastrigin_minimum_among_many_local_ones() {
 
 #[test]
 fn ga_gets_close_on_rosenbrock_and_pattern_search_polishes_it() {
-    let settings = GaSettings { population: 40, generations: 150, stall_generations: 150, seed: 3, ..Default::default() };
+    let settings =
+        GaSettings { population: 40, generations: 150, stall_generations: 150, seed: 3, ..Default::default() };
     let ga = genetic_algorithm(&mut rosenbrock, &boxed(2, -2.0, 2.0), None, &settings, &mut |_| {});
     assert!(ga.best.objective < 0.1, "GA f = {}", ga.best.objective);
-    let ps = pattern_search(&mut rosenbrock, &boxed(2, -2.0, 2.0), &ga.x, &PatternSettings { initial_mesh: 0.01, mesh_tolerance: 1e-10, ..Default::default() }, &mut |_| {});
+    let ps = pattern_search(
+        &mut rosenbrock,
+        &boxed(2, -2.0, 2.0),
+        &ga.x,
+        &PatternSettings { initial_mesh: 0.01, mesh_tolerance: 1e-10, ..Default::default() },
+        &mut |_| {},
+    );
     assert!(ps.best.objective < 1e-7, "polished f = {}", ps.best.objective);
 }
 
 #[test]
 fn both_respect_an_equality_constraint_by_feasibility_rules() {
     // min x² + y² subject to x + y = 1 (|x + y − 1| ≤ 1e-6): minimum at (½, ½), value ½.
-    let mut f = |x: &[f64]| Evaluation { objective: x[0] * x[0] + x[1] * x[1], violation: ((x[0] + x[1] - 1.0).abs() - 1e-6).max(0.0) };
+    let mut f = |x: &[f64]| Evaluation {
+        objective: x[0] * x[0] + x[1] * x[1],
+        violation: ((x[0] + x[1] - 1.0).abs() - 1e-6).max(0.0),
+    };
     let b = boxed(2, -2.0, 2.0);
-    let ps = pattern_search(&mut f, &b, &[1.0, 0.0], &PatternSettings { mesh_tolerance: 1e-9, ..Default::default() }, &mut |_| {});
+    let ps = pattern_search(
+        &mut f,
+        &b,
+        &[1.0, 0.0],
+        &PatternSettings { mesh_tolerance: 1e-9, ..Default::default() },
+        &mut |_| {},
+    );
     assert_eq!(ps.best.violation, 0.0);
     // Coordinate polls cannot slide along x + y = 1 (a known limit of GPS with equality constraints):
     // it stops at a feasible point, not necessarily the minimum.
     assert!(ps.best.objective <= 1.0);
-    let ga = genetic_algorithm(&mut f, &b, None, &GaSettings { generations: 300, stall_generations: 300, population: 60, ..Default::default() }, &mut |_| {});
+    let ga = genetic_algorithm(
+        &mut f,
+        &b,
+        None,
+        &GaSettings { generations: 300, stall_generations: 300, population: 60, ..Default::default() },
+        &mut |_| {},
+    );
     assert!(ga.best.violation == 0.0 || ga.best.violation < 1e-4, "violation {}", ga.best.violation);
 }
 
@@ -62,7 +87,13 @@ fn same_seed_same_result() {
     let b = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {});
     assert_eq!(a.x, b.x);
     assert_eq!(a.evaluations, b.evaluations);
-    let c = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &GaSettings { seed: 12, ..settings }, &mut |_| {});
+    let c = genetic_algorithm(
+        &mut rastrigin,
+        &boxed(4, -5.12, 5.12),
+        None,
+        &GaSettings { seed: 12, ..settings },
+        &mut |_| {},
+    );
     assert_ne!(a.x, c.x, "a different seed explores differently");
 }
 

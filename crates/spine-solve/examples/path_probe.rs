@@ -13,7 +13,13 @@ fn main() {
     let total = LinkLoads::from_nodal(&chain, &uniform_loads(n, p_y, p_x), true);
     let opts = ContinuationOptions::default();
     let p1 = solve_path(
-        &LoadPath { spans: &chain.spans, design: &design, from: LinkLoads::zero(n), to: passive.clone(), start: State::unloaded(&design) },
+        &LoadPath {
+            spans: &chain.spans,
+            design: &design,
+            from: LinkLoads::zero(n),
+            to: passive.clone(),
+            start: State::unloaded(&design),
+        },
         &opts,
     );
     println!("passive: {:?} {:?} stats {:?}", p1.status, p1.stability, p1.stats);
@@ -23,8 +29,20 @@ fn main() {
             &LoadPath { spans: &chain.spans, design: &design, from: passive.clone(), to, start: p1.state.clone() },
             &opts,
         );
-        let (_, jac) = spine_model::jacobian::residual_and_state_jacobian(&chain.spans, &design, &LinkLoads::lerp(&passive, &total, f * p2.load_factor), &p2.state);
-        println!("f={f}: {:?} s={} min_eig={:?} neg={} max|θ|={:.3} steps={:?}", p2.status, p2.load_factor, p2.stability.min_eigenvalue, stability::negative_directions(&jac),
-            p2.state.theta.iter().fold(0.0f64, |m, t| m.max(t.abs())), p2.stats);
+        let (_, jac) = spine_model::jacobian::residual_and_state_jacobian(
+            &chain.spans,
+            &design,
+            &LinkLoads::lerp(&passive, &total, f * p2.load_factor),
+            &p2.state,
+        );
+        println!(
+            "f={f}: {:?} s={} min_eig={:?} neg={} max|θ|={:.3} steps={:?}",
+            p2.status,
+            p2.load_factor,
+            p2.stability.min_eigenvalue,
+            stability::negative_directions(&jac),
+            p2.state.theta.iter().fold(0.0f64, |m, t| m.max(t.abs())),
+            p2.stats
+        );
     }
 }

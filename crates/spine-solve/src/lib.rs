@@ -17,7 +17,7 @@ pub mod stability;
 pub mod twolink;
 
 pub use equilibrium::{
-    solve_path, solve_static, ContinuationOptions, EquilibriumSolution, EquilibriumStatus, LoadPath,
-    SolveStats, StaticProblem, StaticSolution,
+    solve_path, solve_static, ContinuationOptions, EquilibriumSolution, EquilibriumStatus, LoadPath, SolveStats,
+    StaticProblem, StaticSolution,
 };
 pub use stability::Stability;

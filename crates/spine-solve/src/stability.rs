@@ -110,9 +110,5 @@ pub fn certify(jac: &BorderedTridiagonal) -> Stability {
         }
     }
     let min_eigenvalue = 0.5 * (lo + hi);
-    Stability {
-        min_eigenvalue: Some(min_eigenvalue),
-        negative_directions,
-        stable: min_eigenvalue > 1e-9 * norm,
-    }
+    Stability { min_eigenvalue: Some(min_eigenvalue), negative_directions, stable: min_eigenvalue > 1e-9 * norm }
 }

@@ -17,7 +17,9 @@ const TAU_TOLERANCE: f64 = 0.10;
 /// Relative gap allowed between a measured time and the time the paper reads off its figure.
 const PAPER_TIME_TOLERANCE: f64 = 0.20;
 
-fn damping_designs<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), String> {
+fn damping_designs<'a>(
+    run: &NamedRun<'a>,
+) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), String> {
     match expect_dynamics(run)? {
         (used, DynamicOutput::Damping { designs, periodic }) => Ok((used, designs, periodic)),
         _ => Err(format!("run {:?}: this figure needs a \"damping\" run (eq. (35))", run.name)),
@@ -74,15 +76,24 @@ fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec
             "\"one can predict the response of the structure quite accurately\" with a first-order model (eq. (36))",
             format!("least-squares fit of Δ∞(1 − e^(−τt)) has RMS error ≤ {:.0} % of |Δ∞|", 100.0 * FIRST_ORDER_RMS),
             r.fit.rms_error <= FIRST_ORDER_RMS,
-            format!("RMS error {:.2} %, largest {:.2} % of |Δ∞|; settled in θ2: {}", 100.0 * r.fit.rms_error, 100.0 * r.fit.max_error, r.settled),
+            format!(
+                "RMS error {:.2} %, largest {:.2} % of |Δ∞|; settled in θ2: {}",
+                100.0 * r.fit.rms_error,
+                100.0 * r.fit.max_error,
+                r.settled
+            ),
         ));
         claims.push(Claim::new(
             scope,
             "\"the time constant of the structure is τ = 11.5 s⁻¹\", τ = ln(10)/T_d (eq. (36), errata E6)",
             format!("fitted τ within {:.0} % of ln(10)/T_d", 100.0 * TAU_TOLERANCE),
             gap <= TAU_TOLERANCE,
-            format!("fitted τ = {:.3} s⁻¹, ln(10)/T_d = {tau:.3} s⁻¹ (gap {:.1} %), ln(10)/T_90 = {}", r.fit.tau, 100.0 * gap,
-                r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.3} s⁻¹"))),
+            format!(
+                "fitted τ = {:.3} s⁻¹, ln(10)/T_d = {tau:.3} s⁻¹ (gap {:.1} %), ln(10)/T_90 = {}",
+                r.fit.tau,
+                100.0 * gap,
+                r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.3} s⁻¹"))
+            ),
         ));
     }
     claims
@@ -111,8 +122,16 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutpu
         let (used, designs, _) = damping_designs(run)?;
         let d = designs.first().ok_or_else(|| format!("run {:?}: no damping design", run.name))?;
         let r = &d.response;
-        responses.push(response_panel(&format!("({}) {}: end-point response", letter(k), run.title()), r, Some(d.target_rise_time), k));
-        dampers.push(damping_panel(&format!("({}) {}: nodal damping", letter(columns + k), run.title()), vec![Series::bars("", points(&d.damping, 1)).colour(k)]));
+        responses.push(response_panel(
+            &format!("({}) {}: end-point response", letter(k), run.title()),
+            r,
+            Some(d.target_rise_time),
+            k,
+        ));
+        dampers.push(damping_panel(
+            &format!("({}) {}: nodal damping", letter(columns + k), run.title()),
+            vec![Series::bars("", points(&d.damping, 1)).colour(k)],
+        ));
         let s = Shapes::of_ends(&used.spans, &used.design, &r.ends);
         shapes.push(s.panel(&format!("({}) {}: undeformed and deformed", letter(2 * columns + k), run.title())));
         out.tables.push((format!("response_{}.csv", run.name), samples_csv(&r.samples)));
@@ -144,7 +163,12 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, 
     let mut list = Vec::new();
     for (k, d) in designs.iter().enumerate() {
         let t = d.target_rise_time;
-        fig = fig.with(response_panel(&format!("({}) response time {t} s for 90 % of the deflection", letter(k)), &d.response, Some(t), k));
+        fig = fig.with(response_panel(
+            &format!("({}) response time {t} s for 90 % of the deflection", letter(k)),
+            &d.response,
+            Some(t),
+            k,
+        ));
         bars.push(Series::bars(format!("T_d = {t} s"), points(&d.damping, 1)).colour(k));
         out.tables.push((format!("response_T{t}.csv"), samples_csv(&d.response.samples)));
         out.tables.push((format!("damping_T{t}.csv"), values_csv("damping_n_m_s_per_rad", &d.damping)));
@@ -162,7 +186,13 @@ fn periodic_panel(title: &str, r: &PeriodicResponse, scale: f64, target: Option<
     let t_end = r.samples.last().map_or(0.0, |s| s.t);
     let mut panel = Panel::new(title, "t (s)", "X_(N+1) − L_x (m)")
         .with(Series::line("end-point motion", r.samples.iter().map(|s| (s.t, s.end_displacement)).collect()).colour(0))
-        .with(Series::dashed(format!("load factor s(t) × {scale:.3} m"), r.samples.iter().map(|s| (s.t, s.load_factor * scale)).collect()).colour(1));
+        .with(
+            Series::dashed(
+                format!("load factor s(t) × {scale:.3} m"),
+                r.samples.iter().map(|s| (s.t, s.load_factor * scale)).collect(),
+            )
+            .colour(1),
+        );
     if let Some(d) = target {
         panel = panel.with(Series::dashed(format!("δ_d = {d} m"), vec![(0.0, d), (t_end, d)]).colour(3));
     }
@@ -176,8 +206,11 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
         statement,
         format!("{what} within {:.0} % of the paper's {paper} s (read off its text)", 100.0 * PAPER_TIME_TOLERANCE),
         gap <= PAPER_TIME_TOLERANCE,
-        format!("{what} = {} (paper {paper} s; gap {})", measured.map_or("not reached".into(), |t| format!("{t:.4} s")),
-            if gap.is_finite() { format!("{:.0} %", 100.0 * gap) } else { "—".into() }),
+        format!(
+            "{what} = {} (paper {paper} s; gap {})",
+            measured.map_or("not reached".into(), |t| format!("{t:.4} s")),
+            if gap.is_finite() { format!("{:.0} %", 100.0 * gap) } else { "—".into() }
+        ),
     )
 }
 
@@ -194,10 +227,20 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOu
     let fig = Figure::new(title, 2)
         .with(stiffness_panel(
             "(a) nodal stiffness",
-            vec![Series::bars("start", points(&p.start_stiffness, 1)).colour(7), Series::bars(format!("eq. (37), {}", match p.method {
-                spine_dynamics::SearchMethod::Ga => "genetic algorithm",
-                spine_dynamics::SearchMethod::Pattern => "pattern search",
-            }), points(&p.stiffness, 1)).colour(0)],
+            vec![
+                Series::bars("start", points(&p.start_stiffness, 1)).colour(7),
+                Series::bars(
+                    format!(
+                        "eq. (37), {}",
+                        match p.method {
+                            spine_dynamics::SearchMethod::Ga => "genetic algorithm",
+                            spine_dynamics::SearchMethod::Pattern => "pattern search",
+                        }
+                    ),
+                    points(&p.stiffness, 1),
+                )
+                .colour(0),
+            ],
         ))
         .with(periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d)))
         .with(shapes.panel("(c) shapes of the design"));
@@ -219,8 +262,20 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOu
         Some(t) => (Some(t), "time from the onset to δ_d"),
         None => (r.reach_time, "time from the onset to 90 % of the swing (δ_d itself is not reached, see above)"),
     };
-    out.claims.push(time_claim(scope, "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)", reach, 0.5, what));
-    out.claims.push(time_claim(scope, "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"", r.return_time, 0.25, "return time (90 %)"));
+    out.claims.push(time_claim(
+        scope,
+        "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)",
+        reach,
+        0.5,
+        what,
+    ));
+    out.claims.push(time_claim(
+        scope,
+        "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"",
+        r.return_time,
+        0.25,
+        "return time (90 %)",
+    ));
     out.claims.push(Claim::new(
         scope,
         "\"the release of stored energy is much faster\" (return faster than reach)",
@@ -242,16 +297,23 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, Stri
     let [run] = runs else { return Err("fig11 needs one damping run with a periodic forcing".into()) };
     let (used, designs, periodic) = damping_designs(run)?;
     let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {
-        return Err(format!("run {:?}: fig11 needs a damping design and a periodic forcing to simulate it under", run.name));
+        return Err(format!(
+            "run {:?}: fig11 needs a damping design and a periodic forcing to simulate it under",
+            run.name
+        ));
     };
     let mut out = FigureOutput::default();
     let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
     // Shapes at eight instants of the last simulated period.
-    let last: Vec<&Sample> = r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
+    let last: Vec<&Sample> =
+        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
     let mut shapes = Panel::new("(b) structure responding to the pulsating force", "X (m)", "Y (m)").equal_aspect();
     for k in 0..8 {
         if let Some(s) = last.get(k * last.len().saturating_sub(1) / 7) {
-            shapes = shapes.with(Series::line(format!("t = {:.3} s", s.t), nodes_of(&used.spans, &used.design.theta0, &s.theta)).colour(k));
+            shapes = shapes.with(
+                Series::line(format!("t = {:.3} s", s.t), nodes_of(&used.spans, &used.design.theta0, &s.theta))
+                    .colour(k),
+            );
         }
     }
     let fig = Figure::new(title, 2)
@@ -280,10 +342,13 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, Stri
         matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
         format!("reach {:?} s (on for {on:.3} s), return {:?} s (off for {off:.3} s)", r.reach_time, r.return_time),
     ));
-    out.summary.insert(run.name.to_string(), json!({
-        "damping": d.damping, "rise_time": d.rise_time, "min_end_displacement": r.min_end_displacement,
-        "reach_time": r.reach_time, "return_time": r.return_time, "period": r.period,
-    }));
+    out.summary.insert(
+        run.name.to_string(),
+        json!({
+            "damping": d.damping, "rise_time": d.rise_time, "min_end_displacement": r.min_end_displacement,
+            "reach_time": r.reach_time, "return_time": r.return_time, "period": r.period,
+        }),
+    );
     out.figures.push(("figure".into(), fig));
     Ok(out)
 }

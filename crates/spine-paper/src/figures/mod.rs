@@ -98,7 +98,11 @@ impl Shapes {
 
     fn of_ends(spans: &[f64], design: &Design, ends: &spine_dynamics::response::StaticEnds) -> Self {
         let t0 = &design.theta0;
-        Shapes { unloaded: nodes_of(spans, t0, t0), passive: nodes_of(spans, t0, &ends.theta1), loaded: nodes_of(spans, t0, &ends.theta2) }
+        Shapes {
+            unloaded: nodes_of(spans, t0, t0),
+            passive: nodes_of(spans, t0, &ends.theta1),
+            loaded: nodes_of(spans, t0, &ends.theta2),
+        }
     }
 
     fn panel(&self, title: &str) -> Panel {

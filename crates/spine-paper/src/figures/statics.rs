@@ -48,7 +48,10 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
     claims.push(Claim::new(
         scope,
         "\"change in orientation is preferred to change in stiffness\" (Conclusions)",
-        format!("relative change from the start ‖θ0 − θ0_s‖/‖θ0_s‖ more than {:.0} % larger than ‖K − K_s‖/‖K_s‖", 100.0 * MARGIN),
+        format!(
+            "relative change from the start ‖θ0 − θ0_s‖/‖θ0_s‖ more than {:.0} % larger than ‖K − K_s‖/‖K_s‖",
+            100.0 * MARGIN
+        ),
         change.theta0_relative_change > (1.0 + MARGIN) * change.stiffness_relative_change,
         format!(
             "θ0 changed by {:.3} (relative), K by {:.3} (relative); ‖Δθ0‖ = {:.4} rad",
@@ -95,13 +98,12 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun]) -> Result<Fig
     for (k, run) in runs.iter().enumerate() {
         let s = expect_design(run)?;
         designs.push(s);
-        let shapes = Shapes::of_static(s).ok_or_else(|| format!("run {:?}: the design has no equilibria to draw", run.name))?;
-        fig = fig
-            .with(shapes.panel(&format!("({}) {}: shapes", letter(2 * k), run.title())))
-            .with(stiffness_panel(
-                &format!("({}) {}: nodal stiffness", letter(2 * k + 1), run.title()),
-                vec![Series::bars("", points(&s.result.design.stiffness, 1)).colour(k)],
-            ));
+        let shapes =
+            Shapes::of_static(s).ok_or_else(|| format!("run {:?}: the design has no equilibria to draw", run.name))?;
+        fig = fig.with(shapes.panel(&format!("({}) {}: shapes", letter(2 * k), run.title()))).with(stiffness_panel(
+            &format!("({}) {}: nodal stiffness", letter(2 * k + 1), run.title()),
+            vec![Series::bars("", points(&s.result.design.stiffness, 1)).colour(k)],
+        ));
         out.tables.push((format!("shape_{}.csv", run.name), shapes.csv()));
         out.tables.push((format!("design_{}.csv", run.name), design_csv(&s.result.design)));
         let (claims, summary) = design_claims(run.name, s);
@@ -127,7 +129,10 @@ fn localized_load_claims(runs: &[NamedRun], designs: &[&StaticDesign]) -> Result
     // Loaded nodes: where the localized run's transverse load is larger in magnitude.
     let loaded: Vec<usize> = (0..pl.len()).filter(|&j| pl[j].abs() > pu[j].abs() + 1e-12).collect();
     if loaded.is_empty() || loaded.len() == pl.len() {
-        return Err(format!("fig4: the run {:?} must load some nodes more than {:?}, not all", runs[0].name, runs[1].name));
+        return Err(format!(
+            "fig4: the run {:?} must load some nodes more than {:?}, not all",
+            runs[0].name, runs[1].name
+        ));
     }
     let n = local.result.design.theta0.len();
     let mean_at = |k: &[f64], idx: &[usize]| idx.iter().map(|&j| k[j]).sum::<f64>() / idx.len() as f64;
@@ -135,7 +140,8 @@ fn localized_load_claims(runs: &[NamedRun], designs: &[&StaticDesign]) -> Result
     let (k_local, k_uniform) = (mean_at(kl, &loaded), mean_at(ku, &loaded));
     // Links touching a loaded node (link i joins nodes i and i + 1, 0-based).
     let in_region: Vec<bool> = (0..n).map(|i| loaded.contains(&i) || loaded.contains(&(i + 1))).collect();
-    let dtheta: Vec<f64> = (0..n).map(|i| (local.result.design.theta0[i] - uniform.result.design.theta0[i]).abs()).collect();
+    let dtheta: Vec<f64> =
+        (0..n).map(|i| (local.result.design.theta0[i] - uniform.result.design.theta0[i]).abs()).collect();
     let mean_where = |want: bool| {
         let v: Vec<f64> = (0..n).filter(|&i| in_region[i] == want).map(|i| dtheta[i]).collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64

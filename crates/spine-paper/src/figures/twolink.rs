@@ -19,19 +19,56 @@ pub fn figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
     };
     let exact = |r: &spine_solve::twolink::StudyRow| r.theta0_exact.unwrap_or(f64::NAN);
     let errors = Panel::new("(a) closed forms against the exact θ0", "log10 |δ| (δ in m)", "log10 error")
-        .with(Series::line_markers("θ0 of eq. (10), |error| (rad)", log_err(&|r| Some((r.theta0_eq10 - exact(r)).abs()))).colour(0))
-        .with(Series::line_markers("θ0 of eq. (10′) (E3), |error| (rad)", log_err(&|r| Some((r.theta0_first_order - exact(r)).abs()))).colour(2))
-        .with(Series::line_markers("K of eq. (11), relative error", log_err(&|r| r.stiffness_eq11.map(|k| (k / stiffness - 1.0).abs()))).colour(3));
+        .with(
+            Series::line_markers("θ0 of eq. (10), |error| (rad)", log_err(&|r| Some((r.theta0_eq10 - exact(r)).abs())))
+                .colour(0),
+        )
+        .with(
+            Series::line_markers(
+                "θ0 of eq. (10′) (E3), |error| (rad)",
+                log_err(&|r| Some((r.theta0_first_order - exact(r)).abs())),
+            )
+            .colour(2),
+        )
+        .with(
+            Series::line_markers(
+                "K of eq. (11), relative error",
+                log_err(&|r| r.stiffness_eq11.map(|k| (k / stiffness - 1.0).abs())),
+            )
+            .colour(3),
+        );
     let ratio = Panel::new("(b) sensitivity ratio R of eq. (17)", "log10 |δ| (δ in m)", "R (N·m/rad²)")
-        .with(Series::line_markers("R as printed", rows.iter().filter_map(|r| r.ratio_eq17_printed.map(|v| (r.delta.abs().log10(), v))).collect()).colour(1))
-        .with(Series::line_markers("R corrected (E5)", rows.iter().filter_map(|r| r.ratio.map(|v| (r.delta.abs().log10(), v))).collect()).colour(0));
+        .with(
+            Series::line_markers(
+                "R as printed",
+                rows.iter().filter_map(|r| r.ratio_eq17_printed.map(|v| (r.delta.abs().log10(), v))).collect(),
+            )
+            .colour(1),
+        )
+        .with(
+            Series::line_markers(
+                "R corrected (E5)",
+                rows.iter().filter_map(|r| r.ratio.map(|v| (r.delta.abs().log10(), v))).collect(),
+            )
+            .colour(0),
+        );
     out.figures.push(("figure".into(), Figure::new(title, 2).with(errors).with(ratio)));
 
     let mut table = String::from("delta_m,theta0_exact_rad,theta0_eq10_printed_rad,theta0_eq10_rad,theta0_eq10_first_order_rad,stiffness_eq11_n_m_per_rad,ratio_eq17_printed,ratio_corrected\n");
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
     for r in &study.rows {
-        let _ = writeln!(table, "{:e},{},{:e},{:e},{:e},{},{},{}", r.delta, opt(r.theta0_exact), r.theta0_eq10_printed, r.theta0_eq10, r.theta0_first_order,
-            opt(r.stiffness_eq11), opt(r.ratio_eq17_printed), opt(r.ratio));
+        let _ = writeln!(
+            table,
+            "{:e},{},{:e},{:e},{:e},{},{},{}",
+            r.delta,
+            opt(r.theta0_exact),
+            r.theta0_eq10_printed,
+            r.theta0_eq10,
+            r.theta0_first_order,
+            opt(r.stiffness_eq11),
+            opt(r.ratio_eq17_printed),
+            opt(r.ratio)
+        );
     }
     out.tables.push(("twolink.csv".into(), table));
 
