@@ -19,3 +19,11 @@ if ! command -v just >/dev/null 2>&1; then
   echo "bootstrap: installing just (cargo install --locked just)"
   cargo install --locked --quiet just
 fi
+
+# `just lint` (run at the end of `just test`) needs clippy and rustfmt.
+for c in clippy rustfmt; do
+  if ! cargo "$c" --version >/dev/null 2>&1; then
+    echo "bootstrap: installing the $c component (rustup component add $c)"
+    rustup component add "$c"
+  fi
+done

@@ -7,12 +7,13 @@ build:
     cargo build --release --workspace --all-targets
 
 # Run every test (release build; unit, integration, property and CLI tests), then the Ipopt-facing
-# tests again on the Ipopt 3.14 backend (`just ipopt314 test`).
+# tests again on the Ipopt 3.14 backend (`just ipopt314 test`), then the lints (`just lint`).
 test:
     cargo build --release --workspace --all-targets --quiet
     if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
     cargo test --release --workspace --doc --quiet
     just ipopt314 test
+    just lint
 
 # The opt-in Ipopt 3.14 backend (Ipopt 3.14.19 with MUMPS 5.8.2, METIS and OpenBLAS, from the
 # `casadi` wheel on PyPI, set up in benchmarks/peers/.venv), built in target/ipopt314 with
@@ -68,9 +69,10 @@ fuzz SECONDS="60":
     command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz
     cd fuzz && cargo +nightly fuzz run case_parser -- -max_total_time={{SECONDS}}
 
-# Lints.
+# Lints: clippy with every warning an error (the workspace's `[workspace.lints]`), and rustfmt
+# (`rustfmt.toml`). Run by `just test`, hence by CI.
 lint:
-    cargo clippy --workspace --all-targets -- -D warnings
+    cargo clippy --workspace --all-targets --quiet -- -D warnings
     cargo fmt --all --check
 
 # Eq. (33) scaling table (full and reduced space) on the scaled family of PEERS.md.

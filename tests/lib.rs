@@ -1,1 +1,2 @@
 //! Cross-crate integration tests live beside this file; see `twolink.rs` and `cases.rs`.
+#![forbid(unsafe_code)]

@@ -11,6 +11,7 @@
 //! * [`scaled_arch`]: an arch under transverse and axial load (equilibrium benchmarks);
 //! * [`DesignFixture`]: the scaled family of `../shared/PEERS.md` at the arch start (design
 //!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
+#![forbid(unsafe_code)]
 
 pub mod peers;
 pub mod report;

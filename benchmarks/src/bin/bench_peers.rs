@@ -16,6 +16,7 @@
 //! states; barrier parameter 1e-9 and bound push 1e-10 so that Ipopt does not move away from the
 //! active bounds first): staying there shows that CasADi's point is a KKT point of our NLP, so
 //! the two programs solve the same problem and only their paths differ.
+#![forbid(unsafe_code)]
 
 use serde_json::json;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};

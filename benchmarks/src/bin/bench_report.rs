@@ -1,6 +1,7 @@
 //! Writes `benchmarks/RESULTS.md` and `benchmarks/scaling.svg` from criterion's results in
 //! `target/criterion` (`just bench`) and `benchmarks/peers/results.json` (`just bench-peers`),
 //! followed by the hand-written analysis in `benchmarks/analysis.md`.
+#![forbid(unsafe_code)]
 
 use spine_benchmarks::peers::PeerRow;
 use spine_benchmarks::report::{figure, machine, read_criterion, replace_block, results_markdown};

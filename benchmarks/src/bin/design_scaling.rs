@@ -5,6 +5,7 @@
 //!
 //! Usage: `design_scaling [--refine=off|auto|FROM] [--repeats=R] [N ...]` (default N: 5 10 20 50 100
 //! 200 500 1000; default refine: the solver's default, "auto"; FROM: a ladder from FROM links, factor 2).
+#![forbid(unsafe_code)]
 
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::refine::{Ladder, Refine, RefineMode};

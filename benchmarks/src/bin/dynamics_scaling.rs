@@ -5,6 +5,7 @@
 //! atol 1e-8). Each size runs `REPEATS` times and reports the fastest (shared, noisy machines).
 //!
 //! Usage: `dynamics_scaling [N ...]` (default 5 10 20 50).
+#![forbid(unsafe_code)]
 
 use spine_dynamics::fixtures::arch_problem;
 use spine_dynamics::{step_response, StepSettings};

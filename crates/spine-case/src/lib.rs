@@ -14,6 +14,7 @@
 //! let case = spine_case::Case::from_json(text).unwrap();
 //! assert!(matches!(case, spine_case::Case::Equilibrium(_)));
 //! ```
+#![forbid(unsafe_code)]
 
 mod design_case;
 mod dynamics_case;

@@ -47,7 +47,7 @@ impl<'de> Deserialize<'de> for PerItem {
         struct V;
         impl<'de> Visitor<'de> for V {
             type Value = PerItem;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 f.write_str("a number (the same for every entry) or an array of numbers (one per entry)")
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<PerItem, E> {

@@ -30,6 +30,8 @@ pub enum Case {
 }
 
 /// A checked case, ready for a solver.
+// One value per run: boxing the large variants would buy nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum ValidCase {
     Equilibrium(ValidEquilibrium),

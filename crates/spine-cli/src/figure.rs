@@ -58,7 +58,7 @@ pub fn run(case: &FigureCase, runs: &[ValidRun], out: &Output) -> Result<Outcome
         timings.insert(format!("run_{}_seconds", r.name), json!(seconds));
         outputs.push(output);
     }
-    let named: Vec<NamedRun> =
+    let named: Vec<NamedRun<'_>> =
         runs.iter().zip(&outputs).map(|(r, o)| NamedRun { name: &r.name, label: &r.label, output: o }).collect();
     let made = recipe(&case.figure, &title, &named).map_err(|m| Failure::Input(format!("{}: {m}", case.figure)))?;
 

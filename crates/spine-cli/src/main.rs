@@ -3,6 +3,7 @@
 //! Exit codes: 0 success; 2 bad input (nothing written); 3 the run finished but its result is not a
 //! stable, converged equilibrium (the result is still written, with its status); 1 any other
 //! failure (for example the output folder cannot be written).
+#![forbid(unsafe_code)]
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

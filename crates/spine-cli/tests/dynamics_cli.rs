@@ -49,7 +49,8 @@ fn simulate_writes_the_response_and_a_deterministic_summary() {
 fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
     let dir = tmpdir("bad-dynamics");
     let out = dir.join("out");
-    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str)> = vec![
+    type Edit = Box<dyn Fn(&mut Value)>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
         ("simulate", Box::new(|c| c["chain"]["masses"] = json!(0.0)), "chain.masses[0]"),
         ("simulate", Box::new(|c| c["chain"]["masses"] = json!([0.5, -1.0, 0.5, 0.5])), "chain.masses[1]"),
         ("simulate", Box::new(|c| c["damping"] = json!(-2.0)), "damping[0]"),

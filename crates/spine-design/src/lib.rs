@@ -10,6 +10,7 @@
 //! * [`solve`]: runs either with Ipopt; [`result`]: the checked result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
+#![forbid(unsafe_code)]
 
 pub mod adjoint;
 pub mod assembly;

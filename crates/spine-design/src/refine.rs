@@ -415,7 +415,7 @@ pub fn prepare_level(
 }
 
 /// Design and states of a full-space solution vector.
-pub fn solution_parts(nlp: &FullSpaceNlp, x: &[f64]) -> (Design, (State, State)) {
+pub fn solution_parts(nlp: &FullSpaceNlp<'_>, x: &[f64]) -> (Design, (State, State)) {
     let layout = nlp.layout;
     (
         layout.design(x, nlp.problem.stiffness_scale),

@@ -35,7 +35,7 @@ fn problem_with_mass(n: usize) -> DesignProblem {
     p
 }
 
-fn nlp_parts(nlp: &mut FullSpaceNlp, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>) {
+fn nlp_parts(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>) {
     let mut g = vec![0.0; nlp.num_constraints()];
     let f = nlp.objective(x, true).unwrap();
     assert!(nlp.constraints(x, false, &mut g));

@@ -63,13 +63,16 @@ pub struct DampingDesign {
     pub response: StepResponse,
 }
 
+/// The last dampers `C` evaluated, with `T_90(C)` and `dT_90/dC` (absent when the response does not rise).
+type Cached = (Vec<f64>, Option<f64>, Option<Vec<f64>>);
+
 struct Eq35<'a> {
     base: &'a Dynamics,
     ends: &'a StaticEnds,
     settings: &'a DampingSettings,
     target: f64,
     start: Vec<f64>,
-    cache: Option<(Vec<f64>, Option<f64>, Option<Vec<f64>>)>,
+    cache: Option<Cached>,
     simulations: usize,
 }
 

@@ -291,7 +291,8 @@ fn cholesky<D: Scalar>(mut a: Vec<Vec<D>>) -> Option<Vec<Vec<D>>> {
         for k in 0..j {
             d -= a[j][k] * a[j][k];
         }
-        if !(d.re() > 0.0) {
+        // Not positive, or NaN.
+        if d.re().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         let d = d.sqrt();

@@ -384,11 +384,21 @@ pub struct Extras<'a> {
     /// sensitivities use it.
     pub steps: Option<&'a [f64]>,
     /// Checked after every accepted step at `(t, y)`; `true` ends the run ([`Outcome::Stopped`]).
-    pub stop: Option<&'a dyn Fn(f64, &[f64]) -> bool>,
+    pub stop: Option<&'a StopCondition<'a>>,
 }
 
+/// A test on an accepted step `(t, y)`: `true` ends the integration.
+pub type StopCondition<'a> = dyn Fn(f64, &[f64]) -> bool + 'a;
+
 /// Integrates from `(t0, y0)` to `t_end`.
-pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Options, extras: Extras) -> Trajectory {
+pub fn integrate(
+    sys: &dyn OdeSystem,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    opts: &Options,
+    extras: Extras<'_>,
+) -> Trajectory {
     let Extras { sensitivities, steps, stop } = extras;
     let n = sys.dim();
     let mut stats = Stats::default();
@@ -438,7 +448,8 @@ pub fn integrate(sys: &dyn OdeSystem, t0: f64, y0: &[f64], t_end: f64, opts: &Op
         if seg_end - (t + h_try) <= 1e-10 * h_try {
             h_try = seg_end - t;
         }
-        if !(h_try > 10.0 * f64::EPSILON * t.abs().max(span)) {
+        // Below the step floor, or NaN.
+        if h_try.partial_cmp(&(10.0 * f64::EPSILON * t.abs().max(span))) != Some(std::cmp::Ordering::Greater) {
             outcome = Outcome::StepTooSmall { t };
             break;
         }

@@ -9,6 +9,7 @@
 //!
 //! Index reduction: the constraint is differentiated twice (`Φ̈ = 0`, index 1) and every accepted step
 //! is projected back onto `Φ = 0` and `Φ̇ = 0`, so the drift does not accumulate.
+#![forbid(unsafe_code)]
 
 pub mod eom;
 pub mod fixtures;

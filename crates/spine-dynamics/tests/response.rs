@@ -15,7 +15,7 @@ fn step_response_settles_in_the_static_loaded_equilibrium_with_no_drift() {
     assert!(r.drift.max_constraint_dense <= 1e-9, "{:?}", r.drift);
     let t90 = r.rise_time.expect("rises");
     // T_90 is where the sampled response crosses 0.9 Δ∞.
-    let before = r.samples.iter().filter(|s| s.t < t90).last().unwrap();
+    let before = r.samples.iter().rfind(|s| s.t < t90).unwrap();
     let after = r.samples.iter().find(|s| s.t > t90).unwrap();
     assert!(before.delta > 0.9 * r.delta_inf && after.delta <= 0.9 * r.delta_inf);
     assert!((r.tau_from_rise_time.unwrap() - 10f64.ln() / t90).abs() < 1e-12, "eq. (36) corrected: τ = ln 10 / T_90");

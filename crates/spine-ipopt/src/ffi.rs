@@ -167,7 +167,7 @@ fn index(value: usize, what: &'static str) -> Result<Index, SetupError> {
 
 /// Creates the problem, sets the options and runs `IpoptSolve` with `context` as user data.
 pub(crate) fn run(
-    context: &mut Context,
+    context: &mut Context<'_>,
     mut start: Start,
     options: &[(&str, &OptionValue)],
 ) -> Result<Finish, SetupError> {
@@ -225,7 +225,7 @@ pub(crate) fn run(
     }
     let mut g = vec![0.0; m];
     let mut objective = f64::NAN;
-    let user_data = context as *mut Context as *mut c_void;
+    let user_data = context as *mut Context<'_> as *mut c_void;
     // SAFETY: `raw` is live; x, g and the multiplier arrays hold n, m, m, n, n values; `user_data`
     // points to `context`, which outlives the call and is only touched by the callbacks during it.
     let status = unsafe {
@@ -257,7 +257,8 @@ pub(crate) fn run(
 /// # Safety
 /// `user_data` must be the pointer passed to `IpoptSolve` by [`run`].
 unsafe fn context<'a>(user_data: UserData) -> &'a mut Context<'a> {
-    &mut *(user_data as *mut Context)
+    // SAFETY: the caller passes the pointer `run` gave Ipopt, which points to a live `Context`.
+    unsafe { &mut *(user_data as *mut Context<'a>) }
 }
 
 /// A mutable slice over an Ipopt output buffer, empty when Ipopt passes NULL.
@@ -268,7 +269,8 @@ unsafe fn out_slice<'a>(ptr: *mut f64, len: Index) -> &'a mut [f64] {
     if ptr.is_null() || len <= 0 {
         &mut []
     } else {
-        std::slice::from_raw_parts_mut(ptr, len as usize)
+        // SAFETY: non-null and valid for `len` writes (the caller's contract).
+        unsafe { std::slice::from_raw_parts_mut(ptr, len as usize) }
     }
 }
 
@@ -280,7 +282,8 @@ unsafe fn in_slice<'a>(ptr: *const f64, len: Index) -> &'a [f64] {
     if ptr.is_null() || len <= 0 {
         &[]
     } else {
-        std::slice::from_raw_parts(ptr, len as usize)
+        // SAFETY: non-null and valid for `len` reads (the caller's contract).
+        unsafe { std::slice::from_raw_parts(ptr, len as usize) }
     }
 }
 
@@ -295,8 +298,10 @@ unsafe fn write_structure(entries: &[(usize, usize)], rows: *mut Index, cols: *m
     if rows.is_null() || cols.is_null() {
         return false;
     }
-    let rows = std::slice::from_raw_parts_mut(rows, entries.len());
-    let cols = std::slice::from_raw_parts_mut(cols, entries.len());
+    // SAFETY: both non-null and valid for `entries.len()` writes (the caller's contract).
+    let (rows, cols) = unsafe {
+        (std::slice::from_raw_parts_mut(rows, entries.len()), std::slice::from_raw_parts_mut(cols, entries.len()))
+    };
     for (k, &(r, c)) in entries.iter().enumerate() {
         rows[k] = r as Index;
         cols[k] = c as Index;

@@ -54,7 +54,9 @@
 //! assert!(solution.status.is_optimal());
 //! assert!((solution.x[0] - 3.0).abs() < 1e-8);
 //! ```
+#![deny(unsafe_code)]
 
+#[allow(unsafe_code)]
 mod ffi;
 mod options;
 mod status;

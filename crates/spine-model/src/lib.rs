@@ -19,6 +19,7 @@
 //! Jacobians element by element with small fixed-size dual numbers, at a cost linear in `N`.
 //!
 //! This crate holds no solver: see `spine-solve`.
+#![forbid(unsafe_code)]
 
 pub mod chain;
 pub mod energy;

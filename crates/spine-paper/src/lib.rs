@@ -5,6 +5,7 @@
 //! CSV tables of the plotted data and [`Claim`]s — the paper's statements, each measured and given
 //! PASS or FAIL with its numbers. [`study`] is the C_K study of eq. (34) and [`report`] gathers
 //! every figure's claims into `results/REPORT.md`.
+#![forbid(unsafe_code)]
 
 pub mod claims;
 pub mod figures;

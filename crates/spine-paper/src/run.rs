@@ -74,6 +74,8 @@ pub enum DynamicOutput {
 /// What one run computed.
 #[derive(Clone, Debug, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
+// One value per run: boxing the two-link study as well would buy nothing.
+#[allow(clippy::large_enum_variant)]
 pub enum RunOutput {
     Twolink { study: spine_solve::twolink::Study, stiffness: f64 },
     Design(Box<StaticDesign>),

@@ -14,6 +14,7 @@
 //! let svg = Figure::new("example", 1).with(panel).to_svg().unwrap();
 //! assert!(svg.starts_with("<svg"));
 //! ```
+#![forbid(unsafe_code)]
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -287,7 +288,7 @@ fn draw_panel<DB: DrawingBackend>(
         let drawn = match s.style {
             Style::Line => chart.draw_series(LineSeries::new(points, colour.stroke_width(2))).map_err(err)?,
             Style::Dashed => {
-                chart.draw_series(DashedLineSeries::new(points, 6, 4, colour.stroke_width(2).into())).map_err(err)?
+                chart.draw_series(DashedLineSeries::new(points, 6, 4, colour.stroke_width(2))).map_err(err)?
             }
             Style::Markers => {
                 chart.draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled()))).map_err(err)?

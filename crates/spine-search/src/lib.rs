@@ -15,6 +15,7 @@
 //!
 //! No maintained crate offers both methods with constraint handling (see `../shared/CRATES.md`);
 //! these are tested on Rosenbrock, Rastrigin and a constrained problem with known minima.
+#![forbid(unsafe_code)]
 
 mod ga;
 mod pattern;

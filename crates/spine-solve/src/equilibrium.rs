@@ -154,7 +154,7 @@ struct Converged {
 
 /// Rounding floor of the residual at `state`: `32 ε` times the largest sum of absolute terms of a
 /// joint row (springs `(K_i + K_{i+1}) (|θ| + |θ0|)`, loads `L_i (|V_i| + |A_i| + |λ|)`), N·m.
-fn rounding_floor(path: &LoadPath, loads: &LinkLoads, state: &State) -> f64 {
+fn rounding_floor(path: &LoadPath<'_>, loads: &LinkLoads, state: &State) -> f64 {
     let d = path.design;
     let mut scale: f64 = 0.0;
     for i in 0..path.spans.len() {
@@ -172,7 +172,7 @@ fn max_abs(v: &[f64]) -> f64 {
 
 /// Newton's method on `(θ, λ)` at fixed load from `start`.
 fn newton(
-    path: &LoadPath,
+    path: &LoadPath<'_>,
     loads: &LinkLoads,
     start: State,
     opts: &ContinuationOptions,
@@ -216,7 +216,7 @@ fn factor(jac: &BorderedTridiagonal, stats: &mut SolveStats) -> Option<BorderedL
 }
 
 /// Euler predictor along the path tangent `dx/ds = −J⁻¹ ∂r/∂s` from the converged point `cur`.
-fn predict(path: &LoadPath, cur: &Converged, ds: f64, stats: &mut SolveStats) -> State {
+fn predict(path: &LoadPath<'_>, cur: &Converged, ds: f64, stats: &mut SolveStats) -> State {
     let r_to = equilibrium_residual(path.spans, path.design, &path.to, &cur.state);
     let r_from = equilibrium_residual(path.spans, path.design, &path.from, &cur.state);
     let dr_ds: Vec<f64> = r_to.iter().zip(&r_from).map(|(a, b)| a - b).collect();
@@ -239,7 +239,7 @@ fn angle_change(a: &State, b: &State) -> f64 {
 }
 
 /// Follows `path` from `s = 0` to `s = 1`. See the module docs for the statuses.
-pub fn solve_path(path: &LoadPath, opts: &ContinuationOptions) -> EquilibriumSolution {
+pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> EquilibriumSolution {
     let clock = Instant::now();
     let mut stats = SolveStats::default();
     let finish = |cur: &Converged, s: f64, status: EquilibriumStatus, stability: Stability, mut stats: SolveStats| {
@@ -322,7 +322,7 @@ pub fn solve_path(path: &LoadPath, opts: &ContinuationOptions) -> EquilibriumSol
 /// Bisection on the load factor between the stable point `stable` at `lo` and an unstable one at
 /// `hi`, for where the projected Hessian first gets a negative direction.
 fn locate_critical(
-    path: &LoadPath,
+    path: &LoadPath<'_>,
     stable: &Converged,
     mut lo: f64,
     mut hi: f64,

@@ -10,6 +10,7 @@
 //! * [`twolink`]: the exact two-link design of Sec. 3 solved with the general `N`-link code.
 //!
 //! Solvers return result structs and print nothing.
+#![forbid(unsafe_code)]
 
 pub mod equilibrium;
 pub mod linalg;

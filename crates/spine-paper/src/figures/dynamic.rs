@@ -114,7 +114,7 @@ fn damping_summary(d: &DampingDesign) -> Value {
 }
 
 /// Fig. 9: for each run (10 links, 5 links) the step response, the dampers and the shapes.
-pub fn step_designs_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let mut out = FigureOutput::default();
     let columns = runs.len();
     let (mut responses, mut dampers, mut shapes) = (Vec::new(), Vec::new(), Vec::new());
@@ -154,7 +154,7 @@ fn values_csv(column: &str, v: &[f64]) -> String {
 }
 
 /// Fig. 12: one damping run with several targets; one response panel per target and the dampers.
-pub fn rise_time_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let [run] = runs else { return Err("fig12 needs one damping run with its targets".into()) };
     let (_, designs, _) = damping_designs(run)?;
     let mut out = FigureOutput::default();
@@ -215,7 +215,7 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
 }
 
 /// Fig. 10: the eq. (37) design — stiffness, end-point motion under the periodic force, shapes.
-pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let [run] = runs else { return Err("fig10 needs one periodic design run".into()) };
     let (used, DynamicOutput::PeriodicDesign { design: p }) = expect_dynamics(run)? else {
         return Err(format!("run {:?}: fig10 needs a \"periodic\" run (eq. (37))", run.name));
@@ -293,7 +293,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOu
 }
 
 /// Fig. 11: a gradient-based design (eq. (33) then eq. (35)) under a pulse train.
-pub fn pulse_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let [run] = runs else { return Err("fig11 needs one damping run with a periodic forcing".into()) };
     let (used, designs, periodic) = damping_designs(run)?;
     let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {

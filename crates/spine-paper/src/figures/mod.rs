@@ -45,7 +45,7 @@ pub struct FigureOutput {
 }
 
 /// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
-pub fn recipe(figure: &str, title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     match figure {
         "twolink" => twolink::figure(title, runs),
         "fig3" | "fig4" | "fig6" | "fig7" | "fig8" => statics::design_figure(figure, title, runs),

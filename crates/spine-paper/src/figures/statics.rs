@@ -91,7 +91,7 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
 }
 
 /// One shape panel and one stiffness panel per run: Figs. 3, 4, 6, 7, 8.
-pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let mut out = FigureOutput::default();
     let mut fig = Figure::new(title, 2);
     let mut designs = Vec::new();
@@ -118,7 +118,7 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun]) -> Result<Fig
 }
 
 /// Fig. 4: the first run carries the localized load, the second the uniform one.
-fn localized_load_claims(runs: &[NamedRun], designs: &[&StaticDesign]) -> Result<Vec<Claim>, String> {
+fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Result<Vec<Claim>, String> {
     let [local, uniform] = designs else {
         return Err("fig4 needs two runs: the localized load first, then the uniform load".into());
     };
@@ -179,7 +179,7 @@ fn localized_load_claims(runs: &[NamedRun], designs: &[&StaticDesign]) -> Result
 }
 
 /// Fig. 5: `θ0` and `K` of every run (one per transverse load) on one pair of panels.
-pub fn load_sweep_figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let mut out = FigureOutput::default();
     let mut shape = Panel::new("(a) design angle θ0 under various loads", "link i", "θ0_i (rad)");
     let mut stiffness = Panel::new("(b) nodal stiffness K under various loads", "node j", "K_j (N·m/rad)");

@@ -7,7 +7,7 @@ use serde_json::json;
 /// the closed-form errors must be those errata E3 predicts, within this margin.
 const ORDER_MARGIN: f64 = 0.1;
 
-pub fn figure(title: &str, runs: &[NamedRun]) -> Result<FigureOutput, String> {
+pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let [run] = runs else { return Err("twolink needs one twolink run".into()) };
     let RunOutput::Twolink { study, stiffness } = run.output else {
         return Err(format!("run {:?}: needs a \"twolink\" run", run.name));
