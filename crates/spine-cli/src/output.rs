@@ -1,12 +1,15 @@
-//! Writing results: `DIR/result.json` and CSV files, each written whole or not at all.
+//! Writing results: `DIR/result.json` and the files beside it, each written whole or not at all;
+//! and printing to stdout without a panic when the reader has gone (`spine … | head`).
 
 use crate::Failure;
-use serde_json::Value;
+use spine_paper::run::{FileContent, OutputFile};
+use spine_paper::CaseResult;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 pub struct Output {
     dir: PathBuf,
-    pub deterministic: bool,
+    deterministic: bool,
 }
 
 impl Output {
@@ -14,26 +17,34 @@ impl Output {
         Self { dir: dir.to_path_buf(), deterministic }
     }
 
-    /// Writes `value` as pretty JSON to `DIR/name` through a temporary file and a rename.
-    /// Timings live under the top-level key `timings`, dropped with `--deterministic`.
-    pub fn write_json(&self, name: &str, mut value: Value) -> Result<PathBuf, Failure> {
+    /// Writes the result's files, then `result.json` (its wall times under `timings`, dropped with
+    /// `--deterministic`). Returns the path of `result.json` and how many files are beside it.
+    pub fn write_result(&self, result: &CaseResult) -> Result<(PathBuf, usize), Failure> {
+        let mut written = 0;
+        for OutputFile { name, content } in result.files() {
+            written += match content {
+                FileContent::Text(text) => self.write_file(&name, &text).map(|_| 1)?,
+                FileContent::Figure(figure) => self.write_figure(&name, &figure).map(|_| 2)?,
+            };
+        }
+        let mut value = result.to_json();
         if self.deterministic {
-            if let Value::Object(map) = &mut value {
+            if let Some(map) = value.as_object_mut() {
                 map.remove("timings");
             }
         }
         let mut text = serde_json::to_string_pretty(&value).expect("JSON values always serialise");
         text.push('\n');
-        self.write_file(name, &text)
+        Ok((self.write_file("result.json", &text)?, written))
     }
 
-    /// Writes a text file (CSV) to `DIR/name` the same way.
+    /// Writes a text file to `DIR/name` through a temporary file and a rename.
     pub fn write_text(&self, name: &str, text: &str) -> Result<(), Failure> {
         self.write_file(name, text).map(|_| ())
     }
 
     /// Writes `DIR/stem.svg` and `DIR/stem.png` (each through a temporary file and a rename).
-    pub fn write_figure(&self, stem: &str, figure: &spine_plot::Figure) -> Result<(), Failure> {
+    fn write_figure(&self, stem: &str, figure: &spine_plot::Figure) -> Result<(), Failure> {
         let svg = figure.to_svg().map_err(|e| Failure::Other(format!("{stem}.svg: {e}")))?;
         self.write_file(&format!("{stem}.svg"), &svg)?;
         let tmp = self.dir.join(format!(".{stem}.png.tmp.png"));
@@ -51,4 +62,10 @@ impl Output {
         std::fs::rename(&tmp, &target).map_err(io)?;
         Ok(target)
     }
+}
+
+/// Prints `text` to stdout; a closed stdout (a pipe into `head`) is not an error: the run goes on
+/// and its files are still written.
+pub fn say(text: &str) {
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }

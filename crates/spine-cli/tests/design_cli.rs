@@ -33,7 +33,7 @@ fn paper_five_link_case_runs_in_both_formulations_and_reports_everything() {
         assert!(r["violations"]["max"].as_f64().unwrap() < 1e-8);
         assert!((r["end_displacement"].as_f64().unwrap() + 0.02).abs() < 1e-9);
         assert_eq!(r["start_notes"].as_array().unwrap().len(), 3);
-        assert!(r["timings"]["ipopt_seconds"].as_f64().unwrap() > 0.0);
+        assert!(r["timings"]["solver.ipopt_seconds"].as_f64().unwrap() > 0.0);
         assert_eq!(r["unloaded_nodes"].as_array().unwrap().len(), 6);
         objectives.push(r["objective"].as_f64().unwrap());
     }

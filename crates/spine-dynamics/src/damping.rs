@@ -63,6 +63,16 @@ pub struct DampingDesign {
     pub response: StepResponse,
 }
 
+/// `|T_90 − T_d| / T_d` at which an eq. (35) design is accepted as meeting its target (0.5 %).
+pub const RISE_TIME_ACCEPTANCE: f64 = 5e-3;
+
+impl DampingDesign {
+    /// Ipopt converged and the re-simulated `T_90` is within [`RISE_TIME_ACCEPTANCE`] of `T_d`.
+    pub fn meets_target(&self) -> bool {
+        self.converged && self.rise_time_error.is_some_and(|e| e <= RISE_TIME_ACCEPTANCE)
+    }
+}
+
 /// The last dampers `C` evaluated, with `T_90(C)` and `dT_90/dC` (absent when the response does not rise).
 type Cached = (Vec<f64>, Option<f64>, Option<Vec<f64>>);
 

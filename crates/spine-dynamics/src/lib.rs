@@ -15,6 +15,7 @@ pub mod eom;
 pub mod fixtures;
 pub mod forcing;
 pub mod integrator;
+pub mod ode;
 pub mod system;
 
 pub use eom::Dynamics;
@@ -26,7 +27,7 @@ pub mod response;
 pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, StepSettings};
 pub mod damping;
 
-pub use damping::{design_damping, DampingDesign, DampingSettings};
+pub use damping::{design_damping, DampingDesign, DampingSettings, RISE_TIME_ACCEPTANCE};
 pub mod periodic;
 pub mod periodic_design;
 

@@ -16,4 +16,4 @@ pub mod study;
 
 pub use claims::{Check, Claim};
 pub use figures::{recipe, FigureOutput, NamedRun};
-pub use run::{RunError, RunOutput};
+pub use run::{run_case, run_study, CaseResult, Overrides, RunError, RunOutput};

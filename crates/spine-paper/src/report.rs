@@ -5,7 +5,7 @@ use serde_json::Value;
 use std::fmt::Write as _;
 
 /// A result folder's `result.json`, by case name (`fig3`, `study-ck`, …).
-pub struct CaseResult {
+pub struct FolderResult {
     pub name: String,
     pub value: Value,
 }
@@ -19,7 +19,7 @@ fn total_seconds(v: &Value) -> Option<f64> {
 }
 
 /// The C_K statement on Figs. 6–8 (C_K = 1, 10², 10⁴): stiffness spread up, shape change down.
-fn ck_across_figures(results: &[CaseResult]) -> Option<String> {
+fn ck_across_figures(results: &[FolderResult]) -> Option<String> {
     let pick = |name: &str| -> Option<(f64, f64, f64)> {
         let r = results.iter().find(|r| r.name == name)?;
         let s = r.value.get("summary")?.get("n10")?;
@@ -48,7 +48,7 @@ fn ck_across_figures(results: &[CaseResult]) -> Option<String> {
 
 /// Writes the report. `order` lists the case names in reading order; `errata` is the text of
 /// `docs/errata.md`; `missing` lists cases without a result.
-pub fn report(results: &[CaseResult], errata: &str, missing: &[String]) -> String {
+pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> String {
     let mut md = String::from("# Reproduction report\n\n");
     md.push_str(
         "Every figure of the paper, computed by `just paper` (one `just case NAME` per figure, then `just study ck`). \

@@ -265,3 +265,98 @@ mod tests {
         assert!((v[8] - 1e4).abs() < 1e-9);
     }
 }
+
+/// `result.json` of `spine study ck`: the sweep, its claims and its conclusion.
+#[derive(Clone, Debug, Serialize)]
+pub struct StudyResult {
+    pub kind: &'static str,
+    pub study: &'static str,
+    pub title: String,
+    /// The `C_K` values swept.
+    pub stiffness_scales: Vec<f64>,
+    pub claims: Vec<Claim>,
+    pub claims_passed: usize,
+    pub claims_total: usize,
+    pub conclusion: String,
+    pub files: Vec<String>,
+    pub study_rows: Vec<CkRow>,
+    pub total_seconds: f64,
+    #[serde(skip)]
+    pub sweep: CkStudy,
+}
+
+/// The C_K study of eq. (34) on a design case titled `title`: the sweep, its claims, table and
+/// figure.
+pub fn run_ck_study(
+    title: &str,
+    case: &ValidDesign,
+    values: &[f64],
+    progress: &mut dyn FnMut(crate::run::Progress<'_>),
+) -> Result<StudyResult, RunError> {
+    let clock = std::time::Instant::now();
+    let sweep = ck_study(case, values, &mut |done, total| {
+        progress(crate::run::Progress::Step { stage: "eq. (33) solves", done, total })
+    })?;
+    let claims = sweep.claims();
+    Ok(StudyResult {
+        kind: "study",
+        study: "ck",
+        title: format!("C_K study, eq. (34): {}", if title.is_empty() { "design case" } else { title }),
+        stiffness_scales: values.to_vec(),
+        claims_passed: claims.iter().filter(|c| c.pass).count(),
+        claims_total: claims.len(),
+        claims,
+        conclusion: sweep.conclusion(),
+        files: ["ck_study.csv", "figure.svg", "figure.png"].map(String::from).to_vec(),
+        study_rows: sweep.rows.clone(),
+        total_seconds: clock.elapsed().as_secs_f64(),
+        sweep,
+    })
+}
+
+impl StudyResult {
+    /// Every solver check of the claims passed.
+    pub fn is_clean(&self) -> bool {
+        self.claims.iter().all(|c| c.pass || c.check != crate::Check::Solver)
+    }
+
+    /// `ck_study.csv` and `figure` (SVG and PNG).
+    pub fn files(&self) -> Vec<crate::run::OutputFile> {
+        vec![
+            crate::run::OutputFile::text("ck_study.csv", self.sweep.csv()),
+            crate::run::OutputFile {
+                name: "figure".into(),
+                content: crate::run::FileContent::Figure(self.sweep.figure(&self.title)),
+            },
+        ]
+    }
+}
+
+impl std::fmt::Display for StudyResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "{:>10} {:>15} {:>22} {:>5} {:>12} {:>8} {:>10} {:>10}",
+            "C_K", "scaling", "status", "iter", "J (J)", "CV(K)", "maxK/minK", "‖Δθ0‖"
+        )?;
+        for r in &self.study_rows {
+            writeln!(
+                f,
+                "{:>10.4e} {:>15} {:>22} {:>5} {:>12.5e} {:>8.4} {:>10.2} {:>10.4}",
+                r.stiffness_scale,
+                format!("{:?}", r.scaling),
+                if r.clean { r.status.clone() } else { format!("{} (NOT clean)", r.status) },
+                r.iterations,
+                r.objective,
+                r.change.stiffness_variation,
+                r.change.stiffness_max_over_min,
+                r.change.theta0_change
+            )?;
+        }
+        writeln!(f, "claims ({} of {} PASS):", self.claims_passed, self.claims_total)?;
+        for c in &self.claims {
+            writeln!(f, "  {c}")?;
+        }
+        writeln!(f, "conclusion: {}", self.conclusion)
+    }
+}

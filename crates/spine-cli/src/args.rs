@@ -1,0 +1,135 @@
+//! The command line: subcommands, their arguments, and the overrides they make to a case.
+
+use clap::{Parser, Subcommand};
+use spine_design::Formulation;
+use spine_dynamics::SearchMethod;
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "spine",
+    version,
+    about = "Design and analysis of flexible spines (planar link chains with torsional springs)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// The case file (JSON).
+    pub case: PathBuf,
+    /// Output folder; `result.json` is written there.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
+    /// Leave timings out of `result.json`, so the same input gives the same bytes.
+    #[arg(long)]
+    pub deterministic: bool,
+}
+
+#[derive(clap::Args)]
+pub struct DesignArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Formulation of eq. (33): `full` (simultaneous, exact sparse Hessian) or `reduced`
+    /// (equilibria by continuation, adjoint gradients); default: the case file's.
+    #[arg(long, value_parser = ["full", "reduced"])]
+    pub formulation: Option<String>,
+    /// Extra seeded feasible starts (multi-start); default: the case file's.
+    #[arg(long)]
+    pub starts: Option<usize>,
+    /// Seed of the multi-start; default: the case file's.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Mesh sequencing of the full space: `off`, `auto` (from 100 links: 50, 100, 200, … links),
+    /// `FROM` or `FROM:FACTOR`; default: the case file's `solver.refine`.
+    #[arg(long)]
+    pub refine: Option<spine_design::refine::Refine>,
+}
+
+#[derive(clap::Args)]
+pub struct PeriodicArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Search for eq. (37): `ga` (genetic algorithm) or `pattern` (pattern search); default: the case file's.
+    #[arg(long, value_parser = ["ga", "pattern"])]
+    pub method: Option<String>,
+}
+
+#[derive(clap::Args)]
+pub struct StudyArgs {
+    /// The study: `ck` (eq. (34): C_K over half-decades, Ipopt scaling on and off).
+    #[arg(value_parser = ["ck"])]
+    pub study: String,
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// The C_K values; default 1 to 10⁴ in half-decades.
+    #[arg(long, value_delimiter = ',')]
+    pub values: Option<Vec<f64>>,
+}
+
+#[derive(clap::Args)]
+pub struct ReportArgs {
+    /// The results folder: one sub-folder per case with its `result.json`.
+    #[arg(long, default_value = "results")]
+    pub results: PathBuf,
+    /// The cases in reading order (names of sub-folders).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "twolink,fig3,fig4,fig5,fig6,fig7,fig8,fig9,fig10,fig11,fig12,study-ck"
+    )]
+    pub cases: Vec<String>,
+    /// The errata table to include.
+    #[arg(long, default_value = "docs/errata.md")]
+    pub errata: PathBuf,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Passive (θ1) and loaded (θ2) equilibria of a given design, with stability.
+    Equilibrium(RunArgs),
+    /// The two-link analysis of Sec. 3: closed forms beside the exact solution.
+    Twolink(RunArgs),
+    /// The static design problem of eq. (33) with Ipopt (optionally multi-start).
+    Design(DesignArgs),
+    /// Step or periodic response (Sec. 5.2): `response.csv` and `result.json` with T_90, Δ∞, τ, fit error, drift.
+    Simulate(RunArgs),
+    /// The damping design of eq. (35): dampers for each target rise time.
+    Damping(RunArgs),
+    /// The periodic-load design of eq. (37) by a genetic algorithm or a pattern search.
+    Periodic(PeriodicArgs),
+    /// Runs any case file by its `kind` (a `figure` case: its runs, plots, tables and checked claims).
+    Case(RunArgs),
+    /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
+    Study(StudyArgs),
+    /// Gathers the figures' results into `RESULTS/REPORT.md`.
+    Report(ReportArgs),
+}
+
+impl DesignArgs {
+    pub fn overrides(&self) -> spine_paper::Overrides {
+        let design = spine_paper::run::DesignOverrides {
+            formulation: self.formulation.as_deref().map(|f| {
+                if f == "reduced" {
+                    Formulation::Reduced
+                } else {
+                    Formulation::Full
+                }
+            }),
+            starts: self.starts,
+            seed: self.seed,
+            refine: self.refine,
+        };
+        spine_paper::Overrides { design, ..Default::default() }
+    }
+}
+
+impl PeriodicArgs {
+    pub fn overrides(&self) -> spine_paper::Overrides {
+        let method =
+            self.method.as_deref().map(|m| if m == "pattern" { SearchMethod::Pattern } else { SearchMethod::Ga });
+        spine_paper::Overrides { dynamics: spine_paper::run::DynamicsOverrides { method }, ..Default::default() }
+    }
+}

@@ -1,0 +1,191 @@
+//! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
+//! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
+
+use super::{Progress, RunError};
+use serde::Serialize;
+use spine_case::{DesignCase, ValidDesign};
+use spine_design::adjoint::{adjoint_hand, ReducedGradients};
+use spine_design::multistart::{cluster, feasible_starts, MultiStartSummary};
+use spine_design::refine::Refine;
+use spine_design::{solve_design, DesignProblem, DesignResult, Formulation};
+use spine_model::{Design, State};
+
+/// An eq. (33) run with what the figures need besides the solver's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct StaticDesign {
+    pub result: DesignResult,
+    /// The start after projection into the bounds, the point the changes are measured from.
+    pub start: Design,
+    /// `dJ/d(θ0, K)` and `dX_{N+1}/d(θ0, K)` at the optimum (hand adjoint, Appendix I/II).
+    #[serde(skip)]
+    pub gradients: Option<ReducedGradients>,
+    #[serde(skip)]
+    pub problem: DesignProblem,
+}
+
+fn states(result: &DesignResult) -> Option<(State, State)> {
+    let (p, l) = (result.passive.as_ref()?, result.loaded.as_ref()?);
+    Some((State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda }))
+}
+
+fn solve(valid: &ValidDesign, start: &Design) -> Result<DesignResult, RunError> {
+    solve_design(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| true).map_err(RunError::Design)
+}
+
+/// Eq. (33) from the case's start.
+pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
+    let result = solve(valid, &valid.start)?;
+    let (start, _) = valid.problem.project_start(&valid.start);
+    let gradients = states(&result).and_then(|(s1, s2)| adjoint_hand(&valid.problem, &result.design, &s1, &s2).ok());
+    Ok(StaticDesign { result, start, gradients, problem: valid.problem.clone() })
+}
+
+/// Changes to a design case from the command line (each `None` keeps the case file's value).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DesignOverrides {
+    pub formulation: Option<Formulation>,
+    /// Extra seeded feasible starts.
+    pub starts: Option<usize>,
+    pub seed: Option<u64>,
+    pub refine: Option<Refine>,
+}
+
+impl DesignOverrides {
+    pub fn apply(&self, valid: &mut ValidDesign) {
+        if let Some(f) = self.formulation {
+            valid.formulation = f;
+        }
+        if let Some(s) = self.starts {
+            valid.multistart.starts = s;
+        }
+        if let Some(s) = self.seed {
+            valid.multistart.seed = s;
+        }
+        if let Some(r) = self.refine {
+            valid.settings.refine = r;
+        }
+    }
+}
+
+/// `result.json` of kind `design`: the solver's result from the case's start, with the
+/// multi-start summary when the case asks for extra starts.
+#[derive(Clone, Debug, Serialize)]
+pub struct DesignCaseResult {
+    pub kind: &'static str,
+    pub title: String,
+    #[serde(flatten)]
+    pub result: DesignResult,
+    pub multistart: Option<MultiStartSummary>,
+}
+
+/// Eq. (33) from the case's start, then from `valid.multistart.starts` seeded feasible starts.
+pub fn run_design_case(
+    case: &DesignCase,
+    valid: &ValidDesign,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<DesignCaseResult, RunError> {
+    let main = solve(valid, &valid.start)?;
+    let (starts, seed) = (valid.multistart.starts, valid.multistart.seed);
+    let mut multistart = None;
+    if starts > 0 {
+        let mut results = vec![main.clone()];
+        for (k, d) in feasible_starts(&valid.problem, starts, seed).iter().enumerate() {
+            progress(Progress::Step { stage: "multi-start", done: k, total: starts });
+            results.push(solve(valid, d)?);
+        }
+        progress(Progress::Step { stage: "multi-start", done: starts, total: starts });
+        multistart = Some(cluster(&results, seed));
+    }
+    let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
+    Ok(DesignCaseResult { kind: "design", title, result: main, multistart })
+}
+
+impl DesignCaseResult {
+    /// The run from the case's start ended clean (see [`DesignResult::is_clean`]).
+    pub fn is_clean(&self) -> bool {
+        self.result.is_clean()
+    }
+}
+
+impl std::fmt::Display for DesignCaseResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(summary) = &self.multistart {
+            writeln!(
+                f,
+                "multi-start: {} runs (the case's start and {} seeded starts, seed {}), {} converged, {} distinct optima",
+                summary.starts,
+                summary.starts - 1,
+                summary.seed,
+                summary.converged,
+                summary.optima.len()
+            )?;
+            for (k, o) in summary.optima.iter().enumerate() {
+                writeln!(
+                    f,
+                    "  optimum {k}: J = {:.10e} J, reached by {} run(s){}",
+                    o.objective,
+                    o.count,
+                    if o.clean { "" } else { " (not clean: see warnings of its runs)" }
+                )?;
+            }
+        }
+        let r = &self.result;
+        writeln!(
+            f,
+            "{} — {} links, {} space, C_K = {}",
+            self.title,
+            r.design.theta0.len(),
+            r.formulation.name(),
+            r.stiffness_scale
+        )?;
+        writeln!(
+            f,
+            "Ipopt: {} after {} iterations ({:.3} s, {:.3} s in evaluations)",
+            r.solver.status, r.solver.iterations, r.solver.ipopt_seconds, r.solver.evaluation_seconds
+        )?;
+        if let Some(refinement) = &r.refinement {
+            for l in &refinement.levels {
+                writeln!(
+                    f,
+                    "  level {:>5} links ({:?} start): {} after {} iterations, J = {:.10e} J",
+                    l.links, l.start, l.status, l.iterations, l.objective
+                )?;
+            }
+        }
+        writeln!(f, "J = U(θ1) = {:.10e} J", r.objective)?;
+        if let Some(v) = &r.violations {
+            writeln!(
+                f,
+                "largest constraint violation {:.2e} (equilibria {:.1e} / {:.1e} N·m, end {:.1e} m)",
+                v.max, v.passive_equilibrium, v.loaded_equilibrium, v.end_displacement
+            )?;
+        }
+        match r.end_displacement {
+            Some(d) => writeln!(f, "end displacement X(θ2) − L_x = {d:.9e} m (target δ_d = {:.9e} m)", r.delta_d)?,
+            None => writeln!(f, "end displacement: none")?,
+        }
+        for (name, s) in [("θ1 passive", &r.passive), ("θ2 loaded", &r.loaded)] {
+            if let Some(s) = s {
+                let eig = s.stability.min_eigenvalue.map_or("none".into(), |e| format!("{e:.4e}"));
+                writeln!(
+                    f,
+                    "{name:<11} {} (smallest reduced-Hessian eigenvalue {eig} N·m/rad)",
+                    if s.stability.stable { "stable" } else { "UNSTABLE" }
+                )?;
+            }
+        }
+        writeln!(f, "θ0 (rad) = {:?}", r.design.theta0.iter().map(|t| (t * 1e6).round() / 1e6).collect::<Vec<_>>())?;
+        writeln!(
+            f,
+            "K (N·m/rad) = {:?}",
+            r.design.stiffness.iter().map(|k| (k * 1e3).round() / 1e3).collect::<Vec<_>>()
+        )?;
+        for note in &r.start_notes {
+            writeln!(f, "start: {note}")?;
+        }
+        for w in &r.warnings {
+            writeln!(f, "WARNING: {w}")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,446 @@
+//! Kinds `simulate`, `damping` and `periodic`: the dynamics of Sec. 5.2 on a given design or on
+//! the eq. (33) design of the case.
+
+use super::design::{run_design, StaticDesign};
+use super::{FileContent, OutputFile, Progress, RunError};
+use crate::figures::samples_csv;
+use serde::{Serialize, Serializer};
+use spine_case::{DesignSource, DynamicsTask, ValidDynamics};
+use spine_dynamics::{
+    design_damping, design_periodic, periodic_response, step_response, DampingDesign, DynamicProblem, Forcing,
+    PeriodicDesign, PeriodicResponse, SearchMethod, StepResponse,
+};
+use spine_model::Design;
+
+/// The design a dynamic run used: given, or from eq. (33) first.
+#[derive(Clone, Debug, Serialize)]
+pub struct UsedDesign {
+    pub design: Design,
+    /// Horizontal spans `a_i` of the chain, m (to draw its shapes).
+    pub spans: Vec<f64>,
+    pub static_design: Option<StaticDesign>,
+}
+
+/// What a dynamic run computed.
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "task", rename_all = "snake_case")]
+pub enum DynamicOutput {
+    Step {
+        response: StepResponse,
+    },
+    Periodic {
+        response: PeriodicResponse,
+    },
+    /// Eq. (35): one design per target, and each design's response to a periodic forcing when the
+    /// case gives one.
+    Damping {
+        designs: Vec<DampingDesign>,
+        periodic: Vec<PeriodicResponse>,
+    },
+    PeriodicDesign {
+        design: PeriodicDesign,
+    },
+}
+
+/// The design of a dynamic case: given, or found by eq. (33) first, which must end clean.
+pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
+    match &valid.design {
+        DesignSource::Given(d) => {
+            Ok(UsedDesign { design: d.clone(), spans: valid.chain.spans.clone(), static_design: None })
+        }
+        DesignSource::Optimise(v) => {
+            let s = run_design(v)?;
+            if !s.result.is_clean() {
+                return Err(RunError::StaticDesignNotClean {
+                    status: s.result.solver.status.clone(),
+                    warnings: s.result.warnings.clone(),
+                });
+            }
+            Ok(UsedDesign { design: s.result.design.clone(), spans: valid.chain.spans.clone(), static_design: Some(s) })
+        }
+    }
+}
+
+/// The dynamic problem of a case with a resolved design and the given dampers.
+pub fn dynamic_problem(valid: &ValidDynamics, design: &Design, damping: &[f64]) -> DynamicProblem {
+    DynamicProblem {
+        chain: valid.chain.clone(),
+        design: design.clone(),
+        damping: damping.to_vec(),
+        passive: valid.passive.clone(),
+        actuation: valid.actuation.clone(),
+    }
+}
+
+/// Changes to a dynamic case from the command line.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DynamicsOverrides {
+    /// The search of eq. (37) (kind `periodic`).
+    pub method: Option<SearchMethod>,
+}
+
+impl DynamicsOverrides {
+    pub fn apply(&self, valid: &mut ValidDynamics) {
+        if let (Some(m), DynamicsTask::Periodic { method, .. }) = (self.method, &mut valid.task) {
+            *method = m;
+        }
+    }
+}
+
+/// Runs a dynamic case: its design, then its task.
+pub fn run_dynamics(
+    valid: &ValidDynamics,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<(UsedDesign, DynamicOutput), RunError> {
+    let used = resolve_design(valid)?;
+    let problem = dynamic_problem(valid, &used.design, &valid.damping);
+    let periodic = |damping: &[f64]| {
+        periodic_response(&dynamic_problem(valid, &used.design, damping), valid.forcing.clone(), None, &valid.periodic)
+    };
+    let output = match &valid.task {
+        DynamicsTask::Simulate if valid.forcing.period().is_none() => {
+            DynamicOutput::Step { response: step_response(&problem, &valid.step, false).map_err(RunError::Dynamics)? }
+        }
+        DynamicsTask::Simulate => {
+            DynamicOutput::Periodic { response: periodic(&valid.damping).map_err(RunError::Dynamics)? }
+        }
+        DynamicsTask::Damping { targets, settings } => {
+            let mut designs = Vec::new();
+            let mut responses = Vec::new();
+            for (k, &target) in targets.iter().enumerate() {
+                progress(Progress::Step { stage: "eq. (35)", done: k, total: targets.len() });
+                let d = design_damping(&problem, target, settings).map_err(RunError::Dynamics)?;
+                if valid.forcing.period().is_some() {
+                    responses.push(periodic(&d.damping).map_err(RunError::Dynamics)?);
+                }
+                designs.push(d);
+            }
+            progress(Progress::Step { stage: "eq. (35)", done: targets.len(), total: targets.len() });
+            DynamicOutput::Damping { designs, periodic: responses }
+        }
+        DynamicsTask::Periodic { delta_d, method, settings } => {
+            let (stage, total) = match method {
+                SearchMethod::Ga => ("eq. (37) Ga", settings.ga.generations),
+                SearchMethod::Pattern => ("eq. (37) Pattern", settings.pattern.max_evaluations),
+            };
+            let design = design_periodic(&problem, valid.forcing.clone(), *delta_d, *method, settings, &mut |p| {
+                let done = match method {
+                    SearchMethod::Ga => p.iteration,
+                    SearchMethod::Pattern => p.evaluations,
+                };
+                progress(Progress::Step { stage, done, total })
+            })
+            .map_err(RunError::Dynamics)?;
+            DynamicOutput::PeriodicDesign { design }
+        }
+    };
+    Ok((used, output))
+}
+
+/// Where the design of a dynamic case came from: `"given"`, or a summary of its eq. (33) run.
+#[derive(Clone, Debug)]
+pub enum DesignOrigin {
+    Given,
+    Eq33(Eq33Summary),
+}
+
+/// The eq. (33) run a dynamic case's design came from.
+#[derive(Clone, Debug, Serialize)]
+pub struct Eq33Summary {
+    pub source: &'static str,
+    pub status: String,
+    pub iterations: usize,
+    /// `J`, J.
+    pub objective: f64,
+    /// `X(θ2) − L_x` and its target, m.
+    pub end_displacement: Option<f64>,
+    pub delta_d: f64,
+}
+
+impl Serialize for DesignOrigin {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Self::Given => s.serialize_str("given"),
+            Self::Eq33(summary) => summary.serialize(s),
+        }
+    }
+}
+
+/// The design of a dynamic result.
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicsDesign {
+    /// `θ0`, rad.
+    pub theta0: Vec<f64>,
+    /// `K`, N·m/rad.
+    pub stiffness: Vec<f64>,
+    pub source: DesignOrigin,
+}
+
+/// One eq. (35) design, with its response to the case's periodic forcing (if any).
+#[derive(Clone, Debug, Serialize)]
+pub struct DampingRun {
+    #[serde(flatten)]
+    pub design: DampingDesign,
+    pub periodic_response: Option<PeriodicResponse>,
+}
+
+/// `result.json` of kinds `simulate`, `damping` and `periodic`: one of the four task fields is set.
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicsResult {
+    pub kind: &'static str,
+    pub title: String,
+    pub design: DynamicsDesign,
+    /// Dampers `C_i` of the case, N·m·s/rad.
+    pub damping: Vec<f64>,
+    pub forcing: Forcing,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_response: Option<StepResponse>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periodic_response: Option<PeriodicResponse>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damping_designs: Option<Vec<DampingRun>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periodic_design: Option<PeriodicDesign>,
+    /// `T_90` is reported as `T_{100·rise_fraction}`.
+    #[serde(skip)]
+    pub rise_fraction: f64,
+    #[serde(skip)]
+    pub n_links: usize,
+}
+
+/// Runs a dynamic case of kind `kind` with title `title`.
+pub fn run_dynamics_case(
+    kind: &'static str,
+    title: &str,
+    valid: &ValidDynamics,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<DynamicsResult, RunError> {
+    let (used, output) = run_dynamics(valid, progress)?;
+    let source = match &used.static_design {
+        None => DesignOrigin::Given,
+        Some(s) => DesignOrigin::Eq33(Eq33Summary {
+            source: "eq. (33)",
+            status: s.result.solver.status.clone(),
+            iterations: s.result.solver.iterations,
+            objective: s.result.objective,
+            end_displacement: s.result.end_displacement,
+            delta_d: s.result.delta_d,
+        }),
+    };
+    let mut result = DynamicsResult {
+        kind,
+        title: if title.is_empty() { kind.to_string() } else { title.to_string() },
+        design: DynamicsDesign { theta0: used.design.theta0.clone(), stiffness: used.design.stiffness.clone(), source },
+        damping: valid.damping.clone(),
+        forcing: valid.forcing.clone(),
+        step_response: None,
+        periodic_response: None,
+        damping_designs: None,
+        periodic_design: None,
+        rise_fraction: valid.step.rise_fraction,
+        n_links: valid.chain.n_links(),
+    };
+    match output {
+        DynamicOutput::Step { response } => result.step_response = Some(response),
+        DynamicOutput::Periodic { response } => result.periodic_response = Some(response),
+        DynamicOutput::Damping { designs, periodic } => {
+            let mut periodic = periodic.into_iter();
+            result.damping_designs = Some(
+                designs.into_iter().map(|design| DampingRun { design, periodic_response: periodic.next() }).collect(),
+            );
+        }
+        DynamicOutput::PeriodicDesign { design } => result.periodic_design = Some(design),
+    }
+    Ok(result)
+}
+
+impl DynamicsResult {
+    /// Step: settled in θ2 with a rise time; periodic: settled; eq. (35): every design converged
+    /// within [`spine_dynamics::RISE_TIME_ACCEPTANCE`] of its target (and its periodic response
+    /// settled); eq. (37): feasible and settled.
+    pub fn is_clean(&self) -> bool {
+        if let Some(r) = &self.step_response {
+            return r.settled && r.rise_time.is_some();
+        }
+        if let Some(r) = &self.periodic_response {
+            return r.settled;
+        }
+        if let Some(designs) = &self.damping_designs {
+            return designs
+                .iter()
+                .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.settled));
+        }
+        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.response.settled)
+    }
+
+    /// `response.csv` (step, periodic, eq. (37)), or `response_T{T_d}.csv` and
+    /// `periodic_T{T_d}.csv` for each eq. (35) target.
+    pub fn files(&self) -> Vec<OutputFile> {
+        let csv = |name: String, samples| OutputFile { name, content: FileContent::Text(samples_csv(samples)) };
+        let mut files = Vec::new();
+        if let Some(r) = &self.step_response {
+            files.push(csv("response.csv".into(), &r.samples));
+        }
+        if let Some(r) = &self.periodic_response {
+            files.push(csv("response.csv".into(), &r.samples));
+        }
+        for d in self.damping_designs.iter().flatten() {
+            let target = d.design.target_rise_time;
+            files.push(csv(format!("response_T{target}.csv"), &d.design.response.samples));
+            if let Some(p) = &d.periodic_response {
+                files.push(csv(format!("periodic_T{target}.csv"), &p.samples));
+            }
+        }
+        if let Some(r) = &self.periodic_design {
+            files.push(csv("response.csv".into(), &r.response.samples));
+        }
+        files
+    }
+}
+
+fn write_periodic(f: &mut std::fmt::Formatter<'_>, r: &PeriodicResponse) -> std::fmt::Result {
+    let opt = |v: Option<f64>| v.map_or("not reached".to_string(), |t| format!("{t:.4} s"));
+    writeln!(
+        f,
+        "periodic response: {} after {} periods (last two differ by {:.1e} of the swing), period {:.4} s",
+        if r.settled { "settled" } else { "NOT settled" },
+        r.periods_run,
+        r.period_change,
+        r.period
+    )?;
+    writeln!(
+        f,
+        "last period: min X − L_x = {:.6e} m ({:.4} s after onset), max {:.6e} m; reach (90 %) {} (paper: about 0.5 s), return (90 %) {} (paper: about 0.25 s)",
+        r.min_end_displacement,
+        r.time_of_minimum,
+        r.max_end_displacement,
+        opt(r.reach_time),
+        opt(r.return_time)
+    )?;
+    writeln!(
+        f,
+        "constraint drift: |Φ| ≤ {:.1e} m at steps, {:.1e} m on the dense output",
+        r.drift.max_constraint, r.drift.max_constraint_dense
+    )
+}
+
+fn write_step(f: &mut std::fmt::Formatter<'_>, r: &StepResponse, rise_fraction: f64) -> std::fmt::Result {
+    writeln!(
+        f,
+        "static ends: θ1 {} (X − L_x = {:.6e} m), θ2 {} (X − L_x = {:.6e} m)",
+        r.ends.passive_status, r.ends.passive_displacement, r.ends.loaded_status, r.ends.loaded_displacement
+    )?;
+    writeln!(
+        f,
+        "integration: {:?}, {} steps ({} rejected), {} f-evaluations, {} Jacobians, {:.3} s",
+        r.outcome,
+        r.stats.accepted_steps,
+        r.stats.rejected_steps,
+        r.stats.rhs_evaluations,
+        r.stats.jacobian_evaluations,
+        r.time_seconds
+    )?;
+    writeln!(
+        f,
+        "Δ∞ = {:.6e} m; T_{:.0} = {} ; τ = ln(10)/T_90 = {}",
+        r.delta_inf,
+        100.0 * rise_fraction,
+        r.rise_time.map_or("not reached".into(), |t| format!("{t:.6} s")),
+        r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.4} 1/s"))
+    )?;
+    writeln!(
+        f,
+        "first-order fit Δ∞(1 − e^(−τt)): τ = {:.4} 1/s, RMS error {:.2} % of Δ∞ (max {:.2} %)",
+        r.fit.tau,
+        100.0 * r.fit.rms_error,
+        100.0 * r.fit.max_error
+    )?;
+    writeln!(
+        f,
+        "settled in θ2: {} (|Δ(t_end) − Δ∞| = {:.2e} of Δ∞, max |θ − θ2| = {:.2e} rad)",
+        if r.settled { "yes" } else { "NO" },
+        r.settle_error,
+        r.final_state_gap
+    )?;
+    writeln!(
+        f,
+        "constraint drift: |Φ| ≤ {:.1e} m, |Φ̇| ≤ {:.1e} m/s at steps; {:.1e} m, {:.1e} m/s on the dense output; largest projection {:.1e}",
+        r.drift.max_constraint,
+        r.drift.max_constraint_rate,
+        r.drift.max_constraint_dense,
+        r.drift.max_constraint_rate_dense,
+        r.drift.max_projection
+    )
+}
+
+impl std::fmt::Display for DynamicsResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let DesignOrigin::Eq33(s) = &self.design.source {
+            writeln!(
+                f,
+                "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {:?} m, clean",
+                s.status, s.iterations, s.objective, s.end_displacement
+            )?;
+        }
+        writeln!(f, "{} — {} links", self.title, self.n_links)?;
+        if let Some(r) = &self.step_response {
+            write_step(f, r, self.rise_fraction)?;
+        }
+        if let Some(r) = &self.periodic_response {
+            write_periodic(f, r)?;
+        }
+        if let Some(designs) = &self.damping_designs {
+            writeln!(
+                f,
+                "{:>8} {:>10} {:>12} {:>10} {:>5}  dampers C (N·m·s/rad)",
+                "T_d (s)", "status", "T_90 (s)", "error", "iter"
+            )?;
+            for d in designs {
+                if let Some(p) = &d.periodic_response {
+                    write_periodic(f, p)?;
+                }
+                let r = &d.design;
+                writeln!(
+                    f,
+                    "{:>8} {:>10} {:>12} {:>9.2e} {:>5}  {:?}",
+                    r.target_rise_time,
+                    if r.converged { "converged" } else { "FAILED" },
+                    r.rise_time.map_or("—".into(), |t| format!("{t:.6}")),
+                    r.rise_time_error.unwrap_or(f64::INFINITY),
+                    r.iterations,
+                    r.damping.iter().map(|c| (c * 1e3).round() / 1e3).collect::<Vec<_>>()
+                )?;
+            }
+        }
+        if let Some(r) = &self.periodic_design {
+            writeln!(
+                f,
+                "eq. (37) by {:?}: {:?} after {} iterations, {} evaluations; {}",
+                r.method,
+                r.search.status,
+                r.search.iterations,
+                r.search.evaluations,
+                if r.feasible { "feasible" } else { "NOT feasible" }
+            )?;
+            writeln!(
+                f,
+                "U(θ1) = {:.6e} J (start {:.6e} J, violation {:.2e})",
+                r.objective, r.start.objective, r.start.violation
+            )?;
+            writeln!(
+                f,
+                "min_t (X − L_x) = {:.6e} m against δ_d = {:.6e} m ({:.2} % off)",
+                r.min_end_displacement,
+                r.delta_d,
+                100.0 * r.relative_error
+            )?;
+            writeln!(
+                f,
+                "K (N·m/rad) = {:?}",
+                r.stiffness.iter().map(|k| (k * 10.0).round() / 10.0).collect::<Vec<_>>()
+            )?;
+            write_periodic(f, &r.response)?;
+        }
+        Ok(())
+    }
+}

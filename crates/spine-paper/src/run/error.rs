@@ -1,0 +1,59 @@
+//! Why a run could not give a result, with its cause.
+
+use spine_case::CaseError;
+use spine_design::DesignError;
+use spine_dynamics::DynamicsError;
+
+/// Why a run could not give a result. [`RunError::is_input`] says whether the case asked for
+/// something impossible (exit code 2) or a step it depends on failed (exit code 1).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The case file breaks a rule (the error names the field).
+    #[error(transparent)]
+    Case(#[from] CaseError),
+    /// The C_K study runs on a design case.
+    #[error("kind: the C_K study runs a \"design\" case, the file is \"{kind}\"")]
+    StudyNeedsDesign { kind: &'static str },
+    /// Eq. (33) could not start (its setup rejected the case).
+    #[error("solver: {0}")]
+    Design(#[source] DesignError),
+    /// A dynamic task could not start (an unstable static end).
+    #[error("design: {0}")]
+    Dynamics(#[source] DynamicsError),
+    /// The eq. (33) design a dynamic case depends on did not end clean.
+    #[error(
+        "the static design of eq. (33) did not end clean ({status}; warnings: {warnings:?}); no dynamics run on it"
+    )]
+    StaticDesignNotClean { status: String, warnings: Vec<String> },
+    /// A kind of case a figure cannot hold.
+    #[error("{0}")]
+    NotInFigure(&'static str),
+    /// The figure's recipe rejected its runs.
+    #[error("{figure}: {message}")]
+    Recipe { figure: String, message: String },
+    /// A run of a figure failed.
+    #[error("runs[{index}] ({name}): {source}")]
+    InRun {
+        index: usize,
+        name: String,
+        #[source]
+        source: Box<RunError>,
+    },
+}
+
+impl RunError {
+    /// The case asks for something impossible (bad input, exit code 2), as opposed to a step that
+    /// did not succeed (exit code 1).
+    pub fn is_input(&self) -> bool {
+        match self {
+            Self::Case(_)
+            | Self::StudyNeedsDesign { .. }
+            | Self::Design(_)
+            | Self::Dynamics(_)
+            | Self::NotInFigure(_)
+            | Self::Recipe { .. } => true,
+            Self::StaticDesignNotClean { .. } => false,
+            Self::InRun { source, .. } => source.is_input(),
+        }
+    }
+}

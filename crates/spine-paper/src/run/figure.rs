@@ -1,0 +1,124 @@
+//! Kind `figure`: every run of a figure case, then its recipe's panels, tables and checked claims.
+
+use super::{run, FileContent, OutputFile, Progress, RunError, RunOutput};
+use crate::{recipe, Check, Claim, NamedRun};
+use serde::Serialize;
+use serde_json::{Map, Value};
+use spine_case::{FigureCase, Notes, ValidRun};
+
+/// One run of a figure with its result.
+#[derive(Clone, Debug, Serialize)]
+pub struct FigureRunResult {
+    pub name: String,
+    pub label: String,
+    pub kind: &'static str,
+    pub result: RunOutput,
+    pub wall_seconds: f64,
+}
+
+/// `result.json` of kind `figure`.
+#[derive(Clone, Debug, Serialize)]
+pub struct FigureResult {
+    pub kind: &'static str,
+    pub figure: String,
+    pub title: String,
+    pub notes: Notes,
+    pub claims: Vec<Claim>,
+    pub claims_passed: usize,
+    pub claims_total: usize,
+    /// Numbers the report and the cross-figure checks read back.
+    pub summary: Map<String, Value>,
+    /// The files written beside `result.json`.
+    pub files: Vec<String>,
+    pub runs: Vec<FigureRunResult>,
+    pub total_seconds: f64,
+    #[serde(skip)]
+    pub figures: Vec<(String, spine_plot::Figure)>,
+    #[serde(skip)]
+    pub tables: Vec<(String, String)>,
+}
+
+/// Runs every run of `case` (checked as `runs`), then its recipe.
+pub fn run_figure(
+    case: &FigureCase,
+    runs: &[ValidRun],
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<FigureResult, RunError> {
+    let title = if case.title.is_empty() { case.figure.clone() } else { case.title.clone() };
+    let clock = std::time::Instant::now();
+    progress(Progress::Done { message: format!("{title} ({} runs)", runs.len()) });
+    let mut results = Vec::new();
+    for (index, r) in runs.iter().enumerate() {
+        let stage = format!("run {} ({})", r.name, r.case.kind());
+        let started = std::time::Instant::now();
+        let output = run(&r.valid, &mut |p| match p {
+            Progress::Step { done, total, .. } => progress(Progress::Step { stage: &stage, done, total }),
+            Progress::Done { .. } => progress(p),
+        })
+        .map_err(|e| RunError::InRun { index, name: r.name.clone(), source: Box::new(e) })?;
+        let wall_seconds = started.elapsed().as_secs_f64();
+        progress(Progress::Done { message: format!("  {stage} done in {wall_seconds:.2} s") });
+        results.push(FigureRunResult {
+            name: r.name.clone(),
+            label: r.label.clone(),
+            kind: r.case.kind(),
+            result: output,
+            wall_seconds,
+        });
+    }
+    let named: Vec<NamedRun<'_>> =
+        results.iter().map(|r| NamedRun { name: &r.name, label: &r.label, output: &r.result }).collect();
+    let made = recipe(&case.figure, &title, &named)
+        .map_err(|message| RunError::Recipe { figure: case.figure.clone(), message })?;
+    let mut files: Vec<String> = made.tables.iter().map(|(name, _)| name.clone()).collect();
+    for (stem, _) in &made.figures {
+        files.push(format!("{stem}.svg"));
+        files.push(format!("{stem}.png"));
+    }
+    Ok(FigureResult {
+        kind: "figure",
+        figure: case.figure.clone(),
+        title,
+        notes: case.notes.clone(),
+        claims_passed: made.claims.iter().filter(|c| c.pass).count(),
+        claims_total: made.claims.len(),
+        claims: made.claims,
+        summary: made.summary,
+        files,
+        runs: results,
+        total_seconds: clock.elapsed().as_secs_f64(),
+        figures: made.figures,
+        tables: made.tables,
+    })
+}
+
+impl FigureResult {
+    /// Every solver check passed (a failed solver check means the figure is not a valid
+    /// reproduction; a failed claim of the paper is a finding, not a failure).
+    pub fn is_clean(&self) -> bool {
+        self.claims.iter().all(|c| c.pass || c.check != Check::Solver)
+    }
+
+    /// The recipe's CSV tables, then its figures.
+    pub fn files(&self) -> Vec<OutputFile> {
+        let tables = self.tables.iter().map(|(name, text)| OutputFile::text(name.clone(), text.clone()));
+        let figures = self
+            .figures
+            .iter()
+            .map(|(stem, fig)| OutputFile { name: stem.clone(), content: FileContent::Figure(fig.clone()) });
+        tables.chain(figures).collect()
+    }
+}
+
+impl std::fmt::Display for FigureResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "claims ({} of {} PASS):", self.claims_passed, self.claims_total)?;
+        for c in &self.claims {
+            writeln!(f, "  {c}")?;
+        }
+        if !self.is_clean() {
+            writeln!(f, "a solver check FAILED: this figure is not a valid reproduction (see the claims above)")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,124 @@
+//! One run path: a checked case → its solver → a typed result. [`run_case`] runs any case file's
+//! kind and returns a [`CaseResult`] (what `result.json` holds, the files beside it, whether it is
+//! clean, and its summary for a user); [`run`] runs a case inside a figure and keeps its result as a
+//! [`RunOutput`] value that a recipe draws and checks. Nothing here prints or writes files.
+
+mod design;
+mod dynamics;
+mod equilibrium;
+mod error;
+mod figure;
+mod progress;
+mod result;
+mod twolink;
+
+pub use design::{run_design, run_design_case, DesignCaseResult, DesignOverrides, StaticDesign};
+pub use dynamics::{
+    dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicOutput,
+    DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,
+};
+pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
+pub use error::RunError;
+pub use figure::{run_figure, FigureResult, FigureRunResult};
+pub use progress::{quiet, Progress};
+pub use result::{with_timings, CaseResult, FileContent, OutputFile};
+pub use twolink::{run_twolink_case, TwoLinkResult};
+
+use serde::Serialize;
+use spine_case::{Case, ValidCase, ValidTwoLink};
+
+/// What one run of a figure computed.
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+// One value per run: boxing the two-link study as well would buy nothing.
+#[allow(clippy::large_enum_variant)]
+pub enum RunOutput {
+    Twolink { study: spine_solve::twolink::Study, stiffness: f64 },
+    Design(Box<StaticDesign>),
+    Dynamics { used: Box<UsedDesign>, output: DynamicOutput },
+}
+
+/// The two-link study of Sec. 3.
+pub fn run_twolink(valid: &ValidTwoLink) -> RunOutput {
+    RunOutput::Twolink {
+        study: spine_solve::twolink::study(&valid.twolink, valid.stiffness, &valid.deltas, &valid.options),
+        stiffness: valid.stiffness,
+    }
+}
+
+/// Runs a checked case inside a figure.
+pub fn run(valid: &ValidCase, progress: &mut dyn FnMut(Progress<'_>)) -> Result<RunOutput, RunError> {
+    match valid {
+        ValidCase::Twolink(v) => Ok(run_twolink(v)),
+        ValidCase::Design(v) => Ok(RunOutput::Design(Box::new(run_design(v)?))),
+        ValidCase::Dynamics(v) => {
+            let (used, output) = run_dynamics(v, progress)?;
+            Ok(RunOutput::Dynamics { used: Box::new(used), output })
+        }
+        ValidCase::Equilibrium(_) => {
+            Err(RunError::NotInFigure("an equilibrium case has no figure recipe; use `spine equilibrium`"))
+        }
+        ValidCase::Figure(_) => Err(RunError::NotInFigure("a figure cannot run inside a figure")),
+    }
+}
+
+/// Changes to a case from the command line (each `None` keeps the case file's value).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Overrides {
+    pub design: DesignOverrides,
+    pub dynamics: DynamicsOverrides,
+}
+
+/// Checks `case`, applies `overrides` and runs it to its typed result: the one run path of every
+/// kind.
+///
+/// ```
+/// let text = r#"{
+///   "kind": "equilibrium",
+///   "chain": { "links": 2, "length_x": 1.0 },
+///   "design": { "theta0": [0.2, -0.2], "stiffness": [0, 100, 0] },
+///   "loads": { "p_y": [0, -10, 0], "p_x": -50 }
+/// }"#;
+/// let case = spine_case::Case::from_json(text).unwrap();
+/// let result = spine_paper::run_case(&case, &Default::default(), &mut spine_paper::run::quiet).unwrap();
+/// assert!(result.is_clean()); // both equilibria found and certified stable
+/// let json = result.to_json();
+/// assert_eq!(json["loaded"]["stability"]["stable"], true);
+/// assert!(json["timings"]["passive_seconds"].is_number()); // wall times live under `timings`
+/// ```
+pub fn run_case(
+    case: &Case,
+    overrides: &Overrides,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<CaseResult, RunError> {
+    Ok(match case {
+        Case::Equilibrium(c) => CaseResult::Equilibrium(run_equilibrium(c, &c.validate()?)),
+        Case::Twolink(c) => CaseResult::Twolink(run_twolink_case(c, &c.validate()?)),
+        Case::Design(c) => {
+            let mut valid = c.validate()?;
+            overrides.design.apply(&mut valid);
+            CaseResult::Design(run_design_case(c, &valid, progress)?)
+        }
+        Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
+            let mut valid = c.validate(case.kind())?;
+            overrides.dynamics.apply(&mut valid);
+            CaseResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, progress)?)
+        }
+        Case::Figure(c) => CaseResult::Figure(run_figure(c, &c.validate()?, progress)?),
+    })
+}
+
+/// The C_K study of eq. (34) on a design case (overrides applied), over `values`.
+pub fn run_study(
+    case: &Case,
+    overrides: &Overrides,
+    values: &[f64],
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<CaseResult, RunError> {
+    let Case::Design(c) = case else {
+        return Err(RunError::StudyNeedsDesign { kind: case.kind() });
+    };
+    let mut valid = c.validate()?;
+    overrides.design.apply(&mut valid);
+    Ok(CaseResult::Study(crate::study::run_ck_study(&c.title, &valid, values, progress)?))
+}

@@ -1,0 +1,148 @@
+//! The typed result of a case ([`CaseResult`]): what `result.json` holds, the files written beside
+//! it, and whether it is clean (exit code 0) or not (exit code 3).
+
+use super::{DesignCaseResult, DynamicsResult, EquilibriumResult, FigureResult, TwoLinkResult};
+use crate::study::StudyResult;
+use serde::Serialize;
+use serde_json::{Map, Value};
+
+/// A file written beside `result.json`.
+pub enum FileContent {
+    /// A CSV table or other text.
+    Text(String),
+    /// A figure, written as `NAME.svg` and `NAME.png`.
+    Figure(spine_plot::Figure),
+}
+
+/// A file written beside `result.json`: its name (a figure's stem) and content.
+pub struct OutputFile {
+    pub name: String,
+    pub content: FileContent,
+}
+
+impl OutputFile {
+    pub fn text(name: impl Into<String>, text: String) -> Self {
+        Self { name: name.into(), content: FileContent::Text(text) }
+    }
+}
+
+/// What any case computed, by kind.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+// One value per run: boxing the large variants would buy nothing.
+#[allow(clippy::large_enum_variant)]
+pub enum CaseResult {
+    Equilibrium(EquilibriumResult),
+    Twolink(TwoLinkResult),
+    Design(DesignCaseResult),
+    /// Kinds `simulate`, `damping` and `periodic`.
+    Dynamics(DynamicsResult),
+    Figure(FigureResult),
+    Study(StudyResult),
+}
+
+impl CaseResult {
+    /// Clean: every solver converged, every equilibrium it reports is stable and every solver
+    /// check passed. Not clean is exit code 3 (the result is still written, with its status).
+    pub fn is_clean(&self) -> bool {
+        match self {
+            Self::Equilibrium(r) => r.is_clean(),
+            Self::Twolink(r) => r.is_clean(),
+            Self::Design(r) => r.is_clean(),
+            Self::Dynamics(r) => r.is_clean(),
+            Self::Figure(r) => r.is_clean(),
+            Self::Study(r) => r.is_clean(),
+        }
+    }
+
+    /// The files written beside `result.json` (CSV tables, figures), in writing order.
+    pub fn files(&self) -> Vec<OutputFile> {
+        match self {
+            Self::Equilibrium(_) | Self::Twolink(_) | Self::Design(_) => Vec::new(),
+            Self::Dynamics(r) => r.files(),
+            Self::Figure(r) => r.files(),
+            Self::Study(r) => r.files(),
+        }
+    }
+
+    /// `result.json` as a JSON value: the serialised result with every wall time (a `*_seconds`
+    /// field, at any depth) moved under the top-level `timings`, keyed by its path, so that
+    /// dropping `timings` leaves the same bytes for the same input.
+    pub fn to_json(&self) -> Value {
+        with_timings(self)
+    }
+}
+
+impl std::fmt::Display for CaseResult {
+    /// The summary a user reads: status, the numbers that show it, and warnings.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Equilibrium(r) => r.fmt(f),
+            Self::Twolink(r) => r.fmt(f),
+            Self::Design(r) => r.fmt(f),
+            Self::Dynamics(r) => r.fmt(f),
+            Self::Figure(r) => r.fmt(f),
+            Self::Study(r) => r.fmt(f),
+        }
+    }
+}
+
+/// `value` serialised, with its wall times under `timings` (see [`CaseResult::to_json`]).
+pub fn with_timings(value: &impl Serialize) -> Value {
+    let mut value = serde_json::to_value(value).expect("results serialise: their maps have string keys");
+    let mut timings = Map::new();
+    split_timings(&mut value, "", &mut timings);
+    if let Value::Object(map) = &mut value {
+        map.insert("timings".into(), Value::Object(timings));
+    }
+    value
+}
+
+/// Moves every `*_seconds` entry of `value` into `timings`, keyed by its path (`solver.ipopt_seconds`,
+/// `runs.0.wall_seconds`).
+fn split_timings(value: &mut Value, path: &str, timings: &mut Map<String, Value>) {
+    match value {
+        Value::Object(map) => {
+            let keys: Vec<String> = map.keys().filter(|k| k.ends_with("_seconds")).cloned().collect();
+            for k in keys {
+                if let Some(v) = map.remove(&k) {
+                    timings.insert(format!("{path}{k}"), v);
+                }
+            }
+            for (k, v) in map.iter_mut() {
+                split_timings(v, &format!("{path}{k}."), timings);
+            }
+        }
+        Value::Array(items) => {
+            for (i, v) in items.iter_mut().enumerate() {
+                split_timings(v, &format!("{path}{i}."), timings);
+            }
+        }
+        _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn wall_times_move_under_timings_by_path_and_nothing_else_moves() {
+        let v = with_timings(&json!({
+            "a": 1.0,
+            "total_seconds": 2.0,
+            "solver": { "ipopt_seconds": 3.0, "iterations": 4 },
+            "runs": [{ "wall_seconds": 5.0, "seconds_left": 6.0 }],
+        }));
+        assert_eq!(
+            v,
+            json!({
+                "a": 1.0,
+                "solver": { "iterations": 4 },
+                "runs": [{ "seconds_left": 6.0 }],
+                "timings": { "total_seconds": 2.0, "solver.ipopt_seconds": 3.0, "runs.0.wall_seconds": 5.0 },
+            })
+        );
+    }
+}

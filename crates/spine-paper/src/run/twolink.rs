@@ -1,0 +1,93 @@
+//! Kind `twolink`: the two-link analysis of Sec. 3, closed forms beside the exact solution.
+
+use serde::Serialize;
+use spine_case::{TwoLinkCase, ValidTwoLink};
+use spine_solve::twolink::{study, Study};
+
+/// `result.json` of kind `twolink`.
+#[derive(Clone, Debug, Serialize)]
+pub struct TwoLinkResult {
+    pub kind: &'static str,
+    pub title: String,
+    /// Link length `L`, m.
+    pub length: f64,
+    /// `K`, N·m/rad.
+    pub stiffness: f64,
+    /// Transverse load `P_Y` at the middle node and axial load `P_X` at the end, N.
+    pub p_y: f64,
+    pub p_x: f64,
+    pub study: Study,
+    pub total_seconds: f64,
+}
+
+/// The study of Sec. 3 on the case's δ values.
+pub fn run_twolink_case(case: &TwoLinkCase, valid: &ValidTwoLink) -> TwoLinkResult {
+    let clock = std::time::Instant::now();
+    let study = study(&valid.twolink, valid.stiffness, &valid.deltas, &valid.options);
+    let tl = &valid.twolink;
+    TwoLinkResult {
+        kind: "twolink",
+        title: case.title.clone(),
+        length: tl.length,
+        stiffness: valid.stiffness,
+        p_y: tl.p_y,
+        p_x: tl.p_x,
+        study,
+        total_seconds: clock.elapsed().as_secs_f64(),
+    }
+}
+
+impl TwoLinkResult {
+    /// The exact θ0 found for every δ.
+    pub fn is_clean(&self) -> bool {
+        self.study.rows.iter().all(|r| r.theta0_exact.is_some())
+    }
+}
+
+fn fmt_opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("—".into(), |x| format!("{x:.digits$e}"))
+}
+
+impl std::fmt::Display for TwoLinkResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let study = &self.study;
+        writeln!(
+            f,
+            "two-link analysis (Sec. 3): L = {} m, K = {} N·m/rad, P_Y = {} N, P_X = {} N; zero-moment angle θ* = {:.9} rad",
+            self.length, self.stiffness, self.p_y, self.p_x, study.zero_moment_angle
+        )?;
+        writeln!(
+            f,
+            "θ0 for each δ: exact (general N = 2 solver) vs eq. (10) as printed, on the right branch, and made first-order consistent"
+        )?;
+        writeln!(
+            f,
+            "{:>11} {:>16} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}",
+            "δ (m)", "θ0 exact", "err (10) pr.", "err (10)", "err (10′)", "K(11)/K−1", "R (17) pr.", "R corrected"
+        )?;
+        for r in &study.rows {
+            let err = |v: f64| r.theta0_exact.map(|t| (v - t).abs());
+            writeln!(
+                f,
+                "{:>11.3e} {:>16} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}",
+                r.delta,
+                r.theta0_exact.map_or("not found".into(), |t| format!("{t:.12}")),
+                fmt_opt(err(r.theta0_eq10_printed), 3),
+                fmt_opt(err(r.theta0_eq10), 3),
+                fmt_opt(err(r.theta0_first_order), 3),
+                fmt_opt(r.stiffness_eq11.map(|k| k / self.stiffness - 1.0), 3),
+                fmt_opt(r.ratio_eq17_printed, 5),
+                fmt_opt(r.ratio, 5),
+            )?;
+        }
+        let o = &study.orders;
+        writeln!(
+            f,
+            "observed orders in δ: eq. (10) θ0 error {}, first-order-consistent θ0 error {}, eq. (11) relative K error {}",
+            fmt_opt(o.eq10, 3),
+            fmt_opt(o.first_order, 3),
+            fmt_opt(o.eq11_relative, 3)
+        )?;
+        writeln!(f, "see docs/errata.md E2–E5 for the slips these columns show")
+    }
+}
