@@ -1,7 +1,7 @@
 //! `"kind": "design"`: the static design problem of eq. (33).
 
 use crate::per_item::check_finite;
-use crate::schema::{check_options, non_negative, positive, ChainSpec, LoadSpec, Notes};
+use crate::specs::{check_options, non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::refine::Refine;

@@ -2,7 +2,7 @@
 //! response, the damping design of eq. (35), the periodic-load design of eq. (37).
 
 use crate::design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
-use crate::schema::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
+use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::{Formulation, SolverSettings};
@@ -229,7 +229,7 @@ impl DynamicsCase {
             return Err(CaseError::invalid("simulation.samples", format!("must be at least 2, got {}", s.samples)));
         }
         check_integrator("simulation.integrator", &s.integrator)?;
-        crate::schema::check_options(&s.continuation).map_err(|e| e.with_prefix("simulation.continuation"))?;
+        crate::specs::check_options(&s.continuation).map_err(|e| e.with_prefix("simulation.continuation"))?;
         let p = &self.periodic;
         if p.max_periods < 2 {
             return Err(CaseError::invalid(

@@ -16,21 +16,25 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod case;
 mod design_case;
 mod dynamics_case;
+mod equilibrium_case;
 mod error;
 mod figure_case;
+mod parse;
 mod per_item;
-mod schema;
+mod specs;
+mod twolink_case;
 
+pub use case::{Case, ValidCase, ValidRun, KINDS};
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
 pub use dynamics_case::{
     DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics,
 };
+pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
-pub use figure_case::{merge_patch, FigureCase, FigureRun, ValidRun, FIGURES};
+pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES};
 pub use per_item::PerItem;
-pub use schema::{
-    Assumption, Case, ChainSpec, DesignSpec, EquilibriumCase, GivenDesign, LoadSpec, Notes, TwoLinkCase, ValidCase,
-    ValidEquilibrium, ValidTwoLink,
-};
+pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};
+pub use twolink_case::{TwoLinkCase, ValidTwoLink};

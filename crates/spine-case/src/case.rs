@@ -1,0 +1,134 @@
+//! The dispatcher: a case file by its `kind`, parsed ([`Case`]) and checked ([`ValidCase`]).
+
+use crate::design_case::{DesignCase, ValidDesign};
+use crate::dynamics_case::{DynamicsCase, ValidDynamics};
+use crate::equilibrium_case::{EquilibriumCase, ValidEquilibrium};
+use crate::figure_case::FigureCase;
+use crate::parse::parse;
+use crate::twolink_case::{TwoLinkCase, ValidTwoLink};
+use crate::CaseError;
+
+/// A parsed case file, by kind.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Case {
+    /// `"kind": "equilibrium"`: the passive and loaded equilibria of a given design.
+    Equilibrium(EquilibriumCase),
+    /// `"kind": "twolink"`: the two-link analysis of Sec. 3.
+    Twolink(TwoLinkCase),
+    /// `"kind": "design"`: the static design problem, eq. (33).
+    Design(DesignCase),
+    /// `"kind": "simulate"`: a step or periodic response (Sec. 5.2).
+    Simulate(DynamicsCase),
+    /// `"kind": "damping"`: the damping design, eq. (35).
+    Damping(DynamicsCase),
+    /// `"kind": "periodic"`: the periodic-load design, eq. (37).
+    Periodic(DynamicsCase),
+    /// `"kind": "figure"`: a figure of the paper, several runs drawn and checked together.
+    Figure(FigureCase),
+}
+
+/// A checked case, ready for a solver.
+// One value per run: boxing the large variants would buy nothing.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
+pub enum ValidCase {
+    Equilibrium(ValidEquilibrium),
+    Twolink(ValidTwoLink),
+    Design(ValidDesign),
+    /// Kinds `simulate`, `damping`, `periodic` (the task says which).
+    Dynamics(ValidDynamics),
+    Figure(Vec<ValidRun>),
+}
+
+/// The kinds this program runs, for error messages.
+pub const KINDS: &[&str] = &["equilibrium", "twolink", "design", "simulate", "damping", "periodic", "figure"];
+
+impl Case {
+    /// Parses a case file. Errors name the field (`chain.links`, `design.theta0[2]`, …).
+    pub fn from_json(text: &str) -> Result<Self, CaseError> {
+        let value: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| CaseError::Parse { field: "case file".into(), message: format!("not valid JSON: {e}") })?;
+        let serde_json::Value::Object(mut map) = value else {
+            return Err(CaseError::Parse { field: "case file".into(), message: "must be a JSON object".into() });
+        };
+        let kind = match map.remove("kind") {
+            Some(serde_json::Value::String(k)) => k,
+            Some(_) => return Err(CaseError::invalid("kind", format!("must be a string, one of {KINDS:?}"))),
+            None => return Err(CaseError::invalid("kind", format!("missing; one of {KINDS:?}"))),
+        };
+        let rest = serde_json::Value::Object(map);
+        match kind.as_str() {
+            "equilibrium" => parse(rest).map(Case::Equilibrium),
+            "twolink" => parse(rest).map(Case::Twolink),
+            "design" => parse(rest).map(Case::Design),
+            "simulate" => parse(rest).map(Case::Simulate),
+            "damping" => parse(rest).map(Case::Damping),
+            "periodic" => parse(rest).map(Case::Periodic),
+            "figure" => parse(rest).map(Case::Figure),
+            other => Err(CaseError::invalid("kind", format!("unknown kind {other:?}; one of {KINDS:?}"))),
+        }
+    }
+
+    /// The case's kind as written in the file.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Equilibrium(_) => "equilibrium",
+            Self::Twolink(_) => "twolink",
+            Self::Design(_) => "design",
+            Self::Simulate(_) => "simulate",
+            Self::Damping(_) => "damping",
+            Self::Periodic(_) => "periodic",
+            Self::Figure(_) => "figure",
+        }
+    }
+
+    /// Checks every value; errors name the field.
+    pub fn validate(&self) -> Result<ValidCase, CaseError> {
+        Ok(match self {
+            Self::Equilibrium(c) => ValidCase::Equilibrium(c.validate()?),
+            Self::Twolink(c) => ValidCase::Twolink(c.validate()?),
+            Self::Design(c) => ValidCase::Design(c.validate()?),
+            Self::Simulate(c) | Self::Damping(c) | Self::Periodic(c) => ValidCase::Dynamics(c.validate(self.kind())?),
+            Self::Figure(c) => ValidCase::Figure(c.validate()?),
+        })
+    }
+
+    /// The case's title (empty when the file gives none).
+    pub fn title(&self) -> &str {
+        match self {
+            Self::Equilibrium(c) => &c.title,
+            Self::Twolink(c) => &c.title,
+            Self::Design(c) => &c.title,
+            Self::Simulate(c) | Self::Damping(c) | Self::Periodic(c) => &c.title,
+            Self::Figure(c) => &c.title,
+        }
+    }
+}
+
+/// A run of a figure with its case merged, parsed and checked.
+#[derive(Clone, Debug)]
+pub struct ValidRun {
+    pub name: String,
+    pub label: String,
+    pub case: Case,
+    pub valid: ValidCase,
+}
+
+impl FigureCase {
+    /// Checks the recipe name and every run: the merged case must parse and validate for its kind.
+    /// Errors name the run: `runs[1].chain.links: …`.
+    pub fn validate(&self) -> Result<Vec<ValidRun>, CaseError> {
+        let mut runs = Vec::new();
+        for (i, run) in self.merged_runs()?.into_iter().enumerate() {
+            let at = format!("runs[{i}]");
+            let text = serde_json::to_string(&run.case).expect("JSON values serialise");
+            let case = Case::from_json(&text).map_err(|e| e.under(&format!("{at}.case")))?;
+            if matches!(case, Case::Figure(_)) {
+                return Err(CaseError::invalid(format!("{at}.case.kind"), "a figure's run cannot be a figure"));
+            }
+            let valid = case.validate().map_err(|e| e.under(&format!("{at}.case")))?;
+            runs.push(ValidRun { name: run.name, label: run.label, case, valid });
+        }
+        Ok(runs)
+    }
+}

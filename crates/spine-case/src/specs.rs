@@ -1,0 +1,259 @@
+//! The parts of a case file that several kinds share (notes, chain, given design, loads, the
+//! continuation options) and the validators of single values.
+
+use crate::parse::INNER_PATH;
+use crate::per_item::check_finite;
+use crate::{CaseError, PerItem};
+use serde::{Deserialize, Serialize};
+use spine_model::kinematics::end_constraint;
+use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};
+use spine_solve::ContinuationOptions;
+use std::f64::consts::FRAC_PI_2;
+
+/// Where the numbers come from: what the paper states, and every value it does not state with the
+/// reason for the choice.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Notes {
+    /// Values and statements taken from the paper.
+    #[serde(default)]
+    pub paper: Vec<String>,
+    /// Values the paper does not give, each with the reason for the choice.
+    #[serde(default)]
+    pub assumptions: Vec<Assumption>,
+}
+
+/// A value chosen where the paper is silent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Assumption {
+    /// The field (e.g. `chain.length_x`).
+    pub what: String,
+    /// Why this value.
+    pub reason: String,
+}
+
+/// The chain: number of links, spans, masses, gravity.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainSpec {
+    /// Number of links `N` (≥ 1).
+    pub links: usize,
+    /// Total horizontal length `L_x`, m, split into `N` equal spans. Give this or `spans`.
+    #[serde(default)]
+    pub length_x: Option<f64>,
+    /// Horizontal span of each link, m (`N` entries, each > 0). Give this or `length_x`.
+    #[serde(default)]
+    pub spans: Option<Vec<f64>>,
+    /// Link masses, kg: one number for all links or `N` numbers (default 0).
+    #[serde(default)]
+    pub masses: PerItem,
+    /// Gravitational acceleration along −Y, m/s² (default 9.81).
+    #[serde(default = "default_gravity")]
+    pub gravity: f64,
+}
+
+fn default_gravity() -> f64 {
+    spine_model::STANDARD_GRAVITY
+}
+
+/// A given design.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GivenDesign {
+    /// Unloaded link angles `θ0`, rad (`N` entries, `|θ0| < π/2`, `Σ a_i tan θ0_i = 0`).
+    pub theta0: Vec<f64>,
+    /// Spring stiffnesses `K`, N·m/rad: one number or `N + 1` numbers, each ≥ 0.
+    pub stiffness: PerItem,
+}
+
+/// `"design": {"theta0": …, "stiffness": …}` or `"design": "optimise"` (found by the optimiser).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum DesignSpec {
+    Given(GivenDesign),
+    ToBeOptimised,
+}
+
+impl<'de> Deserialize<'de> for DesignSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let v = serde_json::Value::deserialize(d)?;
+        match v {
+            serde_json::Value::String(s) if s == "optimise" => Ok(Self::ToBeOptimised),
+            serde_json::Value::String(s) => {
+                Err(D::Error::custom(format!("unknown design keyword {s:?}; give \"optimise\" or an object")))
+            }
+            obj @ serde_json::Value::Object(_) => serde_path_to_error::deserialize::<_, GivenDesign>(obj)
+                .map(Self::Given)
+                // The inner path travels in the message between two markers; `parse` joins it on.
+                .map_err(|e| {
+                    let path = e.path().to_string();
+                    D::Error::custom(format!("{INNER_PATH}{path}{INNER_PATH}{}", e.into_inner()))
+                }),
+            _ => Err(D::Error::custom("expected an object {\"theta0\": [...], \"stiffness\": ...} or \"optimise\"")),
+        }
+    }
+}
+
+/// Loads: transverse forces (passive) and the axial force at the end (actuation).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Transverse force `P_Y` at each node, N, positive up: one number for every node or `N + 1`
+    /// numbers (node 0 is the base, node `N` the slider).
+    pub p_y: PerItem,
+    /// Axial force `P_X` at the end node, N (negative pushes the end toward the base). Default 0.
+    #[serde(default)]
+    pub p_x: f64,
+    /// Include the links' self-weight in the passive load (default true).
+    #[serde(default = "yes")]
+    pub self_weight: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl LoadSpec {
+    /// The passive load (the transverse forces) and the actuation (`p_x` at the end node) on
+    /// `chain`, checked; switches the chain's self-weight off when `self_weight` is false.
+    pub fn resolve(&self, chain: &mut Chain) -> Result<(NodalLoads, NodalLoads), CaseError> {
+        let n = chain.n_links();
+        let p_y = self.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
+        if !self.p_x.is_finite() {
+            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
+        }
+        if !self.self_weight {
+            chain.gravity = 0.0;
+        }
+        let mut actuation = NodalLoads::zero(n);
+        actuation.p_x[n] = self.p_x;
+        Ok((NodalLoads { p_x: vec![0.0; n + 1], p_y }, actuation))
+    }
+}
+
+pub(crate) fn positive(field: &str, v: f64, unit: &str) -> Result<f64, CaseError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(CaseError::invalid(field, format!("must be a finite number > 0 {unit}, got {v}")))
+    }
+}
+
+pub(crate) fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<(), CaseError> {
+    check_finite(field, values)?;
+    match values.iter().position(|v| *v < 0.0) {
+        Some(i) => Err(CaseError::invalid(format!("{field}[{i}]"), format!("must be ≥ 0 {unit}, got {}", values[i]))),
+        None => Ok(()),
+    }
+}
+
+pub fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
+    positive("solver.residual_tolerance", o.residual_tolerance, "")?;
+    positive("solver.max_angle_step", o.max_angle_step, "rad")?;
+    positive("solver.critical_load_tolerance", o.critical_load_tolerance, "")?;
+    if !(o.initial_step > 0.0 && o.initial_step <= 1.0) {
+        return Err(CaseError::invalid("solver.initial_step", format!("must be in (0, 1], got {}", o.initial_step)));
+    }
+    if !(o.min_step > 0.0 && o.min_step <= o.initial_step) {
+        return Err(CaseError::invalid("solver.min_step", format!("must be in (0, initial_step], got {}", o.min_step)));
+    }
+    if o.max_newton_iterations == 0 {
+        return Err(CaseError::invalid("solver.max_newton_iterations", "must be at least 1"));
+    }
+    if o.max_steps == 0 {
+        return Err(CaseError::invalid("solver.max_steps", "must be at least 1"));
+    }
+    Ok(())
+}
+
+/// Largest chain accepted from a case file.
+pub const MAX_LINKS: usize = 1_000_000;
+
+impl ChainSpec {
+    /// The chain, checked.
+    pub fn validate(&self) -> Result<Chain, CaseError> {
+        let n = self.links;
+        if n == 0 || n > MAX_LINKS {
+            return Err(CaseError::invalid("chain.links", format!("must be between 1 and {MAX_LINKS}, got {n}")));
+        }
+        let spans = match (&self.length_x, &self.spans) {
+            (Some(lx), None) => vec![positive("chain.length_x", *lx, "m")? / n as f64; n],
+            (None, Some(spans)) => {
+                if spans.len() != n {
+                    return Err(CaseError::invalid(
+                        "chain.spans",
+                        format!("expected {n} entries (one per link), got {}", spans.len()),
+                    ));
+                }
+                for (i, a) in spans.iter().enumerate() {
+                    positive(&format!("chain.spans[{i}]"), *a, "m")?;
+                }
+                spans.clone()
+            }
+            _ => {
+                return Err(CaseError::invalid("chain", "give exactly one of `length_x` (m) and `spans` (m per link)"))
+            }
+        };
+        let masses = self.masses.expand("chain.masses", n, "one per link")?;
+        non_negative("chain.masses", &masses, "kg")?;
+        if !(self.gravity.is_finite() && self.gravity >= 0.0) {
+            return Err(CaseError::invalid(
+                "chain.gravity",
+                format!("must be a finite number ≥ 0 m/s², got {}", self.gravity),
+            ));
+        }
+        Ok(Chain { spans, masses, gravity: self.gravity })
+    }
+}
+
+impl GivenDesign {
+    /// The design, checked against the chain: lengths, ranges, `Φ(θ0) = 0`, and a stable unloaded
+    /// chain (the springs leave no free mechanism).
+    pub fn validate(&self, chain: &Chain) -> Result<Design, CaseError> {
+        let n = chain.n_links();
+        if self.theta0.len() != n {
+            return Err(CaseError::invalid(
+                "design.theta0",
+                format!("expected {n} entries (one per link), got {}", self.theta0.len()),
+            ));
+        }
+        check_finite("design.theta0", &self.theta0)?;
+        if let Some(i) = self.theta0.iter().position(|t| t.abs() >= FRAC_PI_2) {
+            return Err(CaseError::invalid(
+                format!("design.theta0[{i}]"),
+                format!("must satisfy |θ0| < π/2 rad (the link length is a/cos θ0), got {}", self.theta0[i]),
+            ));
+        }
+        let stiffness = self.stiffness.expand("design.stiffness", n + 1, "one per spring, N + 1")?;
+        non_negative("design.stiffness", &stiffness, "N·m/rad")?;
+        let phi = end_constraint(&chain.spans, &self.theta0, &self.theta0);
+        let tol = 1e-9 * chain.length_x();
+        if phi.abs() > tol {
+            return Err(CaseError::invalid(
+                "design.theta0",
+                format!(
+                    "the unloaded end must lie on the X axis: Σ a_i tan θ0_i = {phi:.3e} m, allowed |Φ| ≤ {tol:.1e} m"
+                ),
+            ));
+        }
+        let design = Design { theta0: self.theta0.clone(), stiffness };
+        let (_, jac) = spine_model::jacobian::residual_and_state_jacobian(
+            &chain.spans,
+            &design,
+            &LinkLoads::zero(n),
+            &State::unloaded(&design),
+        );
+        let cert = spine_solve::stability::certify(&jac);
+        if !cert.stable {
+            return Err(CaseError::invalid(
+                "design.stiffness",
+                format!(
+                    "the unloaded chain is not stable: the springs leave a free mechanism (smallest projected stiffness {:.3e} N·m/rad); give more nonzero springs",
+                    cert.min_eigenvalue.unwrap_or(0.0)
+                ),
+            ));
+        }
+        Ok(design)
+    }
+}
