@@ -7,7 +7,8 @@
 //!   forward AD of the model's elements ([`assembly`]).
 //! * [`reduced_space`] and [`adjoint`]: the paper's nested form, equilibria by continuation and
 //!   gradients by the hand-derived adjoint.
-//! * [`solve`]: runs either with Ipopt; [`result`]: the checked result.
+//! * [`settings`]: the settings of a run; [`solve`]: runs either with Ipopt; [`result`]: the checked
+//!   result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
 #![forbid(unsafe_code)]
@@ -21,8 +22,10 @@ pub mod problem;
 pub mod reduced_space;
 pub mod refine;
 pub mod result;
+pub mod settings;
 pub mod solve;
 
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
-pub use solve::{solve_design, DesignError, Formulation, ScalingMethod, SolverSettings};
+pub use settings::{Formulation, ScalingMethod, SolverSettings};
+pub use solve::{solve_design, DesignError};

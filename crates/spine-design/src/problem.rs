@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};
-use spine_solve::ContinuationOptions;
+use spine_solve::{solve_static, ContinuationOptions};
 
 /// Bounds of the design (paper Sec. 5, "Geometrical and stiffness values").
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -122,4 +122,28 @@ impl DesignProblem {
         }
         y
     }
+}
+
+/// Start states of the full space: the equilibria of the start design by continuation when they
+/// exist, else the unloaded shape with `λ = 0` (and a note saying so).
+pub fn start_states(
+    problem: &DesignProblem,
+    start: &Design,
+    continuation: &ContinuationOptions,
+    notes: &mut Vec<String>,
+) -> (State, State) {
+    let solution = solve_static(&problem.static_problem(start), continuation);
+    let passive_ok = solution.passive.load_factor == 1.0;
+    let passive = if passive_ok { solution.passive.state.clone() } else { State::unloaded(start) };
+    let loaded = match solution.loaded.filter(|l| l.load_factor == 1.0) {
+        Some(l) => l.state,
+        None => {
+            notes.push("the start design has no loaded equilibrium on its load path; θ2 starts at θ1".into());
+            passive.clone()
+        }
+    };
+    if !passive_ok {
+        notes.push("the start design has no passive equilibrium on its load path; θ1 starts at θ0".into());
+    }
+    (passive, loaded)
 }

@@ -352,7 +352,7 @@ pub fn warm_states(
         return (states, LevelStart::Newton);
     }
     let mut notes = Vec::new();
-    let states = crate::solve::start_states(problem, design, continuation, &mut notes);
+    let states = crate::problem::start_states(problem, design, continuation, &mut notes);
     if notes.is_empty() {
         (states, LevelStart::Continuation)
     } else {
@@ -395,7 +395,7 @@ pub fn prepare_level(
         None => {
             let design = coarse.as_ref().map_or_else(|| start.clone(), |(c, nodes)| restrict(problem, c, nodes, start));
             let mut level_notes = Vec::new();
-            let states = crate::solve::start_states(level, &design, continuation, &mut level_notes);
+            let states = crate::problem::start_states(level, &design, continuation, &mut level_notes);
             notes.extend(level_notes.into_iter().map(|s| {
                 if m < n {
                     format!("refinement level {m} links: {s}")

@@ -3,7 +3,7 @@
 
 use crate::problem::DesignProblem;
 use crate::refine::{Ladder, LevelStart, WarmStart};
-use crate::solve::Formulation;
+use crate::settings::Formulation;
 use serde::Serialize;
 use spine_ipopt::{EvaluationCounts, Solution};
 use spine_model::jacobian::residual_and_state_jacobian;

@@ -2,7 +2,7 @@
 //! statuses a run can end with.
 
 use spine_design::fixtures::{arch_start, paper_five_link_start, paper_problem};
-use spine_design::solve::ExtraOption;
+use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, ScalingMethod, SolverSettings};
 use spine_model::Design;
 

@@ -4,7 +4,7 @@
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{self, Ladder, LevelStart, Refine, RefineMode};
-use spine_design::solve::ExtraOption;
+use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, DesignProblem, Formulation, SolverSettings};
 use spine_model::kinematics::end_constraint;
 use spine_model::{Design, State};
