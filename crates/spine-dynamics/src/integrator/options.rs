@@ -1,0 +1,74 @@
+//! What a run is asked for ([`Options`]) and what it reports ([`Stats`], [`Outcome`]).
+
+use serde::Serialize;
+
+/// Integrator settings.
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Options {
+    /// Relative tolerance (default 1e-6).
+    pub rtol: f64,
+    /// Absolute tolerance, in the units of each component (rad, rad/s; default 1e-8).
+    pub atol: f64,
+    /// First step, s (default: 1e-5 of the span).
+    pub initial_step: Option<f64>,
+    /// Largest step, s (default: no limit).
+    pub max_step: Option<f64>,
+    /// Most accepted steps (default 200 000).
+    pub max_steps: usize,
+    /// Newton stops when the weighted correction is below this (default 1e-3).
+    pub newton_tolerance: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self { rtol: 1e-6, atol: 1e-8, initial_step: None, max_step: None, max_steps: 200_000, newton_tolerance: 1e-3 }
+    }
+}
+
+/// Counts of the integrator's work.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    pub accepted_steps: usize,
+    pub rejected_steps: usize,
+    pub newton_failures: usize,
+    pub newton_iterations: usize,
+    pub rhs_evaluations: usize,
+    pub jacobian_evaluations: usize,
+    pub factorizations: usize,
+    /// Largest `‖Δy‖∞` the projection applied to an accepted step.
+    pub max_projection: f64,
+}
+
+impl Stats {
+    /// Adds the work of another run (the largest projection is the larger of the two).
+    pub fn absorb(&mut self, other: &Stats) {
+        self.accepted_steps += other.accepted_steps;
+        self.rejected_steps += other.rejected_steps;
+        self.newton_failures += other.newton_failures;
+        self.newton_iterations += other.newton_iterations;
+        self.rhs_evaluations += other.rhs_evaluations;
+        self.jacobian_evaluations += other.jacobian_evaluations;
+        self.factorizations += other.factorizations;
+        self.max_projection = self.max_projection.max(other.max_projection);
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Outcome {
+    Completed,
+    /// The step size fell below round-off at `t`.
+    StepTooSmall {
+        t: f64,
+    },
+    /// `max_steps` accepted steps before reaching the end, at `t`.
+    StepLimit {
+        t: f64,
+    },
+    /// The caller's stop condition held at `t`.
+    Stopped {
+        t: f64,
+    },
+}

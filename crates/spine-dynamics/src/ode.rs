@@ -1,0 +1,30 @@
+//! The problem an integrator solves: a first-order system `ẏ = f(t, y; p)` ([`OdeSystem`]),
+//! apart from any method.
+
+use nalgebra::DMatrix;
+
+/// A first-order system `ẏ = f(t, y; p)`.
+pub trait OdeSystem {
+    /// Length of `y`.
+    fn dim(&self) -> usize;
+    /// `f(t, y)`. `piece` is a time inside the current smooth piece (see [`OdeSystem::breakpoints`]).
+    fn rhs(&self, t: f64, piece: f64, y: &[f64]) -> Vec<f64>;
+    /// `∂f/∂y`, `dim × dim`.
+    fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64>;
+    /// Number of parameters `p` whose sensitivities can be propagated.
+    fn n_params(&self) -> usize {
+        0
+    }
+    /// `∂f/∂p`, `dim × n_params`.
+    fn rhs_params(&self, _t: f64, _piece: f64, _y: &[f64]) -> DMatrix<f64> {
+        DMatrix::zeros(self.dim(), 0)
+    }
+    /// Moves `y` onto the invariant manifold (default: nothing).
+    fn project(&self, _y: &mut [f64]) {}
+    /// `S ← (∂ project / ∂y) S` at the unprojected `y` (default: identity).
+    fn project_sensitivities(&self, _y: &[f64], _s: &mut DMatrix<f64>) {}
+    /// Instants in `(t0, t1)` where `f` is discontinuous in `t`, increasing.
+    fn breakpoints(&self, _t0: f64, _t1: f64) -> Vec<f64> {
+        Vec::new()
+    }
+}
