@@ -24,7 +24,7 @@ use spine_design::DesignProblem;
 use spine_model::finite_difference::{self, CENTRAL_STEP};
 use spine_model::fixtures::{arch, uniform_loads, FixtureRng};
 use spine_model::sparse::BorderedTridiagonal;
-use spine_model::{hand, jacobian, residual, Design, LinkLoads, State};
+use spine_model::{hand, jacobian, residual, Design, LinkLoads, State, Structure};
 use spine_solve::linalg::BorderedLu;
 use spine_solve::{solve_static, ContinuationOptions, StaticProblem};
 
@@ -37,7 +37,7 @@ pub fn scaled_arch(n: usize) -> StaticProblem {
     chain.masses = vec![0.5 / n as f64; n];
     let mut passive = uniform_loads(n, -5.0, 0.0);
     passive.p_x = vec![0.0; n + 1];
-    StaticProblem { chain, design, passive, actuation: uniform_loads(n, 0.0, -400.0 * s) }
+    StaticProblem { structure: Structure { chain, passive, actuation: uniform_loads(n, 0.0, -400.0 * s) }, design }
 }
 
 /// The loaded equilibrium of [`scaled_arch`]: a point where every Jacobian entry is nonzero
@@ -57,7 +57,7 @@ impl StateFixture {
         assert_eq!(loaded.load_factor, 1.0, "N = {n}: the scaled arch reaches full load");
         StateFixture {
             loads: problem.total_loads(),
-            spans: problem.chain.spans,
+            spans: problem.structure.chain.spans,
             design: problem.design,
             state: loaded.state,
         }

@@ -13,12 +13,12 @@ fn the_peer_case_file_is_the_scaled_family_at_the_arch_start() {
         let ValidCase::Design(valid) = case else { panic!("a design case") };
         let fixture = scaled_family(n);
         // No link mass, so switching self-weight off (gravity 0 in the case) changes nothing.
-        assert_eq!(valid.problem.chain.spans, fixture.chain.spans);
-        assert_eq!(valid.problem.chain.masses, fixture.chain.masses);
+        assert_eq!(valid.problem.structure.chain.spans, fixture.structure.chain.spans);
+        assert_eq!(valid.problem.structure.chain.masses, fixture.structure.chain.masses);
         assert_eq!(valid.problem.passive_loads(), fixture.passive_loads());
         assert_eq!(valid.problem.total_loads(), fixture.total_loads());
-        assert_eq!(valid.problem.passive, fixture.passive);
-        assert_eq!(valid.problem.actuation, fixture.actuation);
+        assert_eq!(valid.problem.structure.passive, fixture.structure.passive);
+        assert_eq!(valid.problem.structure.actuation, fixture.structure.actuation);
         assert_eq!(valid.problem.bounds, fixture.bounds);
         assert_eq!(valid.problem.delta_d, fixture.delta_d);
         assert_eq!(valid.problem.stiffness_scale, fixture.stiffness_scale);

@@ -289,8 +289,11 @@ fn level_case(
     warm: bool,
 ) -> serde_json::Value {
     let m = level.n_links();
-    assert!(level.passive.p_x.iter().all(|v| *v == 0.0) && level.actuation.p_y.iter().all(|v| *v == 0.0));
-    assert!(level.actuation.p_x[..m].iter().all(|v| *v == 0.0), "axial load at the end only");
+    assert!(
+        level.structure.passive.p_x.iter().all(|v| *v == 0.0)
+            && level.structure.actuation.p_y.iter().all(|v| *v == 0.0)
+    );
+    assert!(level.structure.actuation.p_x[..m].iter().all(|v| *v == 0.0), "axial load at the end only");
     let w = &template.warm_start;
     let mut solver = json!({ "tolerance": template.tolerance, "constraint_tolerance": template.constraint_tolerance, "refine": "off" });
     if warm {
@@ -301,8 +304,8 @@ fn level_case(
     json!({
         "kind": "design",
         "title": format!("ladder level, {m} links"),
-        "chain": { "links": m, "spans": level.chain.spans, "masses": level.chain.masses, "gravity": level.chain.gravity },
-        "loads": { "p_y": level.passive.p_y, "p_x": level.actuation.p_x[m], "self_weight": false },
+        "chain": { "links": m, "spans": level.structure.chain.spans, "masses": level.structure.chain.masses, "gravity": level.structure.chain.gravity },
+        "loads": { "p_y": level.structure.passive.p_y, "p_x": level.structure.actuation.p_x[m], "self_weight": false },
         "delta_d": level.delta_d,
         "stiffness_scale": level.stiffness_scale,
         "bounds": { "theta0_max": b.theta0_max, "relative_angle_max": b.relative_angle_max, "stiffness_min": b.stiffness_min, "stiffness_max": b.stiffness_max, "height_min": b.height_min, "height_max": b.height_max },

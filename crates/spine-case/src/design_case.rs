@@ -6,7 +6,7 @@ use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::refine::Refine;
 use spine_design::{DesignBounds, DesignProblem, Formulation, SolverSettings};
-use spine_model::Design;
+use spine_model::{Design, Structure};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
 /// Bounds of the design; every field defaults to the paper's value (Sec. 5).
@@ -207,9 +207,7 @@ impl DesignCase {
 
         Ok(ValidDesign {
             problem: DesignProblem {
-                chain,
-                passive,
-                actuation,
+                structure: Structure { chain, passive, actuation },
                 delta_d: self.delta_d,
                 bounds: DesignBounds {
                     theta0_max: b.theta0_max,

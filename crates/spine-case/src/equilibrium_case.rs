@@ -3,6 +3,7 @@
 use crate::specs::{check_options, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::CaseError;
 use serde::{Deserialize, Serialize};
+use spine_model::Structure;
 use spine_solve::{ContinuationOptions, StaticProblem};
 
 /// `"kind": "equilibrium"`.
@@ -43,7 +44,7 @@ impl EquilibriumCase {
         let (passive, actuation) = self.loads.resolve(&mut chain)?;
         check_options(&self.solver)?;
         Ok(ValidEquilibrium {
-            problem: StaticProblem { chain, design, passive, actuation },
+            problem: StaticProblem { structure: Structure { chain, passive, actuation }, design },
             options: self.solver.clone(),
         })
     }

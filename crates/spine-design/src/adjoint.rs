@@ -52,7 +52,7 @@ impl ReducedGradients {
         ReducedGradients {
             energy: energy::strain_energy(&passive.theta, &design.theta0, &design.stiffness),
             energy_gradient,
-            end_x: kinematics::end_x(&problem.chain.spans, &design.theta0, &loaded.theta),
+            end_x: kinematics::end_x(&problem.structure.chain.spans, &design.theta0, &loaded.theta),
             end_x_gradient,
         }
     }
@@ -81,7 +81,7 @@ pub fn adjoint_hand(
     passive: &State,
     loaded: &State,
 ) -> Result<ReducedGradients, SingularMatrix> {
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let hand_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
         let a = hand::state_jacobian(spans, design, loads, state);
         adjoint_gradient(&a, by_state, by_design, |psi| {
@@ -101,7 +101,7 @@ pub fn adjoint_ad(
     passive: &State,
     loaded: &State,
 ) -> Result<ReducedGradients, SingularMatrix> {
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let ad_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
         let (_, a) = residual_and_state_jacobian(spans, design, loads, state);
         adjoint_gradient(&a, by_state, by_design, |psi| {
@@ -121,7 +121,7 @@ pub fn forward_ad(
     passive: &State,
     loaded: &State,
 ) -> Result<ReducedGradients, SingularMatrix> {
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let n = spans.len();
     let direct = |loads: &LinkLoads,
                   state: &State,
@@ -154,7 +154,7 @@ pub fn central_differences(
     continuation: &ContinuationOptions,
 ) -> Option<ReducedGradients> {
     let n = problem.n_links();
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let mut energy_gradient = Vec::with_capacity(2 * n + 1);
     let mut end_x_gradient = Vec::with_capacity(2 * n + 1);
     for k in 0..2 * n + 1 {

@@ -3,7 +3,7 @@
 
 use crate::problem::{DesignBounds, DesignProblem};
 use spine_model::fixtures::{arch, uniform_loads};
-use spine_model::{Chain, Design, NodalLoads};
+use spine_model::{Chain, Design, NodalLoads, Structure};
 use std::f64::consts::{FRAC_PI_6, PI};
 
 /// The paper's bounds (Sec. 5) for `n` links over `L_x`: `|θ0| ≤ π/6`, relative angles `≤ π/6`,
@@ -24,9 +24,11 @@ pub fn paper_bounds(n: usize, length_x: f64, k_min: f64, k_max: f64, y_min: f64)
 pub fn paper_problem(n: usize, p_y: f64, p_x: f64, delta_d: f64, stiffness_scale: f64) -> DesignProblem {
     let loads = uniform_loads(n, p_y, p_x);
     DesignProblem {
-        chain: Chain::uniform(n, 1.0),
-        passive: NodalLoads { p_x: vec![0.0; n + 1], p_y: loads.p_y },
-        actuation: NodalLoads { p_x: loads.p_x, p_y: vec![0.0; n + 1] },
+        structure: Structure {
+            chain: Chain::uniform(n, 1.0),
+            passive: NodalLoads { p_x: vec![0.0; n + 1], p_y: loads.p_y },
+            actuation: NodalLoads { p_x: loads.p_x, p_y: vec![0.0; n + 1] },
+        },
         delta_d,
         bounds: paper_bounds(n, 1.0, 1e2, 1e4, 0.01),
         stiffness_scale,

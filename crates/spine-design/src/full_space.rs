@@ -127,7 +127,7 @@ impl Layout {
 pub fn assemble(problem: &DesignProblem) -> Assembled {
     let n = problem.n_links();
     let layout = Layout { n };
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let ck = problem.stiffness_scale;
     let mut joints = Vec::with_capacity(2 * n);
     let mut rises = Vec::with_capacity(2 * n);
@@ -263,7 +263,7 @@ pub(crate) fn design_constraint_bounds(
 ) {
     lower.fill(0.0);
     upper.fill(0.0);
-    let target = problem.chain.length_x() + problem.delta_d;
+    let target = problem.structure.chain.length_x() + problem.delta_d;
     lower[end_row] = target;
     upper[end_row] = target;
     for i in 0..problem.n_links().saturating_sub(1) {

@@ -18,8 +18,8 @@ pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<
     let mut rng = FixtureRng::new(seed);
     let n = problem.n_links();
     let b = &problem.bounds;
-    let spans = &problem.chain.spans;
-    let lx = problem.chain.length_x();
+    let spans = &problem.structure.chain.spans;
+    let lx = problem.structure.chain.length_x();
     let mut starts = Vec::with_capacity(count);
     while starts.len() < count {
         let mut theta0 = None;

@@ -1,7 +1,7 @@
 //! The static design problem of eq. (33), independent of how it is solved.
 
 use serde::Serialize;
-use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};
+use spine_model::{Design, LinkLoads, State, Structure};
 use spine_solve::{solve_static, ContinuationOptions};
 
 /// Bounds of the design (paper Sec. 5, "Geometrical and stiffness values").
@@ -26,12 +26,8 @@ pub struct DesignBounds {
 /// constraint `Φ(θ0) = 0`, the end displacement `X_{N+1}(θ2) − L_x = δ_d` and the bounds.
 #[derive(Clone, Debug)]
 pub struct DesignProblem {
-    /// Spans `a_i`, link masses and gravity.
-    pub chain: Chain,
-    /// Passive nodal load (transverse forces), N; self-weight comes from the chain's masses.
-    pub passive: NodalLoads,
-    /// Actuation added on top of the passive load (the axial force at the end), N.
-    pub actuation: NodalLoads,
+    /// The chain with its passive load and actuation.
+    pub structure: Structure,
     /// Desired end displacement `δ_d`, m (negative: the end moves toward the base).
     pub delta_d: f64,
     pub bounds: DesignBounds,
@@ -41,17 +37,17 @@ pub struct DesignProblem {
 
 impl DesignProblem {
     pub fn n_links(&self) -> usize {
-        self.chain.n_links()
+        self.structure.n_links()
     }
 
     /// Load resultants of the passive load, self-weight included.
     pub fn passive_loads(&self) -> LinkLoads {
-        LinkLoads::from_nodal(&self.chain, &self.passive, true)
+        self.structure.passive_loads()
     }
 
     /// Load resultants of the passive load plus the actuation, self-weight included.
     pub fn total_loads(&self) -> LinkLoads {
-        LinkLoads::from_nodal(&self.chain, &self.passive.plus(&self.actuation), true)
+        self.structure.total_loads()
     }
 
     /// Both equilibria (passive, loaded) of `design` by Newton's method at full load from nearby
@@ -65,7 +61,7 @@ impl DesignProblem {
         loaded: &State,
         continuation: &ContinuationOptions,
     ) -> Option<(State, State)> {
-        let spans = &self.chain.spans;
+        let spans = &self.structure.chain.spans;
         let resolve = |loads: LinkLoads, start: &State| {
             let path = spine_solve::LoadPath { spans, design, from: loads.clone(), to: loads, start: start.clone() };
             let solution = spine_solve::solve_path(&path, continuation);
@@ -75,13 +71,8 @@ impl DesignProblem {
     }
 
     /// The problem as the equilibrium solver sees it, for one design.
-    pub fn static_problem(&self, design: &Design) -> spine_solve::equilibrium::StaticProblem {
-        spine_solve::equilibrium::StaticProblem {
-            chain: self.chain.clone(),
-            design: design.clone(),
-            passive: self.passive.clone(),
-            actuation: self.actuation.clone(),
-        }
+    pub fn static_problem(&self, design: &Design) -> spine_solve::StaticProblem {
+        spine_solve::StaticProblem { structure: self.structure.clone(), design: design.clone() }
     }
 
     /// Projects a start design into the bounds on `θ0` and `K`; returns the projected design and
@@ -117,7 +108,7 @@ impl DesignProblem {
     /// Unloaded node heights `Y0_j = Σ_{k<j} a_k tan θ0_k`, `j = 1..N+1`, m.
     pub fn node_heights(&self, theta0: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0];
-        for (a, t) in self.chain.spans.iter().zip(theta0) {
+        for (a, t) in self.structure.chain.spans.iter().zip(theta0) {
             y.push(y.last().unwrap() + a * t.tan());
         }
         y

@@ -96,7 +96,7 @@ impl<'a> ReducedSpaceNlp<'a> {
         let layout = ReducedLayout { n };
         let heights: Vec<Placed<HeightStep, 3>> = (0..n)
             .map(|j| Placed {
-                element: HeightStep { span: problem.chain.spans[j] },
+                element: HeightStep { span: problem.structure.chain.spans[j] },
                 vars: [layout.height(j + 1), layout.height(j), Some(j)],
                 row: Row::Constraint(layout.height_row(j)),
             })

@@ -28,7 +28,7 @@
 use crate::full_space::{FullSpaceNlp, Layout, LoadState};
 use crate::problem::DesignProblem;
 use serde::{Deserialize, Serialize};
-use spine_model::{Chain, Design, NodalLoads, State};
+use spine_model::{Chain, Design, NodalLoads, State, Structure};
 
 /// The ladder of chain sizes: start at `from` links, multiply by `factor` until the next size
 /// would reach the chain's own `N`, then solve `N` itself.
@@ -210,7 +210,7 @@ fn node_spans(spans: &[f64]) -> Vec<f64> {
 
 /// The coarse problem of `m` links and the fine node of each coarse node (see the module docs).
 pub fn coarsen(problem: &DesignProblem, m: usize) -> (DesignProblem, Vec<usize>) {
-    let fine = &problem.chain;
+    let fine = &problem.structure.chain;
     let n = fine.n_links();
     let nodes = coarse_nodes(n, m);
     let spans: Vec<f64> = nodes.windows(2).map(|w| fine.spans[w[0]..w[1]].iter().sum()).collect();
@@ -244,9 +244,11 @@ pub fn coarsen(problem: &DesignProblem, m: usize) -> (DesignProblem, Vec<usize>)
     bounds.stiffness_min = (0..=m).map(|c| b.stiffness_min[nodes[c]] * ratio[c]).collect();
     bounds.stiffness_max = (0..=m).map(|c| b.stiffness_max[nodes[c]] * ratio[c]).collect();
     let coarse = DesignProblem {
-        passive: lump(&problem.passive),
-        actuation: lump(&problem.actuation),
-        chain,
+        structure: Structure {
+            passive: lump(&problem.structure.passive),
+            actuation: lump(&problem.structure.actuation),
+            chain,
+        },
         delta_d: problem.delta_d,
         bounds,
         stiffness_scale: problem.stiffness_scale * m as f64 / n as f64,
@@ -259,8 +261,11 @@ pub fn coarsen(problem: &DesignProblem, m: usize) -> (DesignProblem, Vec<usize>)
 /// projected into the coarse bounds.
 pub fn restrict(fine: &DesignProblem, coarse: &DesignProblem, nodes: &[usize], design: &Design) -> Design {
     let heights = fine.node_heights(&design.theta0);
-    let theta0 =
-        nodes.windows(2).zip(&coarse.chain.spans).map(|(w, a)| ((heights[w[1]] - heights[w[0]]) / a).atan()).collect();
+    let theta0 = nodes
+        .windows(2)
+        .zip(&coarse.structure.chain.spans)
+        .map(|(w, a)| ((heights[w[1]] - heights[w[0]]) / a).atan())
+        .collect();
     let stiffness = nodes
         .iter()
         .enumerate()
@@ -305,8 +310,8 @@ pub fn prolong(
     design: &Design,
     states: &(State, State),
 ) -> (Design, (State, State)) {
-    let coarse_x = node_x(&coarse.chain.spans);
-    let fine_x = node_x(&fine.chain.spans);
+    let coarse_x = node_x(&coarse.structure.chain.spans);
+    let fine_x = node_x(&fine.structure.chain.spans);
     let heights = interpolate(&coarse_x, &coarse.node_heights(&design.theta0), &fine_x);
     let theta0 = fine_x
         .windows(2)
@@ -320,7 +325,7 @@ pub fn prolong(
         .enumerate()
         .map(|(j, k)| (k * fine.stiffness_scale).clamp(fine.bounds.stiffness_min[j], fine.bounds.stiffness_max[j]))
         .collect();
-    let (coarse_mid, fine_mid) = (midpoints(&coarse.chain.spans), midpoints(&fine.chain.spans));
+    let (coarse_mid, fine_mid) = (midpoints(&coarse.structure.chain.spans), midpoints(&fine.structure.chain.spans));
     let state = |s: &State| State { theta: interpolate(&coarse_mid, &s.theta, &fine_mid), lambda: s.lambda };
     (Design { theta0, stiffness }, (state(&states.0), state(&states.1)))
 }
@@ -451,8 +456,8 @@ pub fn prolong_multipliers(
     let (mc, nf) = (coarse.n_links(), fine.n_links());
     let (cl, fl) = (Layout { n: mc }, Layout { n: nf });
     let ratio = mc as f64 / nf as f64;
-    let (cmid, fmid) = (midpoints(&coarse.chain.spans), midpoints(&fine.chain.spans));
-    let (cx, fx) = (node_x(&coarse.chain.spans), node_x(&fine.chain.spans));
+    let (cmid, fmid) = (midpoints(&coarse.structure.chain.spans), midpoints(&fine.structure.chain.spans));
+    let (cx, fx) = (node_x(&coarse.structure.chain.spans), node_x(&fine.structure.chain.spans));
     let field = |values: Vec<f64>, at: &[f64], to: &[f64], scale: f64| -> Vec<f64> {
         interpolate(at, &values, to).into_iter().map(|v| v * scale).collect()
     };

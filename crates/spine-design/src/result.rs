@@ -191,7 +191,7 @@ fn excess(value: f64, lo: f64, hi: f64) -> f64 {
 }
 
 fn state_report(problem: &DesignProblem, design: &Design, loads: &LinkLoads, state: &State) -> StateReport {
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let (residual, jac) = residual_and_state_jacobian(spans, design, loads, state);
     let lengths = link_lengths(spans, &design.theta0);
     StateReport {
@@ -215,8 +215,8 @@ impl DesignResult {
         start_notes: Vec<String>,
         continuation: &ContinuationOptions,
     ) -> Self {
-        let spans = &problem.chain.spans;
-        let lx = problem.chain.length_x();
+        let spans = &problem.structure.chain.spans;
+        let lx = problem.structure.chain.length_x();
         let b = &problem.bounds;
         let lengths = link_lengths(spans, &design.theta0);
         let unloaded_nodes = node_positions(&lengths, &design.theta0);

@@ -31,7 +31,7 @@ fn random_point(problem: &DesignProblem, seed: u64) -> Vec<f64> {
 
 fn problem_with_mass(n: usize) -> DesignProblem {
     let mut p = paper_problem(n, -5.0, -400.0, -0.02, 7.0);
-    p.chain.masses = (0..n).map(|i| 0.1 + 0.01 * i as f64).collect();
+    p.structure.chain.masses = (0..n).map(|i| 0.1 + 0.01 * i as f64).collect();
     p
 }
 
@@ -174,7 +174,7 @@ fn equilibria(problem: &DesignProblem, design: &Design) -> (State, State) {
 fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver() {
     for (n, seed) in [(2, 1), (5, 2), (10, 3), (20, 4)] {
         let mut problem = problem_with_mass(n);
-        problem.actuation.p_x[n] = -200.0;
+        problem.structure.actuation.p_x[n] = -200.0;
         let mut rng = FixtureRng::new(seed);
         let mut design = arch_start(n, 0.25, 1500.0);
         for k in design.stiffness.iter_mut() {

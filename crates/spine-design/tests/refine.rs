@@ -49,14 +49,14 @@ fn moments(problem: &DesignProblem) -> [f64; 4] {
     let mut x = 0.0;
     let mut out = [0.0; 4];
     for j in 0..=problem.n_links() {
-        let p = &problem.passive;
-        let a = &problem.actuation;
+        let p = &problem.structure.passive;
+        let a = &problem.structure.actuation;
         out[0] += p.p_y[j] + a.p_y[j];
         out[1] += x * (p.p_y[j] + a.p_y[j]);
         out[2] += p.p_x[j] + a.p_x[j];
         out[3] += x * (p.p_x[j] + a.p_x[j]);
         if j < problem.n_links() {
-            x += problem.chain.spans[j];
+            x += problem.structure.chain.spans[j];
         }
     }
     out
@@ -65,15 +65,15 @@ fn moments(problem: &DesignProblem) -> [f64; 4] {
 #[test]
 fn coarsening_keeps_forces_their_moments_and_the_scaled_stiffness() {
     let mut fine = scaled_family(40);
-    fine.chain.masses = (0..40).map(|i| 0.01 + 0.001 * i as f64).collect();
-    fine.passive.p_y[7] -= 3.0; // a non-uniform load
+    fine.structure.chain.masses = (0..40).map(|i| 0.01 + 0.001 * i as f64).collect();
+    fine.structure.passive.p_y[7] -= 3.0; // a non-uniform load
     for m in [10, 13, 20] {
         let (coarse, nodes) = refine::coarsen(&fine, m);
         assert_eq!(coarse.n_links(), m);
         assert_eq!(nodes.len(), m + 1);
         assert_eq!((nodes[0], nodes[m]), (0, 40));
-        assert!((coarse.chain.length_x() - fine.chain.length_x()).abs() < 1e-14);
-        let mass = |p: &DesignProblem| p.chain.masses.iter().sum::<f64>();
+        assert!((coarse.structure.chain.length_x() - fine.structure.chain.length_x()).abs() < 1e-14);
+        let mass = |p: &DesignProblem| p.structure.chain.masses.iter().sum::<f64>();
         assert!((mass(&coarse) - mass(&fine)).abs() < 1e-14);
         let (mf, mc) = (moments(&fine), moments(&coarse));
         for k in 0..4 {
@@ -91,8 +91,8 @@ fn coarsening_keeps_forces_their_moments_and_the_scaled_stiffness() {
             (None, None) => unreachable!(),
         };
         for c in 0..=m {
-            let ei_fine = fine.bounds.stiffness_max[nodes[c]] * mean_span(&fine.chain.spans, nodes[c]);
-            let ei_coarse = coarse.bounds.stiffness_max[c] * mean_span(&coarse.chain.spans, c);
+            let ei_fine = fine.bounds.stiffness_max[nodes[c]] * mean_span(&fine.structure.chain.spans, nodes[c]);
+            let ei_coarse = coarse.bounds.stiffness_max[c] * mean_span(&coarse.structure.chain.spans, c);
             assert!((ei_fine - ei_coarse).abs() < 1e-9 * ei_fine, "m = {m}, node {c}");
             if 40 % m == 0 {
                 let kf = fine.bounds.stiffness_max[nodes[c]] / fine.stiffness_scale;
@@ -114,7 +114,7 @@ fn prolonged_design_meets_every_design_constraint() {
     let (prolonged, states) = refine::prolong(&coarse, &fine, &design, &(unloaded.clone(), unloaded));
     assert_eq!(prolonged.theta0.len(), 40);
     assert_eq!(states.0.theta.len(), 40);
-    assert!(end_constraint(&fine.chain.spans, &prolonged.theta0, &prolonged.theta0).abs() < 1e-13);
+    assert!(end_constraint(&fine.structure.chain.spans, &prolonged.theta0, &prolonged.theta0).abs() < 1e-13);
     let b = &fine.bounds;
     assert!(prolonged.theta0.iter().all(|t| t.abs() <= b.theta0_max));
     assert!(prolonged.theta0.windows(2).all(|w| (w[0] - w[1]).abs() <= b.relative_angle_max + 1e-15));

@@ -16,13 +16,8 @@ fn main() {
     for j in 1..=3 {
         passive.p_y[j] = -100.0;
     }
-    let problem = DynamicProblem {
-        chain,
-        design,
-        damping: vec![50.0; n + 1],
-        passive,
-        actuation: uniform_loads(n, 0.0, -4000.0),
-    };
+    let structure = spine_model::Structure { chain, passive, actuation: uniform_loads(n, 0.0, -4000.0) };
+    let problem = DynamicProblem { structure, design, damping: vec![50.0; n + 1] };
     match periodic_response(&problem, Forcing::PulseTrain { period, duty: 0.5, delay: 0.0 }, None, &PeriodicSettings::default()) {
         Ok(r) => println!(
             "min {:.4e} m at {:.3} s, max {:.4e}, reach {:?}, return {:?}, settled {} after {} periods ({:.1e}), passive {:.4e}, loaded {:.4e}, {:.3} s, {} steps",

@@ -100,7 +100,7 @@ pub fn periodic_response(
 ) -> Result<PeriodicResponse, DynamicsError> {
     let ends = problem.static_ends(&settings.continuation)?;
     let d = problem.dynamics(forcing);
-    Ok(simulate_periodic(&d, ends, problem.chain.length_x(), target, settings))
+    Ok(simulate_periodic(&d, ends, problem.structure.chain.length_x(), target, settings))
 }
 
 /// [`periodic_response`] from known static ends.

@@ -97,7 +97,7 @@ fn evaluate(
     let ends = p.static_ends(&settings.response.continuation)?;
     let strain = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);
     let d = p.dynamics(forcing.clone());
-    let r = simulate_periodic(&d, ends, p.chain.length_x(), Some(delta_d), &settings.response);
+    let r = simulate_periodic(&d, ends, p.structure.chain.length_x(), Some(delta_d), &settings.response);
     let violation = if r.outcome == crate::Outcome::Completed {
         (((r.min_end_displacement - delta_d).abs() / delta_d.abs()) - settings.tolerance).max(0.0)
     } else {

@@ -8,20 +8,18 @@ use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
 use crate::system::SpineOde;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
-use spine_model::{Chain, Design, NodalLoads};
+use spine_model::{Design, Structure};
 use spine_solve::{solve_static, ContinuationOptions, EquilibriumStatus, StaticProblem};
 
 /// A design with its dampers and loads: the data of every dynamic run.
 #[derive(Clone, Debug)]
 pub struct DynamicProblem {
-    pub chain: Chain,
+    /// The chain, its passive load and the full actuation (the axial force at the end; `s(t)` of
+    /// the forcing scales it).
+    pub structure: Structure,
     pub design: Design,
     /// Dampers `C_1..C_{N+1}`, N·m·s/rad.
     pub damping: Vec<f64>,
-    /// Transverse forces (self-weight comes from the chain's masses).
-    pub passive: NodalLoads,
-    /// The full actuation (the axial force at the end); `s(t)` of the forcing scales it.
-    pub actuation: NodalLoads,
 }
 
 /// The static states a response starts from and settles to.
@@ -62,17 +60,19 @@ pub enum DynamicsError {
 impl DynamicProblem {
     /// The equations of motion under `forcing`.
     pub fn dynamics(&self, forcing: Forcing) -> Dynamics {
-        Dynamics::new(&self.chain, &self.design, self.damping.clone(), &self.passive, &self.actuation, forcing)
+        Dynamics::new(
+            &self.structure.chain,
+            &self.design,
+            self.damping.clone(),
+            &self.structure.passive,
+            &self.structure.actuation,
+            forcing,
+        )
     }
 
     /// `θ1` and `θ2` by continuation, both certified stable, or the reason not.
     pub fn static_ends(&self, opts: &ContinuationOptions) -> Result<StaticEnds, DynamicsError> {
-        let problem = StaticProblem {
-            chain: self.chain.clone(),
-            design: self.design.clone(),
-            passive: self.passive.clone(),
-            actuation: self.actuation.clone(),
-        };
+        let problem = StaticProblem { structure: self.structure.clone(), design: self.design.clone() };
         let sol = solve_static(&problem, opts);
         if sol.passive.status != EquilibriumStatus::Stable {
             return Err(DynamicsError::UnstableStart(sol.passive.status.describe()));
@@ -82,7 +82,7 @@ impl DynamicProblem {
             return Err(DynamicsError::UnstableEnd(loaded.status.describe()));
         }
         let d = self.dynamics(Forcing::Off);
-        let lx = self.chain.length_x();
+        let lx = self.structure.chain.length_x();
         let (x1, x2) = (d.end_x(&sol.passive.state.theta), d.end_x(&loaded.state.theta));
         Ok(StaticEnds {
             theta1: sol.passive.state.theta.clone(),

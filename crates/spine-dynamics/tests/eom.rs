@@ -132,12 +132,9 @@ fn a_static_equilibrium_is_a_rest_point_and_the_load_potential_generates_the_loa
     chain.masses = vec![0.3; 6];
     let passive = uniform_loads(6, -5.0, 0.0);
     let actuation = uniform_loads(6, 0.0, -300.0);
-    let problem = spine_solve::StaticProblem {
-        chain: chain.clone(),
-        design: design.clone(),
-        passive: passive.clone(),
-        actuation: actuation.clone(),
-    };
+    let structure =
+        spine_model::Structure { chain: chain.clone(), passive: passive.clone(), actuation: actuation.clone() };
+    let problem = spine_solve::StaticProblem { structure, design: design.clone() };
     let sol = spine_solve::solve_static(&problem, &Default::default());
     let d = Dynamics::new(&chain, &design, vec![10.0; 7], &passive, &actuation, Forcing::Off);
     let mut y = sol.passive.state.theta.clone();

@@ -121,12 +121,9 @@ fn spine(n: usize, damping: f64, forcing: Forcing) -> (Dynamics, Vec<f64>) {
     chain.masses = vec![0.5; n];
     let passive = uniform_loads(n, -5.0, 0.0);
     let actuation = uniform_loads(n, 0.0, -200.0);
-    let problem = spine_solve::StaticProblem {
-        chain: chain.clone(),
-        design: design.clone(),
-        passive: passive.clone(),
-        actuation: actuation.clone(),
-    };
+    let structure =
+        spine_model::Structure { chain: chain.clone(), passive: passive.clone(), actuation: actuation.clone() };
+    let problem = spine_solve::StaticProblem { structure, design: design.clone() };
     let theta1 = spine_solve::solve_static(&problem, &Default::default()).passive.state.theta;
     let dynamics = Dynamics::new(&chain, &design, vec![damping; n + 1], &passive, &actuation, forcing);
     let mut y0 = theta1;

@@ -10,13 +10,12 @@ fn problem(n: usize) -> DynamicProblem {
     let (mut chain, mut design) = arch(n, 1.0, 0.3, 2000.0);
     design.stiffness[n] = 2000.0;
     chain.masses = vec![0.5; n];
-    DynamicProblem {
+    let structure = spine_model::Structure {
         chain,
-        design,
-        damping: vec![20.0; n + 1],
         passive: uniform_loads(n, -20.0, 0.0),
         actuation: uniform_loads(n, 0.0, -1500.0),
-    }
+    };
+    DynamicProblem { structure, design, damping: vec![20.0; n + 1] }
 }
 
 #[test]

@@ -32,10 +32,12 @@ pub mod loads;
 pub mod local;
 pub mod residual;
 pub mod sparse;
+pub mod structure;
 pub mod twolink;
 
 pub use chain::{Chain, Design, State};
 pub use loads::{LinkLoads, NodalLoads};
+pub use structure::Structure;
 
 /// The number types every physical function accepts: `f64` and num-dual's dual numbers.
 pub trait Scalar: num_dual::DualNum<Primitive = f64> + Copy {}

@@ -14,13 +14,14 @@
 //! [`EquilibriumStatus::LimitPoint`] (snap-through).
 
 use crate::linalg::BorderedLu;
+use crate::problem::StaticProblem;
 use crate::stability::{self, Stability};
 use serde::{Deserialize, Serialize};
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::end_x;
 use spine_model::residual::equilibrium_residual;
 use spine_model::sparse::BorderedTridiagonal;
-use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};
+use spine_model::{Design, LinkLoads, State};
 use std::time::Instant;
 
 /// Options of Newton and of the load continuation. Mirrored by a case file's `solver` section.
@@ -350,16 +351,6 @@ fn locate_critical(
     0.5 * (lo + hi)
 }
 
-/// The static problem of a design: the passive load (transverse forces and self-weight) and the
-/// actuation added on top of it (the axial force at the end).
-#[derive(Clone, Debug)]
-pub struct StaticProblem {
-    pub chain: Chain,
-    pub design: Design,
-    pub passive: NodalLoads,
-    pub actuation: NodalLoads,
-}
-
 /// The two load states of eq. (33): `θ1` under the passive load, `θ2` with the actuation added.
 #[derive(Clone, Debug, Serialize)]
 pub struct StaticSolution {
@@ -373,21 +364,9 @@ pub struct StaticSolution {
     pub end_displacement: Option<f64>,
 }
 
-impl StaticProblem {
-    /// Link load resultants of the passive load (self-weight included).
-    pub fn passive_loads(&self) -> LinkLoads {
-        LinkLoads::from_nodal(&self.chain, &self.passive, true)
-    }
-
-    /// Link load resultants of passive load plus actuation.
-    pub fn total_loads(&self) -> LinkLoads {
-        LinkLoads::from_nodal(&self.chain, &self.passive.plus(&self.actuation), true)
-    }
-}
-
 /// Solves both load states of a design by continuation: `θ0 → θ1 → θ2`.
 pub fn solve_static(problem: &StaticProblem, opts: &ContinuationOptions) -> StaticSolution {
-    let spans = &problem.chain.spans;
+    let spans = &problem.structure.chain.spans;
     let n = spans.len();
     let passive_loads = problem.passive_loads();
     let passive = solve_path(
@@ -400,7 +379,7 @@ pub fn solve_static(problem: &StaticProblem, opts: &ContinuationOptions) -> Stat
         },
         opts,
     );
-    let lx = problem.chain.length_x();
+    let lx = problem.structure.chain.length_x();
     let passive_end_displacement = end_x(spans, &problem.design.theta0, &passive.state.theta) - lx;
     let loaded = (passive.load_factor == 1.0).then(|| {
         solve_path(

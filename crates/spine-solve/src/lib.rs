@@ -14,11 +14,13 @@
 
 pub mod equilibrium;
 pub mod linalg;
+pub mod problem;
 pub mod stability;
 pub mod twolink;
 
 pub use equilibrium::{
     solve_path, solve_static, ContinuationOptions, EquilibriumSolution, EquilibriumStatus, LoadPath, SolveStats,
-    StaticProblem, StaticSolution,
+    StaticSolution,
 };
+pub use problem::StaticProblem;
 pub use stability::Stability;

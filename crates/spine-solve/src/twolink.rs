@@ -5,9 +5,10 @@
 //! equilibrium solver on the chain `N = 2`, `K = [0, K, 0]`, spans `a = L cos θ0` (so the link length
 //! stays `L`, as in the paper's Sec. 3), `P_Y` at the middle node and `P_X` at the slider.
 
-use crate::equilibrium::{solve_static, ContinuationOptions, StaticProblem, StaticSolution};
+use crate::equilibrium::{solve_static, ContinuationOptions, StaticSolution};
+use crate::problem::StaticProblem;
 use spine_model::twolink::TwoLink;
-use spine_model::{Chain, Design, NodalLoads};
+use spine_model::{Chain, Design, NodalLoads, Structure};
 
 /// The general chain and loads that realise the Sec. 3 problem for design angle `theta0`.
 pub fn general_problem(tl: &TwoLink, stiffness: f64, theta0: f64) -> StaticProblem {
@@ -16,7 +17,7 @@ pub fn general_problem(tl: &TwoLink, stiffness: f64, theta0: f64) -> StaticProbl
     let design = Design { theta0: vec![theta0, -theta0], stiffness: vec![0.0, stiffness, 0.0] };
     let passive = NodalLoads { p_x: vec![0.0; 3], p_y: vec![0.0, tl.p_y, 0.0] };
     let actuation = NodalLoads { p_x: vec![0.0, 0.0, tl.p_x], p_y: vec![0.0; 3] };
-    StaticProblem { chain, design, passive, actuation }
+    StaticProblem { structure: Structure { chain, passive, actuation }, design }
 }
 
 /// Solves the general problem for design angle `theta0`.

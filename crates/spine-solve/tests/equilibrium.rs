@@ -6,14 +6,14 @@ mod common;
 
 use nalgebra::DMatrix;
 use spine_model::fixtures::{arch, uniform_loads};
-use spine_model::{Chain, Design, NodalLoads};
+use spine_model::{Chain, Design, NodalLoads, Structure};
 use spine_solve::{solve_static, ContinuationOptions, EquilibriumStatus, StaticProblem};
 
 fn problem(chain: Chain, design: Design, p_y: f64, p_x: f64) -> StaticProblem {
     let n = chain.n_links();
     let mut passive = uniform_loads(n, p_y, 0.0);
     passive.p_x = vec![0.0; n + 1];
-    StaticProblem { chain, design, passive, actuation: uniform_loads(n, 0.0, p_x) }
+    StaticProblem { structure: Structure { chain, passive, actuation: uniform_loads(n, 0.0, p_x) }, design }
 }
 
 #[test]

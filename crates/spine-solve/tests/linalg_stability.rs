@@ -48,7 +48,7 @@ fn singular_block_falls_back_to_general_lu() {
     let p = spine_solve::twolink::general_problem(&tl, 100.0, 0.3);
     let zero = spine_model::LinkLoads::zero(2);
     let state = spine_model::State::unloaded(&p.design);
-    let (_, jac) = residual_and_state_jacobian(&p.chain.spans, &p.design, &zero, &state);
+    let (_, jac) = residual_and_state_jacobian(&p.structure.chain.spans, &p.design, &zero, &state);
     let lu = BorderedLu::factor(&jac).expect("bordered system is nonsingular");
     assert!(!lu.is_block());
     let x = lu.solve(&[1.0, 2.0, 0.5]);

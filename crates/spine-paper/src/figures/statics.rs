@@ -122,7 +122,7 @@ fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Re
     let [local, uniform] = designs else {
         return Err("fig4 needs two runs: the localized load first, then the uniform load".into());
     };
-    let (pl, pu) = (&local.problem.passive.p_y, &uniform.problem.passive.p_y);
+    let (pl, pu) = (&local.problem.structure.passive.p_y, &uniform.problem.structure.passive.p_y);
     if pl.len() != pu.len() {
         return Err("fig4: both runs need the same number of links".into());
     }

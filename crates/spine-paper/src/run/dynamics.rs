@@ -10,7 +10,7 @@ use spine_dynamics::{
     design_damping, design_periodic, periodic_response, step_response, DampingDesign, DynamicProblem, Forcing,
     PeriodicDesign, PeriodicResponse, SearchMethod, StepResponse,
 };
-use spine_model::Design;
+use spine_model::{Design, Structure};
 
 /// The design a dynamic run used: given, or from eq. (33) first.
 #[derive(Clone, Debug, Serialize)]
@@ -63,13 +63,9 @@ pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
 
 /// The dynamic problem of a case with a resolved design and the given dampers.
 pub fn dynamic_problem(valid: &ValidDynamics, design: &Design, damping: &[f64]) -> DynamicProblem {
-    DynamicProblem {
-        chain: valid.chain.clone(),
-        design: design.clone(),
-        damping: damping.to_vec(),
-        passive: valid.passive.clone(),
-        actuation: valid.actuation.clone(),
-    }
+    let structure =
+        Structure { chain: valid.chain.clone(), passive: valid.passive.clone(), actuation: valid.actuation.clone() };
+    DynamicProblem { structure, design: design.clone(), damping: damping.to_vec() }
 }
 
 /// Changes to a dynamic case from the command line.

@@ -103,12 +103,12 @@ impl EquilibriumReport {
 pub fn run_equilibrium(case: &EquilibriumCase, valid: &ValidEquilibrium) -> EquilibriumResult {
     let p = &valid.problem;
     let sol = solve_static(p, &valid.options);
-    let lengths = link_lengths(&p.chain.spans, &p.design.theta0);
+    let lengths = link_lengths(&p.structure.chain.spans, &p.design.theta0);
     EquilibriumResult {
         kind: "equilibrium",
         title: case.title.clone(),
-        n_links: p.chain.n_links(),
-        length_x: p.chain.length_x(),
+        n_links: p.structure.chain.n_links(),
+        length_x: p.structure.chain.length_x(),
         unloaded: Unloaded { nodes: nodes(&lengths, &p.design.theta0) },
         passive: EquilibriumReport::new(&sol.passive, &lengths, &p.design),
         loaded: sol.loaded.as_ref().map(|l| EquilibriumReport::new(l, &lengths, &p.design)),
