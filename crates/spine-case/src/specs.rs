@@ -148,23 +148,9 @@ pub(crate) fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<()
     }
 }
 
+/// The continuation options of a case (field `solver`), checked by their own rules.
 pub fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
-    positive("solver.residual_tolerance", o.residual_tolerance, "")?;
-    positive("solver.max_angle_step", o.max_angle_step, "rad")?;
-    positive("solver.critical_load_tolerance", o.critical_load_tolerance, "")?;
-    if !(o.initial_step > 0.0 && o.initial_step <= 1.0) {
-        return Err(CaseError::invalid("solver.initial_step", format!("must be in (0, 1], got {}", o.initial_step)));
-    }
-    if !(o.min_step > 0.0 && o.min_step <= o.initial_step) {
-        return Err(CaseError::invalid("solver.min_step", format!("must be in (0, initial_step], got {}", o.min_step)));
-    }
-    if o.max_newton_iterations == 0 {
-        return Err(CaseError::invalid("solver.max_newton_iterations", "must be at least 1"));
-    }
-    if o.max_steps == 0 {
-        return Err(CaseError::invalid("solver.max_steps", "must be at least 1"));
-    }
-    Ok(())
+    o.validate().map_err(|e| CaseError::invalid(format!("solver.{}", e.field), e.message))
 }
 
 /// Largest chain accepted from a case file.

@@ -92,7 +92,11 @@ fn run(
     })?;
     let out = output::Output::new(&args.out, args.deterministic);
     let (path, files) = out.write_result(&result)?;
-    let beside = if files > 0 { format!(" and {files} files beside it") } else { String::new() };
+    let beside = match files {
+        0 => String::new(),
+        1 => " and 1 file beside it".to_string(),
+        n => format!(" and {n} files beside it"),
+    };
     output::say(&format!("{result}wrote {}{beside}\n", path.display()));
     Ok(result.is_clean())
 }

@@ -294,6 +294,10 @@ pub fn run_ck_study(
     progress: &mut dyn FnMut(crate::run::Progress<'_>),
 ) -> Result<StudyResult, RunError> {
     let clock = std::time::Instant::now();
+    let title = format!("C_K study, eq. (34): {}", if title.is_empty() { "design case" } else { title });
+    progress(crate::run::Progress::Done {
+        message: format!("{title}: C_K = {values:?}, Ipopt scaling gradient-based and none"),
+    });
     let sweep = ck_study(case, values, &mut |done, total| {
         progress(crate::run::Progress::Step { stage: "eq. (33) solves", done, total })
     })?;
@@ -301,7 +305,7 @@ pub fn run_ck_study(
     Ok(StudyResult {
         kind: "study",
         study: "ck",
-        title: format!("C_K study, eq. (34): {}", if title.is_empty() { "design case" } else { title }),
+        title,
         stiffness_scales: values.to_vec(),
         claims_passed: claims.iter().filter(|c| c.pass).count(),
         claims_total: claims.len(),

@@ -47,6 +47,45 @@ pub struct ContinuationOptions {
     pub critical_load_tolerance: f64,
 }
 
+/// A setting outside its allowed range: the field and what is allowed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct OptionError {
+    /// The field's name (as in a case file's `solver` object).
+    pub field: &'static str,
+    pub message: String,
+}
+
+impl ContinuationOptions {
+    /// Checks every setting: tolerances and steps finite and positive, `0 < min_step ≤
+    /// initial_step ≤ 1`, at least one Newton iteration and one step.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let err = |field, message: String| Err(OptionError { field, message });
+        for (field, v, unit) in [
+            ("residual_tolerance", self.residual_tolerance, ""),
+            ("max_angle_step", self.max_angle_step, "rad"),
+            ("critical_load_tolerance", self.critical_load_tolerance, ""),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return err(field, format!("must be a finite number > 0 {unit}, got {v}"));
+            }
+        }
+        if !(self.initial_step > 0.0 && self.initial_step <= 1.0) {
+            return err("initial_step", format!("must be in (0, 1], got {}", self.initial_step));
+        }
+        if !(self.min_step > 0.0 && self.min_step <= self.initial_step) {
+            return err("min_step", format!("must be in (0, initial_step], got {}", self.min_step));
+        }
+        if self.max_newton_iterations == 0 {
+            return err("max_newton_iterations", "must be at least 1".into());
+        }
+        if self.max_steps == 0 {
+            return err("max_steps", "must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
 impl Default for ContinuationOptions {
     fn default() -> Self {
         Self {

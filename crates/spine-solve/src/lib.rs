@@ -19,8 +19,8 @@ pub mod stability;
 pub mod twolink;
 
 pub use equilibrium::{
-    solve_path, solve_static, ContinuationOptions, EquilibriumSolution, EquilibriumStatus, LoadPath, SolveStats,
-    StaticSolution,
+    solve_path, solve_static, ContinuationOptions, EquilibriumSolution, EquilibriumStatus, LoadPath, OptionError,
+    SolveStats, StaticSolution,
 };
 pub use problem::StaticProblem;
 pub use stability::Stability;

@@ -184,3 +184,19 @@ fn options_round_trip_through_json_and_reject_unknown_fields() {
     assert!(serde_json::from_str::<ContinuationOptions>(r#"{"residual_tolerence": 1e-9}"#).is_err());
     let _ = NodalLoads::zero(1);
 }
+
+#[test]
+fn options_validate_themselves_and_name_the_field() {
+    assert_eq!(ContinuationOptions::default().validate(), Ok(()));
+    let bad = |edit: &dyn Fn(&mut ContinuationOptions)| {
+        let mut o = ContinuationOptions::default();
+        edit(&mut o);
+        o.validate().unwrap_err().field
+    };
+    assert_eq!(bad(&|o| o.residual_tolerance = f64::NAN), "residual_tolerance");
+    assert_eq!(bad(&|o| o.max_angle_step = 0.0), "max_angle_step");
+    assert_eq!(bad(&|o| o.initial_step = 1.5), "initial_step");
+    assert_eq!(bad(&|o| o.min_step = 2.0 * o.initial_step), "min_step");
+    assert_eq!(bad(&|o| o.max_newton_iterations = 0), "max_newton_iterations");
+    assert_eq!(bad(&|o| o.max_steps = 0), "max_steps");
+}
