@@ -147,19 +147,7 @@ pub struct ValidDynamics {
 }
 
 fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
-    positive(&format!("{prefix}.rtol"), o.rtol, "")?;
-    positive(&format!("{prefix}.atol"), o.atol, "")?;
-    positive(&format!("{prefix}.newton_tolerance"), o.newton_tolerance, "")?;
-    if let Some(h) = o.initial_step {
-        positive(&format!("{prefix}.initial_step"), h, "s")?;
-    }
-    if let Some(h) = o.max_step {
-        positive(&format!("{prefix}.max_step"), h, "s")?;
-    }
-    if o.max_steps == 0 {
-        return Err(CaseError::invalid(format!("{prefix}.max_steps"), "must be at least 1"));
-    }
-    Ok(())
+    o.validate().map_err(|e| CaseError::invalid(format!("{prefix}.{}", e.field), e.message))
 }
 
 fn check_fraction(field: &str, v: f64) -> Result<(), CaseError> {
@@ -326,11 +314,12 @@ impl DynamicsCase {
                     ));
                 }
                 positive("periodic_design.settings.tolerance", st.tolerance, "")?;
-                if st.ga.population < 4 {
-                    return Err(CaseError::invalid("periodic_design.settings.ga.population", "must be at least 4"));
-                }
-                positive("periodic_design.settings.pattern.initial_mesh", st.pattern.initial_mesh, "")?;
-                positive("periodic_design.settings.pattern.mesh_tolerance", st.pattern.mesh_tolerance, "")?;
+                st.ga
+                    .validate()
+                    .map_err(|e| CaseError::invalid(format!("periodic_design.settings.ga.{}", e.field), e.message))?;
+                st.pattern.validate().map_err(|e| {
+                    CaseError::invalid(format!("periodic_design.settings.pattern.{}", e.field), e.message)
+                })?;
                 if st.response.max_periods < 2 {
                     return Err(CaseError::invalid(
                         "periodic_design.settings.response.max_periods",

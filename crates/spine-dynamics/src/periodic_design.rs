@@ -127,10 +127,14 @@ pub fn design_periodic(
         Ok((e, _)) => e,
         Err(_) => Evaluation::failed(),
     };
+    match method {
+        SearchMethod::Ga => settings.ga.validate()?,
+        SearchMethod::Pattern => settings.pattern.validate()?,
+    }
     let start = objective(&start_u);
     let search = match method {
-        SearchMethod::Ga => genetic_algorithm(&mut objective, &bounds, Some(&start_u), &settings.ga, progress),
-        SearchMethod::Pattern => pattern_search(&mut objective, &bounds, &start_u, &settings.pattern, progress),
+        SearchMethod::Ga => genetic_algorithm(&mut objective, &bounds, Some(&start_u), &settings.ga, progress)?,
+        SearchMethod::Pattern => pattern_search(&mut objective, &bounds, &start_u, &settings.pattern, progress)?,
     };
     let stiffness = to_stiffness(&search.x);
     let (best, response) = evaluate(problem, &forcing, &stiffness, delta_d, settings)?;

@@ -51,10 +51,15 @@ impl StaticEnds {
 /// Why a dynamic run could not start.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DynamicsError {
-    #[error("the passive equilibrium θ1 is not a stable start: {0}")]
-    UnstableStart(String),
-    #[error("the loaded equilibrium θ2 is not stable, so the response has no static final value: {0}")]
-    UnstableEnd(String),
+    /// The passive path from `θ0` did not end at a certified stable `θ1`.
+    #[error("the passive equilibrium θ1 is not a stable start: {}", .status.describe())]
+    UnstableStart { status: EquilibriumStatus },
+    /// The loaded path did not end at a certified stable `θ2`.
+    #[error("the loaded equilibrium θ2 is not stable, so the response has no static final value: {}", .status.describe())]
+    UnstableEnd { status: EquilibriumStatus },
+    /// The settings of the search of eq. (37) are out of range.
+    #[error("search settings: {0}")]
+    SearchSettings(#[from] spine_search::SettingsError),
 }
 
 impl DynamicProblem {
@@ -75,11 +80,11 @@ impl DynamicProblem {
         let problem = StaticProblem { structure: self.structure.clone(), design: self.design.clone() };
         let sol = solve_static(&problem, opts);
         if sol.passive.status != EquilibriumStatus::Stable {
-            return Err(DynamicsError::UnstableStart(sol.passive.status.describe()));
+            return Err(DynamicsError::UnstableStart { status: sol.passive.status });
         }
         let loaded = sol.loaded.as_ref().expect("the passive path reached its load");
         if loaded.status != EquilibriumStatus::Stable {
-            return Err(DynamicsError::UnstableEnd(loaded.status.describe()));
+            return Err(DynamicsError::UnstableEnd { status: loaded.status });
         }
         let d = self.dynamics(Forcing::Off);
         let lx = self.structure.chain.length_x();

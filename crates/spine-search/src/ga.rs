@@ -1,7 +1,7 @@
 //! Real-coded genetic algorithm: binary tournaments by Deb's rules, SBX crossover, polynomial
 //! mutation (both bounded), elitism.
 
-use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
+use crate::{require, Bounds, Evaluation, Progress, SearchResult, SearchStatus, SettingsError};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
@@ -48,6 +48,24 @@ impl Default for GaSettings {
     }
 }
 
+impl GaSettings {
+    /// Checks every setting (the GA runs only with valid settings; nothing is rounded).
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let p = self.population;
+        require(p >= 4 && p & 1 == 0, "population", || format!("must be even and at least 4, got {p}"))?;
+        let unit = |v: f64| (0.0..=1.0).contains(&v);
+        require(unit(self.crossover_probability), "crossover_probability", || {
+            format!("must be in [0, 1], got {}", self.crossover_probability)
+        })?;
+        let m = self.mutation_probability;
+        require(m.is_none_or(unit), "mutation_probability", || format!("must be in [0, 1], got {m:?}"))?;
+        for (field, eta) in [("crossover_eta", self.crossover_eta), ("mutation_eta", self.mutation_eta)] {
+            require(eta.is_finite() && eta > 0.0, field, || format!("must be a finite number > 0, got {eta}"))?;
+        }
+        require(self.elites < p, "elites", || format!("must be below the population ({p}), got {}", self.elites))
+    }
+}
+
 /// Minimises `f` over `bounds`. `start`, when given, is one member of the first population (the
 /// rest are uniform in the bounds).
 pub fn genetic_algorithm(
@@ -56,9 +74,10 @@ pub fn genetic_algorithm(
     start: Option<&[f64]>,
     settings: &GaSettings,
     progress: &mut dyn FnMut(Progress),
-) -> SearchResult {
+) -> Result<SearchResult, SettingsError> {
+    settings.validate()?;
     let n = bounds.dim();
-    let pop_size = settings.population.max(4) & !1;
+    let pop_size = settings.population;
     let mut rng = StdRng::seed_from_u64(settings.seed);
     let p_mut = settings.mutation_probability.unwrap_or(1.0 / n.max(1) as f64);
     let mut evaluations = 0;
@@ -170,7 +189,7 @@ pub fn genetic_algorithm(
     if generation >= settings.generations && stall >= settings.stall_generations {
         status = SearchStatus::Stalled;
     }
-    SearchResult { status, x: best_x, best: best_value, evaluations, iterations: generation, history }
+    Ok(SearchResult { status, x: best_x, best: best_value, evaluations, iterations: generation, history })
 }
 
 /// Simulated binary crossover of one gene within `[lo, hi]` (Deb & Agrawal 1995, bounded form).

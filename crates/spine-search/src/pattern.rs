@@ -1,7 +1,7 @@
 //! Generalized pattern search on the `2n` coordinate directions, with the mesh size measured as a
 //! fraction of each variable's range.
 
-use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
+use crate::{require, Bounds, Evaluation, Progress, SearchResult, SearchStatus, SettingsError};
 use serde::{Deserialize, Serialize};
 
 /// Pattern search settings.
@@ -34,6 +34,21 @@ impl Default for PatternSettings {
     }
 }
 
+impl PatternSettings {
+    /// Checks every setting.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let m = self.initial_mesh;
+        require(m > 0.0 && m <= 1.0, "initial_mesh", || format!("must be in (0, 1], got {m}"))?;
+        let t = self.mesh_tolerance;
+        require(t.is_finite() && t > 0.0, "mesh_tolerance", || format!("must be a finite number > 0, got {t}"))?;
+        let e = self.expansion;
+        require(e.is_finite() && e >= 1.0, "expansion", || format!("must be a finite number ≥ 1, got {e}"))?;
+        let c = self.contraction;
+        require(c > 0.0 && c < 1.0, "contraction", || format!("must be in (0, 1), got {c}"))?;
+        require(self.max_evaluations >= 1, "max_evaluations", || "must be at least 1".into())
+    }
+}
+
 /// Minimises `f` over `bounds` from `start` (clamped into the bounds). Polls `+e_1, −e_1, +e_2, …` in
 /// that fixed order, so runs are deterministic; a trial outside the bounds is clamped onto them.
 pub fn pattern_search(
@@ -42,7 +57,8 @@ pub fn pattern_search(
     start: &[f64],
     settings: &PatternSettings,
     progress: &mut dyn FnMut(Progress),
-) -> SearchResult {
+) -> Result<SearchResult, SettingsError> {
+    settings.validate()?;
     let n = bounds.dim();
     let mut x: Vec<f64> = (0..n).map(|i| bounds.clamp(i, start[i])).collect();
     let mut best = f(&x);
@@ -96,5 +112,5 @@ pub fn pattern_search(
         history.push(p);
         progress(p);
     };
-    SearchResult { status, x, best, evaluations, iterations: iteration, history }
+    Ok(SearchResult { status, x, best, evaluations, iterations: iteration, history })
 }

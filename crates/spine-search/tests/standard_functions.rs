@@ -21,7 +21,7 @@ fn boxed(n: usize, lo: f64, hi: f64) -> Bounds {
 #[test]
 fn pattern_search_finds_the_rosenbrock_minimum() {
     let settings = PatternSettings { mesh_tolerance: 1e-9, max_evaluations: 200_000, ..Default::default() };
-    let r = pattern_search(&mut rosenbrock, &boxed(2, -2.0, 2.0), &[-1.2, 1.0], &settings, &mut |_| {});
+    let r = pattern_search(&mut rosenbrock, &boxed(2, -2.0, 2.0), &[-1.2, 1.0], &settings, &mut |_| {}).unwrap();
     assert!(r.best.objective < 1e-6, "f = {} at {:?} ({:?})", r.best.objective, r.x, r.status);
     assert!((r.x[0] - 1.0).abs() < 1e-2 && (r.x[1] - 1.0).abs() < 2e-2);
 }
@@ -30,7 +30,7 @@ fn pattern_search_finds_the_rosenbrock_minimum() {
 fn ga_finds_the_global_rastrigin_minimum_among_many_local_ones() {
     let settings =
         GaSettings { population: 60, generations: 200, stall_generations: 200, seed: 7, ..Default::default() };
-    let r = genetic_algorithm(&mut rastrigin, &boxed(3, -5.12, 5.12), None, &settings, &mut |_| {});
+    let r = genetic_algorithm(&mut rastrigin, &boxed(3, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
     assert!(r.best.objective < 0.05, "f = {} at {:?}", r.best.objective, r.x);
     assert!(r.x.iter().all(|v| v.abs() < 0.05), "{:?}", r.x);
 }
@@ -39,7 +39,7 @@ fn ga_finds_the_global_rastrigin_minimum_among_many_local_ones() {
 fn ga_gets_close_on_rosenbrock_and_pattern_search_polishes_it() {
     let settings =
         GaSettings { population: 40, generations: 150, stall_generations: 150, seed: 3, ..Default::default() };
-    let ga = genetic_algorithm(&mut rosenbrock, &boxed(2, -2.0, 2.0), None, &settings, &mut |_| {});
+    let ga = genetic_algorithm(&mut rosenbrock, &boxed(2, -2.0, 2.0), None, &settings, &mut |_| {}).unwrap();
     assert!(ga.best.objective < 0.1, "GA f = {}", ga.best.objective);
     let ps = pattern_search(
         &mut rosenbrock,
@@ -47,7 +47,8 @@ fn ga_gets_close_on_rosenbrock_and_pattern_search_polishes_it() {
         &ga.x,
         &PatternSettings { initial_mesh: 0.01, mesh_tolerance: 1e-10, ..Default::default() },
         &mut |_| {},
-    );
+    )
+    .unwrap();
     assert!(ps.best.objective < 1e-7, "polished f = {}", ps.best.objective);
 }
 
@@ -65,7 +66,8 @@ fn both_respect_an_equality_constraint_by_feasibility_rules() {
         &[1.0, 0.0],
         &PatternSettings { mesh_tolerance: 1e-9, ..Default::default() },
         &mut |_| {},
-    );
+    )
+    .unwrap();
     assert_eq!(ps.best.violation, 0.0);
     // Coordinate polls cannot slide along x + y = 1 (a known limit of GPS with equality constraints):
     // it stops at a feasible point, not necessarily the minimum.
@@ -76,15 +78,16 @@ fn both_respect_an_equality_constraint_by_feasibility_rules() {
         None,
         &GaSettings { generations: 300, stall_generations: 300, population: 60, ..Default::default() },
         &mut |_| {},
-    );
+    )
+    .unwrap();
     assert!(ga.best.violation == 0.0 || ga.best.violation < 1e-4, "violation {}", ga.best.violation);
 }
 
 #[test]
 fn same_seed_same_result() {
     let settings = GaSettings { generations: 20, seed: 11, ..Default::default() };
-    let a = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {});
-    let b = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {});
+    let a = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
+    let b = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
     assert_eq!(a.x, b.x);
     assert_eq!(a.evaluations, b.evaluations);
     let c = genetic_algorithm(
@@ -93,7 +96,8 @@ fn same_seed_same_result() {
         None,
         &GaSettings { seed: 12, ..settings },
         &mut |_| {},
-    );
+    )
+    .unwrap();
     assert_ne!(a.x, c.x, "a different seed explores differently");
 }
 
@@ -108,4 +112,17 @@ fn deb_rules() {
     assert!(infeasible.better_than(&worse_infeasible));
     assert!(worse_infeasible.better_than(&Evaluation::failed()));
     assert!(!Evaluation { objective: f64::NAN, violation: 0.0 }.better_than(&worse_infeasible));
+}
+
+#[test]
+fn settings_are_checked_not_rounded() {
+    let f = &mut |x: &[f64]| Evaluation::unconstrained(x[0] * x[0]);
+    let odd = GaSettings { population: 7, ..Default::default() };
+    let e = genetic_algorithm(f, &boxed(1, -1.0, 1.0), None, &odd, &mut |_| {}).unwrap_err();
+    assert_eq!(e.field, "population");
+    let bad = PatternSettings { contraction: 1.0, ..Default::default() };
+    assert_eq!(pattern_search(f, &boxed(1, -1.0, 1.0), &[0.5], &bad, &mut |_| {}).unwrap_err().field, "contraction");
+    assert_eq!(GaSettings { elites: 40, ..Default::default() }.validate().unwrap_err().field, "elites");
+    assert_eq!(GaSettings::default().validate(), Ok(()));
+    assert_eq!(PatternSettings::default().validate(), Ok(()));
 }

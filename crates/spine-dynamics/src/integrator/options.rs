@@ -1,6 +1,7 @@
 //! What a run is asked for ([`Options`]) and what it reports ([`Stats`], [`Outcome`]).
 
 use serde::Serialize;
+use spine_solve::OptionError;
 
 /// Integrator settings.
 #[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
@@ -18,6 +19,28 @@ pub struct Options {
     pub max_steps: usize,
     /// Newton stops when the weighted correction is below this (default 1e-3).
     pub newton_tolerance: f64,
+}
+
+impl Options {
+    /// Checks every setting: tolerances and steps finite and positive, at least one step.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        let positive = [
+            ("rtol", Some(self.rtol)),
+            ("atol", Some(self.atol)),
+            ("newton_tolerance", Some(self.newton_tolerance)),
+            ("initial_step", self.initial_step),
+            ("max_step", self.max_step),
+        ];
+        for (field, v) in positive {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(OptionError { field, message: format!("must be a finite number > 0, got {v}") });
+            }
+        }
+        if self.max_steps == 0 {
+            return Err(OptionError { field: "max_steps", message: "must be at least 1".into() });
+        }
+        Ok(())
+    }
 }
 
 impl Default for Options {
