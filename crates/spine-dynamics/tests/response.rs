@@ -42,13 +42,11 @@ fn rise_time_gradient_equals_central_differences() {
     let (t90, grad) = rise_time(&d, &ends, &settings, true);
     let (t90, grad) = (t90.unwrap(), grad.unwrap());
     for k in 0..5 {
-        let h = 1e-3 * d.damping[k];
-        let at = |c: f64| {
+        let fd = spine_model::finite_difference::central(d.damping[k], 1e-3, |c| {
             let mut dk = d.clone();
             dk.damping[k] = c;
             rise_time(&dk, &ends, &settings, false).0.unwrap()
-        };
-        let fd = (at(d.damping[k] + h) - at(d.damping[k] - h)) / (2.0 * h);
+        });
         assert!(
             (fd - grad[k]).abs() <= 1e-5 * grad.iter().map(|g| g.abs()).fold(0.0, f64::max),
             "dT90/dC{k}: {} vs FD {fd}",

@@ -25,6 +25,37 @@ pub fn central(v: f64, step: f64, f: impl Fn(f64) -> f64) -> f64 {
     (f(v + h) - f(v - h)) / (2.0 * h)
 }
 
+/// The gradient of a scalar function by [`central`] differences in each entry of `x`.
+pub fn central_gradient(x: &[f64], step: f64, f: impl Fn(&[f64]) -> f64) -> Vec<f64> {
+    (0..x.len())
+        .map(|k| {
+            central(x[k], step, |v| {
+                let mut moved = x.to_vec();
+                moved[k] = v;
+                f(&moved)
+            })
+        })
+        .collect()
+}
+
+/// The Jacobian `J[i][k] = ∂f_i/∂x_k` of a vector function by central differences (dense, rows
+/// `i`), with the steps of [`central`].
+pub fn central_jacobian(x: &[f64], step: f64, f: impl Fn(&[f64]) -> Vec<f64>) -> Vec<Vec<f64>> {
+    let m = f(x).len();
+    let mut jac = vec![vec![0.0; x.len()]; m];
+    for k in 0..x.len() {
+        let h = step * x[k].abs().max(1.0);
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[k] += h;
+        xm[k] -= h;
+        let (fp, fm) = (f(&xp), f(&xm));
+        for i in 0..m {
+            jac[i][k] = (fp[i] - fm[i]) / (2.0 * h);
+        }
+    }
+    jac
+}
+
 /// The residual of eq. (5) and its Jacobian with respect to `(θ, λ)` by central differences, in
 /// the bordered tridiagonal layout of [`crate::jacobian::residual_and_state_jacobian`].
 pub fn residual_and_state_jacobian(

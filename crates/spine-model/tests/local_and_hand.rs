@@ -2,6 +2,7 @@
 //! differences, and the hand-written derivatives of Appendix I against the AD ones.
 
 use spine_model::energy::strain_energy;
+use spine_model::finite_difference::central_gradient;
 use spine_model::fixtures::{random_problem, FixtureRng};
 use spine_model::hand;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
@@ -197,30 +198,19 @@ fn hand_energy_and_end_partials_match_central_differences() {
         let energy = |t: &[f64], t0: &[f64], k: &[f64]| strain_energy(t, t0, k);
         let endx = |t: &[f64], t0: &[f64]| end_x(&chain.spans, t0, t);
         let h = 1e-6;
+        let fd_u_theta = central_gradient(&state.theta, h, |t| energy(t, &design.theta0, &design.stiffness));
+        let fd_x_theta = central_gradient(&state.theta, h, |t| endx(t, &design.theta0));
+        let fd_u_theta0 = central_gradient(&design.theta0, h, |t0| energy(&state.theta, t0, &design.stiffness));
+        let fd_x_theta0 = central_gradient(&design.theta0, h, |t0| endx(&state.theta, t0));
+        let fd_u_k = central_gradient(&design.stiffness, h, |k| energy(&state.theta, &design.theta0, k));
         for i in 0..n {
-            let (mut tp, mut tm) = (state.theta.clone(), state.theta.clone());
-            tp[i] += h;
-            tm[i] -= h;
-            let fd = (energy(&tp, &design.theta0, &design.stiffness) - energy(&tm, &design.theta0, &design.stiffness))
-                / (2.0 * h);
-            assert!((fd - du_dtheta[i]).abs() < 1e-6 * du_dtheta[i].abs().max(1.0));
-            let fd = (endx(&tp, &design.theta0) - endx(&tm, &design.theta0)) / (2.0 * h);
-            assert!((fd - dx_dtheta[i]).abs() < 1e-8);
-            let (mut dp, mut dm) = (design.theta0.clone(), design.theta0.clone());
-            dp[i] += h;
-            dm[i] -= h;
-            let fd = (energy(&state.theta, &dp, &design.stiffness) - energy(&state.theta, &dm, &design.stiffness))
-                / (2.0 * h);
-            assert!((fd - du_ddesign[i]).abs() < 1e-6 * du_ddesign[i].abs().max(1.0));
-            let fd = (endx(&state.theta, &dp) - endx(&state.theta, &dm)) / (2.0 * h);
-            assert!((fd - dx_ddesign[i]).abs() < 1e-8);
+            assert!((fd_u_theta[i] - du_dtheta[i]).abs() < 1e-6 * du_dtheta[i].abs().max(1.0));
+            assert!((fd_x_theta[i] - dx_dtheta[i]).abs() < 1e-8);
+            assert!((fd_u_theta0[i] - du_ddesign[i]).abs() < 1e-6 * du_ddesign[i].abs().max(1.0));
+            assert!((fd_x_theta0[i] - dx_ddesign[i]).abs() < 1e-8);
         }
         for j in 0..=n {
-            let (mut kp, mut km) = (design.stiffness.clone(), design.stiffness.clone());
-            kp[j] += h;
-            km[j] -= h;
-            let fd =
-                (energy(&state.theta, &design.theta0, &kp) - energy(&state.theta, &design.theta0, &km)) / (2.0 * h);
+            let fd = fd_u_k[j];
             assert!((fd - du_ddesign[n + j]).abs() < 1e-6, "∂U/∂K{j}: FD {fd} hand {}", du_ddesign[n + j]);
             assert_eq!(dx_ddesign[n + j], 0.0);
         }
