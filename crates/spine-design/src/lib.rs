@@ -11,6 +11,18 @@
 //!   result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
+//!
+//! ```
+//! use spine_design::fixtures::{paper_five_link_start, paper_problem};
+//! use spine_design::{solve_design, Formulation, SolverSettings};
+//! // The paper's 5-link case (Sec. 5.1): −10 N per node, −400 N at the end, δ_d = −0.02 m, C_K = 1.
+//! let problem = paper_problem(5, -10.0, -400.0, -0.02, 1.0);
+//! let settings = SolverSettings::default();
+//! let result = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &settings, &mut |_| true).unwrap();
+//! assert!(result.is_clean(), "{} {:?}", result.solver.status, result.warnings);
+//! assert!((result.end_displacement.unwrap() - (-0.02)).abs() < 1e-8); // m
+//! assert!(result.passive.as_ref().unwrap().stability.stable);
+//! ```
 #![forbid(unsafe_code)]
 
 pub mod adjoint;

@@ -15,6 +15,16 @@
 //!
 //! No maintained crate offers both methods with constraint handling (see `../shared/CRATES.md`);
 //! these are tested on Rosenbrock, Rastrigin and a constrained problem with known minima.
+//!
+//! ```
+//! use spine_search::{pattern_search, Bounds, Evaluation, PatternSettings};
+//! // min (x − 1)² + (y + 0.5)² subject to x ≥ 1.5 (the violation is counted, no penalty weight).
+//! let mut f = |p: &[f64]| Evaluation { objective: (p[0] - 1.0).powi(2) + (p[1] + 0.5).powi(2), violation: (1.5 - p[0]).max(0.0) };
+//! let bounds = Bounds { lower: vec![-2.0, -2.0], upper: vec![2.0, 2.0] };
+//! let r = pattern_search(&mut f, &bounds, &[0.0, 0.0], &PatternSettings::default(), &mut |_| {}).unwrap();
+//! assert_eq!(r.best.violation, 0.0);
+//! assert!((r.x[0] - 1.5).abs() < 1e-4 && (r.x[1] + 0.5).abs() < 1e-4); // on the constraint
+//! ```
 #![forbid(unsafe_code)]
 
 mod ga;

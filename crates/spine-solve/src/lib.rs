@@ -10,6 +10,21 @@
 //! * [`twolink`]: the exact two-link design of Sec. 3 solved with the general `N`-link code.
 //!
 //! Solvers return result structs and print nothing.
+//!
+//! ```
+//! use spine_model::fixtures::{arch, uniform_loads};
+//! use spine_model::Structure;
+//! use spine_solve::{solve_static, ContinuationOptions, StaticProblem};
+//! // A 10-link arch, −5 N per node (passive), then −200 N pushing the sliding end (actuation).
+//! let (chain, design) = arch(10, 1.0, 0.4, 1000.0);
+//! let structure = Structure { chain, passive: uniform_loads(10, -5.0, 0.0), actuation: uniform_loads(10, 0.0, -200.0) };
+//! let solution = solve_static(&StaticProblem { structure, design }, &ContinuationOptions::default());
+//! let loaded = solution.loaded.expect("the passive path reached its load");
+//! assert!(solution.passive.status.is_stable() && loaded.status.is_stable());
+//! assert!(loaded.residual_norm < 1e-9); // N·m
+//! assert!(loaded.stability.min_eigenvalue.unwrap() > 0.0); // the certificate
+//! assert!(solution.end_displacement.unwrap() < 0.0); // the end moved toward the base
+//! ```
 #![forbid(unsafe_code)]
 
 pub mod equilibrium;
