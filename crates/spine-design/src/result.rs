@@ -11,6 +11,56 @@ use spine_model::kinematics::{end_constraint, end_x, link_lengths, node_position
 use spine_model::{energy, Design, LinkLoads, State};
 use spine_solve::{solve_static, stability, ContinuationOptions, Stability};
 
+/// Which of the two equilibria of eq. (33).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LoadCase {
+    /// `θ1`, under the passive load.
+    Passive,
+    /// `θ2`, under the passive load plus the actuation.
+    Loaded,
+}
+
+/// Why a design result is not clean.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DesignWarning {
+    /// Ipopt ended without converging (its status).
+    NotConverged { status: String },
+    /// An equilibrium of the final design is not stable (its smallest reduced-Hessian
+    /// eigenvalue, N·m/rad, when it has one).
+    Unstable { equilibrium: LoadCase, min_eigenvalue: Option<f64> },
+    /// The final design has no equilibria on its load path.
+    NoEquilibria,
+    /// The optimiser's equilibria are not the ones reached by loading the design (largest angle
+    /// differences, rad, and the statuses of the two paths).
+    OffLoadPath { passive_difference: f64, loaded_difference: f64, passive_status: String, loaded_status: String },
+}
+
+impl std::fmt::Display for DesignWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NotConverged { status } => write!(f, "Ipopt did not converge: {status}"),
+            Self::Unstable { equilibrium, min_eigenvalue } => {
+                let name = match equilibrium {
+                    LoadCase::Passive => "θ1 (passive)",
+                    LoadCase::Loaded => "θ2 (passive + actuation)",
+                };
+                write!(f, "the equilibrium {name} is unstable (smallest reduced-Hessian eigenvalue {min_eigenvalue:?})")
+            }
+            Self::NoEquilibria => write!(f, "the final design has no equilibria on its load path"),
+            Self::OffLoadPath { passive_difference, loaded_difference, passive_status, loaded_status } => write!(
+                f,
+                "the optimiser's equilibria are not the ones reached by loading the design (differences {passive_difference:.3e} and {loaded_difference:.3e} rad; paths: {passive_status}, {loaded_status})"
+            ),
+        }
+    }
+}
+
+impl Serialize for DesignWarning {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
 /// Ipopt's account of the run.
 #[derive(Clone, Debug, Serialize)]
 pub struct SolverReport {
@@ -175,8 +225,8 @@ pub struct DesignResult {
     /// Notes on the start point (projection into the bounds, start states).
     pub start_notes: Vec<String>,
     /// Everything a reader must not miss: non-convergence, unstable equilibria, a state off the
-    /// load path. Empty for a clean optimum.
-    pub warnings: Vec<String>,
+    /// load path. Empty for a clean optimum. (Written to `result.json` as sentences.)
+    pub warnings: Vec<DesignWarning>,
     /// The levels of a mesh-sequenced run (absent for a single solve).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refinement: Option<RefinementReport>,
@@ -223,7 +273,7 @@ impl DesignResult {
         let path = solve_static(&problem.static_problem(&design), continuation);
         let mut warnings = Vec::new();
         if !solver.converged {
-            warnings.push(format!("Ipopt did not converge: {}", solver.status));
+            warnings.push(DesignWarning::NotConverged { status: solver.status.clone() });
         }
 
         let (passive, loaded, end_displacement, violations, objective) = match &states {
@@ -272,19 +322,17 @@ impl DesignResult {
                 ]
                 .into_iter()
                 .fold(0.0, f64::max);
-                for (name, report) in [("θ1 (passive)", &r1), ("θ2 (passive + actuation)", &r2)] {
+                for (equilibrium, report) in [(LoadCase::Passive, &r1), (LoadCase::Loaded, &r2)] {
                     if !report.stability.stable {
-                        warnings.push(format!(
-                            "the equilibrium {name} is unstable (smallest reduced-Hessian eigenvalue {:?})",
-                            report.stability.min_eigenvalue
-                        ));
+                        let min_eigenvalue = report.stability.min_eigenvalue;
+                        warnings.push(DesignWarning::Unstable { equilibrium, min_eigenvalue });
                     }
                 }
                 let objective = energy::strain_energy(&s1.theta, &design.theta0, &design.stiffness);
                 (Some(r1), Some(r2), Some(end), Some(Violations { max, ..v }), objective)
             }
             None => {
-                warnings.push("the final design has no equilibria on its load path".into());
+                warnings.push(DesignWarning::NoEquilibria);
                 (None, None, None, None, f64::NAN)
             }
         };
@@ -305,10 +353,12 @@ impl DesignResult {
             loaded_angle_difference,
         };
         if states.is_some() && !load_path.consistent {
-            warnings.push(format!(
-                "the optimiser's equilibria are not the ones reached by loading the design (differences {:.3e} and {:.3e} rad; paths: {}, {})",
-                passive_angle_difference, loaded_angle_difference, load_path.passive_status, load_path.loaded_status
-            ));
+            warnings.push(DesignWarning::OffLoadPath {
+                passive_difference: passive_angle_difference,
+                loaded_difference: loaded_angle_difference,
+                passive_status: load_path.passive_status.clone(),
+                loaded_status: load_path.loaded_status.clone(),
+            });
         }
 
         DesignResult {

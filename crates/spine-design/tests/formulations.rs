@@ -103,7 +103,7 @@ fn scaling_off_and_iteration_limits_are_reported() {
     let settings = SolverSettings { max_iterations: 2, ..SolverSettings::default() };
     let r = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &settings, &mut |_| true).unwrap();
     assert_eq!(r.solver.status, "maximum_iterations_exceeded");
-    assert!(r.warnings.iter().any(|w| w.contains("did not converge")));
+    assert!(r.warnings.iter().any(|w| matches!(w, spine_design::result::DesignWarning::NotConverged { .. })));
     let mut calls = 0;
     let r =
         solve_design(&problem, &paper_five_link_start(), Formulation::Full, &SolverSettings::default(), &mut |_| {

@@ -53,7 +53,7 @@ pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
             if !s.result.is_clean() {
                 return Err(RunError::StaticDesignNotClean {
                     status: s.result.solver.status.clone(),
-                    warnings: s.result.warnings.clone(),
+                    warnings: s.result.warnings.iter().map(ToString::to_string).collect(),
                 });
             }
             Ok(UsedDesign { design: s.result.design.clone(), spans: valid.chain.spans.clone(), static_design: Some(s) })
