@@ -182,31 +182,22 @@ pub struct EvaluationCounts {
 }
 
 /// Why a problem could not be handed to Ipopt at all.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SetupError {
     /// Sizes too large for Ipopt's 32-bit indices.
+    #[error("{0} exceeds Ipopt's 32-bit index range")]
     TooLarge(&'static str),
     /// A sparsity entry outside the matrix, or in the upper triangle of the Hessian.
+    #[error("bad sparsity structure: {0}")]
     BadStructure(String),
     /// Ipopt refused an option (unknown name or wrong type).
+    #[error("Ipopt rejected the option {0}")]
     InvalidOption(String),
     /// `CreateIpoptProblem` refused the sizes (for example no variable, or constraints without
     /// Jacobian entries).
+    #[error("Ipopt could not create the problem ({0})")]
     CreateFailed(String),
 }
-
-impl std::fmt::Display for SetupError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SetupError::TooLarge(what) => write!(f, "{what} exceeds Ipopt's 32-bit index range"),
-            SetupError::BadStructure(what) => write!(f, "bad sparsity structure: {what}"),
-            SetupError::InvalidOption(what) => write!(f, "Ipopt rejected the option {what}"),
-            SetupError::CreateFailed(what) => write!(f, "Ipopt could not create the problem ({what})"),
-        }
-    }
-}
-
-impl std::error::Error for SetupError {}
 
 /// The version of the Ipopt this crate was built against (read from its headers), e.g. "3.11.9".
 pub const IPOPT_VERSION: &str = env!("SPINE_IPOPT_VERSION");

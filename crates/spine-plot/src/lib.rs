@@ -143,17 +143,11 @@ pub struct Figure {
     pub panel_size: (u32, u32),
 }
 
-/// A drawing failure (plotters' message).
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// A drawing failure, with plotters' description of it (its error types are generic over the
+/// backend, so the cause travels as its message).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("plot: {0}")]
 pub struct PlotError(pub String);
-
-impl std::fmt::Display for PlotError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "plot: {}", self.0)
-    }
-}
-
-impl std::error::Error for PlotError {}
 
 fn err<E: std::fmt::Debug>(e: E) -> PlotError {
     PlotError(format!("{e:?}"))
