@@ -9,6 +9,16 @@ fn read(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// `spine design CASE --deterministic EXTRA…` into a fresh folder `TAG`: the process output and
+/// the folder.
+fn design_deterministic(case: &str, tag: &str, extra: &[&str]) -> (std::process::Output, std::path::PathBuf) {
+    let case = workspace().join(case);
+    let out = tmpdir(tag);
+    let mut args = vec!["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"];
+    args.extend(extra);
+    (spine(&args), out)
+}
+
 #[test]
 fn paper_five_link_case_runs_in_both_formulations_and_reports_everything() {
     let case = workspace().join("paper-cases/design5.json");
@@ -42,21 +52,10 @@ fn paper_five_link_case_runs_in_both_formulations_and_reports_everything() {
 
 #[test]
 fn design_output_is_deterministic_and_multistart_counts_optima() {
-    let case = workspace().join("paper-cases/design5.json");
     let mut texts = Vec::new();
     for tag in ["a", "b"] {
-        let out = tmpdir(&format!("det-{tag}"));
-        let o = spine(&[
-            "design",
-            case.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--deterministic",
-            "--starts",
-            "4",
-            "--seed",
-            "7",
-        ]);
+        let (o, out) =
+            design_deterministic("paper-cases/design5.json", &format!("det-{tag}"), &["--starts", "4", "--seed", "7"]);
         assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
         texts.push(std::fs::read(out.join("result.json")).unwrap());
         let r = read(&out.join("result.json"));
@@ -143,19 +142,10 @@ fn bad_design_input_exits_2_and_names_the_field() {
 
 #[test]
 fn refined_design_reports_every_level_and_is_deterministic() {
-    let case = workspace().join("paper-cases/design10.json");
     let mut texts = Vec::new();
     for tag in ["a", "b"] {
-        let out = tmpdir(&format!("refine-{tag}"));
-        let o = spine(&[
-            "design",
-            case.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--deterministic",
-            "--refine",
-            "5:2",
-        ]);
+        let (o, out) =
+            design_deterministic("paper-cases/design10.json", &format!("refine-{tag}"), &["--refine", "5:2"]);
         let stdout = String::from_utf8_lossy(&o.stdout);
         assert!(matches!(o.status.code(), Some(0) | Some(3)), "{}", String::from_utf8_lossy(&o.stderr));
         assert!(stdout.contains("level     5 links (Cold start)") && stdout.contains("level    10 links"), "{stdout}");
@@ -170,14 +160,8 @@ fn refined_design_reports_every_level_and_is_deterministic() {
         texts.push(std::fs::read(out.join("result.json")).unwrap());
     }
     assert_eq!(texts[0], texts[1], "same input, same bytes");
-    let o = spine(&[
-        "design",
-        case.to_str().unwrap(),
-        "--out",
-        tmpdir("refine-bad").join("out").to_str().unwrap(),
-        "--refine",
-        "1",
-    ]);
+    let (o, out) = design_deterministic("paper-cases/design10.json", "refine-bad", &["--refine", "1"]);
     assert_eq!(o.status.code(), Some(2));
+    assert!(!out.join("result.json").exists());
     assert!(String::from_utf8_lossy(&o.stderr).contains("refine"));
 }
