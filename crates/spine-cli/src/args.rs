@@ -133,3 +133,14 @@ impl PeriodicArgs {
         spine_paper::Overrides { dynamics: spine_paper::run::DynamicsOverrides { method }, ..Default::default() }
     }
 }
+
+impl StudyArgs {
+    /// The C_K values of `spine study ck` (default: half-decades from 1 to 10⁴).
+    pub fn values(&self) -> Result<Vec<f64>, crate::Failure> {
+        let values = self.values.clone().unwrap_or_else(spine_paper::study::half_decades);
+        match values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+            Some(v) => Err(crate::Failure::Input(format!("--values: every C_K must be finite and > 0, got {v}"))),
+            None => Ok(values),
+        }
+    }
+}

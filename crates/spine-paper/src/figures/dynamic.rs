@@ -3,6 +3,7 @@
 //! designs for three rise times).
 
 use super::*;
+use crate::run::samples_csv;
 use crate::run::DynamicOutput;
 use serde_json::json;
 use spine_dynamics::{DampingDesign, PeriodicResponse, StepResponse};

@@ -131,24 +131,6 @@ fn design_csv(design: &Design) -> String {
     text
 }
 
-/// `t, load_factor, delta, end_displacement, theta_1..theta_N` with full precision.
-pub fn samples_csv(samples: &[Sample]) -> String {
-    let n = samples.first().map_or(0, |s| s.theta.len());
-    let mut text = String::from("t_s,load_factor,delta_m,end_displacement_m");
-    for i in 1..=n {
-        let _ = write!(text, ",theta_{i}_rad");
-    }
-    text.push('\n');
-    for s in samples {
-        let _ = write!(text, "{:e},{:e},{:e},{:e}", s.t, s.load_factor, s.delta, s.end_displacement);
-        for t in &s.theta {
-            let _ = write!(text, ",{t:e}");
-        }
-        text.push('\n');
-    }
-    text
-}
-
 fn stiffness_panel(title: &str, series: Vec<Series>) -> Panel {
     series.into_iter().fold(Panel::new(title, "node j", "K_j (N·m/rad)"), Panel::with)
 }

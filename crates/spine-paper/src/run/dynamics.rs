@@ -2,8 +2,8 @@
 //! the eq. (33) design of the case.
 
 use super::design::{run_design, StaticDesign};
-use super::{FileContent, OutputFile, Progress, RunError};
-use crate::figures::samples_csv;
+use super::files::{samples_csv, FileContent, OutputFile};
+use super::{Progress, RunError};
 use serde::{Serialize, Serializer};
 use spine_case::{DesignSource, DynamicsTask, ValidDynamics};
 use spine_dynamics::{

@@ -1,6 +1,8 @@
 //! Kind `figure`: every run of a figure case, then its recipe's panels, tables and checked claims.
 
-use super::{run, FileContent, OutputFile, Progress, RunError, RunOutput};
+use super::files::{FileContent, OutputFile};
+use super::output::{run, RunOutput};
+use super::{Progress, RunError};
 use crate::{recipe, Check, Claim, NamedRun};
 use serde::Serialize;
 use serde_json::{Map, Value};

@@ -1,30 +1,10 @@
 //! The typed result of a case ([`CaseResult`]): what `result.json` holds, the files written beside
 //! it, and whether it is clean (exit code 0) or not (exit code 3).
 
-use super::{DesignCaseResult, DynamicsResult, EquilibriumResult, FigureResult, TwoLinkResult};
+use super::{DesignCaseResult, DynamicsResult, EquilibriumResult, FigureResult, OutputFile, TwoLinkResult};
 use crate::study::StudyResult;
 use serde::Serialize;
 use serde_json::{Map, Value};
-
-/// A file written beside `result.json`.
-pub enum FileContent {
-    /// A CSV table or other text.
-    Text(String),
-    /// A figure, written as `NAME.svg` and `NAME.png`.
-    Figure(spine_plot::Figure),
-}
-
-/// A file written beside `result.json`: its name (a figure's stem) and content.
-pub struct OutputFile {
-    pub name: String,
-    pub content: FileContent,
-}
-
-impl OutputFile {
-    pub fn text(name: impl Into<String>, text: String) -> Self {
-        Self { name: name.into(), content: FileContent::Text(text) }
-    }
-}
 
 /// What any case computed, by kind.
 #[derive(Clone, Debug, Serialize)]
