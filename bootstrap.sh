@@ -20,10 +20,11 @@ if ! command -v just >/dev/null 2>&1; then
   cargo install --locked --quiet just
 fi
 
-# `just lint` (run at the end of `just test`) needs clippy and rustfmt.
-for c in clippy rustfmt; do
-  if ! cargo "$c" --version >/dev/null 2>&1; then
-    echo "bootstrap: installing the $c component (rustup component add $c)"
-    rustup component add "$c"
+# `just lint` (run at the end of `just test`) needs clippy (`cargo clippy`) and rustfmt (`cargo fmt`).
+for pair in clippy:clippy rustfmt:fmt; do
+  component="${pair%%:*}" subcommand="${pair##*:}"
+  if ! cargo "$subcommand" --version >/dev/null 2>&1; then
+    echo "bootstrap: installing the $component component (rustup component add $component)"
+    rustup component add "$component"
   fi
 done
