@@ -25,11 +25,17 @@ fn assert_matrix_close(ad: &[Vec<f64>], fd: &[Vec<f64>], tol: f64, what: &str) {
 }
 
 /// Central differences of `f` (vector valued) in each of `x`'s entries, as a dense matrix, with the
-/// step `ε^{1/3}` that balances truncation and rounding (a step of 1e-6 let rounding reach 1.2e-6
-/// relative on an entry of 0.05 N·m beside entries of 10⁴, found by the property test below).
+/// step `ε^{1/3}` that balances truncation and rounding.
 fn central_differences(x: &[f64], f: impl Fn(&[f64]) -> Vec<f64>) -> Vec<Vec<f64>> {
     spine_model::finite_difference::central_jacobian(x, spine_model::finite_difference::CENTRAL_STEP, f)
 }
+
+/// Relative tolerance of the AD–FD comparison. AD is exact; what remains is the rounding of the
+/// central difference, `ε · (size of the row's terms) / h`. With springs up to 10⁴ N·m/rad and
+/// `|λ|` up to 100 N, that reaches 1.2e-6 of an entry of 0.06 N·m (the property test found two such
+/// draws at N = 33 and 38), so the check allows 1e-5: ten times the worst rounding seen, while a
+/// wrong derivative is off by O(1).
+const FD_TOLERANCE: f64 = 1e-5;
 
 fn check_state_jacobian(n: usize, seed: u64) {
     let (chain, design, loads, state) = random_problem(n, seed);
@@ -41,7 +47,7 @@ fn check_state_jacobian(n: usize, seed: u64) {
         let s = State { theta: x[..n].to_vec(), lambda: x[n] };
         equilibrium_residual(&chain.spans, &design, &loads, &s)
     });
-    assert_matrix_close(&jac.to_sparse().to_dense(), &fd, 1e-6, &format!("dr/d(θ,λ) N={n} seed={seed}"));
+    assert_matrix_close(&jac.to_sparse().to_dense(), &fd, FD_TOLERANCE, &format!("dr/d(θ,λ) N={n} seed={seed}"));
 }
 
 fn check_design_jacobian(n: usize, seed: u64) {
@@ -55,7 +61,7 @@ fn check_design_jacobian(n: usize, seed: u64) {
         let d = Design { theta0: p[..n].to_vec(), stiffness: p[n..].to_vec() };
         equilibrium_residual(&chain.spans, &d, &loads, &state)
     });
-    assert_matrix_close(&jac.to_dense(), &fd, 1e-6, &format!("dr/d(θ0,K) N={n} seed={seed}"));
+    assert_matrix_close(&jac.to_dense(), &fd, FD_TOLERANCE, &format!("dr/d(θ0,K) N={n} seed={seed}"));
 }
 
 #[test]
@@ -66,6 +72,9 @@ fn jacobians_match_central_differences_at_the_listed_sizes() {
             check_design_jacobian(n, 200 * n as u64 + seed);
         }
     }
+    // Draws the property test found where rounding exceeded 1e-6 (see FD_TOLERANCE).
+    check_state_jacobian(38, 13025324799438442098);
+    check_state_jacobian(33, 2050937072542431855);
 }
 
 proptest::proptest! {
