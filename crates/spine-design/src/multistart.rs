@@ -68,63 +68,100 @@ pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<
     starts
 }
 
-/// A distinct local optimum and the starts that reached it.
+/// A distinct local optimum, the starts that reached it, and the full result of the first of
+/// them (design, both equilibria with `λ`, violations, stability, Ipopt's report).
 #[derive(Clone, Debug, Serialize)]
 pub struct Optimum {
-    /// `J`, J.
-    pub objective: f64,
-    pub design: Design,
-    /// How many starts converged here, and which (0-based).
+    /// How many starts converged here, and which (0-based; 0 is the case's own start).
     pub count: usize,
     pub starts: Vec<usize>,
-    /// Both equilibria stable and on the load path.
+    /// The run met every check ([`DesignResult::is_clean`]).
     pub clean: bool,
+    /// The optimum (index into `optima`) this one is the mirror image of: `θ0` reversed and
+    /// negated, `K` reversed, the same `J`. Symmetric loads make such pairs distinct optima of
+    /// equal value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mirror_of: Option<usize>,
+    /// The run from `starts[0]`.
+    #[serde(flatten)]
+    pub result: DesignResult,
+}
+
+impl Optimum {
+    /// `J`, J.
+    pub fn objective(&self) -> f64 {
+        self.result.objective
+    }
 }
 
 /// Summary of a multi-start run.
 #[derive(Clone, Debug, Serialize)]
 pub struct MultiStartSummary {
+    /// Runs in all: the case's own start (start 0) and the seeded ones.
     pub starts: usize,
     pub seed: u64,
     pub converged: usize,
-    /// Distinct optima, best `J` first.
+    /// Distinct optima: the clean ones first, each group by increasing `J`. The first, when
+    /// clean, is the best clean optimum found.
     pub optima: Vec<Optimum>,
     /// Starts that did not converge, with Ipopt's status.
     pub failed: Vec<(usize, String)>,
 }
 
-/// Groups converged results: two belong to the same optimum when `J` agrees to `1e-6` relative
-/// and `θ0` to `1e-4` rad. `K` is not compared: a spring whose two links deflect alike stores no
-/// energy, so its stiffness can move along a flat valley of `J` (bounded by the end-displacement
-/// constraint) without changing the optimum's value; such runs are one optimum.
-pub fn cluster(results: &[DesignResult], seed: u64) -> MultiStartSummary {
-    let same = |a: &Design, ja: f64, c: &Design, jc: f64| {
-        (ja - jc).abs() <= 1e-6 * ja.abs().max(1e-12)
-            && a.theta0.iter().zip(&c.theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
+impl MultiStartSummary {
+    /// The best clean optimum, if any start reached one.
+    pub fn best_clean(&self) -> Option<&Optimum> {
+        self.optima.first().filter(|o| o.clean)
+    }
+}
+
+/// The left–right mirror image of a design: `θ0_i → −θ0_{N−1−i}`, `K_j → K_{N−j}`.
+pub fn mirror(design: &Design) -> Design {
+    Design {
+        theta0: design.theta0.iter().rev().map(|t| -t).collect(),
+        stiffness: design.stiffness.iter().rev().copied().collect(),
+    }
+}
+
+/// Groups converged results: two belong to the same optimum when both are clean or both are
+/// not, `J` agrees to `1e-6` relative and `θ0` to `1e-4` rad. `K` is not compared: a spring whose
+/// two links deflect alike stores no energy, so its stiffness can move along a flat valley of `J`
+/// (bounded by the end-displacement constraint) without changing the optimum's value; such runs
+/// are one optimum. `results[k]` is the run from start `k`.
+pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
+    let same = |a: &DesignResult, c: &DesignResult| {
+        let (ja, jc) = (a.objective, c.objective);
+        a.is_clean() == c.is_clean()
+            && (ja - jc).abs() <= 1e-6 * ja.abs().max(1e-12)
+            && a.design.theta0.iter().zip(&c.design.theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
     };
+    let starts = results.len();
     let mut optima: Vec<Optimum> = Vec::new();
     let mut failed = Vec::new();
     let mut converged = 0;
-    for (k, r) in results.iter().enumerate() {
+    for (k, r) in results.into_iter().enumerate() {
         if !r.solver.converged || !r.objective.is_finite() {
             failed.push((k, r.solver.status.clone()));
             continue;
         }
         converged += 1;
-        match optima.iter_mut().find(|o| same(&o.design, o.objective, &r.design, r.objective)) {
+        match optima.iter_mut().find(|o| same(&o.result, &r)) {
             Some(o) => {
                 o.count += 1;
                 o.starts.push(k);
             }
-            None => optima.push(Optimum {
-                objective: r.objective,
-                design: r.design.clone(),
-                count: 1,
-                starts: vec![k],
-                clean: r.is_clean(),
-            }),
+            None => optima.push(Optimum { count: 1, starts: vec![k], clean: r.is_clean(), mirror_of: None, result: r }),
         }
     }
-    optima.sort_by(|a, b| a.objective.total_cmp(&b.objective));
-    MultiStartSummary { starts: results.len(), seed, converged, optima, failed }
+    optima.sort_by(|a, b| b.clean.cmp(&a.clean).then(a.objective().total_cmp(&b.objective())));
+    for k in 1..optima.len() {
+        let mirrored = mirror(&optima[k].result.design);
+        optima[k].mirror_of = (0..k).find(|&m| {
+            let o = &optima[m].result;
+            o.is_clean() == optima[k].clean
+                && (o.objective - optima[k].objective()).abs() <= 1e-6 * o.objective.abs().max(1e-12)
+                && o.design.theta0.iter().zip(&mirrored.theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
+        });
+    }
+    MultiStartSummary { starts, seed, converged, optima, failed }
 }

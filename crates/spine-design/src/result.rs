@@ -3,13 +3,13 @@
 
 use crate::problem::DesignProblem;
 use crate::refine::{Ladder, LevelStart, WarmStart};
-use crate::settings::Formulation;
+use crate::settings::{ExtraOption, Formulation, SolverSettings};
 use serde::Serialize;
 use spine_ipopt::{EvaluationCounts, Solution};
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::{end_constraint, end_x, link_lengths, node_positions};
 use spine_model::{energy, Design, LinkLoads, State};
-use spine_solve::{solve_static, stability, ContinuationOptions, Stability};
+use spine_solve::{solve_static, stability, Stability};
 
 /// Which of the two equilibria of eq. (33).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,6 +33,11 @@ pub enum DesignWarning {
     /// The optimiser's equilibria are not the ones reached by loading the design (largest angle
     /// differences, rad, and the statuses of the two paths).
     OffLoadPath { passive_difference: f64, loaded_difference: f64, passive_status: String, loaded_status: String },
+    /// The reported design and states break a constraint of eq. (33) by more than allowed: the
+    /// part (a field of [`Violations`]), its recomputed violation and the allowance (its unit).
+    /// Ipopt's status alone does not show this: it judges its own last iterate, which a bound
+    /// clipping after the solve (`honor_original_bounds`) or an "acceptable" stop can leave.
+    ConstraintViolated { part: &'static str, violation: f64, allowed: f64 },
 }
 
 impl std::fmt::Display for DesignWarning {
@@ -50,6 +55,10 @@ impl std::fmt::Display for DesignWarning {
             Self::OffLoadPath { passive_difference, loaded_difference, passive_status, loaded_status } => write!(
                 f,
                 "the optimiser's equilibria are not the ones reached by loading the design (differences {passive_difference:.3e} and {loaded_difference:.3e} rad; paths: {passive_status}, {loaded_status})"
+            ),
+            Self::ConstraintViolated { part, violation, allowed } => write!(
+                f,
+                "the reported design violates eq. (33): {part} {violation:.3e} (allowed {allowed:.1e}); its numbers are not those of an optimum"
             ),
         }
     }
@@ -189,6 +198,42 @@ pub struct Violations {
     pub stiffness_bounds: f64,
 }
 
+impl Violations {
+    /// Each part of eq. (33) with its violation and what is allowed: the equalities (equilibria,
+    /// unloaded end height, end displacement) `constraint_tolerance`, Ipopt's `constr_viol_tol`;
+    /// the bounds that plus Ipopt's relaxation of every bound, `bound_relax_factor · max(1, |b|)`
+    /// in the variable's own scale (for `K`, the scaled `k = K / C_K` of eq. (34)), which Ipopt
+    /// applies to the problem it solves and which `honor_original_bounds = no` keeps.
+    pub fn parts(&self, problem: &DesignProblem, settings: &SolverSettings) -> [(&'static str, f64, f64); 8] {
+        let tol = settings.constraint_tolerance;
+        let relax = match settings.ipopt_options.get("bound_relax_factor") {
+            Some(ExtraOption::Num(x)) => *x,
+            Some(ExtraOption::Int(i)) => *i as f64,
+            _ => IPOPT_BOUND_RELAX_FACTOR,
+        };
+        let b = &problem.bounds;
+        let c_k = problem.stiffness_scale;
+        let k_max = b.stiffness_max.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+        let angle = tol + relax * b.theta0_max.abs().max(1.0);
+        let relative = tol + relax * b.relative_angle_max.abs().max(1.0);
+        let height = tol + relax * b.height_min.abs().max(b.height_max.abs()).max(1.0);
+        let stiffness = tol * c_k + relax * k_max.max(c_k);
+        [
+            ("passive_equilibrium", self.passive_equilibrium, tol),
+            ("loaded_equilibrium", self.loaded_equilibrium, tol),
+            ("unloaded_end_height", self.unloaded_end_height, tol),
+            ("end_displacement", self.end_displacement, tol),
+            ("theta0_bounds", self.theta0_bounds, angle),
+            ("relative_angle_bounds", self.relative_angle_bounds, relative),
+            ("height_bounds", self.height_bounds, height),
+            ("stiffness_bounds", self.stiffness_bounds, stiffness),
+        ]
+    }
+}
+
+/// Ipopt's default `bound_relax_factor`.
+pub const IPOPT_BOUND_RELAX_FACTOR: f64 = 1e-8;
+
 /// Whether the optimiser's `θ1`, `θ2` are the equilibria reached by loading the design from `θ0`
 /// (continuation), which is what the physical structure does.
 #[derive(Clone, Debug, Serialize)]
@@ -263,8 +308,9 @@ impl DesignResult {
         states: Option<(State, State)>,
         solver: SolverReport,
         start_notes: Vec<String>,
-        continuation: &ContinuationOptions,
+        settings: &SolverSettings,
     ) -> Self {
+        let continuation = &settings.continuation;
         let spans = &problem.structure.chain.spans;
         let lx = problem.structure.chain.length_x();
         let b = &problem.bounds;
@@ -328,8 +374,14 @@ impl DesignResult {
                         warnings.push(DesignWarning::Unstable { equilibrium, min_eigenvalue });
                     }
                 }
+                let v = Violations { max, ..v };
+                for (part, violation, allowed) in v.parts(problem, settings) {
+                    if violation.is_nan() || violation > allowed {
+                        warnings.push(DesignWarning::ConstraintViolated { part, violation, allowed });
+                    }
+                }
                 let objective = energy::strain_energy(&s1.theta, &design.theta0, &design.stiffness);
-                (Some(r1), Some(r2), Some(end), Some(Violations { max, ..v }), objective)
+                (Some(r1), Some(r2), Some(end), Some(v), objective)
             }
             None => {
                 warnings.push(DesignWarning::NoEquilibria);
@@ -380,7 +432,8 @@ impl DesignResult {
         }
     }
 
-    /// A clean optimum: Ipopt converged, both equilibria stable and on the load path.
+    /// A clean optimum: Ipopt converged, the reported design meets eq. (33) within its tolerances
+    /// (recomputed here, see [`Violations::parts`]), both equilibria stable and on the load path.
     pub fn is_clean(&self) -> bool {
         self.solver.converged && self.warnings.is_empty()
     }

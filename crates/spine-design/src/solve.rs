@@ -73,7 +73,7 @@ pub fn solve_design(
         .map(|(k, v)| (k.to_string(), if let OptionValue::Str(text) = v { text.clone() } else { v.to_string() }))
         .collect();
     let check_clock = Instant::now();
-    let mut result = DesignResult::check(problem, formulation, design, states, report, notes, &settings.continuation);
+    let mut result = DesignResult::check(problem, formulation, design, states, report, notes, settings);
     result.solver.check_seconds = check_clock.elapsed().as_secs_f64();
     result.solver.total_seconds = clock.elapsed().as_secs_f64();
     result.refinement = refinement;

@@ -4,6 +4,7 @@
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{self, Ladder, LevelStart, Refine, RefineMode};
+use spine_design::result::DesignWarning;
 use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, DesignProblem, Formulation, SolverSettings};
 use spine_model::kinematics::end_constraint;
@@ -227,5 +228,13 @@ fn warm_levels_may_start_from_the_prolonged_multipliers() {
     s.warm_start.multipliers = true;
     let r = solve_design(&problem, &start_of(n), Formulation::Full, &s, &mut |_| true).unwrap();
     assert!(r.refinement.as_ref().unwrap().warm_start.multipliers);
-    assert!(r.solver.converged && r.is_clean(), "{} {:?}", r.solver.status, r.warnings);
+    // This path stops at Ipopt's acceptable level (equilibrium residuals of about 1e-5 N·m against
+    // a load moment of 1600 N·m): it converges, and it is reported clean only when the recomputed
+    // violations are within `constraint_tolerance` (issue 18, item 1).
+    assert!(r.solver.converged, "{} {:?}", r.solver.status, r.warnings);
+    let v = r.violations.as_ref().unwrap();
+    assert!(v.passive_equilibrium <= 1e-3 && v.loaded_equilibrium <= 1e-3, "{v:?}");
+    let broken = r.warnings.iter().any(|w| matches!(w, DesignWarning::ConstraintViolated { .. }));
+    assert_eq!(broken, v.passive_equilibrium.max(v.loaded_equilibrium) > s.constraint_tolerance, "{:?}", r.warnings);
+    assert!(r.passive.as_ref().unwrap().stability.stable && r.loaded.as_ref().unwrap().stability.stable);
 }

@@ -67,12 +67,18 @@ impl DesignOverrides {
     }
 }
 
-/// `result.json` of kind `design`: the solver's result from the case's start, with the
-/// multi-start summary when the case asks for extra starts.
+/// `result.json` of kind `design`: the solver's result from the case's start or, with
+/// multi-start, the best clean optimum found (the headline, the exit code and the top-level
+/// fields all describe the same run), with the multi-start summary (every distinct optimum with
+/// its full result).
 #[derive(Clone, Debug, Serialize)]
 pub struct DesignCaseResult {
     pub kind: &'static str,
     pub title: String,
+    /// The start whose run the top-level fields describe: 0 is the case's own start, `k ≥ 1` the
+    /// k-th seeded start. With multi-start, the first start that reached the best clean optimum,
+    /// or 0 when no start ended clean.
+    pub reported_start: usize,
     #[serde(flatten)]
     pub result: DesignResult,
     pub multistart: Option<MultiStartSummary>,
@@ -84,24 +90,30 @@ pub fn run_design_case(
     valid: &ValidDesign,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
-    let main = solve(valid, &valid.start)?;
+    let own = solve(valid, &valid.start)?;
     let (starts, seed) = (valid.multistart.starts, valid.multistart.seed);
-    let mut multistart = None;
-    if starts > 0 {
-        let mut results = vec![main.clone()];
-        for (k, d) in feasible_starts(&valid.problem, starts, seed).iter().enumerate() {
-            progress(Progress::Step { stage: "multi-start", done: k, total: starts });
-            results.push(solve(valid, d)?);
-        }
-        progress(Progress::Step { stage: "multi-start", done: starts, total: starts });
-        multistart = Some(cluster(&results, seed));
-    }
     let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
-    Ok(DesignCaseResult { kind: "design", title, result: main, multistart })
+    if starts == 0 {
+        return Ok(DesignCaseResult { kind: "design", title, reported_start: 0, result: own, multistart: None });
+    }
+    let mut results = vec![own];
+    for (k, d) in feasible_starts(&valid.problem, starts, seed).iter().enumerate() {
+        progress(Progress::Step { stage: "multi-start", done: k, total: starts });
+        results.push(solve(valid, d)?);
+    }
+    progress(Progress::Step { stage: "multi-start", done: starts, total: starts });
+    let own = results[0].clone();
+    let summary = cluster(results, seed);
+    let (reported_start, result) = match summary.best_clean() {
+        Some(best) => (best.starts[0], best.result.clone()),
+        None => (0, own),
+    };
+    Ok(DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary) })
 }
 
 impl DesignCaseResult {
-    /// The run from the case's start ended clean (see [`DesignResult::is_clean`]).
+    /// The reported run ended clean (see [`DesignResult::is_clean`]): with multi-start, some start
+    /// reached a clean optimum.
     pub fn is_clean(&self) -> bool {
         self.result.is_clean()
     }
@@ -122,11 +134,24 @@ impl std::fmt::Display for DesignCaseResult {
             for (k, o) in summary.optima.iter().enumerate() {
                 writeln!(
                     f,
-                    "  optimum {k}: J = {:.10e} J, reached by {} run(s){}",
-                    o.objective,
+                    "  optimum {k}: J = {:.10e} J, reached by {} run(s), first from start {}{}{}",
+                    o.objective(),
                     o.count,
-                    if o.clean { "" } else { " (not clean: see warnings of its runs)" }
+                    o.starts[0],
+                    o.mirror_of.map_or(String::new(), |m| format!(" (mirror image of optimum {m})")),
+                    if o.clean { "" } else { " (not clean: see its warnings in result.json)" }
                 )?;
+            }
+            match summary.best_clean() {
+                Some(_) if self.reported_start == 0 => {
+                    writeln!(f, "reported below: the best clean optimum, reached from the case's own start")?
+                }
+                Some(_) => writeln!(
+                    f,
+                    "reported below: the best clean optimum, reached first from seeded start {}",
+                    self.reported_start
+                )?,
+                None => writeln!(f, "no start reached a clean optimum; reported below: the case's own start")?,
             }
         }
         let r = &self.result;
