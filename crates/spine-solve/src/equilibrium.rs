@@ -2,17 +2,23 @@
 //! accepted step.
 //!
 //! The load is ramped from `from` to `to` along `s ∈ [0, 1]` (`LinkLoads::lerp`). Each step predicts
-//! with the path tangent `dx/ds = −J⁻¹ ∂r/∂s` and corrects with Newton. A step is accepted when
-//! Newton converges within `max_newton_iterations` and no link turns by more than `max_angle_step`;
-//! otherwise the step is halved. The physically reached equilibrium is the one on this path.
+//! with the path tangent `dx/ds = −J⁻¹ ∂r/∂s` and corrects with Newton. A step is accepted only when
+//! it stays on the path: Newton converges within `max_newton_iterations`, no link turns by more
+//! than `max_angle_step`, Newton's correction is at most half the step's move (a predictor is
+//! second-order accurate on the path; converging onto another branch is not), and the number of
+//! negative directions of the projected Hessian changes by at most one. Otherwise the step is
+//! halved. The physically reached equilibrium is the one on this path.
 //!
-//! Along the path the number of negative directions of the projected Hessian is counted. When it
-//! becomes positive the load factor where stability was lost is located by bisection; the path is
-//! then followed to the full load and reported as [`EquilibriumStatus::Unstable`] (the real structure
-//! would have buckled there). When the steps shrink below `min_step` while the smallest projected
-//! eigenvalue has fallen below 1 % of its value at the start, the path has reached a fold:
-//! [`EquilibriumStatus::LimitPoint`] (snap-through).
+//! When that number becomes positive the load factor where stability was lost is located by
+//! bisection to `critical_load_tolerance`; the smallest eigenvalue at the bracket's stable end must
+//! then be near zero (it is continuous along a path), or the step is taken for a jump and halved.
+//! The path is followed to the full load and reported as [`EquilibriumStatus::Unstable`] (the real
+//! structure would have buckled there). When the steps shrink below `min_step` the path is
+//! followed in arclength (`arclength`): if the load turns back it is a fold,
+//! [`EquilibriumStatus::LimitPoint`] (snap-through), located to `critical_load_tolerance`; if the
+//! path rises on to the full load, load control only stalled and the run goes on.
 
+use crate::arclength::{self, Trace};
 use crate::linalg::BorderedLu;
 use crate::problem::StaticProblem;
 use crate::stability::{self, Stability};
@@ -43,7 +49,7 @@ pub struct ContinuationOptions {
     pub max_steps: usize,
     /// Largest change of any link angle in one step, rad: keeps the path from jumping branches.
     pub max_angle_step: f64,
-    /// Width of the load-factor bracket when locating a loss of stability.
+    /// Width of the load-factor bracket when locating a loss of stability or a fold.
     pub critical_load_tolerance: f64,
 }
 
@@ -109,8 +115,9 @@ pub enum EquilibriumStatus {
     /// Full load reached, but the path lost stability at `critical_load_factor` (bifurcation): the
     /// returned equilibrium is unstable and not what the structure would do.
     Unstable { critical_load_factor: f64 },
-    /// The path cannot pass `load_factor`: a fold (limit point, snap-through). The returned state is
-    /// the last stable equilibrium before it.
+    /// The path cannot pass `load_factor`: a fold (limit point, snap-through), located to
+    /// `critical_load_tolerance`. The returned state is the last stable equilibrium traced before
+    /// it (its own load factor is the solution's `load_factor`).
     LimitPoint { load_factor: f64 },
     /// Newton failed and the step could not be reduced further, away from any detected fold.
     NewtonFailed { load_factor: f64 },
@@ -185,16 +192,17 @@ pub struct LoadPath<'a> {
     pub start: State,
 }
 
-struct Converged {
-    state: State,
-    residual: Vec<f64>,
-    jac: BorderedTridiagonal,
-    iterations: usize,
+/// A converged Newton solve: the state, its residual and Jacobian, and the iterations it took.
+pub(crate) struct Converged {
+    pub(crate) state: State,
+    pub(crate) residual: Vec<f64>,
+    pub(crate) jac: BorderedTridiagonal,
+    pub(crate) iterations: usize,
 }
 
 /// Rounding floor of the residual at `state`: `32 ε` times the largest sum of absolute terms of a
 /// joint row (springs `(K_i + K_{i+1}) (|θ| + |θ0|)`, loads `L_i (|V_i| + |A_i| + |λ|)`), N·m.
-fn rounding_floor(path: &LoadPath<'_>, loads: &LinkLoads, state: &State) -> f64 {
+pub(crate) fn rounding_floor(path: &LoadPath<'_>, loads: &LinkLoads, state: &State) -> f64 {
     let d = path.design;
     let mut scale: f64 = 0.0;
     for i in 0..path.spans.len() {
@@ -206,12 +214,12 @@ fn rounding_floor(path: &LoadPath<'_>, loads: &LinkLoads, state: &State) -> f64 
     32.0 * f64::EPSILON * scale
 }
 
-fn max_abs(v: &[f64]) -> f64 {
+pub(crate) fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 /// Newton's method on `(θ, λ)` at fixed load from `start`.
-fn newton(
+pub(crate) fn newton(
     path: &LoadPath<'_>,
     loads: &LinkLoads,
     start: State,
@@ -246,7 +254,7 @@ fn newton(
     None
 }
 
-fn factor(jac: &BorderedTridiagonal, stats: &mut SolveStats) -> Option<BorderedLu> {
+pub(crate) fn factor(jac: &BorderedTridiagonal, stats: &mut SolveStats) -> Option<BorderedLu> {
     let lu = BorderedLu::factor(jac).ok()?;
     stats.factorisations += 1;
     if !lu.is_block() {
@@ -255,11 +263,31 @@ fn factor(jac: &BorderedTridiagonal, stats: &mut SolveStats) -> Option<BorderedL
     Some(lu)
 }
 
+/// `∂r/∂s` at `state`: the residual is affine in the loads, which are linear in `s`.
+pub(crate) fn load_derivative(path: &LoadPath<'_>, state: &State) -> Vec<f64> {
+    let r_to = equilibrium_residual(path.spans, path.design, &path.to, state);
+    let r_from = equilibrium_residual(path.spans, path.design, &path.from, state);
+    r_to.iter().zip(&r_from).map(|(a, b)| a - b).collect()
+}
+
+/// Whether a corrector ended on the branch its predictor pointed at: the correction (largest
+/// angle change from the predicted state) is at most half the step's move, or below
+/// [`BRANCH_FLOOR`]. A predictor is accurate to second order in the step, so on the path this
+/// holds for small enough steps; Newton converging onto another branch fails it.
+pub(crate) fn on_branch(from: &State, predicted: &State, converged: &State) -> bool {
+    angle_change(converged, predicted) <= 0.5 * angle_change(converged, from) + BRANCH_FLOOR
+}
+
+/// A loss of stability is accepted only where the smallest projected eigenvalue at the last stable
+/// point of its bracket is below this fraction of its value at the start or before the step.
+const CROSSING_EIGENVALUE: f64 = 1e-4;
+
+/// Corrections below this (rad) are never taken for a branch change.
+pub(crate) const BRANCH_FLOOR: f64 = 1e-6;
+
 /// Euler predictor along the path tangent `dx/ds = −J⁻¹ ∂r/∂s` from the converged point `cur`.
 fn predict(path: &LoadPath<'_>, cur: &Converged, ds: f64, stats: &mut SolveStats) -> State {
-    let r_to = equilibrium_residual(path.spans, path.design, &path.to, &cur.state);
-    let r_from = equilibrium_residual(path.spans, path.design, &path.from, &cur.state);
-    let dr_ds: Vec<f64> = r_to.iter().zip(&r_from).map(|(a, b)| a - b).collect();
+    let dr_ds = load_derivative(path, &cur.state);
     let mut next = cur.state.clone();
     if let Some(lu) = factor(&cur.jac, stats) {
         let tangent = lu.solve(&dr_ds);
@@ -274,7 +302,7 @@ fn predict(path: &LoadPath<'_>, cur: &Converged, ds: f64, stats: &mut SolveStats
     next
 }
 
-fn angle_change(a: &State, b: &State) -> f64 {
+pub(crate) fn angle_change(a: &State, b: &State) -> f64 {
     a.theta.iter().zip(&b.theta).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
 }
 
@@ -307,6 +335,7 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
     };
     let start_stability = stability::certify(&cur.jac);
     let mut critical = (start_stability.negative_directions > 0).then_some(0.0);
+    let mut negative = start_stability.negative_directions;
     let mut s = 0.0;
     let mut ds = opts.initial_step.clamp(opts.min_step, 1.0);
 
@@ -318,34 +347,82 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
         let s_new = (s + ds).min(1.0);
         let loads = LinkLoads::lerp(&path.from, &path.to, s_new);
         let guess = predict(path, &cur, s_new - s, &mut stats);
-        match newton(path, &loads, guess, opts, &mut stats) {
-            Some(next) if angle_change(&next.state, &cur.state) <= opts.max_angle_step => {
-                if critical.is_none() && stability::negative_directions(&next.jac) > 0 {
-                    critical = Some(locate_critical(path, &cur, s, s_new, opts, &mut stats));
+        let accepted = newton(path, &loads, guess.clone(), opts, &mut stats).and_then(|next| {
+            let next_negative = stability::negative_directions(&next.jac);
+            // A bifurcation or a fold changes the inertia by one; more in one step is a jump to
+            // another branch (unless the step is already tiny).
+            let inertia_ok = next_negative.abs_diff(negative) <= 1 || ds <= 16.0 * opts.min_step;
+            let ok = angle_change(&next.state, &cur.state) <= opts.max_angle_step
+                && on_branch(&cur.state, &guess, &next.state)
+                && inertia_ok;
+            ok.then_some((next, next_negative))
+        });
+        match accepted {
+            Some((next, next_negative)) => {
+                if critical.is_none() && next_negative > 0 {
+                    let (at, eigenvalue) = locate_critical(path, &cur, s, s_new, opts, &mut stats);
+                    let scale = [start_stability.min_eigenvalue, stability::certify(&cur.jac).min_eigenvalue]
+                        .into_iter()
+                        .flatten()
+                        .fold(0.0, f64::max);
+                    if eigenvalue.is_some_and(|e| e > CROSSING_EIGENVALUE * scale) && ds > 16.0 * opts.min_step {
+                        // The path was still clearly stable next to the "crossing": the step
+                        // jumped to an unstable equilibrium of another branch.
+                        stats.rejected_steps += 1;
+                        ds *= 0.5;
+                        continue;
+                    }
+                    critical = Some(at);
                 }
                 let easy = next.iterations <= 3;
                 cur = next;
+                negative = next_negative;
                 s = s_new;
                 stats.continuation_steps += 1;
                 if easy {
                     ds = (2.0 * ds).min(1.0);
                 }
             }
-            _ => {
+            None => {
                 stats.rejected_steps += 1;
                 ds *= 0.5;
                 if ds < opts.min_step {
-                    let st = stability::certify(&cur.jac);
-                    let fold = match (st.min_eigenvalue, start_stability.min_eigenvalue) {
-                        (Some(now), Some(start)) => now < 0.01 * start,
-                        _ => false,
+                    // Load control stalls: a fold, or only a hard stretch of the path. Follow it
+                    // in arclength to tell which.
+                    let stalled = Converged {
+                        state: cur.state.clone(),
+                        residual: cur.residual.clone(),
+                        jac: cur.jac.clone(),
+                        iterations: cur.iterations,
                     };
-                    let status = if fold {
-                        EquilibriumStatus::LimitPoint { load_factor: s }
-                    } else {
-                        EquilibriumStatus::NewtonFailed { load_factor: s }
-                    };
-                    return finish(&cur, s, status, st, stats);
+                    match arclength::trace(path, stalled, s, opts, &mut stats) {
+                        Trace::Fold { last, s: s_last, fold } => {
+                            let st = stability::certify(&last.jac);
+                            return finish(
+                                &last,
+                                s_last,
+                                EquilibriumStatus::LimitPoint { load_factor: fold },
+                                st,
+                                stats,
+                            );
+                        }
+                        Trace::Full { point, inertia_grew } => {
+                            if critical.is_none() {
+                                critical = inertia_grew;
+                            }
+                            cur = point;
+                            s = 1.0;
+                        }
+                        Trace::Stuck => {
+                            let st = stability::certify(&cur.jac);
+                            let status = if stats.continuation_steps >= opts.max_steps {
+                                EquilibriumStatus::StepLimit { load_factor: s }
+                            } else {
+                                EquilibriumStatus::NewtonFailed { load_factor: s }
+                            };
+                            return finish(&cur, s, status, st, stats);
+                        }
+                    }
                 }
             }
         }
@@ -360,7 +437,10 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
 }
 
 /// Bisection on the load factor between the stable point `stable` at `lo` and an unstable one at
-/// `hi`, for where the projected Hessian first gets a negative direction.
+/// `hi`, for where the projected Hessian first gets a negative direction. Returns the load factor
+/// and the smallest projected eigenvalue at the last stable point of the bracket, which tends to
+/// zero at a true loss of stability (the eigenvalue is continuous along a path) and stays away from
+/// it when the unstable point was on another branch.
 fn locate_critical(
     path: &LoadPath<'_>,
     stable: &Converged,
@@ -368,7 +448,7 @@ fn locate_critical(
     mut hi: f64,
     opts: &ContinuationOptions,
     stats: &mut SolveStats,
-) -> f64 {
+) -> (f64, Option<f64>) {
     let mut anchor = Converged {
         state: stable.state.clone(),
         residual: stable.residual.clone(),
@@ -379,15 +459,15 @@ fn locate_critical(
         let mid = 0.5 * (lo + hi);
         let loads = LinkLoads::lerp(&path.from, &path.to, mid);
         let guess = predict(path, &anchor, mid - lo, stats);
-        match newton(path, &loads, guess, opts, stats) {
-            Some(c) if stability::negative_directions(&c.jac) == 0 => {
+        match newton(path, &loads, guess.clone(), opts, stats) {
+            Some(c) if stability::negative_directions(&c.jac) == 0 && on_branch(&anchor.state, &guess, &c.state) => {
                 lo = mid;
                 anchor = c;
             }
             _ => hi = mid,
         }
     }
-    0.5 * (lo + hi)
+    (0.5 * (lo + hi), stability::certify(&anchor.jac).min_eigenvalue)
 }
 
 /// The two load states of eq. (33): `θ1` under the passive load, `θ2` with the actuation added.

@@ -27,6 +27,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod arclength;
 pub mod equilibrium;
 pub mod linalg;
 pub mod problem;
