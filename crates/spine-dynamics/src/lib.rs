@@ -32,7 +32,7 @@ pub mod system;
 
 pub use eom::Dynamics;
 pub use forcing::Forcing;
-pub use integrator::{integrate, Options, Outcome, Stats, Trajectory};
+pub use integrator::{integrate, Options, Outcome, Stats, Trajectory, DEFAULT_ATOL, DEFAULT_RTOL};
 pub use system::SpineOde;
 pub mod response;
 

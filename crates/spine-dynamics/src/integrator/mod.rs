@@ -26,7 +26,7 @@ mod trbdf2;
 
 pub use crate::ode::OdeSystem;
 pub use dense::{Event, Interval, Trajectory};
-pub use options::{Options, Outcome, Stats};
+pub use options::{Options, Outcome, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
 
 use nalgebra::DMatrix;
 use trbdf2::{attempt, step_sensitivities, D};
