@@ -241,6 +241,21 @@ impl DynamicsCase {
                         "a simulation needs a force: \"step\", \"pulse_train\" or \"sinusoid\"",
                     ));
                 }
+                if periodic_forcing {
+                    let default = spine_dynamics::StepSettings::default();
+                    for (field, differs) in [
+                        ("simulation.t_end", s.t_end != default.t_end),
+                        ("simulation.samples", s.samples != default.samples),
+                        ("simulation", *s != default),
+                    ] {
+                        if differs {
+                            return Err(CaseError::invalid(
+                                field,
+                                "a periodic forcing is simulated period by period until two agree: set periodic.max_periods, periodic.samples_per_period and periodic.integrator instead (the simulation section sets up step responses)",
+                            ));
+                        }
+                    }
+                }
                 DynamicsTask::Simulate
             }
             "damping" => {

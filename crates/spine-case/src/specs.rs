@@ -95,16 +95,18 @@ impl<'de> Deserialize<'de> for DesignSpec {
     }
 }
 
-/// Loads: transverse forces (passive) and the axial force at the end (actuation).
+/// Loads: transverse forces (passive) and the axial forces (actuation).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
     /// Transverse force `P_Y` at each node, N, positive up: one number for every node or `N + 1`
     /// numbers (node 0 is the base, node `N` the slider).
     pub p_y: PerItem,
-    /// Axial force `P_X` at the end node, N (negative pushes the end toward the base). Default 0.
+    /// Axial force `P_X`, N (negative pushes toward the base): one number, applied at the end node
+    /// (the paper's actuation), or `N + 1` numbers, one per node (node 0, the base, carries its
+    /// force into the support). Default 0.
     #[serde(default)]
-    pub p_x: f64,
+    pub p_x: PerItem,
     /// Include the links' self-weight in the passive load (default true).
     #[serde(default = "yes")]
     pub self_weight: bool,
@@ -115,20 +117,25 @@ fn yes() -> bool {
 }
 
 impl LoadSpec {
-    /// The passive load (the transverse forces) and the actuation (`p_x` at the end node) on
-    /// `chain`, checked; switches the chain's self-weight off when `self_weight` is false.
+    /// The passive load (the transverse forces) and the actuation (the axial forces: one number
+    /// at the end node, or one per node) on `chain`, checked; switches the chain's self-weight
+    /// off when `self_weight` is false.
     pub fn resolve(&self, chain: &mut Chain) -> Result<(NodalLoads, NodalLoads), CaseError> {
         let n = chain.n_links();
         let p_y = self.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
-        if !self.p_x.is_finite() {
-            return Err(CaseError::invalid("loads.p_x", "must be a finite number (N)"));
-        }
+        let p_x = match &self.p_x {
+            PerItem::Uniform(end) => {
+                let mut p_x = vec![0.0; n + 1];
+                p_x[n] = *end;
+                check_finite("loads.p_x", &p_x)?;
+                p_x
+            }
+            each => each.expand("loads.p_x", n + 1, "one number for the end node, or one per node, N + 1")?,
+        };
         if !self.self_weight {
             chain.gravity = 0.0;
         }
-        let mut actuation = NodalLoads::zero(n);
-        actuation.p_x[n] = self.p_x;
-        Ok((NodalLoads { p_x: vec![0.0; n + 1], p_y }, actuation))
+        Ok((NodalLoads { p_x: vec![0.0; n + 1], p_y }, NodalLoads { p_x, p_y: vec![0.0; n + 1] }))
     }
 }
 

@@ -42,6 +42,29 @@ fn good_case_writes_result_with_status_and_stability() {
     assert!(stdout.contains("converged, stable"), "{stdout}");
 }
 
+/// `loads.p_x` as one number is the axial force at the end node; as `N + 1` numbers, one per node.
+/// The end-only array gives the same bytes as the number; interior axial forces reach an
+/// equilibrium of their own (checked: every joint row balanced, stable).
+#[test]
+fn axial_loads_per_node() {
+    let read = |out: &PathBuf| std::fs::read_to_string(out.join("result.json")).unwrap();
+    let (o, scalar) = run_case(GOOD, "px-scalar", &["--deterministic"]);
+    assert!(o.status.success());
+    let end_only = GOOD.replace("\"p_x\": -100.0", "\"p_x\": [0, 0, 0, 0, -100.0]");
+    let (o, array) = run_case(&end_only, "px-array", &["--deterministic"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(read(&scalar), read(&array));
+    let interior = GOOD.replace("\"p_x\": -100.0", "\"p_x\": [0, -40.0, 0, 25.0, -100.0]");
+    let (o, spread) = run_case(&interior, "px-interior", &["--deterministic"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (a, b): (serde_json::Value, serde_json::Value) =
+        (serde_json::from_str(&read(&scalar)).unwrap(), serde_json::from_str(&read(&spread)).unwrap());
+    assert_eq!(b["loaded"]["status"]["kind"], "stable");
+    assert!(b["loaded"]["residual_norm"].as_f64().unwrap() <= 1e-10);
+    assert_ne!(a["loaded"]["theta"], b["loaded"]["theta"], "interior axial forces change the loaded state");
+    assert_eq!(a["passive"]["theta"], b["passive"]["theta"], "the passive state has no axial force");
+}
+
 #[test]
 fn same_input_same_bytes_with_deterministic() {
     let (a, out_a) = run_case(GOOD, "det-a", &["--deterministic"]);
@@ -103,6 +126,8 @@ fn bad_cases() -> Vec<(&'static str, String, &'static str)> {
         ("design-keyword", with(&["design"], json!("optimize")), "design"),
         ("optimise-in-equilibrium", with(&["design"], json!("optimise")), "design"),
         ("py-len", with(&["loads", "p_y"], json!([1, 2, 3])), "loads.p_y"),
+        ("px-len", with(&["loads", "p_x"], json!([0, -100])), "loads.p_x"),
+        ("px-string", with(&["loads", "p_x"], json!([0, 0, "x", 0, -100])), "loads.p_x"),
         // JSON has no infinities: an overflowing literal is refused by the parser with its position.
         ("huge-number", GOOD.replace("-100.0", "-1e999"), "line 5 column"),
         ("solver-unknown", with(&["solver"], json!({"tolerance": 1e-9})), "solver"),

@@ -62,6 +62,12 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
             "forcing.duty",
         ),
         ("simulate", Box::new(|c| c["simulation"]["integrator"] = json!({"rtol": 0.0})), "simulation.integrator.rtol"),
+        // A periodic simulation runs whole periods: the step section's t_end is refused, not ignored.
+        (
+            "simulate",
+            Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 0.5})),
+            "simulation.t_end",
+        ),
         ("damping", Box::new(|c| c["kind"] = json!("damping")), "damping_design"),
         (
             "periodic",
@@ -93,6 +99,35 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
         assert!(err.contains(field), "the error names {field}: {err}");
         assert!(!out.exists(), "nothing written for {field}");
     }
+}
+
+/// A pulse train's first on-phase starts from rest at θ1 under the same load as a step, and lasts
+/// longer than T_90: its reported rise equals the step response's T_90. No "paper" comparison is
+/// printed for a case that is not the paper's.
+#[test]
+fn periodic_simulation_reports_the_first_on_phase_rise() {
+    let dir = tmpdir("first-rise");
+    let step = write_case(&dir, &step_case(4));
+    let out = dir.join("step");
+    assert!(spine(&["simulate", &step, "--out", out.to_str().unwrap(), "--deterministic"]).status.success());
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let t90 = r["step_response"]["rise_time"].as_f64().unwrap();
+
+    let mut c = step_case(4);
+    c.as_object_mut().unwrap().remove("simulation");
+    c["forcing"] = json!({"type": "pulse_train", "period": 2.0, "duty": 0.5});
+    c["periodic"] = json!({"max_periods": 2, "samples_per_period": 100});
+    let pulse_dir = dir.join("pulse-case");
+    std::fs::create_dir_all(&pulse_dir).unwrap();
+    let pulse = write_case(&pulse_dir, &c);
+    let out = dir.join("pulse");
+    let o = spine(&["simulate", &pulse, "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("first on-phase") && !stdout.contains("paper"), "{stdout}");
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let first = r["periodic_response"]["first_rise_time"].as_f64().unwrap();
+    assert!((first - t90).abs() <= 1e-5 * t90, "first on-phase rise {first} s vs step T_90 {t90} s");
 }
 
 #[test]

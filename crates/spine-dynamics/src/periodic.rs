@@ -70,8 +70,15 @@ pub struct PeriodicResponse {
     pub time_of_minimum: f64,
     /// `max_t (X_{N+1}(t) − L_x)` over the last period, m.
     pub max_end_displacement: f64,
+    /// Reach time: from the last period's onset until the end covers `reach_fraction` of the way
+    /// from its onset value to the period's minimum, s. Return time: from the release until it
+    /// covers that fraction of the way back to `X(θ1)`, s.
     pub reach_time: Option<f64>,
     pub return_time: Option<f64>,
+    /// The first on-phase from rest at `θ1`: from the first onset until the end covers
+    /// `reach_fraction` of the static swing `X(θ2) − X(θ1)`, s (the step response's `T_90` when the
+    /// on-phase is long enough to get there; `None` when it does not within the first period).
+    pub first_rise_time: Option<f64>,
     /// From the onset until `X_{N+1} − L_x ≤ δ_d`, s (when a `δ_d` was given and is reached).
     pub time_to_target: Option<f64>,
     pub drift: Drift,
@@ -123,10 +130,20 @@ pub fn simulate_periodic(
     let mut last: Option<Trajectory> = None;
     let (mut settled, mut period_change, mut periods_run) = (false, f64::INFINITY, 0);
     let mut outcome = Outcome::Completed;
+    let x_of = |y: &[f64]| d.end_x(&y[..n]) - length_x;
+    let grad = |y: &[f64]| d.end_x_state_gradient(y);
+    let (onset, release) = onset_and_release(&d.forcing);
+    let first_level = ends.passive_displacement
+        + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
+    let mut first_rise_time = None;
     for k in 0..settings.max_periods.max(2) {
         let t0 = k as f64 * period;
         let traj = integrate(&ode, t0, &y, t0 + period, &settings.integrator, Extras::default());
         periods_run += 1;
+        if k == 0 {
+            first_rise_time =
+                traj.first_root(t0 + onset, &|y| x_of(y) - first_level, &grad).map(|e| e.t - (t0 + onset));
+        }
         stats.absorb(&traj.stats);
         let (s, dr) = sample(d, &traj, settings.samples_per_period + 1, ends.x1, length_x);
         drift.absorb(&dr);
@@ -154,7 +171,6 @@ pub fn simulate_periodic(
     }
     let traj = last.expect("at least one period");
     let (t_start, t_stop) = traj.span();
-    let x_of = |y: &[f64]| d.end_x(&y[..n]) - length_x;
     // Extremes over the step points and the dense samples of the last period.
     let mut min = (f64::INFINITY, t_start);
     let mut max = f64::NEG_INFINITY;
@@ -174,9 +190,7 @@ pub fn simulate_periodic(
         }
         max = max.max(x);
     }
-    let (onset, release) = onset_and_release(&d.forcing);
     let (onset, release) = (t_start + onset, t_start + release);
-    let grad = |y: &[f64]| d.end_x_state_gradient(y);
     let x_onset = x_of(&traj.value(onset));
     let f = settings.reach_fraction;
     let reach_level = x_onset + f * (min.0 - x_onset);
@@ -197,6 +211,7 @@ pub fn simulate_periodic(
         max_end_displacement: max,
         reach_time,
         return_time,
+        first_rise_time,
         time_to_target,
         drift,
         stats,

@@ -306,7 +306,12 @@ fn write_periodic(f: &mut std::fmt::Formatter<'_>, r: &PeriodicResponse) -> std:
     )?;
     writeln!(
         f,
-        "last period: min X − L_x = {:.6e} m ({:.4} s after onset), max {:.6e} m; reach (90 %) {} (paper: about 0.5 s), return (90 %) {} (paper: about 0.25 s)",
+        "first on-phase: from rest at θ1, the end covers 90 % of the static swing (X(θ2) − X(θ1)) in {}",
+        opt(r.first_rise_time)
+    )?;
+    writeln!(
+        f,
+        "last period: min X − L_x = {:.6e} m ({:.4} s after onset), max {:.6e} m; reach (90 %) {}, return (90 %) {}",
         r.min_end_displacement,
         r.time_of_minimum,
         r.max_end_displacement,
