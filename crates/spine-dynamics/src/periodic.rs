@@ -133,8 +133,8 @@ pub fn simulate_periodic(
     let x_of = |y: &[f64]| d.end_x(&y[..n]) - length_x;
     let grad = |y: &[f64]| d.end_x_state_gradient(y);
     let (onset, release) = onset_and_release(&d.forcing);
-    let first_level = ends.passive_displacement
-        + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
+    let first_level =
+        ends.passive_displacement + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
     let mut first_rise_time = None;
     for k in 0..settings.max_periods.max(2) {
         let t0 = k as f64 * period;
