@@ -194,6 +194,8 @@ impl DesignCase {
             ));
         }
         check_options(&s.continuation).map_err(|e| e.with_prefix("solver.continuation"))?;
+        s.check_ipopt_options()
+            .map_err(|(name, why)| CaseError::invalid(format!("solver.ipopt_options.{name}"), why))?;
         if let Refine::Ladder(ladder) = &s.refine {
             ladder.check().map_err(|(field, why)| CaseError::invalid(format!("solver.refine.{field}"), why))?;
             if self.formulation == Formulation::Reduced {

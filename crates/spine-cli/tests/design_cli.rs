@@ -154,7 +154,33 @@ fn bad_design_input_exits_2_and_names_the_field() {
         (
             "\"formulation\": \"full\"",
             "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"no_such_option\": 1}}",
-            "solver",
+            "solver.ipopt_options.no_such_option",
+        ),
+        // Issue 19: Ipopt options are case data only through a whitelist; none reaches a file.
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"output_file\": \"/tmp/x\"}}",
+            "solver.ipopt_options.output_file: opens or reads a file",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"option_file_name\": \"/etc/passwd\"}}",
+            "solver.ipopt_options.option_file_name",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"linear_solver\": \"ma57\"}}",
+            "solver.ipopt_options.linear_solver",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"max_iter\": \"many\"}}",
+            "solver.ipopt_options.max_iter",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"max_iter\": 1e10}}",
+            "solver.ipopt_options.max_iter",
         ),
         ("[10000, 250, 250, 250, 250, 0]", "[10000, 250]", "start.stiffness"),
         (
@@ -191,6 +217,31 @@ fn bad_design_input_exits_2_and_names_the_field() {
         assert!(stderr.contains(field), "{field}: {stderr}");
         assert!(!out.join("result.json").exists(), "{field}: wrote a result");
     }
+}
+
+/// Issue 19: an `ipopt.opt` in the working directory does not reach Ipopt (it used to change
+/// results silently): the run in a folder holding one writes the same bytes as a run elsewhere.
+#[test]
+fn an_ipopt_opt_file_in_the_working_directory_is_not_read() {
+    let case = workspace().join("paper-cases/design5.json");
+    let run = |tag: &str, plant: bool| {
+        let dir = tmpdir(tag);
+        if plant {
+            std::fs::write(dir.join("ipopt.opt"), "max_iter 2\nprint_level 12\n").unwrap();
+        }
+        let out = dir.join("out");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_spine"))
+            .args(["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{tag}: {}", String::from_utf8_lossy(&o.stderr));
+        (std::fs::read(out.join("result.json")).unwrap(), String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    let (clean, _) = run("no-opt-file", false);
+    let (planted, stdout) = run("planted-opt-file", true);
+    assert_eq!(clean, planted, "a planted ipopt.opt changed the result");
+    assert!(!stdout.contains("List of options"), "Ipopt printed at print_level 12: {stdout}");
 }
 
 #[test]

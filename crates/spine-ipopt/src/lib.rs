@@ -208,9 +208,11 @@ static SOLVE_LOCK: Mutex<()> = Mutex::new(());
 
 /// Solves `problem` with Ipopt.
 ///
-/// The options are passed to Ipopt as given, after two defaults that keep the terminal quiet
-/// (`print_level = 0`, `sb = yes`) and, when [`Problem::hessian_structure`] is `None`,
-/// `hessian_approximation = limited-memory`; any of them can be overridden in `options`.
+/// The options are passed to Ipopt as given, after defaults that keep the terminal quiet
+/// (`print_level = 0`, `sb = yes`), keep Ipopt from reading an options file (`option_file_name`
+/// empty: otherwise an `ipopt.opt` in the working directory would silently change every solve)
+/// and, when [`Problem::hessian_structure`] is `None`, `hessian_approximation = limited-memory`;
+/// any of them can be overridden in `options`.
 ///
 /// # Panics
 /// Resumes a panic raised inside one of the problem's callbacks, after Ipopt has returned.
@@ -221,7 +223,7 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
     let hessian = problem.hessian_structure();
     check_sizes(n, m, &jacobian, hessian.as_deref())?;
 
-    let mut all_options = Options::new().string("sb", "yes").integer("print_level", 0);
+    let mut all_options = Options::new().string("sb", "yes").integer("print_level", 0).string("option_file_name", "");
     if hessian.is_none() {
         all_options = all_options.string("hessian_approximation", "limited-memory");
     }
