@@ -46,6 +46,7 @@ pub const KINDS: &[&str] = &["equilibrium", "twolink", "design", "simulate", "da
 impl Case {
     /// Parses a case file. Errors name the field (`chain.links`, `design.theta0[2]`, …).
     pub fn from_json(text: &str) -> Result<Self, CaseError> {
+        crate::parse::check_text(text)?;
         let value: serde_json::Value = serde_json::from_str(text)
             .map_err(|e| CaseError::Parse { field: "case file".into(), message: format!("not valid JSON: {e}") })?;
         let serde_json::Value::Object(mut map) = value else {

@@ -57,6 +57,12 @@ fn run(
     study: Option<Vec<f64>>,
 ) -> Result<bool, Failure> {
     let path = args.case.display().to_string();
+    // Refuse an oversized file before reading it into memory.
+    let size = std::fs::metadata(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?.len();
+    if size > spine_case::MAX_CASE_BYTES as u64 {
+        let max = spine_case::MAX_CASE_BYTES;
+        return Err(Failure::Input(format!("{path}: case file: {size} bytes; at most {max} are accepted")));
+    }
     let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
     let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     if let Some(kind) = expect.filter(|k| *k != case.kind()) {

@@ -130,6 +130,13 @@ fn bad_cases() -> Vec<(&'static str, String, &'static str)> {
         ("px-string", with(&["loads", "p_x"], json!([0, 0, "x", 0, -100])), "loads.p_x"),
         // JSON has no infinities: an overflowing literal is refused by the parser with its position.
         ("huge-number", GOOD.replace("-100.0", "-1e999"), "line 5 column"),
+        // Issue 19: a key given twice is an error naming it (JSON parsers keep the last silently).
+        ("duplicate-key", GOOD.replace("\"p_x\": -100.0", "\"p_x\": -100.0, \"p_x\": 0"), "loads.p_x"),
+        (
+            "duplicate-top",
+            GOOD.replacen("\"kind\": \"equilibrium\",", "\"kind\": \"equilibrium\", \"kind\": \"design\",", 1),
+            "kind",
+        ),
         ("solver-unknown", with(&["solver"], json!({"tolerance": 1e-9})), "solver"),
         ("solver-step", with(&["solver"], json!({"initial_step": 2.0})), "solver.initial_step"),
     ]

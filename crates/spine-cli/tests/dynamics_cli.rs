@@ -62,6 +62,11 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
             "forcing.duty",
         ),
         ("simulate", Box::new(|c| c["simulation"]["integrator"] = json!({"rtol": 0.0})), "simulation.integrator.rtol"),
+        (
+            "simulate",
+            Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 0.5, "phase": 1})),
+            "unknown field `phase`",
+        ),
         // A periodic simulation runs whole periods: the step section's t_end is refused, not ignored.
         (
             "simulate",
