@@ -135,6 +135,27 @@ fn periodic_simulation_reports_the_first_on_phase_rise() {
     assert!((first - t90).abs() <= 1e-5 * t90, "first on-phase rise {first} s vs step T_90 {t90} s");
 }
 
+/// Issue 19: a dynamic case whose embedded eq. (33) design fails is a run that did not end clean
+/// (exit 3, its status written), not a program failure (it was exit 1 with nothing written).
+#[test]
+fn a_failed_embedded_design_exits_3_with_its_status_written() {
+    let dir = tmpdir("failed-design");
+    let mut c: Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/step5.json")).unwrap()).unwrap();
+    c["static_design"]["solver"] = json!({"max_iterations": 2});
+    let case = write_case(&dir, &c);
+    let out = dir.join("out");
+    let o = spine(&["simulate", &case, "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let source = &r["design"]["source"];
+    assert_eq!(source["status"], "maximum_iterations_exceeded");
+    assert_eq!(source["clean"], false);
+    assert!(!source["warnings"].as_array().unwrap().is_empty());
+    assert!(r.get("step_response").is_none(), "no dynamics on a failed design");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("NOT clean: no dynamics ran on it"));
+}
+
 #[test]
 fn damping_case_meets_each_target() {
     let dir = tmpdir("damping");

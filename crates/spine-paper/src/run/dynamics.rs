@@ -44,18 +44,24 @@ pub enum DynamicOutput {
 
 /// The design of a dynamic case: given, or found by eq. (33) first, which must end clean.
 pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
+    let used = design_of(valid)?;
+    if let Some(s) = used.static_design.as_ref().filter(|s| !s.result.is_clean()) {
+        return Err(RunError::StaticDesignNotClean {
+            status: s.result.solver.status.clone(),
+            warnings: s.result.warnings.iter().map(ToString::to_string).collect(),
+        });
+    }
+    Ok(used)
+}
+
+/// The design of a dynamic case, given or from eq. (33), clean or not.
+fn design_of(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
     match &valid.design {
         DesignSource::Given(d) => {
             Ok(UsedDesign { design: d.clone(), spans: valid.chain.spans.clone(), static_design: None })
         }
         DesignSource::Optimise(v) => {
             let s = run_design(v)?;
-            if !s.result.is_clean() {
-                return Err(RunError::StaticDesignNotClean {
-                    status: s.result.solver.status.clone(),
-                    warnings: s.result.warnings.iter().map(ToString::to_string).collect(),
-                });
-            }
             Ok(UsedDesign { design: s.result.design.clone(), spans: valid.chain.spans.clone(), static_design: Some(s) })
         }
     }
@@ -83,12 +89,22 @@ impl DynamicsOverrides {
     }
 }
 
-/// Runs a dynamic case: its design, then its task.
+/// Runs a dynamic case: its design (which must end clean), then its task.
 pub fn run_dynamics(
     valid: &ValidDynamics,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<(UsedDesign, DynamicOutput), RunError> {
     let used = resolve_design(valid)?;
+    let output = run_task(valid, &used, progress)?;
+    Ok((used, output))
+}
+
+/// The task of a dynamic case on its resolved design.
+fn run_task(
+    valid: &ValidDynamics,
+    used: &UsedDesign,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<DynamicOutput, RunError> {
     let problem = dynamic_problem(valid, &used.design, &valid.damping);
     let periodic = |damping: &[f64]| {
         periodic_response(&dynamic_problem(valid, &used.design, damping), valid.forcing.clone(), None, &valid.periodic)
@@ -130,7 +146,7 @@ pub fn run_dynamics(
             DynamicOutput::PeriodicDesign { design }
         }
     };
-    Ok((used, output))
+    Ok(output)
 }
 
 /// Where the design of a dynamic case came from: `"given"`, or a summary of its eq. (33) run.
@@ -151,6 +167,9 @@ pub struct Eq33Summary {
     /// `X(θ2) − L_x` and its target, m.
     pub end_displacement: Option<f64>,
     pub delta_d: f64,
+    /// The design ended clean; when not, no dynamics ran on it and `warnings` say why.
+    pub clean: bool,
+    pub warnings: Vec<String>,
 }
 
 impl Serialize for DesignOrigin {
@@ -211,7 +230,10 @@ pub fn run_dynamics_case(
     valid: &ValidDynamics,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DynamicsResult, RunError> {
-    let (used, output) = run_dynamics(valid, progress)?;
+    // A design from eq. (33) that did not end clean is reported (exit 3), with no dynamics on it.
+    let used = design_of(valid)?;
+    let clean_design = used.static_design.as_ref().is_none_or(|s| s.result.is_clean());
+    let output = if clean_design { Some(run_task(valid, &used, progress)?) } else { None };
     let source = match &used.static_design {
         None => DesignOrigin::Given,
         Some(s) => DesignOrigin::Eq33(Eq33Summary {
@@ -221,6 +243,8 @@ pub fn run_dynamics_case(
             objective: s.result.objective,
             end_displacement: s.result.end_displacement,
             delta_d: s.result.delta_d,
+            clean: s.result.is_clean(),
+            warnings: s.result.warnings.iter().map(ToString::to_string).collect(),
         }),
     };
     let mut result = DynamicsResult {
@@ -237,15 +261,16 @@ pub fn run_dynamics_case(
         n_links: valid.chain.n_links(),
     };
     match output {
-        DynamicOutput::Step { response } => result.step_response = Some(response),
-        DynamicOutput::Periodic { response } => result.periodic_response = Some(response),
-        DynamicOutput::Damping { designs, periodic } => {
+        None => {}
+        Some(DynamicOutput::Step { response }) => result.step_response = Some(response),
+        Some(DynamicOutput::Periodic { response }) => result.periodic_response = Some(response),
+        Some(DynamicOutput::Damping { designs, periodic }) => {
             let mut periodic = periodic.into_iter();
             result.damping_designs = Some(
                 designs.into_iter().map(|design| DampingRun { design, periodic_response: periodic.next() }).collect(),
             );
         }
-        DynamicOutput::PeriodicDesign { design } => result.periodic_design = Some(design),
+        Some(DynamicOutput::PeriodicDesign { design }) => result.periodic_design = Some(design),
     }
     Ok(result)
 }
@@ -379,9 +404,16 @@ impl std::fmt::Display for DynamicsResult {
         if let DesignOrigin::Eq33(s) = &self.design.source {
             writeln!(
                 f,
-                "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {:?} m, clean",
-                s.status, s.iterations, s.objective, s.end_displacement
+                "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {:?} m, {}",
+                s.status,
+                s.iterations,
+                s.objective,
+                s.end_displacement,
+                if s.clean { "clean" } else { "NOT clean: no dynamics ran on it" }
             )?;
+            for w in &s.warnings {
+                writeln!(f, "WARNING (eq. (33)): {w}")?;
+            }
         }
         writeln!(f, "{} — {} links", self.title, self.n_links)?;
         if let Some(r) = &self.step_response {
