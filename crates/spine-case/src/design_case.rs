@@ -113,6 +113,9 @@ pub(crate) fn full() -> Formulation {
     Formulation::Full
 }
 
+/// Most seeded starts of a multi-start (each is a full Ipopt solve).
+pub const MAX_STARTS: usize = 100_000;
+
 /// A checked design case.
 #[derive(Clone, Debug)]
 pub struct ValidDesign {
@@ -181,6 +184,12 @@ impl DesignCase {
         let stiffness = self.start.stiffness.expand("start.stiffness", n + 1, "one per spring, N + 1")?;
         non_negative("start.stiffness", &stiffness, "N·m/rad")?;
 
+        if self.multistart.starts > MAX_STARTS {
+            return Err(CaseError::invalid(
+                "multistart.starts",
+                format!("must be at most {MAX_STARTS}, got {}", self.multistart.starts),
+            ));
+        }
         let s = &self.solver;
         positive("solver.tolerance", s.tolerance, "")?;
         positive("solver.constraint_tolerance", s.constraint_tolerance, "")?;

@@ -146,6 +146,13 @@ pub struct ValidDynamics {
     pub task: DynamicsTask,
 }
 
+/// Longest simulated time, s (the paper's responses settle within seconds).
+pub const MAX_T_END: f64 = 1e4;
+/// Most output samples of a response (and per period of a periodic one).
+pub const MAX_SAMPLES: usize = 1_000_000;
+/// Most forcing periods of a periodic response.
+pub const MAX_PERIODS: usize = 10_000;
+
 fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
     o.validate().map_err(|e| CaseError::invalid(format!("{prefix}.{}", e.field), e.message))
 }
@@ -211,6 +218,25 @@ impl DynamicsCase {
 
         let s = &self.simulation;
         positive("simulation.t_end", s.t_end, "s")?;
+        let counts = [
+            ("simulation.t_end", s.t_end <= MAX_T_END, format!("at most {MAX_T_END} s, got {}", s.t_end)),
+            ("simulation.samples", s.samples <= MAX_SAMPLES, format!("at most {MAX_SAMPLES}, got {}", s.samples)),
+            (
+                "periodic.samples_per_period",
+                self.periodic.samples_per_period <= MAX_SAMPLES,
+                format!("at most {MAX_SAMPLES}, got {}", self.periodic.samples_per_period),
+            ),
+            (
+                "periodic.max_periods",
+                self.periodic.max_periods <= MAX_PERIODS,
+                format!("at most {MAX_PERIODS}, got {}", self.periodic.max_periods),
+            ),
+        ];
+        for (field, ok, message) in counts {
+            if !ok {
+                return Err(CaseError::invalid(field, message));
+            }
+        }
         check_fraction("simulation.rise_fraction", s.rise_fraction)?;
         positive("simulation.settle_tolerance", s.settle_tolerance, "")?;
         if s.samples < 2 {

@@ -36,8 +36,8 @@ pub struct DesignArgs {
     /// (equilibria by continuation, adjoint gradients); default: the case file's.
     #[arg(long, value_parser = ["full", "reduced"])]
     pub formulation: Option<String>,
-    /// Extra seeded feasible starts (multi-start); default: the case file's.
-    #[arg(long)]
+    /// Extra seeded feasible starts (multi-start), at most 100000; default: the case file's.
+    #[arg(long, value_parser = parse_starts)]
     pub starts: Option<usize>,
     /// Seed of the multi-start; default: the case file's.
     #[arg(long)]
@@ -143,4 +143,13 @@ impl StudyArgs {
             None => Ok(values),
         }
     }
+}
+
+/// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).
+fn parse_starts(text: &str) -> Result<usize, String> {
+    let n: usize = text.parse().map_err(|e| format!("{e}"))?;
+    if n > spine_case::MAX_STARTS {
+        return Err(format!("at most {}", spine_case::MAX_STARTS));
+    }
+    Ok(n)
 }

@@ -204,7 +204,20 @@ fn bad_design_input_exits_2_and_names_the_field() {
             "\"formulation\": \"full\", \"solver\": {\"warm_start\": {\"mu_init\": 0}}",
             "solver.warm_start.mu_init",
         ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"multistart\": {\"starts\": 1000000000000}",
+            "multistart.starts",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"continuation\": {\"critical_load_tolerance\": 1e-300}}",
+            "solver.continuation.critical_load_tolerance",
+        ),
     ];
+    let too_many = spine(&["design", "paper-cases/design5.json", "--starts", "1000000000000"]);
+    assert_eq!(too_many.status.code(), Some(2), "{}", String::from_utf8_lossy(&too_many.stderr));
+    assert!(String::from_utf8_lossy(&too_many.stderr).contains("at most 100000"));
     for (from, to, field) in cases {
         assert!(good.contains(from), "{from}");
         let dir = tmpdir(&format!("bad-{}", field.replace(['.', '[', ']'], "_")));

@@ -62,6 +62,24 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
             "forcing.duty",
         ),
         ("simulate", Box::new(|c| c["simulation"]["integrator"] = json!({"rtol": 0.0})), "simulation.integrator.rtol"),
+        // Issue 19: extreme but well-formed values are refused with their range, not run.
+        ("simulate", Box::new(|c| c["simulation"]["samples"] = json!(1e15 as u64)), "simulation.samples"),
+        ("simulate", Box::new(|c| c["simulation"]["t_end"] = json!(1e300)), "simulation.t_end"),
+        (
+            "simulate",
+            Box::new(|c| c["simulation"]["integrator"] = json!({"newton_tolerance": 1e-300})),
+            "simulation.integrator.newton_tolerance",
+        ),
+        (
+            "simulate",
+            Box::new(|c| c["simulation"]["integrator"] = json!({"max_steps": 1e12 as u64})),
+            "simulation.integrator.max_steps",
+        ),
+        (
+            "simulate",
+            Box::new(|c| c["simulation"]["continuation"] = json!({"max_steps": 100_000_000})),
+            "simulation.continuation.max_steps",
+        ),
         (
             "simulate",
             Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 0.5, "phase": 1})),

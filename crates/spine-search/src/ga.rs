@@ -52,7 +52,11 @@ impl GaSettings {
     /// Checks every setting (the GA runs only with valid settings; nothing is rounded).
     pub fn validate(&self) -> Result<(), SettingsError> {
         let p = self.population;
-        require(p >= 4 && p & 1 == 0, "population", || format!("must be even and at least 4, got {p}"))?;
+        require(p >= 4 && p & 1 == 0 && p <= MAX_POPULATION, "population", || {
+            format!("must be even, at least 4 and at most {MAX_POPULATION}, got {p}")
+        })?;
+        let g = self.generations;
+        require(g <= MAX_GENERATIONS, "generations", || format!("must be at most {MAX_GENERATIONS}, got {g}"))?;
         let unit = |v: f64| (0.0..=1.0).contains(&v);
         require(unit(self.crossover_probability), "crossover_probability", || {
             format!("must be in [0, 1], got {}", self.crossover_probability)
@@ -65,6 +69,11 @@ impl GaSettings {
         require(self.elites < p, "elites", || format!("must be below the population ({p}), got {}", self.elites))
     }
 }
+
+/// Largest GA population accepted (each member is one fitness evaluation per generation).
+pub const MAX_POPULATION: usize = 10_000;
+/// Most GA generations accepted.
+pub const MAX_GENERATIONS: usize = 100_000;
 
 /// Minimises `f` over `bounds`. `start`, when given, is one member of the first population (the
 /// rest are uniform in the bounds).

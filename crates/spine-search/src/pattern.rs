@@ -40,14 +40,22 @@ impl PatternSettings {
         let m = self.initial_mesh;
         require(m > 0.0 && m <= 1.0, "initial_mesh", || format!("must be in (0, 1], got {m}"))?;
         let t = self.mesh_tolerance;
-        require(t.is_finite() && t > 0.0, "mesh_tolerance", || format!("must be a finite number > 0, got {t}"))?;
+        require(t.is_finite() && t >= 1e-12 && t <= m, "mesh_tolerance", || {
+            format!("must be in [1e-12, initial_mesh = {m}], got {t}")
+        })?;
         let e = self.expansion;
         require(e.is_finite() && e >= 1.0, "expansion", || format!("must be a finite number ≥ 1, got {e}"))?;
         let c = self.contraction;
         require(c > 0.0 && c < 1.0, "contraction", || format!("must be in (0, 1), got {c}"))?;
-        require(self.max_evaluations >= 1, "max_evaluations", || "must be at least 1".into())
+        let e = self.max_evaluations;
+        require((1..=MAX_EVALUATIONS).contains(&e), "max_evaluations", || {
+            format!("must be between 1 and {MAX_EVALUATIONS}, got {e}")
+        })
     }
 }
+
+/// Most evaluations a pattern search may be given.
+pub const MAX_EVALUATIONS: usize = 10_000_000;
 
 /// Minimises `f` over `bounds` from `start` (clamped into the bounds). Polls `+e_1, −e_1, +e_2, …` in
 /// that fixed order, so runs are deterministic; a trial outside the bounds is clamped onto them.

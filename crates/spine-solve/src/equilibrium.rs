@@ -63,34 +63,44 @@ pub struct OptionError {
 }
 
 impl ContinuationOptions {
-    /// Checks every setting: tolerances and steps finite and positive, `0 < min_step ≤
-    /// initial_step ≤ 1`, at least one Newton iteration and one step.
+    /// Checks every setting against the range where the solver is meaningful and finishes:
+    /// `residual_tolerance` in [1e-300, 1] (below the rounding floor the floor is used),
+    /// `critical_load_tolerance` in [1e-15, 0.1], `max_angle_step` in (0, π/2],
+    /// `1e-15 ≤ min_step ≤ initial_step ≤ 1`, 1 … 1000 Newton iterations, 1 … 10⁷ steps.
     pub fn validate(&self) -> Result<(), OptionError> {
         let err = |field, message: String| Err(OptionError { field, message });
-        for (field, v, unit) in [
-            ("residual_tolerance", self.residual_tolerance, ""),
-            ("max_angle_step", self.max_angle_step, "rad"),
-            ("critical_load_tolerance", self.critical_load_tolerance, ""),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return err(field, format!("must be a finite number > 0 {unit}, got {v}"));
-            }
+        let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
+        if !within(self.residual_tolerance, 1e-300, 1.0) {
+            return err("residual_tolerance", format!("must be in [1e-300, 1], got {}", self.residual_tolerance));
+        }
+        if !(self.max_angle_step > 0.0 && self.max_angle_step <= std::f64::consts::FRAC_PI_2) {
+            return err("max_angle_step", format!("must be in (0, π/2] rad, got {}", self.max_angle_step));
+        }
+        if !within(self.critical_load_tolerance, 1e-15, 0.1) {
+            let v = self.critical_load_tolerance;
+            return err("critical_load_tolerance", format!("must be in [1e-15, 0.1], got {v}"));
         }
         if !(self.initial_step > 0.0 && self.initial_step <= 1.0) {
             return err("initial_step", format!("must be in (0, 1], got {}", self.initial_step));
         }
-        if !(self.min_step > 0.0 && self.min_step <= self.initial_step) {
-            return err("min_step", format!("must be in (0, initial_step], got {}", self.min_step));
+        if !(self.min_step >= 1e-15 && self.min_step <= self.initial_step) {
+            return err("min_step", format!("must be in [1e-15, initial_step], got {}", self.min_step));
         }
-        if self.max_newton_iterations == 0 {
-            return err("max_newton_iterations", "must be at least 1".into());
+        if !(1..=MAX_NEWTON_ITERATIONS).contains(&self.max_newton_iterations) {
+            let v = self.max_newton_iterations;
+            return err("max_newton_iterations", format!("must be between 1 and {MAX_NEWTON_ITERATIONS}, got {v}"));
         }
-        if self.max_steps == 0 {
-            return err("max_steps", "must be at least 1".into());
+        if !(1..=MAX_CONTINUATION_STEPS).contains(&self.max_steps) {
+            return err("max_steps", format!("must be between 1 and {MAX_CONTINUATION_STEPS}, got {}", self.max_steps));
         }
         Ok(())
     }
 }
+
+/// Most Newton iterations per continuation step a case may ask for.
+pub const MAX_NEWTON_ITERATIONS: usize = 1000;
+/// Most continuation steps a case may ask for.
+pub const MAX_CONTINUATION_STEPS: usize = 10_000_000;
 
 impl Default for ContinuationOptions {
     fn default() -> Self {

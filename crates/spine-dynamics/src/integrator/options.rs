@@ -30,26 +30,37 @@ pub struct Options {
 }
 
 impl Options {
-    /// Checks every setting: tolerances and steps finite and positive, at least one step.
+    /// Checks every setting against what the integrator can do: `rtol` in [1e-14, 0.1] (below,
+    /// round-off dominates and the steps never pass the test), `atol` in [1e-20, 1],
+    /// `newton_tolerance` in [1e-10, 1], steps finite and positive, 1 … 10⁸ accepted steps.
     pub fn validate(&self) -> Result<(), OptionError> {
-        let positive = [
-            ("rtol", Some(self.rtol)),
-            ("atol", Some(self.atol)),
-            ("newton_tolerance", Some(self.newton_tolerance)),
-            ("initial_step", self.initial_step),
-            ("max_step", self.max_step),
+        let ranges = [
+            ("rtol", Some(self.rtol), 1e-14, 0.1),
+            ("atol", Some(self.atol), 1e-20, 1.0),
+            ("newton_tolerance", Some(self.newton_tolerance), 1e-10, 1.0),
+            ("initial_step", self.initial_step, f64::MIN_POSITIVE, f64::MAX),
+            ("max_step", self.max_step, f64::MIN_POSITIVE, f64::MAX),
         ];
-        for (field, v) in positive {
-            if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
-                return Err(OptionError { field, message: format!("must be a finite number > 0, got {v}") });
+        for (field, v, lo, hi) in ranges {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= lo && *v <= hi)) {
+                let message = if hi == f64::MAX {
+                    format!("must be a finite number > 0, got {v}")
+                } else {
+                    format!("must be in [{lo:e}, {hi}], got {v}")
+                };
+                return Err(OptionError { field, message });
             }
         }
-        if self.max_steps == 0 {
-            return Err(OptionError { field: "max_steps", message: "must be at least 1".into() });
+        if !(1..=MAX_STEPS).contains(&self.max_steps) {
+            let message = format!("must be between 1 and {MAX_STEPS}, got {}", self.max_steps);
+            return Err(OptionError { field: "max_steps", message });
         }
         Ok(())
     }
 }
+
+/// Most accepted steps a run may be given.
+pub const MAX_STEPS: usize = 100_000_000;
 
 impl Default for Options {
     fn default() -> Self {
