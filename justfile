@@ -64,6 +64,12 @@ bench-peers *SIZES:
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/release/bench_peers benchmarks/peers/.venv/bin/python --casadi-refined {{SIZES}}
     ./target/release/bench_report
 
+# Stable fuzzing at length: every paper case mutated CASES times (default 20000, about 35 s per
+# 400 000 cases) through the fuzz target's body (`spine_case::fuzz::check_bytes`); `just test`
+# runs 500 per case.
+fuzz-long CASES="20000":
+    FUZZ_CASES={{CASES}} cargo test --release -p spine-integration-tests --test cases mutated -- --nocapture
+
 # Fuzz the case parser for SECONDS seconds (needs the nightly toolchain; installs cargo-fuzz).
 fuzz SECONDS="60":
     command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz

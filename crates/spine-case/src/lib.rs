@@ -22,6 +22,7 @@ mod dynamics_case;
 mod equilibrium_case;
 mod error;
 mod figure_case;
+pub mod fuzz;
 mod parse;
 mod per_item;
 mod specs;
