@@ -1,5 +1,13 @@
-//! Writing results: `DIR/result.json` and the files beside it, each written whole or not at all;
-//! and printing to stdout without a panic when the reader has gone (`spine … | head`).
+//! Writing results all or nothing, and printing to stdout without a panic when the reader has
+//! gone (`spine … | head`).
+//!
+//! A run's folder is staged: every file is written into a fresh folder beside `--out`, created
+//! exclusively under a name no other run uses (process id and time), with files created new (no
+//! link followed), each synced, then the folder synced and swapped with `--out` in one step
+//! (`renameat2` with `RENAME_EXCHANGE`), and the old folder removed. A reader sees the old complete
+//! set of files or the new one, never a mix; a run that fails or is interrupted leaves `--out`
+//! untouched (its staging folder is removed on failure; a killed run leaves only the hidden
+//! staging folder); two runs into one `--out` each swap in a complete set.
 
 use crate::Failure;
 use spine_paper::run::{FileContent, OutputFile};
@@ -12,20 +20,100 @@ pub struct Output {
     deterministic: bool,
 }
 
+/// A fresh folder beside the output folder, removed unless committed.
+struct Stage {
+    path: PathBuf,
+    committed: bool,
+}
+
+impl Drop for Stage {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.path);
+        }
+    }
+}
+
+fn io_error(dir: &Path) -> impl Fn(std::io::Error) -> Failure + '_ {
+    move |e| Failure::Other(format!("{}: cannot write: {e}", dir.display()))
+}
+
+/// Writes `path` as a new file (never through an existing file or link) and syncs it.
+fn create_new(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut file = std::fs::File::options().write(true).create_new(true).open(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()
+}
+
+impl Stage {
+    fn new(dir: &Path) -> Result<Self, Failure> {
+        let io = io_error(dir);
+        if let Ok(meta) = std::fs::symlink_metadata(dir) {
+            if !meta.is_dir() {
+                return Err(Failure::Input(format!(
+                    "{}: --out must be a folder (it is a file or a symbolic link)",
+                    dir.display()
+                )));
+            }
+        }
+        let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        std::fs::create_dir_all(parent).map_err(&io)?;
+        let name = dir.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned());
+        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        let path = parent.join(format!(".{name}.staging-{}-{nanos}", std::process::id()));
+        std::fs::create_dir(&path).map_err(&io)?;
+        Ok(Stage { path, committed: false })
+    }
+
+    /// Syncs the staged folder and puts it in place of `dir`.
+    fn commit(mut self, dir: &Path) -> Result<(), Failure> {
+        let io = io_error(dir);
+        std::fs::File::open(&self.path).and_then(|f| f.sync_all()).map_err(&io)?;
+        // `dir` absent (or an empty folder): a plain rename. Otherwise swap the two folders in one
+        // step and remove the old one, now at the staging path.
+        if std::fs::rename(&self.path, dir).is_err() {
+            rustix::fs::renameat_with(
+                rustix::fs::CWD,
+                &self.path,
+                rustix::fs::CWD,
+                dir,
+                rustix::fs::RenameFlags::EXCHANGE,
+            )
+            .map_err(|e| io(e.into()))?;
+            let _ = std::fs::remove_dir_all(&self.path);
+        }
+        self.committed = true;
+        Ok(())
+    }
+}
+
 impl Output {
     pub fn new(dir: &Path, deterministic: bool) -> Self {
         Self { dir: dir.to_path_buf(), deterministic }
     }
 
-    /// Writes the result's files, then `result.json` (its wall times under `timings`, dropped with
-    /// `--deterministic`). Returns the path of `result.json` and how many files are beside it.
+    /// Writes the result's files and `result.json` (its wall times under `timings`, dropped with
+    /// `--deterministic`) as one new folder in place of `DIR`. Returns the path of `result.json`
+    /// and how many files are beside it.
     pub fn write_result(&self, result: &CaseResult) -> Result<(PathBuf, usize), Failure> {
+        let stage = Stage::new(&self.dir)?;
+        let io = io_error(&self.dir);
         let mut written = 0;
         for OutputFile { name, content } in result.files() {
-            written += match content {
-                FileContent::Text(text) => self.write_file(&name, &text).map(|_| 1)?,
-                FileContent::Figure(figure) => self.write_figure(&name, &figure).map(|_| 2)?,
-            };
+            match content {
+                FileContent::Text(text) => {
+                    create_new(&stage.path.join(&name), text.as_bytes()).map_err(&io)?;
+                    written += 1;
+                }
+                FileContent::Figure(figure) => {
+                    let svg = figure.to_svg().map_err(|e| Failure::Other(format!("{name}.svg: {e}")))?;
+                    create_new(&stage.path.join(format!("{name}.svg")), svg.as_bytes()).map_err(&io)?;
+                    let png = stage.path.join(format!("{name}.png"));
+                    figure.write_png(&png).map_err(|e| Failure::Other(format!("{name}.png: {e}")))?;
+                    std::fs::File::open(&png).and_then(|f| f.sync_all()).map_err(&io)?;
+                    written += 2;
+                }
+            }
         }
         let mut value = result.to_json();
         if self.deterministic {
@@ -35,32 +123,23 @@ impl Output {
         }
         let mut text = serde_json::to_string_pretty(&value).expect("JSON values always serialise");
         text.push('\n');
-        Ok((self.write_file("result.json", &text)?, written))
+        create_new(&stage.path.join("result.json"), text.as_bytes()).map_err(&io)?;
+        stage.commit(&self.dir)?;
+        Ok((self.dir.join("result.json"), written))
     }
 
-    /// Writes a text file to `DIR/name` through a temporary file and a rename.
+    /// Writes one text file into `DIR` (created if needed) through a new file with a name no
+    /// other run uses and a rename, so that `DIR/name` is the old or the new text, never a part.
     pub fn write_text(&self, name: &str, text: &str) -> Result<(), Failure> {
-        self.write_file(name, text).map(|_| ())
-    }
-
-    /// Writes `DIR/stem.svg` and `DIR/stem.png` (each through a temporary file and a rename).
-    fn write_figure(&self, stem: &str, figure: &spine_plot::Figure) -> Result<(), Failure> {
-        let svg = figure.to_svg().map_err(|e| Failure::Other(format!("{stem}.svg: {e}")))?;
-        self.write_file(&format!("{stem}.svg"), &svg)?;
-        let tmp = self.dir.join(format!(".{stem}.png.tmp.png"));
-        figure.write_png(&tmp).map_err(|e| Failure::Other(format!("{stem}.png: {e}")))?;
-        std::fs::rename(&tmp, self.dir.join(format!("{stem}.png")))
-            .map_err(|e| Failure::Other(format!("{}: cannot write: {e}", self.dir.display())))
-    }
-
-    fn write_file(&self, name: &str, text: &str) -> Result<PathBuf, Failure> {
-        let io = |e: std::io::Error| Failure::Other(format!("{}: cannot write: {e}", self.dir.display()));
-        std::fs::create_dir_all(&self.dir).map_err(io)?;
-        let target = self.dir.join(name);
-        let tmp = self.dir.join(format!(".{name}.tmp"));
-        std::fs::write(&tmp, text).map_err(io)?;
-        std::fs::rename(&tmp, &target).map_err(io)?;
-        Ok(target)
+        let io = io_error(&self.dir);
+        std::fs::create_dir_all(&self.dir).map_err(&io)?;
+        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        let tmp = self.dir.join(format!(".{name}.{}-{nanos}.tmp", std::process::id()));
+        create_new(&tmp, text.as_bytes()).map_err(&io)?;
+        std::fs::rename(&tmp, self.dir.join(name)).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            io(e)
+        })
     }
 }
 

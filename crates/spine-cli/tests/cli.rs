@@ -176,3 +176,68 @@ fn missing_file_and_wrong_kind_exit_2() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("kind"));
 }
+
+fn files_in(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+/// Issue 19: an output folder is replaced as a whole. Files of an earlier run into the same folder
+/// do not survive beside the new ones, two runs racing into one folder each leave a complete set,
+/// and no staging folder is left behind.
+#[test]
+fn output_folders_are_all_or_nothing_even_when_two_runs_race() {
+    let dir = tmpdir("race");
+    let case = dir.join("case.json");
+    std::fs::write(&case, GOOD).unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("stale.csv"), "from an older run").unwrap();
+    let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(files_in(&out), vec!["result.json"], "the folder holds exactly the new run's files");
+    let expected = std::fs::read(out.join("result.json")).unwrap();
+
+    let runs: Vec<_> = (0..6)
+        .map(|_| {
+            std::process::Command::new(env!("CARGO_BIN_EXE_spine"))
+                .args(["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"])
+                .stdout(std::process::Stdio::null())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for mut r in runs {
+        assert!(r.wait().unwrap().success());
+    }
+    assert_eq!(files_in(&out), vec!["result.json"]);
+    assert_eq!(std::fs::read(out.join("result.json")).unwrap(), expected);
+    assert_eq!(files_in(&dir), vec!["case.json", "out"], "no staging folder left behind");
+}
+
+/// Issue 19: an interrupted run leaves the previous complete result untouched and nothing partial.
+#[test]
+fn an_interrupted_run_leaves_the_previous_result_untouched() {
+    let dir = tmpdir("interrupt");
+    let out = dir.join("out");
+    let case = workspace().join("paper-cases/design10.json");
+    let first = spine(&["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--starts", "0"]);
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    let before = std::fs::read(out.join("result.json")).unwrap();
+    let mut long = std::process::Command::new(env!("CARGO_BIN_EXE_spine"))
+        .args(["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--starts", "400"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = std::process::Command::new("kill").args(["-INT", &long.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let status = long.wait().unwrap();
+    assert!(!status.success(), "the run was interrupted");
+    assert_eq!(std::fs::read(out.join("result.json")).unwrap(), before, "the previous result is untouched");
+    assert_eq!(files_in(&out), vec!["result.json"]);
+    assert_eq!(files_in(&dir), vec!["out"], "nothing partial beside it");
+}
