@@ -15,14 +15,25 @@ use args::{Cli, Command, RunArgs};
 use clap::Parser;
 use std::process::ExitCode;
 
-/// An error with its exit code: bad input (2) or any other failure (1).
+/// An error with its exit code: bad input (2), interrupted (130) or any other failure (1).
 pub enum Failure {
     Input(String),
     Other(String),
+    Interrupted,
 }
+
+/// Seconds a run has after Ctrl-C or SIGTERM to stop at its own next check (Ipopt's iteration,
+/// the next start) before the process exits anyway; output is staged, so exiting writes nothing.
+const GRACE_SECONDS: u64 = 3;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let _ = ctrlc::set_handler(|| {
+        spine_paper::run::interrupt::request_stop();
+        std::thread::sleep(std::time::Duration::from_secs(GRACE_SECONDS));
+        eprintln!("error: interrupted: nothing written");
+        std::process::exit(130);
+    });
     let done = match &cli.command {
         Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), None),
         Command::Twolink(a) => run(a, Some("twolink"), Default::default(), None),
@@ -44,6 +55,10 @@ fn main() -> ExitCode {
         Err(Failure::Other(msg)) => {
             eprintln!("error: {msg}");
             ExitCode::from(1)
+        }
+        Err(Failure::Interrupted) => {
+            eprintln!("error: interrupted: nothing written");
+            ExitCode::from(130)
         }
     }
 }
@@ -79,12 +94,17 @@ fn run(
     };
     bars.clear();
     let result = result.map_err(|e| {
-        if e.is_input() {
+        if e.is_interrupted() {
+            Failure::Interrupted
+        } else if e.is_input() {
             Failure::Input(format!("{path}: {e}"))
         } else {
             Failure::Other(format!("{path}: {e}"))
         }
     })?;
+    if spine_paper::run::interrupt::stop_requested() {
+        return Err(Failure::Interrupted);
+    }
     let out = output::Output::new(&args.out, args.deterministic);
     let (path, files) = out.write_result(&result)?;
     let beside = match files {

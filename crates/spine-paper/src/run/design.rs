@@ -1,7 +1,7 @@
 //! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
 
-use super::{Progress, RunError};
+use super::{interrupt, Progress, RunError};
 use serde::Serialize;
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
@@ -28,8 +28,15 @@ fn states(result: &DesignResult) -> Option<(State, State)> {
     Some((State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda }))
 }
 
+/// Eq. (33) from `start`; Ipopt stops at its next iteration when a stop is requested.
 fn solve(valid: &ValidDesign, start: &Design) -> Result<DesignResult, RunError> {
-    solve_design(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| true).map_err(RunError::Design)
+    let result =
+        solve_design(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| !interrupt::stop_requested())
+            .map_err(RunError::Design)?;
+    if interrupt::stop_requested() {
+        return Err(RunError::Interrupted);
+    }
+    Ok(result)
 }
 
 /// Eq. (33) from the case's start.

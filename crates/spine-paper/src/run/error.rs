@@ -31,6 +31,9 @@ pub enum RunError {
     /// The figure's recipe rejected its runs.
     #[error("{figure}: {message}")]
     Recipe { figure: String, message: String },
+    /// A stop was requested from outside ([`super::interrupt`]); nothing is reported.
+    #[error("interrupted: the run was stopped before it finished; nothing written")]
+    Interrupted,
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -42,6 +45,15 @@ pub enum RunError {
 }
 
 impl RunError {
+    /// The run was stopped from outside (exit code 130).
+    pub fn is_interrupted(&self) -> bool {
+        match self {
+            Self::Interrupted => true,
+            Self::InRun { source, .. } => source.is_interrupted(),
+            _ => false,
+        }
+    }
+
     /// The case asks for something impossible (bad input, exit code 2), as opposed to a step that
     /// did not succeed (exit code 1).
     pub fn is_input(&self) -> bool {
@@ -52,7 +64,7 @@ impl RunError {
             | Self::Dynamics(_)
             | Self::NotInFigure(_)
             | Self::Recipe { .. } => true,
-            Self::StaticDesignNotClean { .. } => false,
+            Self::StaticDesignNotClean { .. } | Self::Interrupted => false,
             Self::InRun { source, .. } => source.is_input(),
         }
     }

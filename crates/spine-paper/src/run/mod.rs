@@ -9,6 +9,7 @@ mod equilibrium;
 mod error;
 mod figure;
 mod files;
+pub mod interrupt;
 mod output;
 mod progress;
 mod result;
