@@ -1,0 +1,77 @@
+//! Issue 19: adversarial case files through the binary. Quick paper cases of four kinds
+//! (equilibrium, twolink, design, simulate), each mutated by the seeded generator
+//! `spine_case::fuzz::Mutator` (extreme values of every JSON type, keys removed, unknown keys
+//! added): every run ends with exit 0, 2 or 3 within its time budget — never a panic (101), a
+//! signal or a hang — and writes either a complete result (0, 3) or nothing (2).
+
+mod common;
+use common::{tmpdir, workspace};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Longest a mutated quick case may run before it counts as a hang.
+const BUDGET: Duration = Duration::from_secs(90);
+
+fn wait(mut child: Child) -> Option<std::process::ExitStatus> {
+    let clock = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return Some(status);
+        }
+        if clock.elapsed() > BUDGET {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn mutated_cases_end_with_a_documented_exit_code_and_all_or_nothing_output() {
+    let dir = tmpdir("adversarial");
+    let plan = [("twolink", 60), ("arch10", 90), ("design5", 100), ("step5", 70)];
+    let mut mutator = spine_case::fuzz::Mutator::new(19);
+    let mut jobs = Vec::new();
+    for (name, count) in plan {
+        let text = std::fs::read_to_string(workspace().join(format!("paper-cases/{name}.json"))).unwrap();
+        let original: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for k in 0..count {
+            let case = dir.join(format!("{name}-{k}.json"));
+            std::fs::write(&case, mutator.mutate(&original).to_string()).unwrap();
+            jobs.push((case, dir.join(format!("{name}-{k}-out"))));
+        }
+    }
+    assert!(jobs.len() >= 300);
+    let mut counts = std::collections::BTreeMap::new();
+    // Two at a time (the machine's cores).
+    for pair in jobs.chunks(2) {
+        let children: Vec<_> = pair
+            .iter()
+            .map(|(case, out)| {
+                let child = Command::new(env!("CARGO_BIN_EXE_spine"))
+                    .args(["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"])
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::null())
+                    .spawn()
+                    .unwrap();
+                (case, out, child)
+            })
+            .collect();
+        for (case, out, child) in children {
+            let text = std::fs::read_to_string(case).unwrap();
+            let status = wait(child).unwrap_or_else(|| panic!("hang (over {BUDGET:?}) on {}:\n{text}", case.display()));
+            let code = status.code().unwrap_or_else(|| panic!("killed by a signal on {}:\n{text}", case.display()));
+            assert!([0, 2, 3].contains(&code), "exit {code} on {}:\n{text}", case.display());
+            if code == 2 {
+                assert!(!out.exists(), "exit 2 wrote {}", out.display());
+            } else {
+                let result = std::fs::read_to_string(out.join("result.json")).unwrap();
+                assert!(serde_json::from_str::<serde_json::Value>(&result).is_ok(), "{}", out.display());
+            }
+            *counts.entry(code).or_insert(0) += 1;
+        }
+    }
+    eprintln!("{} mutated cases: exit codes {counts:?}", jobs.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
