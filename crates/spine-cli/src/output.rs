@@ -38,6 +38,17 @@ fn io_error(dir: &Path) -> impl Fn(std::io::Error) -> Failure + '_ {
     move |e| Failure::Other(format!("{}: cannot write: {e}", dir.display()))
 }
 
+/// A suffix no other run uses: the process id and the time in nanoseconds.
+fn unique_suffix() -> String {
+    let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+    format!("{}-{nanos}", std::process::id())
+}
+
+/// Flushes a written file or folder to disk.
+fn sync(path: &Path) -> std::io::Result<()> {
+    std::fs::File::open(path)?.sync_all()
+}
+
 /// Writes `path` as a new file (never through an existing file or link) and syncs it.
 fn create_new(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut file = std::fs::File::options().write(true).create_new(true).open(path)?;
@@ -59,8 +70,7 @@ impl Stage {
         let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         std::fs::create_dir_all(parent).map_err(&io)?;
         let name = dir.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned());
-        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
-        let path = parent.join(format!(".{name}.staging-{}-{nanos}", std::process::id()));
+        let path = parent.join(format!(".{name}.staging-{}", unique_suffix()));
         std::fs::create_dir(&path).map_err(&io)?;
         Ok(Stage { path, committed: false })
     }
@@ -68,7 +78,7 @@ impl Stage {
     /// Syncs the staged folder and puts it in place of `dir`.
     fn commit(mut self, dir: &Path) -> Result<(), Failure> {
         let io = io_error(dir);
-        std::fs::File::open(&self.path).and_then(|f| f.sync_all()).map_err(&io)?;
+        sync(&self.path).map_err(&io)?;
         // `dir` absent (or an empty folder): a plain rename. Otherwise swap the two folders in one
         // step and remove the old one, now at the staging path.
         if std::fs::rename(&self.path, dir).is_err() {
@@ -110,7 +120,7 @@ impl Output {
                     create_new(&stage.path.join(format!("{name}.svg")), svg.as_bytes()).map_err(&io)?;
                     let png = stage.path.join(format!("{name}.png"));
                     figure.write_png(&png).map_err(|e| Failure::Other(format!("{name}.png: {e}")))?;
-                    std::fs::File::open(&png).and_then(|f| f.sync_all()).map_err(&io)?;
+                    sync(&png).map_err(&io)?;
                     written += 2;
                 }
             }
@@ -133,8 +143,7 @@ impl Output {
     pub fn write_text(&self, name: &str, text: &str) -> Result<(), Failure> {
         let io = io_error(&self.dir);
         std::fs::create_dir_all(&self.dir).map_err(&io)?;
-        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
-        let tmp = self.dir.join(format!(".{name}.{}-{nanos}.tmp", std::process::id()));
+        let tmp = self.dir.join(format!(".{name}.{}.tmp", unique_suffix()));
         create_new(&tmp, text.as_bytes()).map_err(&io)?;
         std::fs::rename(&tmp, self.dir.join(name)).map_err(|e| {
             let _ = std::fs::remove_file(&tmp);

@@ -123,18 +123,20 @@ pub fn mirror(design: &Design) -> Design {
     }
 }
 
+/// Whether `b`, with angles `b_theta0` (its own, or those of its mirror image), is the optimum
+/// `a`: both clean or both not, `J` within `1e-6` relative, `θ0` within `1e-4` rad.
+fn same_optimum(a: &DesignResult, b: &DesignResult, b_theta0: &[f64]) -> bool {
+    a.is_clean() == b.is_clean()
+        && (a.objective - b.objective).abs() <= 1e-6 * a.objective.abs().max(1e-12)
+        && a.design.theta0.iter().zip(b_theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
+}
+
 /// Groups converged results: two belong to the same optimum when both are clean or both are
 /// not, `J` agrees to `1e-6` relative and `θ0` to `1e-4` rad. `K` is not compared: a spring whose
 /// two links deflect alike stores no energy, so its stiffness can move along a flat valley of `J`
 /// (bounded by the end-displacement constraint) without changing the optimum's value; such runs
 /// are one optimum. `results[k]` is the run from start `k`.
 pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
-    let same = |a: &DesignResult, c: &DesignResult| {
-        let (ja, jc) = (a.objective, c.objective);
-        a.is_clean() == c.is_clean()
-            && (ja - jc).abs() <= 1e-6 * ja.abs().max(1e-12)
-            && a.design.theta0.iter().zip(&c.design.theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
-    };
     let starts = results.len();
     let mut optima: Vec<Optimum> = Vec::new();
     let mut failed = Vec::new();
@@ -145,7 +147,7 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
             continue;
         }
         converged += 1;
-        match optima.iter_mut().find(|o| same(&o.result, &r)) {
+        match optima.iter_mut().find(|o| same_optimum(&o.result, &r, &r.design.theta0)) {
             Some(o) => {
                 o.count += 1;
                 o.starts.push(k);
@@ -156,12 +158,7 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
     optima.sort_by(|a, b| b.clean.cmp(&a.clean).then(a.objective().total_cmp(&b.objective())));
     for k in 1..optima.len() {
         let mirrored = mirror(&optima[k].result.design);
-        optima[k].mirror_of = (0..k).find(|&m| {
-            let o = &optima[m].result;
-            o.is_clean() == optima[k].clean
-                && (o.objective - optima[k].objective()).abs() <= 1e-6 * o.objective.abs().max(1e-12)
-                && o.design.theta0.iter().zip(&mirrored.theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
-        });
+        optima[k].mirror_of = (0..k).find(|&m| same_optimum(&optima[m].result, &optima[k].result, &mirrored.theta0));
     }
     MultiStartSummary { starts, seed, converged, optima, failed }
 }

@@ -203,6 +203,7 @@ pub struct LoadPath<'a> {
 }
 
 /// A converged Newton solve: the state, its residual and Jacobian, and the iterations it took.
+#[derive(Clone)]
 pub(crate) struct Converged {
     pub(crate) state: State,
     pub(crate) residual: Vec<f64>,
@@ -292,6 +293,10 @@ pub(crate) fn on_branch(from: &State, predicted: &State, converged: &State) -> b
 /// point of its bracket is below this fraction of its value at the start or before the step.
 const CROSSING_EIGENVALUE: f64 = 1e-4;
 
+/// Steps of at most this many `min_step` are accepted without the branch-jump checks on the
+/// inertia (a real double crossing must still be passable).
+const TINY_STEPS: f64 = 16.0;
+
 /// Corrections below this (rad) are never taken for a branch change.
 pub(crate) const BRANCH_FLOOR: f64 = 1e-6;
 
@@ -357,11 +362,13 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
         let s_new = (s + ds).min(1.0);
         let loads = LinkLoads::lerp(&path.from, &path.to, s_new);
         let guess = predict(path, &cur, s_new - s, &mut stats);
+        // Steps this small are no longer suspected of jumping branches.
+        let tiny = ds <= TINY_STEPS * opts.min_step;
         let accepted = newton(path, &loads, guess.clone(), opts, &mut stats).and_then(|next| {
             let next_negative = stability::negative_directions(&next.jac);
             // A bifurcation or a fold changes the inertia by one; more in one step is a jump to
             // another branch (unless the step is already tiny).
-            let inertia_ok = next_negative.abs_diff(negative) <= 1 || ds <= 16.0 * opts.min_step;
+            let inertia_ok = next_negative.abs_diff(negative) <= 1 || tiny;
             let ok = angle_change(&next.state, &cur.state) <= opts.max_angle_step
                 && on_branch(&cur.state, &guess, &next.state)
                 && inertia_ok;
@@ -375,7 +382,7 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
                         .into_iter()
                         .flatten()
                         .fold(0.0, f64::max);
-                    if eigenvalue.is_some_and(|e| e > CROSSING_EIGENVALUE * scale) && ds > 16.0 * opts.min_step {
+                    if eigenvalue.is_some_and(|e| e > CROSSING_EIGENVALUE * scale) && !tiny {
                         // The path was still clearly stable next to the "crossing": the step
                         // jumped to an unstable equilibrium of another branch.
                         stats.rejected_steps += 1;
@@ -399,13 +406,7 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
                 if ds < opts.min_step {
                     // Load control stalls: a fold, or only a hard stretch of the path. Follow it
                     // in arclength to tell which.
-                    let stalled = Converged {
-                        state: cur.state.clone(),
-                        residual: cur.residual.clone(),
-                        jac: cur.jac.clone(),
-                        iterations: cur.iterations,
-                    };
-                    match arclength::trace(path, stalled, s, opts, &mut stats) {
+                    match arclength::trace(path, cur.clone(), s, opts, &mut stats) {
                         Trace::Fold { last, s: s_last, fold } => {
                             let st = stability::certify(&last.jac);
                             return finish(
@@ -459,12 +460,7 @@ fn locate_critical(
     opts: &ContinuationOptions,
     stats: &mut SolveStats,
 ) -> (f64, Option<f64>) {
-    let mut anchor = Converged {
-        state: stable.state.clone(),
-        residual: stable.residual.clone(),
-        jac: stable.jac.clone(),
-        iterations: 0,
-    };
+    let mut anchor = stable.clone();
     while hi - lo > opts.critical_load_tolerance {
         let mid = 0.5 * (lo + hi);
         let loads = LinkLoads::lerp(&path.from, &path.to, mid);

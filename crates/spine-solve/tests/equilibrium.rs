@@ -99,6 +99,12 @@ fn straight_chain_buckles_at_the_discrete_buckling_load() {
     assert_eq!(loaded.stability.negative_directions, 1);
 }
 
+/// The central-difference Jacobian of `f` at `x` as a dense matrix (the oracles' Newton matrix).
+fn fd_jacobian(x: &[f64], f: impl Fn(&[f64]) -> Vec<f64>) -> DMatrix<f64> {
+    let rows = spine_model::finite_difference::central_jacobian(x, 1e-7, f);
+    DMatrix::from_fn(rows.len(), x.len(), |i, j| rows[i][j])
+}
+
 /// Independent oracle of a fold: displacement control. The end's X is prescribed and
 /// `(θ, λ, s)` solved by dense Newton with a central-difference Jacobian, stepping X down from the
 /// start of the loaded path (1 mm steps) until the load factor falls; the largest load factor is
@@ -121,13 +127,7 @@ fn fold_by_displacement_control(p: &StaticProblem, start: &spine_model::State) -
             if r.iter().fold(0.0f64, |m, v| m.max(v.abs())) < 1e-12 {
                 return;
             }
-            let m = x.len();
-            let jac = DMatrix::from_fn(m, m, |i, j| {
-                let (mut xp, mut xm) = (x.clone(), x.clone());
-                xp[j] += 1e-7;
-                xm[j] -= 1e-7;
-                (equations(&xp, x_end)[i] - equations(&xm, x_end)[i]) / 2e-7
-            });
+            let jac = fd_jacobian(x, |y| equations(y, x_end));
             let dx = jac.lu().solve(&nalgebra::DVector::from_vec(r)).expect("regular under displacement control");
             x.iter_mut().zip(dx.iter()).for_each(|(xi, d)| *xi -= d);
         }
@@ -383,14 +383,7 @@ fn fold_by_arclength(p: &StaticProblem, start: &spine_model::State) -> Option<f6
         let loads = spine_model::LinkLoads::lerp(&from, &to, z[n + 1]);
         spine_model::residual::equilibrium_residual(&spans, design, &loads, &st)
     };
-    let jacobian = |z: &[f64]| {
-        DMatrix::from_fn(n + 1, n + 2, |i, j| {
-            let (mut zp, mut zm) = (z.to_vec(), z.to_vec());
-            zp[j] += 1e-7;
-            zm[j] -= 1e-7;
-            (f(&zp)[i] - f(&zm)[i]) / 2e-7
-        })
-    };
+    let jacobian = |z: &[f64]| fd_jacobian(z, f);
     // Weights of the arclength: θ and s count, λ (in N) is carried along.
     let weight = |j: usize| if j == n { 0.0 } else { 1.0 };
     let tangent = |z: &[f64], previous: &[f64]| -> Vec<f64> {
