@@ -152,6 +152,30 @@ pub const MAX_T_END: f64 = 1e4;
 pub const MAX_SAMPLES: usize = 1_000_000;
 /// Most forcing periods of a periodic response.
 pub const MAX_PERIODS: usize = 10_000;
+/// Most target rise times of eq. (35) in one case (one Ipopt solve each).
+pub const MAX_TARGETS: usize = 100;
+/// Most Ipopt iterations of one eq. (35) solve (each iteration simulates the step response).
+pub const MAX_ITERATIONS: usize = 10_000;
+/// Tightest Ipopt tolerance of eq. (35) (its constraint `T_90/T_d − 1` comes from an event
+/// located to round-off on a simulated response; tighter is noise).
+pub const MIN_TOLERANCE: f64 = 1e-14;
+
+/// A periodic response's settings (`prefix`: `periodic` or `periodic_design.settings.response`).
+fn check_periodic(prefix: &str, p: &spine_dynamics::PeriodicSettings) -> Result<(), CaseError> {
+    let field = |name: &str| format!("{prefix}.{name}");
+    if !(2..=MAX_PERIODS).contains(&p.max_periods) {
+        let message = format!("must be between 2 and {MAX_PERIODS}, got {}", p.max_periods);
+        return Err(CaseError::invalid(field("max_periods"), message));
+    }
+    if !(2..=MAX_SAMPLES).contains(&p.samples_per_period) {
+        let message = format!("must be between 2 and {MAX_SAMPLES}, got {}", p.samples_per_period);
+        return Err(CaseError::invalid(field("samples_per_period"), message));
+    }
+    positive(&field("settle_tolerance"), p.settle_tolerance, "")?;
+    check_fraction(&field("reach_fraction"), p.reach_fraction)?;
+    check_integrator(&field("integrator"), &p.integrator)?;
+    crate::specs::check_options(&p.continuation).map_err(|e| e.with_prefix(&field("continuation")))
+}
 
 fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
     o.validate().map_err(|e| CaseError::invalid(format!("{prefix}.{}", e.field), e.message))
@@ -221,16 +245,6 @@ impl DynamicsCase {
         let counts = [
             ("simulation.t_end", s.t_end <= MAX_T_END, format!("at most {MAX_T_END} s, got {}", s.t_end)),
             ("simulation.samples", s.samples <= MAX_SAMPLES, format!("at most {MAX_SAMPLES}, got {}", s.samples)),
-            (
-                "periodic.samples_per_period",
-                self.periodic.samples_per_period <= MAX_SAMPLES,
-                format!("at most {MAX_SAMPLES}, got {}", self.periodic.samples_per_period),
-            ),
-            (
-                "periodic.max_periods",
-                self.periodic.max_periods <= MAX_PERIODS,
-                format!("at most {MAX_PERIODS}, got {}", self.periodic.max_periods),
-            ),
         ];
         for (field, ok, message) in counts {
             if !ok {
@@ -244,19 +258,7 @@ impl DynamicsCase {
         }
         check_integrator("simulation.integrator", &s.integrator)?;
         crate::specs::check_options(&s.continuation).map_err(|e| e.with_prefix("simulation.continuation"))?;
-        let p = &self.periodic;
-        if p.max_periods < 2 {
-            return Err(CaseError::invalid(
-                "periodic.max_periods",
-                format!("must be at least 2, got {}", p.max_periods),
-            ));
-        }
-        positive("periodic.settle_tolerance", p.settle_tolerance, "")?;
-        check_fraction("periodic.reach_fraction", p.reach_fraction)?;
-        if p.samples_per_period < 2 {
-            return Err(CaseError::invalid("periodic.samples_per_period", "must be at least 2"));
-        }
-        check_integrator("periodic.integrator", &p.integrator)?;
+        check_periodic("periodic", &self.periodic)?;
 
         let periodic_forcing = self.forcing.period().is_some();
         let task = match kind {
@@ -299,8 +301,19 @@ impl DynamicsCase {
                 if dd.targets.is_empty() {
                     return Err(CaseError::invalid("damping_design.targets", "give at least one target rise time (s)"));
                 }
+                if dd.targets.len() > MAX_TARGETS {
+                    return Err(CaseError::invalid(
+                        "damping_design.targets",
+                        format!("at most {MAX_TARGETS} targets (one eq. (35) solve each), got {}", dd.targets.len()),
+                    ));
+                }
                 for (i, t) in dd.targets.iter().enumerate() {
-                    positive(&format!("damping_design.targets[{i}]"), *t, "s")?;
+                    let field = format!("damping_design.targets[{i}]");
+                    positive(&field, *t, "s")?;
+                    if *t > MAX_T_END / 3.0 {
+                        let message = format!("at most {} s (each design simulates 3 T_d), got {t}", MAX_T_END / 3.0);
+                        return Err(CaseError::invalid(field, message));
+                    }
                 }
                 positive("damping_design.damping_min", dd.damping_min, "N·m·s/rad")?;
                 if !(dd.damping_max.is_finite() && dd.damping_max > dd.damping_min) {
@@ -309,11 +322,16 @@ impl DynamicsCase {
                         format!("must be finite and > damping_min = {}, got {}", dd.damping_min, dd.damping_max),
                     ));
                 }
-                positive("damping_design.tolerance", dd.tolerance, "")?;
-                if dd.max_iterations == 0 || dd.max_iterations > i32::MAX as usize {
+                if !(MIN_TOLERANCE..=1.0).contains(&dd.tolerance) {
+                    return Err(CaseError::invalid(
+                        "damping_design.tolerance",
+                        format!("Ipopt's tolerance: between {MIN_TOLERANCE:e} and 1, got {}", dd.tolerance),
+                    ));
+                }
+                if !(1..=MAX_ITERATIONS).contains(&dd.max_iterations) {
                     return Err(CaseError::invalid(
                         "damping_design.max_iterations",
-                        "must be between 1 and 2147483647",
+                        format!("must be between 1 and {MAX_ITERATIONS}, got {}", dd.max_iterations),
                     ));
                 }
                 DynamicsTask::Damping {
@@ -361,13 +379,13 @@ impl DynamicsCase {
                 st.pattern.validate().map_err(|e| {
                     CaseError::invalid(format!("periodic_design.settings.pattern.{}", e.field), e.message)
                 })?;
-                if st.response.max_periods < 2 {
+                if st.tolerance > 1.0 {
                     return Err(CaseError::invalid(
-                        "periodic_design.settings.response.max_periods",
-                        "must be at least 2",
+                        "periodic_design.settings.tolerance",
+                        format!("a relative band on |δ_d|: at most 1, got {}", st.tolerance),
                     ));
                 }
-                check_integrator("periodic_design.settings.response.integrator", &st.response.integrator)?;
+                check_periodic("periodic_design.settings.response", &st.response)?;
                 DynamicsTask::Periodic { delta_d: pd.delta_d, method: pd.method, settings: st.clone() }
             }
             other => return Err(CaseError::invalid("kind", format!("not a dynamic kind: {other:?}"))),
@@ -380,7 +398,7 @@ impl DynamicsCase {
             actuation,
             forcing: self.forcing.clone(),
             step: s.clone(),
-            periodic: p.clone(),
+            periodic: self.periodic.clone(),
             task,
         })
     }

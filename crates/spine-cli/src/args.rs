@@ -26,6 +26,11 @@ pub struct RunArgs {
     /// Leave timings out of `result.json`, so the same input gives the same bytes.
     #[arg(long)]
     pub deterministic: bool,
+    /// Wall-clock limit of the run, in seconds (0 < SECONDS ≤ 1e6). When it passes, the solvers
+    /// stop at their next check and the result reached so far is written, marked
+    /// `"stopped": "time_limit"` (exit code 3).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_time_limit)]
+    pub time_limit: Option<std::time::Duration>,
 }
 
 #[derive(clap::Args)]
@@ -143,6 +148,18 @@ impl StudyArgs {
             None => Ok(values),
         }
     }
+}
+
+/// Longest `--time-limit` accepted, s (about 11.6 days).
+const MAX_TIME_LIMIT: f64 = 1e6;
+
+/// `--time-limit`: finite seconds in (0, [`MAX_TIME_LIMIT`]].
+fn parse_time_limit(text: &str) -> Result<std::time::Duration, String> {
+    let s: f64 = text.parse().map_err(|e| format!("{e}"))?;
+    if !(s > 0.0 && s <= MAX_TIME_LIMIT) {
+        return Err(format!("seconds must be > 0 and at most {MAX_TIME_LIMIT:e}, got {text}"));
+    }
+    Ok(std::time::Duration::from_secs_f64(s))
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).

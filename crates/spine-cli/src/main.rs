@@ -1,8 +1,9 @@
 //! `spine`: run flexible-spine case files.
 //!
 //! Exit codes: 0 success; 2 bad input (nothing written); 3 the run finished but its result is not
-//! clean — not a stable, converged equilibrium, or a failed solver check (the result is still
-//! written, with its status); 1 any other failure (for example the output folder cannot be
+//! clean — not a stable, converged equilibrium, a failed solver check, or stopped by
+//! `--time-limit` (the result is still written, with its status; a time limit that left nothing
+//! to report writes nothing); 130 interrupted (nothing written); 1 any other failure (for example the output folder cannot be
 //! written). The command only parses arguments, calls `spine_paper::run_case` and prints.
 #![forbid(unsafe_code)]
 
@@ -15,10 +16,12 @@ use args::{Cli, Command, RunArgs};
 use clap::Parser;
 use std::process::ExitCode;
 
-/// An error with its exit code: bad input (2), interrupted (130) or any other failure (1).
+/// An error with its exit code: bad input (2), a time limit that left nothing to write (3),
+/// interrupted (130) or any other failure (1).
 pub enum Failure {
     Input(String),
     Other(String),
+    TimeLimit(String),
     Interrupted,
 }
 
@@ -29,7 +32,7 @@ const GRACE_SECONDS: u64 = 3;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let _ = ctrlc::set_handler(|| {
-        spine_paper::run::interrupt::request_stop();
+        spine_stop::request_interrupt();
         std::thread::sleep(std::time::Duration::from_secs(GRACE_SECONDS));
         eprintln!("error: interrupted: nothing written");
         std::process::exit(130);
@@ -56,6 +59,10 @@ fn main() -> ExitCode {
             eprintln!("error: {msg}");
             ExitCode::from(1)
         }
+        Err(Failure::TimeLimit(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(3)
+        }
         Err(Failure::Interrupted) => {
             eprintln!("error: interrupted: nothing written");
             ExitCode::from(130)
@@ -68,9 +75,10 @@ fn main() -> ExitCode {
 fn run(
     args: &RunArgs,
     expect: Option<&str>,
-    overrides: spine_paper::Overrides,
+    mut overrides: spine_paper::Overrides,
     study: Option<Vec<f64>>,
 ) -> Result<bool, Failure> {
+    overrides.time_limit = args.time_limit;
     let path = args.case.display().to_string();
     // Refuse an oversized file before reading it into memory.
     let size = std::fs::metadata(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?.len();
@@ -96,13 +104,15 @@ fn run(
     let result = result.map_err(|e| {
         if e.is_interrupted() {
             Failure::Interrupted
+        } else if e.is_time_limit() {
+            Failure::TimeLimit(format!("{path}: {e}"))
         } else if e.is_input() {
             Failure::Input(format!("{path}: {e}"))
         } else {
             Failure::Other(format!("{path}: {e}"))
         }
     })?;
-    if spine_paper::run::interrupt::stop_requested() {
+    if spine_stop::interrupt_requested() {
         return Err(Failure::Interrupted);
     }
     let out = output::Output::new(&args.out, args.deterministic);

@@ -1,8 +1,9 @@
-//! Issue 19: adversarial case files through the binary. Quick paper cases of four kinds
-//! (equilibrium, twolink, design, simulate), each mutated by the seeded generator
+//! Issue 19: adversarial case files through the binary. Paper cases of every kind (equilibrium,
+//! twolink, design, simulate, damping, periodic, figure), each mutated by the seeded generator
 //! `spine_case::fuzz::Mutator` (extreme values of every JSON type, keys removed, unknown keys
 //! added): every run ends with exit 0, 2 or 3 within its time budget — never a panic (101), a
-//! signal or a hang — and writes either a complete result (0, 3) or nothing (2).
+//! signal or a hang — and writes either a complete result (0, 3) or nothing (2). The long kinds
+//! run under `--time-limit`, which is itself under test: a run past it must stop, not hang.
 
 mod common;
 use common::{tmpdir, workspace};
@@ -29,11 +30,24 @@ fn wait(mut child: Child) -> Option<std::process::ExitStatus> {
 
 #[test]
 fn mutated_cases_end_with_a_documented_exit_code_and_all_or_nothing_output() {
-    let dir = tmpdir("adversarial");
     let plan = [("twolink", 60), ("arch10", 90), ("design5", 100), ("step5", 70)];
-    let mut mutator = spine_case::fuzz::Mutator::new(19);
+    run_corpus("adversarial", &plan, 19, &[], 300);
+}
+
+/// The long kinds (eq. (35), eq. (37), figures with several runs) under a 3 s time limit.
+#[test]
+fn mutated_long_cases_end_with_a_documented_exit_code_within_their_time_limit() {
+    let plan = [("damping5", 30), ("periodic7", 30), ("fig4", 25), ("fig11", 25)];
+    run_corpus("adversarial-long", &plan, 1919, &["--time-limit", "3"], 110);
+}
+
+/// Runs `count` mutations of each paper case of `plan` (seeded by `seed`) through `spine case`
+/// with `extra` arguments, two at a time, and checks each exit code and its output folder.
+fn run_corpus(tag: &str, plan: &[(&str, usize)], seed: u64, extra: &[&str], at_least: usize) {
+    let dir = tmpdir(tag);
+    let mut mutator = spine_case::fuzz::Mutator::new(seed);
     let mut jobs = Vec::new();
-    for (name, count) in plan {
+    for &(name, count) in plan {
         let text = std::fs::read_to_string(workspace().join(format!("paper-cases/{name}.json"))).unwrap();
         let original: serde_json::Value = serde_json::from_str(&text).unwrap();
         for k in 0..count {
@@ -42,7 +56,7 @@ fn mutated_cases_end_with_a_documented_exit_code_and_all_or_nothing_output() {
             jobs.push((case, dir.join(format!("{name}-{k}-out"))));
         }
     }
-    assert!(jobs.len() >= 300);
+    assert!(jobs.len() >= at_least);
     let mut counts = std::collections::BTreeMap::new();
     // Two at a time (the machine's cores).
     for pair in jobs.chunks(2) {
@@ -51,6 +65,7 @@ fn mutated_cases_end_with_a_documented_exit_code_and_all_or_nothing_output() {
             .map(|(case, out)| {
                 let child = Command::new(env!("CARGO_BIN_EXE_spine"))
                     .args(["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"])
+                    .args(extra)
                     .stdout(Stdio::null())
                     .stderr(Stdio::null())
                     .spawn()

@@ -246,3 +246,66 @@ fn an_interrupted_run_leaves_the_previous_result_untouched() {
     assert_eq!(files_in(&out), vec!["result.json"]);
     assert_eq!(files_in(&dir), vec!["out"], "nothing partial beside it");
 }
+
+/// Issue 19: `--time-limit` bounds a long run. The GA of eq. (37) stops at its next generation,
+/// the result reached so far is written marked `"stopped": "time_limit"` with the search's own
+/// status, and the exit code is 3.
+#[test]
+fn a_time_limit_stops_a_long_search_and_writes_what_it_reached() {
+    let dir = tmpdir("time-limit");
+    let out = dir.join("out");
+    let case = workspace().join("paper-cases/periodic7.json");
+    let clock = std::time::Instant::now();
+    let o = spine(&["periodic", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--time-limit", "0.5"]);
+    let took = clock.elapsed().as_secs_f64();
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    // The unlimited search takes several seconds; the stop comes at the next integrator step.
+    assert!(took < 5.0, "took {took} s");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("result.json")).unwrap()).unwrap();
+    assert_eq!(r["stopped"], "time_limit");
+    assert_eq!(r["periodic_design"]["search"]["status"], "time_limit");
+    assert!(String::from_utf8_lossy(&o.stdout).contains("STOPPED EARLY (time_limit)"));
+}
+
+/// Issue 19: a time limit that leaves a figure without its runs writes nothing and exits 3; a
+/// limit outside (0, 1e6] s is bad input (exit 2).
+#[test]
+fn a_time_limit_that_leaves_nothing_to_report_writes_nothing() {
+    let dir = tmpdir("time-limit-figure");
+    let out = dir.join("out");
+    let case = workspace().join("paper-cases/fig9.json");
+    let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--time-limit", "0.001"]);
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("time limit: 0.001 s passed"));
+    assert!(!out.exists());
+    for bad in ["0", "-1", "nan", "inf", "2e6"] {
+        let o =
+            spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), &format!("--time-limit={bad}")]);
+        assert_eq!(o.status.code(), Some(2), "--time-limit {bad}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--time-limit"), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert!(!out.exists());
+}
+
+/// Issue 19: Ctrl-C stops a dynamic search (no Ipopt in it) at the integrator's next step, well
+/// within the grace period, exit 130, nothing written.
+#[test]
+fn an_interrupted_search_stops_at_its_next_step() {
+    let dir = tmpdir("interrupt-search");
+    let out = dir.join("out");
+    let case = workspace().join("paper-cases/periodic7.json");
+    let long = std::process::Command::new(env!("CARGO_BIN_EXE_spine"))
+        .args(["periodic", case.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(800));
+    let killed = std::process::Command::new("kill").args(["-INT", &long.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let clock = std::time::Instant::now();
+    let o = long.wait_with_output().unwrap();
+    assert!(clock.elapsed().as_secs_f64() < 2.0, "took {:?} to stop", clock.elapsed());
+    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!out.exists());
+}

@@ -92,6 +92,52 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
             "simulation.t_end",
         ),
         ("damping", Box::new(|c| c["kind"] = json!("damping")), "damping_design"),
+        // Issue 19: the eq. (35) and eq. (37) settings have ranges too.
+        (
+            "damping",
+            Box::new(|c| {
+                c["kind"] = json!("damping");
+                c["damping_design"] = json!({"targets": [0.1, 1e300]});
+            }),
+            "damping_design.targets[1]",
+        ),
+        (
+            "damping",
+            Box::new(|c| {
+                c["kind"] = json!("damping");
+                c["damping_design"] = json!({"targets": [0.1], "tolerance": 1e-300});
+            }),
+            "damping_design.tolerance",
+        ),
+        (
+            "damping",
+            Box::new(|c| {
+                c["kind"] = json!("damping");
+                c["damping_design"] = json!({"targets": vec![0.1; 101]});
+            }),
+            "damping_design.targets",
+        ),
+        (
+            "periodic",
+            Box::new(|c| {
+                c["kind"] = json!("periodic");
+                c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 0.5});
+                c.as_object_mut().unwrap().remove("simulation");
+                c["periodic_design"] =
+                    json!({"delta_d": -0.05, "settings": {"response": {"samples_per_period": 1e12 as u64}}});
+            }),
+            "periodic_design.settings.response.samples_per_period",
+        ),
+        (
+            "periodic",
+            Box::new(|c| {
+                c["kind"] = json!("periodic");
+                c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 0.5});
+                c.as_object_mut().unwrap().remove("simulation");
+                c["periodic_design"] = json!({"delta_d": -0.05, "settings": {"response": {"max_periods": 1e9 as u64}}});
+            }),
+            "periodic_design.settings.response.max_periods",
+        ),
         (
             "periodic",
             Box::new(|c| {

@@ -154,7 +154,7 @@ pub fn simulate_periodic(
             last = Some(traj);
             break;
         }
-        y = traj.intervals.last().expect("at least one step").y1.clone();
+        y = traj.end().to_vec();
         if let Some(prev) = &previous {
             let swing = trace.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
                 - trace.iter().cloned().fold(f64::INFINITY, f64::min);

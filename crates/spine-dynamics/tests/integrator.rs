@@ -21,6 +21,24 @@ impl OdeSystem for ProtheroRobinson {
     }
 }
 
+/// A run's time limit (`spine_stop`) ends the integration at its next step; a run stopped before
+/// its first step is a valid trajectory holding the start alone (its dense output, span, points
+/// and event search all work on it).
+#[test]
+fn a_passed_time_limit_ends_the_run_and_leaves_a_usable_trajectory() {
+    let opts = Options { rtol: 1e-6, atol: 1e-8, ..Default::default() };
+    let (traj, reached) = spine_stop::with_time_limit(Some(std::time::Duration::ZERO), || {
+        integrate(&ProtheroRobinson(-1e6), 0.0, &[1.0], 10.0, &opts, Extras::default())
+    });
+    assert!(reached);
+    assert_eq!(traj.outcome, Outcome::TimeLimit { t: 0.0 });
+    assert_eq!(traj.span(), (0.0, 0.0));
+    assert_eq!(traj.value(5.0), vec![1.0]);
+    assert_eq!(traj.end(), &[1.0]);
+    assert_eq!(traj.points().count(), 1);
+    assert!(traj.first_root(0.0, &|y| y[0] - 0.5, &|_| vec![1.0]).is_none());
+}
+
 #[test]
 fn stiff_problem_is_solved_to_tolerance_in_few_steps() {
     let opts = Options { rtol: 1e-6, atol: 1e-8, max_step: Some(0.05), ..Default::default() };

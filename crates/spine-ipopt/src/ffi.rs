@@ -107,6 +107,8 @@ pub(crate) struct Context<'a> {
     pub last: IterationInfo,
     pub evaluations: EvaluationCounts,
     pub callback_time: Duration,
+    /// Set when [`spine_stop::check`] stopped the run at an iteration.
+    pub stopped: Option<spine_stop::StopReason>,
 }
 
 impl Context<'_> {
@@ -434,6 +436,10 @@ extern "C" fn intermediate(
             line_search_trials: ls_trials.max(0) as usize,
         };
         let info = ctx.last;
+        if let Some(reason) = spine_stop::check() {
+            ctx.stopped = Some(reason);
+            return false;
+        }
         ctx.problem.intermediate(&info)
     })
 }

@@ -264,6 +264,7 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         last: IterationInfo::default(),
         evaluations: EvaluationCounts::default(),
         callback_time: Duration::ZERO,
+        stopped: None,
     };
     let clock = Instant::now();
     let finish = ffi::run(&mut context, start, &all_options.iter().collect::<Vec<_>>())?;
@@ -272,7 +273,11 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         resume_unwind(payload);
     }
     Ok(Solution {
-        status: Status::from_code(finish.status),
+        status: match (Status::from_code(finish.status), context.stopped) {
+            (Status::UserRequestedStop, Some(spine_stop::StopReason::TimeLimit)) => Status::TimeLimit,
+            (Status::UserRequestedStop, Some(spine_stop::StopReason::Interrupted)) => Status::Interrupted,
+            (status, _) => status,
+        },
         x: finish.x,
         objective: finish.objective,
         g: finish.g,

@@ -11,7 +11,14 @@ pub enum Status {
     InfeasibleProblemDetected,
     SearchDirectionBecomesTooSmall,
     DivergingIterates,
+    /// The problem's intermediate callback asked Ipopt to stop.
     UserRequestedStop,
+    /// Stopped through the user-stop hook because the run's wall-clock limit passed
+    /// (`spine_stop::with_time_limit`); Ipopt's own code is `user_requested_stop`.
+    TimeLimit,
+    /// Stopped through the user-stop hook on a request from outside (Ctrl-C, SIGTERM,
+    /// `spine_stop::request_interrupt`); Ipopt's own code is `user_requested_stop`.
+    Interrupted,
     FeasiblePointFound,
     MaximumIterationsExceeded,
     RestorationFailed,
@@ -80,6 +87,8 @@ impl Status {
             Status::SearchDirectionBecomesTooSmall => "search_direction_becomes_too_small".into(),
             Status::DivergingIterates => "diverging_iterates".into(),
             Status::UserRequestedStop => "user_requested_stop".into(),
+            Status::TimeLimit => "time_limit".into(),
+            Status::Interrupted => "interrupted".into(),
             Status::FeasiblePointFound => "feasible_point_found".into(),
             Status::MaximumIterationsExceeded => "maximum_iterations_exceeded".into(),
             Status::RestorationFailed => "restoration_failed".into(),

@@ -165,6 +165,24 @@ fn user_stop_is_reported_as_such() {
     assert_eq!(solution.iterations, 2);
 }
 
+/// A run's time limit (`spine_stop`) stops Ipopt at its first iteration with status `time_limit`;
+/// a limit the solve stays within changes nothing.
+#[test]
+fn a_passed_time_limit_stops_ipopt_and_is_reported_as_such() {
+    let (solution, reached) =
+        spine_stop::with_time_limit(Some(std::time::Duration::ZERO), || solve(&mut Hs071::new(), &tight()).unwrap());
+    assert!(reached);
+    assert_eq!(solution.status, Status::TimeLimit);
+    assert_eq!(solution.status.name(), "time_limit");
+    assert!(!solution.status.is_converged());
+    assert_eq!(solution.iterations, 0);
+    let (solution, reached) = spine_stop::with_time_limit(Some(std::time::Duration::from_secs(3600)), || {
+        solve(&mut Hs071::new(), &tight()).unwrap()
+    });
+    assert!(!reached);
+    assert_eq!(solution.status, Status::SolveSucceeded);
+}
+
 #[test]
 fn iteration_limit_is_reported_as_such() {
     let solution = solve(&mut Hs071::new(), &tight().integer("max_iter", 3)).unwrap();

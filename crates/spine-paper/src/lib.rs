@@ -24,6 +24,7 @@ pub mod metrics;
 pub mod report;
 pub mod run;
 pub mod study;
+pub mod write;
 
 pub use claims::{Check, Claim};
 pub use figures::{recipe, FigureOutput, NamedRun};

@@ -113,6 +113,10 @@ pub fn genetic_algorithm(
     let mut generation = 0;
 
     while generation < settings.generations {
+        if let Some(reason) = spine_stop::check() {
+            status = reason.into();
+            break;
+        }
         if evaluations + pop_size > settings.max_evaluations {
             status = SearchStatus::EvaluationLimit;
             break;

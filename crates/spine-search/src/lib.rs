@@ -132,6 +132,26 @@ pub enum SearchStatus {
     GenerationLimit,
     /// The evaluation budget ran out first.
     EvaluationLimit,
+    /// The run's wall-clock limit passed (`spine_stop`); the best point so far is reported.
+    TimeLimit,
+    /// A stop was requested from outside (Ctrl-C); the best point so far is reported.
+    Interrupted,
+}
+
+impl SearchStatus {
+    /// The search ran to one of its own ends (not stopped from outside or by the clock).
+    pub fn finished(self) -> bool {
+        !matches!(self, Self::TimeLimit | Self::Interrupted)
+    }
+}
+
+impl From<spine_stop::StopReason> for SearchStatus {
+    fn from(reason: spine_stop::StopReason) -> Self {
+        match reason {
+            spine_stop::StopReason::TimeLimit => Self::TimeLimit,
+            spine_stop::StopReason::Interrupted => Self::Interrupted,
+        }
+    }
 }
 
 /// The result of a search.

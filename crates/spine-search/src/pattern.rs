@@ -76,6 +76,9 @@ pub fn pattern_search(
     progress(history[0]);
     let mut iteration = 0;
     let status = loop {
+        if let Some(reason) = spine_stop::check() {
+            break reason.into();
+        }
         if mesh < settings.mesh_tolerance {
             break SearchStatus::MeshConverged;
         }

@@ -126,3 +126,26 @@ fn settings_are_checked_not_rounded() {
     assert_eq!(GaSettings::default().validate(), Ok(()));
     assert_eq!(PatternSettings::default().validate(), Ok(()));
 }
+
+/// A run's time limit (`spine_stop`) ends both searches at their next generation or poll with
+/// status `time_limit` and the best point evaluated so far.
+#[test]
+fn a_passed_time_limit_ends_both_searches_with_their_best_point() {
+    let zero = Some(std::time::Duration::ZERO);
+    let settings = GaSettings { seed: 3, ..Default::default() };
+    let (r, reached) = spine_stop::with_time_limit(zero, || {
+        genetic_algorithm(&mut rastrigin, &boxed(3, -5.0, 5.0), None, &settings, &mut |_| {})
+    });
+    let r = r.unwrap();
+    assert!(reached);
+    assert_eq!(r.status, spine_search::SearchStatus::TimeLimit);
+    assert_eq!(r.iterations, 0);
+    assert_eq!(r.evaluations, settings.population, "the first population is evaluated, no generation after it");
+    assert!(r.best.objective.is_finite() && !r.status.finished());
+    let (r, _) = spine_stop::with_time_limit(zero, || {
+        pattern_search(&mut rosenbrock, &boxed(2, -2.0, 2.0), &[-1.2, 1.0], &PatternSettings::default(), &mut |_| {})
+    });
+    let r = r.unwrap();
+    assert_eq!(r.status, spine_search::SearchStatus::TimeLimit);
+    assert_eq!((r.evaluations, r.x.clone()), (1, vec![-1.2, 1.0]));
+}

@@ -57,6 +57,9 @@ impl Interval {
 /// A computed solution.
 #[derive(Clone, Debug)]
 pub struct Trajectory {
+    /// The start `(t0, y0)` after projection (the trajectory when no step was accepted: a run
+    /// stopped before its first step).
+    pub start: (f64, Vec<f64>),
     pub intervals: Vec<Interval>,
     pub outcome: Outcome,
     pub stats: Stats,
@@ -72,25 +75,30 @@ pub struct Event {
 }
 
 impl Trajectory {
-    /// Start and end times.
+    /// Start and end times (equal when no step was accepted).
     pub fn span(&self) -> (f64, f64) {
-        (self.intervals.first().map_or(0.0, |i| i.t0), self.intervals.last().map_or(0.0, |i| i.t1))
+        (self.start.0, self.intervals.last().map_or(self.start.0, |i| i.t1))
     }
 
-    fn interval_at(&self, t: f64) -> &Interval {
+    fn interval_at(&self, t: f64) -> Option<&Interval> {
         let k = self.intervals.partition_point(|iv| iv.t1 < t);
-        &self.intervals[k.min(self.intervals.len() - 1)]
+        self.intervals.get(k.min(self.intervals.len().saturating_sub(1)))
     }
 
-    /// `y(t)` from the dense output.
+    /// `y(t)` from the dense output (the start state when no step was accepted).
     pub fn value(&self, t: f64) -> Vec<f64> {
-        self.interval_at(t).value(t)
+        self.interval_at(t).map_or_else(|| self.start.1.clone(), |iv| iv.value(t))
+    }
+
+    /// The last state reached.
+    pub fn end(&self) -> &[f64] {
+        self.intervals.last().map_or(&self.start.1, |iv| &iv.y1)
     }
 
     /// The accepted step points `(t, y)`, the start included.
     pub fn points(&self) -> impl Iterator<Item = (f64, &[f64])> {
-        let first = self.intervals.first().map(|iv| (iv.t0, iv.y0.as_slice()));
-        first.into_iter().chain(self.intervals.iter().map(|iv| (iv.t1, iv.y1.as_slice())))
+        std::iter::once((self.start.0, self.start.1.as_slice()))
+            .chain(self.intervals.iter().map(|iv| (iv.t1, iv.y1.as_slice())))
     }
 
     /// The first time after `after` where the scalar event function `g(y)` changes sign from its

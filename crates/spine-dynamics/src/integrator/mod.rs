@@ -67,6 +67,7 @@ pub fn integrate(
     let mut t = t0;
     let mut y = y0.to_vec();
     sys.project(&mut y);
+    let y_start = y.clone();
     let mut s = sensitivities;
     let mut piece = piece_of(t, breaks[0]);
     let evaluate = |t: f64, piece: f64, y: &[f64], s: &Option<DMatrix<f64>>, stats: &mut Stats| {
@@ -91,6 +92,13 @@ pub fn integrate(
     let mut outcome = Outcome::Completed;
 
     while t < t_end {
+        if let Some(reason) = spine_stop::check() {
+            outcome = match reason {
+                spine_stop::StopReason::TimeLimit => Outcome::TimeLimit { t },
+                spine_stop::StopReason::Interrupted => Outcome::Interrupted { t },
+            };
+            break;
+        }
         if stats.accepted_steps >= opts.max_steps {
             outcome = Outcome::StepLimit { t };
             break;
@@ -186,5 +194,5 @@ pub fn integrate(
             jac_age = 0;
         }
     }
-    Trajectory { intervals, outcome, stats }
+    Trajectory { start: (t0, y_start), intervals, outcome, stats }
 }

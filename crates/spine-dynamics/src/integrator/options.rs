@@ -120,4 +120,12 @@ pub enum Outcome {
     Stopped {
         t: f64,
     },
+    /// The run's wall-clock limit passed (`spine_stop`) at `t`.
+    TimeLimit {
+        t: f64,
+    },
+    /// A stop was requested from outside (Ctrl-C) at `t`.
+    Interrupted {
+        t: f64,
+    },
 }

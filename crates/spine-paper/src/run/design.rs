@@ -1,7 +1,7 @@
 //! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
 
-use super::{interrupt, Progress, RunError};
+use super::{Progress, RunError};
 use serde::Serialize;
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
@@ -28,12 +28,12 @@ fn states(result: &DesignResult) -> Option<(State, State)> {
     Some((State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda }))
 }
 
-/// Eq. (33) from `start`; Ipopt stops at its next iteration when a stop is requested.
+/// Eq. (33) from `start`. Ipopt stops at its next iteration when a stop is requested (the run
+/// returns [`RunError::Interrupted`]) or the time limit passes (its status says `time_limit`).
 fn solve(valid: &ValidDesign, start: &Design) -> Result<DesignResult, RunError> {
-    let result =
-        solve_design(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| !interrupt::stop_requested())
-            .map_err(RunError::Design)?;
-    if interrupt::stop_requested() {
+    let result = solve_design(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| true)
+        .map_err(RunError::Design)?;
+    if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
     Ok(result)
@@ -106,9 +106,13 @@ pub fn run_design_case(
     let mut results = vec![own];
     for (k, d) in feasible_starts(&valid.problem, starts, seed).iter().enumerate() {
         progress(Progress::Step { stage: "multi-start", done: k, total: starts });
+        if spine_stop::check().is_some() {
+            // Time limit: the census holds the starts run so far (`multistart.starts` says how many).
+            break;
+        }
         results.push(solve(valid, d)?);
     }
-    progress(Progress::Step { stage: "multi-start", done: starts, total: starts });
+    progress(Progress::Step { stage: "multi-start", done: results.len() - 1, total: starts });
     let own = results[0].clone();
     let summary = cluster(results, seed);
     let (reported_start, result) = match summary.best_clean() {

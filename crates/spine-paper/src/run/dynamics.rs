@@ -291,7 +291,7 @@ impl DynamicsResult {
                 .iter()
                 .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.settled));
         }
-        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.response.settled)
+        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.search.status.finished() && r.response.settled)
     }
 
     /// `response.csv` (step, periodic, eq. (37)), or `response_T{T_d}.csv` and

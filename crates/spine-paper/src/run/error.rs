@@ -34,6 +34,14 @@ pub enum RunError {
     /// A stop was requested from outside ([`super::interrupt`]); nothing is reported.
     #[error("interrupted: the run was stopped before it finished; nothing written")]
     Interrupted,
+    /// The run's time limit passed and left nothing to report (`cause`: how the run failed once
+    /// its solvers stopped, e.g. a figure whose recipe needs every run). Exit code 3.
+    #[error("time limit: {seconds} s passed before the run could give a result ({cause}); nothing written")]
+    TimeLimit {
+        seconds: f64,
+        #[source]
+        cause: Box<RunError>,
+    },
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -45,6 +53,11 @@ pub enum RunError {
 }
 
 impl RunError {
+    /// The run's time limit stopped it before it had a result (exit code 3).
+    pub fn is_time_limit(&self) -> bool {
+        matches!(self, Self::TimeLimit { .. })
+    }
+
     /// The run was stopped from outside (exit code 130).
     pub fn is_interrupted(&self) -> bool {
         match self {
@@ -64,7 +77,7 @@ impl RunError {
             | Self::Dynamics(_)
             | Self::NotInFigure(_)
             | Self::Recipe { .. } => true,
-            Self::StaticDesignNotClean { .. } | Self::Interrupted => false,
+            Self::StaticDesignNotClean { .. } | Self::Interrupted | Self::TimeLimit { .. } => false,
             Self::InRun { source, .. } => source.is_input(),
         }
     }

@@ -9,7 +9,6 @@ mod equilibrium;
 mod error;
 mod figure;
 mod files;
-pub mod interrupt;
 mod output;
 mod progress;
 mod result;
@@ -26,7 +25,7 @@ pub use figure::{run_figure, FigureResult, FigureRunResult};
 pub use files::{samples_csv, FileContent, OutputFile};
 pub use output::{run, run_twolink, RunOutput};
 pub use progress::{quiet, Progress};
-pub use result::{with_timings, CaseResult};
+pub use result::{with_timings, CaseResult, KindResult};
 pub use twolink::{run_twolink_case, TwoLinkResult};
 
 use spine_case::Case;
@@ -36,10 +35,31 @@ use spine_case::Case;
 pub struct Overrides {
     pub design: DesignOverrides,
     pub dynamics: DynamicsOverrides,
+    /// Wall-clock limit of the whole run (`None`: none). When it passes, Ipopt stops at its next
+    /// iteration, the integrator at its next step, the GA and pattern search at their next
+    /// generation or poll, a multi-start before its next start; the run returns what it reached,
+    /// marked [`CaseResult::stopped`] (exit code 3). Equilibrium continuation and the two-link
+    /// study have no check: their step counts are bounded by validation.
+    pub time_limit: Option<std::time::Duration>,
+}
+
+/// Runs `run` under `overrides.time_limit`; a run the limit stopped is marked, or, when the limit
+/// left nothing to report (a figure whose recipe needs every run), is [`RunError::TimeLimit`].
+fn limited(overrides: &Overrides, run: impl FnOnce() -> Result<KindResult, RunError>) -> Result<CaseResult, RunError> {
+    let (result, reached) = spine_stop::with_time_limit(overrides.time_limit, run);
+    let stopped = reached.then_some(spine_stop::StopReason::TimeLimit);
+    match result {
+        Ok(result) => Ok(CaseResult { result, stopped }),
+        Err(e) if reached && !e.is_interrupted() => Err(RunError::TimeLimit {
+            seconds: overrides.time_limit.map_or(0.0, |d| d.as_secs_f64()),
+            cause: Box::new(e),
+        }),
+        Err(e) => Err(e),
+    }
 }
 
 /// Checks `case`, applies `overrides` and runs it to its typed result: the one run path of every
-/// kind.
+/// kind (under [`Overrides::time_limit`] when set).
 ///
 /// ```
 /// let text = r#"{
@@ -60,20 +80,22 @@ pub fn run_case(
     overrides: &Overrides,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    Ok(match case {
-        Case::Equilibrium(c) => CaseResult::Equilibrium(run_equilibrium(c, &c.validate()?)),
-        Case::Twolink(c) => CaseResult::Twolink(run_twolink_case(c, &c.validate()?)),
-        Case::Design(c) => {
-            let mut valid = c.validate()?;
-            overrides.design.apply(&mut valid);
-            CaseResult::Design(run_design_case(c, &valid, progress)?)
-        }
-        Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
-            let mut valid = c.validate(case.kind())?;
-            overrides.dynamics.apply(&mut valid);
-            CaseResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, progress)?)
-        }
-        Case::Figure(c) => CaseResult::Figure(run_figure(c, &c.validate()?, progress)?),
+    limited(overrides, || {
+        Ok(match case {
+            Case::Equilibrium(c) => KindResult::Equilibrium(run_equilibrium(c, &c.validate()?)),
+            Case::Twolink(c) => KindResult::Twolink(run_twolink_case(c, &c.validate()?)),
+            Case::Design(c) => {
+                let mut valid = c.validate()?;
+                overrides.design.apply(&mut valid);
+                KindResult::Design(run_design_case(c, &valid, progress)?)
+            }
+            Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
+                let mut valid = c.validate(case.kind())?;
+                overrides.dynamics.apply(&mut valid);
+                KindResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, progress)?)
+            }
+            Case::Figure(c) => KindResult::Figure(run_figure(c, &c.validate()?, progress)?),
+        })
     })
 }
 
@@ -89,5 +111,5 @@ pub fn run_study(
     };
     let mut valid = c.validate()?;
     overrides.design.apply(&mut valid);
-    Ok(CaseResult::Study(crate::study::run_ck_study(&c.title, &valid, values, progress)?))
+    limited(overrides, || Ok(KindResult::Study(crate::study::run_ck_study(&c.title, &valid, values, progress)?)))
 }

@@ -1,17 +1,69 @@
 //! The typed result of a case ([`CaseResult`]): what `result.json` holds, the files written beside
-//! it, and whether it is clean (exit code 0) or not (exit code 3).
+//! it, and whether it is clean (exit code 0) or not (exit code 3). A run stopped by its time limit
+//! still gives its result, marked `"stopped": "time_limit"` and never clean.
 
 use super::{DesignCaseResult, DynamicsResult, EquilibriumResult, FigureResult, OutputFile, TwoLinkResult};
 use crate::study::StudyResult;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
+/// What a case computed ([`KindResult`]), and whether its time limit stopped it early.
+#[derive(Clone, Debug)]
+pub struct CaseResult {
+    pub result: KindResult,
+    /// Set when some loop of the run saw its wall-clock limit pass
+    /// ([`super::Overrides::time_limit`]) and ended early: the result holds what was reached
+    /// (each solver's status says where it stopped) and is not clean.
+    pub stopped: Option<spine_stop::StopReason>,
+}
+
+impl From<KindResult> for CaseResult {
+    fn from(result: KindResult) -> Self {
+        Self { result, stopped: None }
+    }
+}
+
+impl CaseResult {
+    /// Clean: every solver converged, every equilibrium it reports is stable, every solver check
+    /// passed, and no time limit stopped it. Not clean is exit code 3 (the result is still
+    /// written, with its status).
+    pub fn is_clean(&self) -> bool {
+        self.stopped.is_none() && self.result.is_clean()
+    }
+
+    /// The files written beside `result.json` (CSV tables, figures), in writing order.
+    pub fn files(&self) -> Vec<OutputFile> {
+        self.result.files()
+    }
+
+    /// `result.json` as a JSON value: the serialised result with every wall time (a `*_seconds`
+    /// field, at any depth) moved under the top-level `timings`, keyed by its path, so that
+    /// dropping `timings` leaves the same bytes for the same input; `"stopped"` when a time limit
+    /// ended the run.
+    pub fn to_json(&self) -> Value {
+        let mut value = with_timings(&self.result);
+        if let (Some(reason), Value::Object(map)) = (self.stopped, &mut value) {
+            map.insert("stopped".into(), Value::String(reason.name().into()));
+        }
+        value
+    }
+}
+
+impl std::fmt::Display for CaseResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(reason) = self.stopped {
+            writeln!(f, "STOPPED EARLY ({}): the run's time limit passed; what it reached so far:", reason.name())?;
+        }
+        self.result.fmt(f)
+    }
+}
+
 /// What any case computed, by kind.
 #[derive(Clone, Debug, Serialize)]
 #[serde(untagged)]
 // One value per run: boxing the large variants would buy nothing.
 #[allow(clippy::large_enum_variant)]
-pub enum CaseResult {
+pub enum KindResult {
     Equilibrium(EquilibriumResult),
     Twolink(TwoLinkResult),
     Design(DesignCaseResult),
@@ -21,9 +73,9 @@ pub enum CaseResult {
     Study(StudyResult),
 }
 
-impl CaseResult {
+impl KindResult {
     /// Clean: every solver converged, every equilibrium it reports is stable and every solver
-    /// check passed. Not clean is exit code 3 (the result is still written, with its status).
+    /// check passed.
     pub fn is_clean(&self) -> bool {
         match self {
             Self::Equilibrium(r) => r.is_clean(),
@@ -44,16 +96,9 @@ impl CaseResult {
             Self::Study(r) => r.files(),
         }
     }
-
-    /// `result.json` as a JSON value: the serialised result with every wall time (a `*_seconds`
-    /// field, at any depth) moved under the top-level `timings`, keyed by its path, so that
-    /// dropping `timings` leaves the same bytes for the same input.
-    pub fn to_json(&self) -> Value {
-        with_timings(self)
-    }
 }
 
-impl std::fmt::Display for CaseResult {
+impl std::fmt::Display for KindResult {
     /// The summary a user reads: status, the numbers that show it, and warnings.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {

@@ -1,0 +1,95 @@
+//! Python objects to case files, results to arrays, run errors to Python exceptions.
+
+use numpy::PyArray1;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyTimeoutError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use spine_paper::run::FileContent;
+
+/// The case `obj` describes: a dictionary (case-file format), JSON text (starts with `{`), or the
+/// path of a case file (`str` or `os.PathLike`). Parsed and checked as the CLI does; bad input is
+/// a `ValueError` with the CLI's message naming the field.
+pub fn case_from(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<spine_case::Case> {
+    let text = case_text(py, obj)?;
+    spine_case::Case::from_json(&text).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// The JSON text of a case given as a dictionary, JSON text or a path.
+pub fn case_text(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<String> {
+    let path = if obj.is_instance_of::<PyString>() {
+        let s: String = obj.extract()?;
+        if s.trim_start().starts_with('{') {
+            return Ok(s);
+        }
+        Some(std::path::PathBuf::from(s))
+    } else if obj.hasattr("__fspath__")? {
+        Some(obj.extract::<std::path::PathBuf>()?)
+    } else {
+        None
+    };
+    match path {
+        Some(path) => {
+            let name = path.display().to_string();
+            let size =
+                std::fs::metadata(&path).map_err(|e| PyValueError::new_err(format!("{name}: cannot read: {e}")))?.len();
+            if size > spine_case::MAX_CASE_BYTES as u64 {
+                let max = spine_case::MAX_CASE_BYTES;
+                return Err(PyValueError::new_err(format!(
+                    "{name}: case file: {size} bytes; at most {max} are accepted"
+                )));
+            }
+            std::fs::read_to_string(&path).map_err(|e| PyValueError::new_err(format!("{name}: cannot read: {e}")))
+        }
+        // `allow_nan=False`: a NaN or infinity is not JSON, and the case format refuses it.
+        None => {
+            let kwargs = PyDict::new(py);
+            kwargs.set_item("allow_nan", false)?;
+            py.import("json")?
+                .call_method("dumps", (obj,), Some(&kwargs))
+                .map_err(|e| PyValueError::new_err(format!("case: not a JSON-like dictionary: {e}")))?
+                .extract()
+        }
+    }
+}
+
+/// A run error as a Python exception: bad input `ValueError`, a time limit that left nothing to
+/// report `TimeoutError`, an outside stop `KeyboardInterrupt`, anything else `RuntimeError`.
+pub fn run_error(e: spine_paper::RunError) -> PyErr {
+    let message = e.to_string();
+    if e.is_interrupted() {
+        PyKeyboardInterrupt::new_err(message)
+    } else if e.is_time_limit() {
+        PyTimeoutError::new_err(message)
+    } else if e.is_input() {
+        PyValueError::new_err(message)
+    } else {
+        PyRuntimeError::new_err(message)
+    }
+}
+
+/// The CSV tables of a result as `{file name: {column: numpy array}}`.
+pub fn series_of<'py>(py: Python<'py>, result: &spine_paper::CaseResult) -> PyResult<Bound<'py, PyDict>> {
+    let all = PyDict::new(py);
+    for file in result.files() {
+        let FileContent::Text(text) = &file.content else { continue };
+        if !file.name.ends_with(".csv") {
+            continue;
+        }
+        let mut lines = text.lines();
+        let Some(header) = lines.next() else { continue };
+        let names: Vec<&str> = header.split(',').collect();
+        let mut columns = vec![Vec::new(); names.len()];
+        for line in lines {
+            for (column, cell) in columns.iter_mut().zip(line.split(',')) {
+                // Columns that are not numbers (labels) become NaN.
+                column.push(cell.trim().parse::<f64>().unwrap_or(f64::NAN));
+            }
+        }
+        let table = PyDict::new(py);
+        for (name, column) in names.iter().zip(columns) {
+            table.set_item(name, PyArray1::from_vec(py, column))?;
+        }
+        all.set_item(&file.name, table)?;
+    }
+    Ok(all)
+}

@@ -1,0 +1,236 @@
+//! `flexspine`: the Python front of the workspace (PyO3, abi3, numpy arrays).
+//!
+//! Every call goes through the same Rust code as the `spine` CLI — case files are parsed and
+//! checked by `spine_case`, runs go through `spine_paper::run_case`, folders are written by
+//! `spine_paper::write` — so a result from Python is the CLI's `result.json`, byte for byte with
+//! `deterministic=True`. This crate only converts: Python objects to case text, results to
+//! dictionaries and numpy arrays, errors to Python exceptions (`ValueError` naming the field for
+//! bad input, `TimeoutError`, `KeyboardInterrupt`, `RuntimeError`).
+//!
+//! Long calls run on a worker thread with the GIL released; the calling thread polls Python's
+//! signal handlers, and Ctrl-C asks the run to stop through `spine_stop` (Ipopt's user-stop hook,
+//! the integrator's and the searches' checks), waits for it, and raises `KeyboardInterrupt`.
+//! Nothing is written by an interrupted call.
+
+#![forbid(unsafe_code)]
+
+mod convert;
+mod structure;
+
+use convert::{case_from, run_error, series_of};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::time::Duration;
+
+/// Longest `time_limit` accepted, s (the CLI's `--time-limit` bound).
+const MAX_TIME_LIMIT: f64 = 1e6;
+
+/// Runs `work` on a worker thread with the GIL released; Ctrl-C (Python's `KeyboardInterrupt`)
+/// stops it at its next check and is raised once it has stopped.
+pub(crate) fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    std::thread::scope(|scope| {
+        let worker = scope.spawn(work);
+        let mut interrupted = None;
+        while !worker.is_finished() {
+            py.detach(|| std::thread::sleep(Duration::from_millis(10)));
+            if interrupted.is_none() {
+                if let Err(e) = py.check_signals() {
+                    spine_stop::request_interrupt();
+                    interrupted = Some(e);
+                }
+            }
+        }
+        let value = worker.join();
+        if let Some(e) = interrupted {
+            spine_stop::clear_interrupt();
+            return Err(e);
+        }
+        value.map_err(|_| PyRuntimeError::new_err("the run panicked (a bug: please report it with its case)"))
+    })
+}
+
+/// The typed result of a case: what `result.json` holds, with the time series as numpy arrays.
+#[pyclass(name = "Result", module = "flexspine", frozen)]
+pub struct CaseResult {
+    inner: spine_paper::CaseResult,
+}
+
+#[pymethods]
+impl CaseResult {
+    /// The case's kind (`equilibrium`, `twolink`, `design`, `simulate`, `damping`, `periodic`,
+    /// `figure`, or `study`).
+    #[getter]
+    fn kind(&self) -> String {
+        let json = self.inner.to_json();
+        json.get("kind").and_then(|k| k.as_str()).unwrap_or("study").to_string()
+    }
+
+    /// Every solver converged, every reported equilibrium is stable, every solver check passed and
+    /// no time limit cut the run short (the CLI's exit code 0; otherwise 3).
+    #[getter]
+    fn clean(&self) -> bool {
+        self.inner.is_clean()
+    }
+
+    /// `"time_limit"` when the run's time limit stopped it early (the result holds what it
+    /// reached), else `None`.
+    #[getter]
+    fn stopped(&self) -> Option<&'static str> {
+        self.inner.stopped.map(|r| r.name())
+    }
+
+    /// `result.json`'s text. `deterministic=True` leaves the wall times out, as the CLI's
+    /// `--deterministic` does: then the same input gives the same bytes.
+    #[pyo3(signature = (deterministic = false))]
+    fn json(&self, deterministic: bool) -> String {
+        spine_paper::write::result_json(&self.inner, deterministic)
+    }
+
+    /// `result.json` as a Python dictionary (wall times under `"timings"`).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = spine_paper::write::result_json(&self.inner, false);
+        py.import("json")?.call_method1("loads", (text,))
+    }
+
+    /// One entry of `result.json` (`result["objective"]`, `result["loaded"]`, …).
+    fn __getitem__<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        self.to_dict(py)?.get_item(key)
+    }
+
+    /// The time series the CLI writes as CSV beside `result.json` (`response.csv`,
+    /// `response_T0.1.csv`, …), each a dictionary of numpy arrays keyed by column (`t_s`,
+    /// `end_displacement_m`, `theta_1_rad`, …).
+    #[getter]
+    fn series<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        series_of(py, &self.inner)
+    }
+
+    /// The summary the CLI prints: status, the numbers that show it, warnings.
+    #[getter]
+    fn summary(&self) -> String {
+        self.inner.to_string()
+    }
+
+    /// Writes `result.json` and the files beside it (CSV, SVG, PNG) as one new folder in place of
+    /// `out`, all or nothing, exactly as the CLI's `--out`. Returns the path of `result.json`.
+    #[pyo3(signature = (out, deterministic = false))]
+    fn write(&self, py: Python<'_>, out: std::path::PathBuf, deterministic: bool) -> PyResult<String> {
+        let written = py.detach(|| spine_paper::write::Folder::new(&out, deterministic).write_result(&self.inner));
+        match written {
+            Ok((path, _)) => Ok(path.display().to_string()),
+            Err(e) if e.is_input() => Err(PyValueError::new_err(e.to_string())),
+            Err(e) => Err(PyRuntimeError::new_err(e.to_string())),
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<flexspine.Result kind={:?} clean={}{}>",
+            self.kind(),
+            self.clean(),
+            self.stopped().map_or(String::new(), |s| format!(" stopped={s:?}"))
+        )
+    }
+}
+
+/// Runs a case of any kind — the `spine case` command — and returns its [`Result`].
+///
+/// `case`: a dictionary in the case-file format (docs/case-format.md), its JSON text, or the path
+/// of a case file. The optional overrides are the CLI's: `starts` and `seed` (multi-start of
+/// eq. (33)), `formulation` (`"full"` or `"reduced"`), `method` (`"ga"` or `"pattern"`, eq. (37)),
+/// `time_limit` (s, wall clock; the result then says `stopped="time_limit"`). With `out`, the
+/// result's folder is written as the CLI writes `--out`.
+///
+/// Bad input raises `ValueError` with the CLI's one-line message naming the field; a time limit
+/// that leaves nothing to report raises `TimeoutError`; Ctrl-C stops the run and raises
+/// `KeyboardInterrupt` (nothing written).
+#[pyfunction]
+#[pyo3(signature = (case, *, out = None, deterministic = false, starts = None, seed = None, formulation = None, method = None, time_limit = None))]
+#[allow(clippy::too_many_arguments)]
+fn run_case(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    out: Option<std::path::PathBuf>,
+    deterministic: bool,
+    starts: Option<usize>,
+    seed: Option<u64>,
+    formulation: Option<&str>,
+    method: Option<&str>,
+    time_limit: Option<f64>,
+) -> PyResult<CaseResult> {
+    let case = case_from(py, case)?;
+    let mut overrides = spine_paper::Overrides::default();
+    if let Some(n) = starts {
+        if n > spine_case::MAX_STARTS {
+            return Err(PyValueError::new_err(format!("starts: at most {}, got {n}", spine_case::MAX_STARTS)));
+        }
+        overrides.design.starts = Some(n);
+    }
+    overrides.design.seed = seed;
+    overrides.design.formulation = match formulation {
+        None => None,
+        Some("full") => Some(spine_design::Formulation::Full),
+        Some("reduced") => Some(spine_design::Formulation::Reduced),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!("formulation: \"full\" or \"reduced\", got {other:?}")))
+        }
+    };
+    overrides.dynamics.method = match method {
+        None => None,
+        Some("ga") => Some(spine_dynamics::SearchMethod::Ga),
+        Some("pattern") => Some(spine_dynamics::SearchMethod::Pattern),
+        Some(other) => return Err(PyValueError::new_err(format!("method: \"ga\" or \"pattern\", got {other:?}"))),
+    };
+    if let Some(s) = time_limit {
+        if !(s > 0.0 && s <= MAX_TIME_LIMIT) {
+            return Err(PyValueError::new_err(format!(
+                "time_limit: seconds must be > 0 and at most {MAX_TIME_LIMIT:e}, got {s}"
+            )));
+        }
+        overrides.time_limit = Some(Duration::from_secs_f64(s));
+    }
+    let result = interruptible(py, || spine_paper::run_case(&case, &overrides, &mut spine_paper::run::quiet))?
+        .map_err(run_error)?;
+    let result = CaseResult { inner: result };
+    if let Some(out) = out {
+        result.write(py, out, deterministic)?;
+    }
+    Ok(result)
+}
+
+/// The strain energy `U = ½ Σ K_j (Δθ_j − Δθ0_j)²` of eq. (2), J, of springs `stiffness`
+/// (N·m/rad, `N + 1`) at link angles `theta` from the unloaded angles `theta0` (rad, `N` each).
+#[pyfunction]
+fn strain_energy(theta: Vec<f64>, theta0: Vec<f64>, stiffness: Vec<f64>) -> PyResult<f64> {
+    let n = theta.len();
+    if theta0.len() != n || stiffness.len() != n + 1 {
+        return Err(PyValueError::new_err(format!(
+            "stiffness: N + 1 = {} springs for N = {n} links (theta0 {} values), got {}",
+            n + 1,
+            theta0.len(),
+            stiffness.len()
+        )));
+    }
+    Ok(spine_model::energy::strain_energy(&theta, &theta0, &stiffness))
+}
+
+/// The version of the workspace this module was built from.
+#[pyfunction]
+fn version() -> &'static str {
+    env!("CARGO_PKG_VERSION")
+}
+
+/// Flexible spines: planar chains of rigid links joined by torsional springs and dampers, fixed
+/// base, end sliding on X. Equilibria with a stability certificate, the static design of eq. (33)
+/// with exact AD derivatives and Ipopt, C_K of eq. (34), dynamics and eqs. (35), (37) — the Rust
+/// workspace's own code, called from Python.
+#[pymodule]
+fn flexspine(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<CaseResult>()?;
+    m.add_class::<structure::Structure>()?;
+    m.add_function(wrap_pyfunction!(run_case, m)?)?;
+    m.add_function(wrap_pyfunction!(strain_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(version, m)?)?;
+    Ok(())
+}
