@@ -7,13 +7,32 @@ build:
     cargo build --release --workspace --all-targets
 
 # Run every test (release build; unit, integration, property and CLI tests), then the Ipopt-facing
-# tests again on the Ipopt 3.14 backend (`just ipopt314 test`), then the lints (`just lint`).
+# tests again on the Ipopt 3.14 backend (`just ipopt314 test`), the Python package's tests
+# (`just python`), then the lints (`just lint`).
 test:
     cargo build --release --workspace --all-targets --quiet
     if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
     cargo test --release --workspace --doc --quiet
     just ipopt314 test
+    just python
     just lint
+
+# The Python package `flexspine` (crates/spine-py): builds it from source and installs it into
+# crates/spine-py/.venv (`crates/spine-py/setup.sh`: venv with numpy, pytest, maturin, then
+# `pip install ./crates/spine-py`), runs its pytest suite against the CLI, and the quickstart
+# example (writes results/python-quickstart/*.csv).
+python:
+    cargo build --release --quiet -p spine-cli
+    ./crates/spine-py/setup.sh
+    crates/spine-py/.venv/bin/python -m pytest -q crates/spine-py/tests
+    crates/spine-py/.venv/bin/python examples/python/quickstart.py results/python-quickstart
+
+# Eq. (33) from Python beside the CLI and CasADi + IPOPT (5 and 10 links, the same start), one run.
+python-bench REPEATS="5":
+    cargo build --release --quiet -p spine-cli
+    ./crates/spine-py/setup.sh
+    ./benchmarks/peers/setup.sh
+    crates/spine-py/.venv/bin/python benchmarks/peers/python_side_by_side.py {{REPEATS}}
 
 # The opt-in Ipopt 3.14 backend (Ipopt 3.14.19 with MUMPS 5.8.2, METIS and OpenBLAS, from the
 # `casadi` wheel on PyPI, set up in benchmarks/peers/.venv), built in target/ipopt314 with

@@ -21,8 +21,7 @@
 use serde_json::json;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
 use spine_case::{Case, ValidCase};
-use spine_design::full_space::{FullSpaceNlp, Layout};
-use spine_design::problem::start_states;
+use spine_design::full_space::{FullSpaceNlp, FullSpaceStart};
 use spine_design::refine::{Refine, RefineMode};
 use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
@@ -88,20 +87,6 @@ fn scaled_case(n: usize) -> spine_case::ValidDesign {
         .expect("the generated case is valid");
     let ValidCase::Design(valid) = case else { unreachable!("a design case") };
     valid
-}
-
-/// The start point of our full space (design, both states, node heights) as the peer script reads it.
-fn start_point(problem: &spine_design::DesignProblem, design: &Design, states: &(State, State)) -> serde_json::Value {
-    let n = problem.n_links();
-    let x0 = FullSpaceNlp::new(problem, design, &states.0, &states.1).start;
-    let layout = Layout { n };
-    json!({
-        "theta0": x0[..n],
-        "k": x0[n..2 * n + 1],
-        "theta1": states.0.theta, "lambda1": states.0.lambda,
-        "theta2": states.1.theta, "lambda2": states.1.lambda,
-        "heights": (1..n).map(|j| x0[layout.height(j).unwrap()]).collect::<Vec<_>>(),
-    })
 }
 
 /// The rows of an earlier run, which the 3.14 and CasADi-ladder runs add to.
@@ -216,10 +201,9 @@ fn main() {
         let (problem, settings) = (&valid.problem, &valid.settings);
 
         // The exact start point of our full space, handed to the peer.
-        let (projected, _) = problem.project_start(&valid.start);
-        let states = start_states(problem, &projected, &settings.continuation, &mut Vec::new());
+        let start = FullSpaceStart::new(problem, &valid.start, &settings.continuation);
         let start_path = dir.join(format!("start-{n}.json"));
-        write(&start_path, &start_point(problem, &projected, &states));
+        write(&start_path, &serde_json::to_value(&start).expect("JSON"));
 
         let cold = ours(&valid, n, false).expect("a cold run");
         let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
@@ -336,7 +320,9 @@ fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, Strin
         let start_path = dir.join(format!("ladder-start-{n}-{m}.json"));
         let out_path = dir.join(format!("ladder-casadi-{n}-{m}.json"));
         write(&case_path, &level_case(level, settings, &setup.design, previous.is_some()));
-        write(&start_path, &start_point(level, &setup.design, &setup.states));
+        let (passive, loaded) = &setup.states;
+        let start = FullSpaceStart::from_states(level, &setup.design, passive, loaded);
+        write(&start_path, &serde_json::to_value(&start).expect("JSON"));
         let preparation = clock.elapsed().as_secs_f64();
         let (run, passive, loaded) = casadi(python, &case_path, &start_path, &out_path)?;
         total += preparation + run.wall_seconds;

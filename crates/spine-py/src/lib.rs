@@ -215,6 +215,34 @@ fn strain_energy(theta: Vec<f64>, theta0: Vec<f64>, stiffness: Vec<f64>) -> PyRe
     Ok(spine_model::energy::strain_energy(&theta, &theta0, &stiffness))
 }
 
+/// The full-space start point of eq. (33) for a `"design"` case: `theta0` (rad), `k = K / C_K`,
+/// both equilibria of the start design with their multipliers (`theta1`, `lambda1`, `theta2`,
+/// `lambda2`) and the interior node heights (m), as a dictionary of numpy arrays and floats —
+/// the point `run_case` hands Ipopt, for a CasADi (or other) model to start from the same point
+/// (`benchmarks/peers/casadi_static.py` reads it as its START.json).
+#[pyfunction]
+fn design_start<'py>(py: Python<'py>, case: &Bound<'_, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let spine_case::Case::Design(c) = case_from(py, case)? else {
+        return Err(PyValueError::new_err("kind: design_start needs a \"design\" case"));
+    };
+    let valid = c.validate().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let start =
+        spine_design::full_space::FullSpaceStart::new(&valid.problem, &valid.start, &valid.settings.continuation);
+    let out = PyDict::new(py);
+    for (name, values) in [
+        ("theta0", start.theta0),
+        ("k", start.k),
+        ("theta1", start.theta1),
+        ("theta2", start.theta2),
+        ("heights", start.heights),
+    ] {
+        out.set_item(name, numpy::PyArray1::from_vec(py, values))?;
+    }
+    out.set_item("lambda1", start.lambda1)?;
+    out.set_item("lambda2", start.lambda2)?;
+    Ok(out)
+}
+
 /// The version of the workspace this module was built from.
 #[pyfunction]
 fn version() -> &'static str {
@@ -231,6 +259,7 @@ fn flexspine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<structure::Structure>()?;
     m.add_function(wrap_pyfunction!(run_case, m)?)?;
     m.add_function(wrap_pyfunction!(strain_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(design_start, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     Ok(())
 }

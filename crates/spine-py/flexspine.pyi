@@ -1,0 +1,111 @@
+"""Flexible spines: planar chains of rigid links joined by torsional springs and dampers, fixed
+base, end sliding on X (the paper "Design of a one-dimensional flexible structure for desired
+load-bearing capability and axial displacement").
+
+Equilibria with a stability certificate, the static design of eq. (33) with exact AD derivatives
+and Ipopt, C_K of eq. (34), dynamics, eqs. (35) and (37): the Rust workspace's own code. A case is
+a dictionary in the case-file format (docs/case-format.md), its JSON text, or a file path.
+Units: m, rad, N, N·m/rad, N·m·s/rad, kg, s, J.
+"""
+
+import os
+from typing import Any, Literal, Mapping, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+CaseLike = Union[Mapping[str, Any], str, os.PathLike[str]]
+Array = npt.NDArray[np.float64]
+Load = Literal["passive", "loaded"]
+
+def version() -> str:
+    """The version of the workspace this module was built from."""
+
+def strain_energy(theta: npt.ArrayLike, theta0: npt.ArrayLike, stiffness: npt.ArrayLike) -> float:
+    """Strain energy U = ½ Σ_j K_j (Δθ_j − Δθ0_j)² of eq. (2), J (N angles, N + 1 springs)."""
+
+def design_start(case: CaseLike) -> dict[str, Union[Array, float]]:
+    """The full-space start point of eq. (33) for a "design" case: theta0 (rad), k = K / C_K,
+    theta1/lambda1 and theta2/lambda2 (both equilibria of the start design, multipliers in N),
+    heights (interior node heights, m). The point Ipopt starts from, for a peer model."""
+
+def run_case(
+    case: CaseLike,
+    *,
+    out: Optional[Union[str, os.PathLike[str]]] = None,
+    deterministic: bool = False,
+    starts: Optional[int] = None,
+    seed: Optional[int] = None,
+    formulation: Optional[Literal["full", "reduced"]] = None,
+    method: Optional[Literal["ga", "pattern"]] = None,
+    time_limit: Optional[float] = None,
+) -> Result:
+    """Runs a case of any kind (the CLI's `spine case`): equilibrium, twolink, design (eq. (33)),
+    simulate (step or periodic response), damping (eq. (35)), periodic (eq. (37)) or figure.
+
+    Overrides as on the command line: `starts`/`seed` (multi-start of eq. (33)), `formulation`,
+    `method` (eq. (37)), `time_limit` (s; the result then says stopped="time_limit"). With `out`
+    the result's folder is written all or nothing, as the CLI's `--out`.
+
+    Raises ValueError (bad input; the message names the field), TimeoutError (the time limit left
+    nothing to report), KeyboardInterrupt (Ctrl-C: the run stops at its next check, nothing
+    written), RuntimeError (anything else). The GIL is released while the run works.
+    """
+
+class Result:
+    """A case's typed result: what `result.json` holds, plus its time series as numpy arrays."""
+
+    @property
+    def kind(self) -> str:
+        """equilibrium, twolink, design, simulate, damping, periodic, figure or study."""
+    @property
+    def clean(self) -> bool:
+        """Converged, stable, every solver check passed, not stopped early (CLI exit code 0)."""
+    @property
+    def stopped(self) -> Optional[str]:
+        """"time_limit" when the time limit cut the run short, else None."""
+    @property
+    def summary(self) -> str:
+        """The summary the CLI prints."""
+    @property
+    def series(self) -> dict[str, dict[str, Array]]:
+        """The CSV tables of the result (response.csv, …) as {column: array}."""
+    def json(self, deterministic: bool = False) -> str:
+        """`result.json`'s text; deterministic=True leaves wall times out (same input, same bytes)."""
+    def to_dict(self) -> dict[str, Any]:
+        """`result.json` as a dictionary."""
+    def __getitem__(self, key: str) -> Any:
+        """One top-level entry of `result.json`."""
+    def write(self, out: Union[str, os.PathLike[str]], deterministic: bool = False) -> str:
+        """Writes the result's folder (result.json, CSV, SVG, PNG) all or nothing; returns the path
+        of result.json."""
+
+class Structure:
+    """A chain with its design and loads: the `chain`, `design` and `loads` sections of an
+    equilibrium case (kind may be left out). Checked as the CLI checks a case."""
+
+    def __init__(self, case: CaseLike) -> None: ...
+    @property
+    def n_links(self) -> int:
+        """Number of links N."""
+    @property
+    def spans(self) -> Array:
+        """Horizontal spans a_i, m (N)."""
+    @property
+    def theta0(self) -> Array:
+        """Unloaded link angles θ0, rad (N)."""
+    @property
+    def stiffness(self) -> Array:
+        """Springs K_1..K_{N+1}, N·m/rad."""
+    def potential(self, theta: npt.ArrayLike, load: Load = "loaded") -> float:
+        """Total potential U(θ) + V(θ), J (strain energy of eq. (2), nodal loads, self-weight)."""
+    def residual(self, theta: npt.ArrayLike, lam: float, load: Load = "loaded") -> Array:
+        """Equilibrium residual of eq. (5): N joint moments ∂(U + V − λΦ)/∂θ_i (N·m) and Φ (m)."""
+    def jacobian(
+        self, theta: npt.ArrayLike, lam: float, load: Load = "loaded"
+    ) -> tuple[tuple[Array, tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]], tuple[int, int]]:
+        """Exact AD Jacobian of `residual` in (θ, λ) as ((data, (rows, cols)), shape):
+        `scipy.sparse.coo_array(*s.jacobian(theta, lam))`."""
+    def equilibria(self) -> Result:
+        """θ1 (passive) and θ2 (loaded) by load continuation from θ0, with λ, status and the
+        stability certificate: the CLI's `spine equilibrium`."""

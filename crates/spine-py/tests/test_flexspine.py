@@ -1,0 +1,214 @@
+"""The Python front (`flexspine`) against the Rust CLI and against numpy finite differences.
+
+Run by `just python` (inside `just test`): `crates/spine-py/.venv/bin/python -m pytest crates/spine-py/tests`.
+The CLI binary is `target/release/spine` unless SPINE_BIN says otherwise.
+"""
+
+import json
+import os
+import pathlib
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import flexspine
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+CASES = ROOT / "paper-cases"
+SPINE = os.environ.get("SPINE_BIN", str(ROOT / "target" / "release" / "spine"))
+
+ARCH = {
+    "chain": {"links": 4, "length_x": 1.0, "masses": 0.5},
+    "design": {"theta0": [0.3, 0.1, -0.1, -0.3], "stiffness": [200, 150, 120, 150, 200]},
+    "loads": {"p_y": [0, -5, -5, -5, 0], "p_x": -20},
+}
+
+
+def cli(*args):
+    return subprocess.run([SPINE, *args], capture_output=True, text=True)
+
+
+def central(f, x, h):
+    """Central differences of a vector function, column by column."""
+    columns = []
+    for i in range(len(x)):
+        e = np.zeros_like(x)
+        e[i] = h
+        columns.append((np.asarray(f(x + e)) - np.asarray(f(x - e))) / (2 * h))
+    return np.array(columns).T
+
+
+def test_residual_is_the_gradient_of_the_potential_and_the_jacobian_is_exact():
+    s = flexspine.Structure(ARCH)
+    rng = np.random.default_rng(7)
+    for load in ("passive", "loaded"):
+        theta = s.theta0 + 0.05 * rng.standard_normal(s.n_links)
+        # With λ = 0 the joint rows are ∂(U + V)/∂θ.
+        r = s.residual(theta, 0.0, load=load)
+        grad = central(lambda t: [s.potential(t, load=load)], theta, 1e-6)[0]
+        assert np.max(np.abs(r[:-1] - grad)) < 1e-6 * max(1.0, np.max(np.abs(grad)))
+        # The AD Jacobian against central differences of the residual in (θ, λ).
+        lam = 3.7
+        x = np.append(theta, lam)
+        (data, (rows, cols)), shape = s.jacobian(theta, lam, load=load)
+        dense = np.zeros(shape)
+        np.add.at(dense, (rows, cols), data)
+        fd = central(lambda v: s.residual(v[:-1], v[-1], load=load), x, 1e-6)
+        assert shape == (s.n_links + 1, s.n_links + 1)
+        assert np.max(np.abs(dense - fd)) < 1e-6 * np.max(np.abs(fd)), np.max(np.abs(dense - fd))
+        # Bordered tridiagonal: no entry off the three diagonals except the border.
+        for i, j in zip(rows, cols):
+            assert abs(i - j) <= 1 or i == s.n_links or j == s.n_links
+
+
+def test_strain_energy_matches_the_structure_potential_without_loads():
+    theta0 = np.array([0.3, 0.1, -0.1, -0.3])
+    k = np.array([200.0, 150, 120, 150, 200])
+    theta = theta0 + np.array([0.01, -0.02, 0.03, 0.0])
+    u = flexspine.strain_energy(theta, theta0, k)
+    d = np.concatenate([[0.0], theta - theta0, [0.0]])
+    assert u == pytest.approx(0.5 * np.sum(k * np.diff(d) ** 2), rel=1e-14)
+
+
+def test_equilibrium_from_python_equals_the_cli_result_byte_for_byte(tmp_path):
+    case = CASES / "arch10.json"
+    r = flexspine.run_case(case)
+    out = tmp_path / "cli"
+    done = cli("equilibrium", str(case), "--out", str(out), "--deterministic")
+    assert done.returncode == 0, done.stderr
+    assert r.json(deterministic=True) == (out / "result.json").read_text()
+    assert r.kind == "equilibrium" and r.clean and r.stopped is None
+    assert r["loaded"]["stability"]["stable"] is True
+    # The Structure's own equilibria are the same run.
+    text = json.loads(case.read_text())
+    s = flexspine.Structure({k: text[k] for k in ("chain", "design", "loads")})
+    eq = s.equilibria()
+    assert eq["loaded"]["theta"] == r["loaded"]["theta"]
+    # At θ2 the residual vanishes.
+    theta2, lam2 = np.array(eq["loaded"]["theta"]), eq["loaded"]["lambda"]
+    assert np.max(np.abs(s.residual(theta2, lam2))) < 1e-8
+
+
+def test_fig3_five_link_design_reaches_the_checked_optimum():
+    r = flexspine.run_case(CASES / "design5.json")
+    assert r.clean, r.summary
+    assert r["objective"] == pytest.approx(7.6031253e-3, abs=1e-10)
+    assert r["solver"]["status"] == "solve_succeeded"
+    assert r["loaded"]["stability"]["stable"]
+
+
+def test_write_gives_the_cli_folder_and_series_are_the_csv_columns(tmp_path):
+    case = CASES / "step5.json"
+    r = flexspine.run_case(case, out=tmp_path / "py", deterministic=True)
+    done = cli("simulate", str(case), "--out", str(tmp_path / "cli"), "--deterministic")
+    assert done.returncode == 0, done.stderr
+    for name in ("result.json", "response.csv"):
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    t = r.series["response.csv"]["t_s"]
+    delta = r.series["response.csv"]["delta_m"]
+    assert t.dtype == np.float64 and np.all(np.diff(t) > 0) and len(t) == len(delta)
+    # T_90 from the arrays (first sample with Δ ≥ 0.9 Δ∞) agrees with the reported rise time to
+    # the sampling step.
+    reached = t[np.argmax(delta / r["step_response"]["delta_inf"] >= 0.9)]
+    assert 0 <= reached - r["step_response"]["rise_time"] <= t[1] - t[0] + 1e-12
+
+
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (lambda c: c["chain"].update(links=0), "chain.links"),
+        (lambda c: c["chain"].update(length_x=-1.0), "chain.length_x"),
+        (lambda c: c["design"].update(stiffness=[1, 2]), "stiffness"),
+        (lambda c: c["loads"].update(p_y=[0, 1]), "loads.p_y"),
+        (lambda c: c.update(extra=1), "unknown field `extra`"),
+    ],
+)
+def test_bad_input_raises_value_error_naming_the_field(edit, field):
+    case = json.loads(json.dumps(ARCH))
+    edit(case)
+    with pytest.raises(ValueError, match=field.replace("[", r"\[").replace(".", r"\.")):
+        flexspine.Structure(case)
+
+
+def test_bad_arguments_raise_value_error_naming_them():
+    s = flexspine.Structure(ARCH)
+    with pytest.raises(ValueError, match="theta"):
+        s.residual(np.zeros(3), 0.0)
+    with pytest.raises(ValueError, match="load"):
+        s.potential(s.theta0, load="both")
+    with pytest.raises(ValueError, match="time_limit"):
+        flexspine.run_case(CASES / "design5.json", time_limit=-1)
+    with pytest.raises(ValueError, match="formulation"):
+        flexspine.run_case(CASES / "design5.json", formulation="half")
+    with pytest.raises(ValueError, match="cannot read"):
+        flexspine.run_case(str(CASES / "no-such-case.json"))
+
+
+def test_a_time_limit_returns_what_was_reached_marked():
+    r = flexspine.run_case(CASES / "periodic7.json", time_limit=0.3)
+    assert r.stopped == "time_limit" and not r.clean
+    assert r["stopped"] == "time_limit"
+    assert r["periodic_design"]["search"]["status"] == "time_limit"
+
+
+def test_long_calls_release_the_gil():
+    ticks = []
+    stop = threading.Event()
+
+    def tick():
+        while not stop.is_set():
+            ticks.append(1)
+            time.sleep(0.001)
+
+    t = threading.Thread(target=tick)
+    t.start()
+    clock = time.perf_counter()
+    flexspine.run_case(CASES / "design10.json", starts=4)
+    took = time.perf_counter() - clock
+    stop.set()
+    t.join()
+    # A thread that never got the GIL would tick once or not at all.
+    assert len(ticks) > 0.2 * took / 0.001 * 0.1, (len(ticks), took)
+
+
+def test_ctrl_c_stops_a_long_multistart_and_raises_keyboard_interrupt(tmp_path):
+    out = tmp_path / "out"
+    code = (
+        "import flexspine, sys\n"
+        "try:\n"
+        f"    flexspine.run_case({str(CASES / 'design10.json')!r}, starts=400, out={str(out)!r})\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+        "    sys.exit(130)\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(2.0)
+    p.send_signal(signal.SIGINT)
+    clock = time.perf_counter()
+    stdout, stderr = p.communicate(timeout=30)
+    assert time.perf_counter() - clock < 2.5, "the run stops at Ipopt's next iteration"
+    assert p.returncode == 130, stderr
+    assert "interrupted" in stdout
+    assert not out.exists(), "an interrupted call writes nothing"
+
+
+def test_design_start_is_the_point_handed_to_ipopt():
+    start = flexspine.design_start(CASES / "design5.json")
+    assert set(start) == {"theta0", "k", "theta1", "lambda1", "theta2", "lambda2", "heights"}
+    assert start["theta0"].shape == (5,) and start["k"].shape == (6,) and start["heights"].shape == (4,)
+    # The heights are those of the unloaded shape θ0.
+    text = json.loads((CASES / "design5.json").read_text())
+    s = flexspine.Structure(
+        {
+            "chain": text["chain"],
+            "design": {"theta0": list(start["theta0"]), "stiffness": list(start["k"])},
+            "loads": text["loads"],
+        }
+    )
+    heights = np.cumsum(s.spans * np.tan(start["theta0"]))[:-1]
+    assert np.max(np.abs(heights - start["heights"])) < 1e-12
