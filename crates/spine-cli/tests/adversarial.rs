@@ -2,8 +2,9 @@
 //! twolink, design, simulate, damping, periodic, figure), each mutated by the seeded generator
 //! `spine_case::fuzz::Mutator` (extreme values of every JSON type, keys removed, unknown keys
 //! added): every run ends with exit 0, 2 or 3 within its time budget — never a panic (101), a
-//! signal or a hang — and writes either a complete result (0, 3) or nothing (2). The long kinds
-//! run under `--time-limit`, which is itself under test: a run past it must stop, not hang.
+//! signal or a hang — and writes either a complete result (0, 3) or nothing (2, or 3 with "time
+//! limit:" when the limit passed before the run had anything to report). The long kinds run under
+//! `--time-limit`, which is itself under test: a run past it must stop, not hang.
 
 mod common;
 use common::{tmpdir, workspace};
@@ -63,11 +64,12 @@ fn run_corpus(tag: &str, plan: &[(&str, usize)], seed: u64, extra: &[&str], at_l
         let children: Vec<_> = pair
             .iter()
             .map(|(case, out)| {
+                let stderr = std::fs::File::create(case.with_extension("stderr")).unwrap();
                 let child = Command::new(env!("CARGO_BIN_EXE_spine"))
                     .args(["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"])
                     .args(extra)
                     .stdout(Stdio::null())
-                    .stderr(Stdio::null())
+                    .stderr(stderr)
                     .spawn()
                     .unwrap();
                 (case, out, child)
@@ -78,8 +80,13 @@ fn run_corpus(tag: &str, plan: &[(&str, usize)], seed: u64, extra: &[&str], at_l
             let status = wait(child).unwrap_or_else(|| panic!("hang (over {BUDGET:?}) on {}:\n{text}", case.display()));
             let code = status.code().unwrap_or_else(|| panic!("killed by a signal on {}:\n{text}", case.display()));
             assert!([0, 2, 3].contains(&code), "exit {code} on {}:\n{text}", case.display());
+            let stderr = std::fs::read_to_string(case.with_extension("stderr")).unwrap();
             if code == 2 {
                 assert!(!out.exists(), "exit 2 wrote {}", out.display());
+            } else if code == 3 && stderr.contains("time limit:") {
+                // The time limit passed before the run had anything to report.
+                assert!(!out.exists(), "a time limit with nothing to report wrote {}", out.display());
+                *counts.entry(-3).or_insert(0) += 1;
             } else {
                 let result = std::fs::read_to_string(out.join("result.json")).unwrap();
                 assert!(serde_json::from_str::<serde_json::Value>(&result).is_ok(), "{}", out.display());
@@ -87,6 +94,9 @@ fn run_corpus(tag: &str, plan: &[(&str, usize)], seed: u64, extra: &[&str], at_l
             *counts.entry(code).or_insert(0) += 1;
         }
     }
-    eprintln!("{} mutated cases: exit codes {counts:?}", jobs.len());
+    eprintln!(
+        "{} mutated cases: exit codes {counts:?} (-3: those exit-3 runs whose time limit left nothing to write)",
+        jobs.len()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

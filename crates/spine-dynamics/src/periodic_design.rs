@@ -146,7 +146,10 @@ pub fn design_periodic(
         SearchMethod::Pattern => pattern_search(&mut objective, &bounds, &start_u, &settings.pattern, progress)?,
     };
     let stiffness = to_stiffness(&search.x);
-    let (best, response) = evaluate(problem, &forcing, &stiffness, delta_d, settings)?;
+    // The best point's response in full, also when a time limit ended the search (one more
+    // evaluation, so that the result reports a usable design).
+    let (best, response) =
+        spine_stop::without_time_limit(|| evaluate(problem, &forcing, &stiffness, delta_d, settings))?;
     Ok(PeriodicDesign {
         method,
         feasible: best.violation == 0.0,

@@ -138,6 +138,10 @@ pub(crate) fn trace(
     let mut inertia_grew = None;
     let mut h = 0.25 * opts.max_angle_step;
     while stats.continuation_steps < opts.max_steps {
+        if spine_stop::check().is_some() {
+            // The caller reports the stop (time limit or interrupt) at its last point.
+            return Trace::Stuck;
+        }
         let step = correct(path, &p, h, opts, stats).filter(|(q, _, predicted)| {
             angle_change(&q.state, &p.point.state) <= opts.max_angle_step
                 && on_branch(&p.point.state, predicted, &q.state)

@@ -133,6 +133,10 @@ pub enum EquilibriumStatus {
     NewtonFailed { load_factor: f64 },
     /// `max_steps` continuation steps were used up at `load_factor`.
     StepLimit { load_factor: f64 },
+    /// The run's wall-clock limit passed (`spine_stop`) at `load_factor`.
+    TimeLimit { load_factor: f64 },
+    /// A stop was requested from outside (Ctrl-C) at `load_factor`.
+    Interrupted { load_factor: f64 },
 }
 
 impl EquilibriumStatus {
@@ -158,6 +162,10 @@ impl EquilibriumStatus {
             Self::StepLimit { load_factor } => {
                 format!("NOT converged: continuation step limit at {load_factor:.6} of the load")
             }
+            Self::TimeLimit { load_factor } => {
+                format!("NOT converged: the time limit passed at {load_factor:.6} of the load")
+            }
+            Self::Interrupted { load_factor } => format!("NOT converged: interrupted at {load_factor:.6} of the load"),
         }
     }
 }
@@ -359,6 +367,14 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
             let st = stability::certify(&cur.jac);
             return finish(&cur, s, EquilibriumStatus::StepLimit { load_factor: s }, st, stats);
         }
+        if let Some(reason) = spine_stop::check() {
+            let st = stability::certify(&cur.jac);
+            let status = match reason {
+                spine_stop::StopReason::TimeLimit => EquilibriumStatus::TimeLimit { load_factor: s },
+                spine_stop::StopReason::Interrupted => EquilibriumStatus::Interrupted { load_factor: s },
+            };
+            return finish(&cur, s, status, st, stats);
+        }
         let s_new = (s + ds).min(1.0);
         let loads = LinkLoads::lerp(&path.from, &path.to, s_new);
         let guess = predict(path, &cur, s_new - s, &mut stats);
@@ -426,10 +442,17 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
                         }
                         Trace::Stuck => {
                             let st = stability::certify(&cur.jac);
-                            let status = if stats.continuation_steps >= opts.max_steps {
-                                EquilibriumStatus::StepLimit { load_factor: s }
-                            } else {
-                                EquilibriumStatus::NewtonFailed { load_factor: s }
+                            let status = match spine_stop::check() {
+                                Some(spine_stop::StopReason::TimeLimit) => {
+                                    EquilibriumStatus::TimeLimit { load_factor: s }
+                                }
+                                Some(spine_stop::StopReason::Interrupted) => {
+                                    EquilibriumStatus::Interrupted { load_factor: s }
+                                }
+                                None if stats.continuation_steps >= opts.max_steps => {
+                                    EquilibriumStatus::StepLimit { load_factor: s }
+                                }
+                                None => EquilibriumStatus::NewtonFailed { load_factor: s },
                             };
                             return finish(&cur, s, status, st, stats);
                         }

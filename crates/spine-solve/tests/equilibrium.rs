@@ -451,3 +451,20 @@ fn fold_by_arclength(p: &StaticProblem, start: &spine_model::State) -> Option<f6
     }
     panic!("the arclength oracle took too many steps");
 }
+
+/// A run's time limit (`spine_stop`) ends the continuation at its next step with status
+/// `time_limit` at the load factor reached; a limit the solve stays within changes nothing.
+#[test]
+fn a_passed_time_limit_ends_the_continuation_with_its_own_status() {
+    let p = scaled_family(20);
+    let (sol, reached) =
+        spine_stop::with_time_limit(Some(std::time::Duration::ZERO), || solve_static(&p, &Default::default()));
+    assert!(reached);
+    assert_eq!(sol.passive.status, EquilibriumStatus::TimeLimit { load_factor: 0.0 });
+    assert!(!sol.passive.status.is_stable() && sol.loaded.is_none());
+    let (sol, reached) = spine_stop::with_time_limit(Some(std::time::Duration::from_secs(3600)), || {
+        solve_static(&p, &Default::default())
+    });
+    assert!(!reached);
+    assert_eq!(sol.passive.status, EquilibriumStatus::Stable);
+}

@@ -5,9 +5,9 @@
 //! and a wall-clock time limit ([`with_time_limit`]), which holds for the calling thread while its
 //! closure runs (runs on other threads, e.g. parallel tests, keep their own). Every loop whose
 //! length the input decides calls [`check`] once per iteration: Ipopt through its intermediate
-//! callback, the integrator once per step, the searches once per generation or poll, a multi-start
-//! before each start. A loop that sees `Some(reason)` ends as soon as it can with what it has and
-//! says why in its status (`time_limit` or `interrupted`).
+//! callback, the integrator and equilibrium continuation once per step, the searches once per
+//! generation or poll, a multi-start before each start. A loop that sees `Some(reason)` ends as
+//! soon as it can with what it has and says why in its status (`time_limit` or `interrupted`).
 //!
 //! ```
 //! use std::time::Duration;
@@ -113,6 +113,20 @@ pub fn with_time_limit<R>(limit: Option<Duration>, f: impl FnOnce() -> R) -> (R,
     (value, time_limit_reached())
 }
 
+/// Runs `f` without a time limit on this thread (an outside stop still holds): for one bounded
+/// finishing step that makes a stopped run's result usable, e.g. re-simulating the best point a
+/// search found before its time limit passed. The limit is back when `f` returns.
+pub fn without_time_limit<R>(f: impl FnOnce() -> R) -> R {
+    struct Restore(Option<Instant>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            DEADLINE.with(|d| d.set(self.0));
+        }
+    }
+    let _restore = Restore(DEADLINE.with(|d| d.replace(None)));
+    f()
+}
+
 /// Whether some loop on this thread saw the time limit pass inside the innermost
 /// [`with_time_limit`] running now.
 pub fn time_limit_reached() -> bool {
@@ -146,6 +160,15 @@ mod tests {
         });
         assert!(reached);
         assert_eq!(check(), None);
+    }
+
+    #[test]
+    fn a_finishing_step_runs_without_the_limit_which_is_back_afterwards() {
+        let ((), reached) = with_time_limit(Some(Duration::ZERO), || {
+            assert_eq!(without_time_limit(check), None);
+            assert_eq!(check(), Some(StopReason::TimeLimit));
+        });
+        assert!(reached);
     }
 
     #[test]

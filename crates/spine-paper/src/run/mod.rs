@@ -36,10 +36,9 @@ pub struct Overrides {
     pub design: DesignOverrides,
     pub dynamics: DynamicsOverrides,
     /// Wall-clock limit of the whole run (`None`: none). When it passes, Ipopt stops at its next
-    /// iteration, the integrator at its next step, the GA and pattern search at their next
-    /// generation or poll, a multi-start before its next start; the run returns what it reached,
-    /// marked [`CaseResult::stopped`] (exit code 3). Equilibrium continuation and the two-link
-    /// study have no check: their step counts are bounded by validation.
+    /// iteration, the integrator at its next step, equilibrium continuation at its next step, the
+    /// GA and pattern search at their next generation or poll, a multi-start before its next
+    /// start; the run returns what it reached, marked [`CaseResult::stopped`] (exit code 3).
     pub time_limit: Option<std::time::Duration>,
 }
 
@@ -50,6 +49,9 @@ fn limited(overrides: &Overrides, run: impl FnOnce() -> Result<KindResult, RunEr
     let stopped = reached.then_some(spine_stop::StopReason::TimeLimit);
     match result {
         Ok(result) => Ok(CaseResult { result, stopped }),
+        // A step that failed because it was stopped (an equilibrium path cut short looks like an
+        // unstable start) is reported as the stop, not as its symptom.
+        Err(_) if spine_stop::interrupt_requested() => Err(RunError::Interrupted),
         Err(e) if reached && !e.is_interrupted() => Err(RunError::TimeLimit {
             seconds: overrides.time_limit.map_or(0.0, |d| d.as_secs_f64()),
             cause: Box::new(e),
