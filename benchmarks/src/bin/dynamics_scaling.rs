@@ -1,8 +1,10 @@
 //! `just bench-dynamics`: wall time to simulate 1 s of the step response (Sec. 5.2.1) for growing N,
 //! with the integrator's work: accepted and rejected steps, right-hand-side evaluations (each one
-//! solves the bordered mass-matrix system), Jacobians (2N dual-number passes each). The chain is
-//! `spine_dynamics::fixtures::arch_problem` with 50 N·m·s/rad at every joint; default tolerances (rtol 1e-6,
-//! atol 1e-8). Each size runs `REPEATS` times and reports the fastest (shared, noisy machines).
+//! solves the bordered mass-matrix system in O(N) by the articulated-body recursion), Jacobians
+//! (2N dual-number passes each). The chain is `spine_dynamics::fixtures::arch_problem` with
+//! 50 N·m·s/rad at every joint; default tolerances (`spine_dynamics::DEFAULT_RTOL` 1e-9,
+//! `DEFAULT_ATOL` 1e-11). Each size runs `REPEATS` times and reports the fastest (shared, noisy
+//! machines).
 //!
 //! Usage: `dynamics_scaling [N ...]` (default 5 10 20 50).
 #![forbid(unsafe_code)]

@@ -132,7 +132,8 @@ impl<D: Scalar> ArticulatedChain<D> {
             let uk = tau[k] - bias[0];
             free[k] = uk;
             let scale = uk / self.d[k];
-            let passed = [bias[0] + self.u[k][0] * scale, bias[1] + self.u[k][1] * scale, bias[2] + self.u[k][2] * scale];
+            let passed =
+                [bias[0] + self.u[k][0] * scale, bias[1] + self.u[k][1] * scale, bias[2] + self.u[k][2] * scale];
             if k > 0 {
                 bias = shift_force(&passed, &self.shift[k - 1]);
             }

@@ -12,6 +12,7 @@
 //! forward-mode AD. The damper coefficients are a separate argument so that they can carry dual parts
 //! (the sensitivities of the damping design, eq. (35)).
 
+use crate::articulated::ArticulatedChain;
 use crate::forcing::Forcing;
 use spine_model::kinematics::link_lengths;
 use spine_model::{Chain, Design, LinkLoads, NodalLoads, Scalar};
@@ -96,8 +97,40 @@ impl Dynamics {
     }
 
     /// Centrifugal terms `h_i(θ, θ̇) = Σ_j c_ij sin(θ_i − θ_j) θ̇_j²`, N·m (the Coriolis part cancels in
-    /// absolute angles), with `c_ij` the off-diagonal coefficient of `M`.
+    /// absolute angles), with `c_ij = L_i L_j μ_{max(i,j)}` the off-diagonal coefficient of `M`, in
+    /// `O(N)`: `h_i = L_i (sin θ_i A_i − cos θ_i B_i)` with `(A_i, B_i) = Σ_{j≠i} μ_{max(i,j)} L_j θ̇_j²
+    /// (cos θ_j, sin θ_j)`, a prefix sum (scaled by `μ_i`) over `j < i` plus a `μ_j`-weighted suffix
+    /// sum over `j > i`.
     pub fn velocity_terms<D: Scalar>(&self, theta: &[D], omega: &[D]) -> Vec<D> {
+        let n = self.n_links();
+        let (coupling, _) = self.inertia_coefficients();
+        let w: Vec<(D, D)> = (0..n)
+            .map(|j| {
+                let (s, c) = theta[j].sin_cos();
+                let a = omega[j] * omega[j] * self.lengths[j];
+                (a * c, a * s)
+            })
+            .collect();
+        let mut after = vec![(D::zero(), D::zero()); n];
+        let mut sum = (D::zero(), D::zero());
+        for i in (0..n).rev() {
+            after[i] = sum;
+            sum = (sum.0 + w[i].0 * coupling[i], sum.1 + w[i].1 * coupling[i]);
+        }
+        let mut before = (D::zero(), D::zero());
+        (0..n)
+            .map(|i| {
+                let (s, c) = theta[i].sin_cos();
+                let a = before.0 * coupling[i] + after[i].0;
+                let b = before.1 * coupling[i] + after[i].1;
+                before = (before.0 + w[i].0, before.1 + w[i].1);
+                (s * a - c * b) * self.lengths[i]
+            })
+            .collect()
+    }
+
+    /// [`Self::velocity_terms`] by its defining double sum, `O(N²)`: the test oracle.
+    pub fn velocity_terms_dense<D: Scalar>(&self, theta: &[D], omega: &[D]) -> Vec<D> {
         let n = self.n_links();
         let (coupling, _) = self.inertia_coefficients();
         let mut h = vec![D::zero(); n];
@@ -182,32 +215,59 @@ impl Dynamics {
         (0..2 * n).map(|i| if i < n { -self.lengths[i] * y[i].sin() } else { 0.0 }).collect()
     }
 
-    /// Accelerations `θ̈` (rad/s²) and reaction `λ` (N) at `(t, θ, θ̇)` with dampers `damping`, from
-    /// the index-1 form: `[M −∇Φ; ∇Φᵀ 0] [θ̈; λ] = [Q; Σ L_i sin θ_i θ̇_i²]` with
-    /// `Q = P − h − C_m θ̇ − K_m (θ − θ0)` (the second row is `Φ̈ = 0`).
-    pub fn acceleration<D: Scalar>(&self, loads: &LinkLoads, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
+    /// The index-1 form's parts at `(θ, θ̇)` given the centrifugal terms `h`: `Q = P − h − C_m θ̇ −
+    /// K_m (θ − θ0)` (N·m), `∇Φ` (m) and `Σ L_i sin θ_i θ̇_i²` (m/s², the `Φ̈ = 0` row).
+    fn index1_terms<D: Scalar>(
+        &self,
+        loads: &LinkLoads,
+        theta: &[D],
+        omega: &[D],
+        damping: &[D],
+        h: &[D],
+    ) -> (Vec<D>, Vec<D>, D) {
         let n = self.n_links();
         let delta: Vec<D> = theta.iter().zip(&self.theta0).map(|(&t, &t0)| t - t0).collect();
         let stiffness: Vec<D> = self.stiffness.iter().map(|&k| D::from(k)).collect();
         let spring = joint_moments(&stiffness, &delta);
         let damper = joint_moments(damping, omega);
-        let h = self.velocity_terms(theta, omega);
         let p = self.generalised_load(loads, theta);
         let q: Vec<D> = (0..n).map(|i| p[i] - h[i] - damper[i] - spring[i]).collect();
         let g = self.constraint_gradient(theta);
         let b: D = (0..n).map(|i| theta[i].sin() * omega[i] * omega[i] * self.lengths[i]).sum();
+        (q, g, b)
+    }
+
+    /// Accelerations `θ̈` (rad/s²) and reaction `λ` (N) at `(t, θ, θ̇)` with dampers `damping`, from
+    /// the index-1 form: `[M −∇Φ; ∇Φᵀ 0] [θ̈; λ] = [Q; Σ L_i sin θ_i θ̇_i²]` with
+    /// `Q = P − h − C_m θ̇ − K_m (θ − θ0)` (the second row is `Φ̈ = 0`), in `O(N)`: `M⁻¹Q` and `M⁻¹∇Φ`
+    /// by the articulated-body recursion ([`ArticulatedChain`], one factorisation for both), then
+    /// `λ = (b − ∇Φᵀ M⁻¹ Q) / (∇Φᵀ M⁻¹ ∇Φ)`. [`Self::acceleration_dense`] is the dense reference.
+    pub fn acceleration<D: Scalar>(&self, loads: &LinkLoads, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
+        let h = self.velocity_terms(theta, omega);
+        let (q, g, b) = self.index1_terms(loads, theta, omega, damping, &h);
         // M is positive definite for links with mass; a non-finite trial state (a diverging Newton
         // iterate) gives NaN accelerations, which the integrator rejects.
-        let Some(chol) = cholesky(self.mass_matrix(theta)) else {
-            return (vec![D::from(f64::NAN); n], D::from(f64::NAN));
+        let Some(chain) = ArticulatedChain::new(&self.lengths, &self.masses, theta) else {
+            return nan_accelerations(self.n_links());
         };
-        let mq = chol_solve(&chol, &q);
-        let mg = chol_solve(&chol, &g);
-        let gmq: D = g.iter().zip(&mq).map(|(&a, &b)| a * b).sum();
-        let gmg: D = g.iter().zip(&mg).map(|(&a, &b)| a * b).sum();
-        let lambda = (b - gmq) / gmg;
-        let acc = (0..n).map(|i| mq[i] + mg[i] * lambda).collect();
-        (acc, lambda)
+        bordered(&chain.solve(&q), &chain.solve(&g), &g, b)
+    }
+
+    /// [`Self::acceleration`] through the dense mass matrix ([`Self::mass_matrix`], Cholesky) and
+    /// the `O(N²)` centrifugal sum: `O(N³)`, the test oracle of the recursion.
+    pub fn acceleration_dense<D: Scalar>(
+        &self,
+        loads: &LinkLoads,
+        theta: &[D],
+        omega: &[D],
+        damping: &[D],
+    ) -> (Vec<D>, D) {
+        let h = self.velocity_terms_dense(theta, omega);
+        let (q, g, b) = self.index1_terms(loads, theta, omega, damping, &h);
+        let Some(chol) = cholesky(self.mass_matrix(theta)) else {
+            return nan_accelerations(self.n_links());
+        };
+        bordered(&chol_solve(&chol, &q), &chol_solve(&chol, &g), &g, b)
     }
 
     /// Right-hand side of the first-order system in `y = (θ, θ̇)`: `(θ̇, θ̈)`.
@@ -263,6 +323,20 @@ impl Dynamics {
             })
             .sum()
     }
+}
+
+/// NaN accelerations and reaction: what a state without a regular mass matrix gives.
+fn nan_accelerations<D: Scalar>(n: usize) -> (Vec<D>, D) {
+    (vec![D::from(f64::NAN); n], D::from(f64::NAN))
+}
+
+/// `θ̈ = M⁻¹Q + λ M⁻¹∇Φ` with `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)` (the Schur complement of the
+/// bordered system), from `mq = M⁻¹Q` and `mg = M⁻¹∇Φ`.
+fn bordered<D: Scalar>(mq: &[D], mg: &[D], g: &[D], b: D) -> (Vec<D>, D) {
+    let gmq: D = g.iter().zip(mq).map(|(&a, &c)| a * c).sum();
+    let gmg: D = g.iter().zip(mg).map(|(&a, &c)| a * c).sum();
+    let lambda = (b - gmq) / gmg;
+    ((0..mq.len()).map(|i| mq[i] + mg[i] * lambda).collect(), lambda)
 }
 
 /// Gauss–Newton sweeps of [`Dynamics::project`]; the first leaves `|Φ|` at the square of the step's

@@ -23,6 +23,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+pub mod articulated;
 pub mod eom;
 pub mod fixtures;
 pub mod forcing;
