@@ -340,16 +340,15 @@ pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine
     md
 }
 
-/// The log-log plot: log10 of the time against log10 N, one line per benchmark, in two panels
-/// (derivatives and solves).
+/// The log-log plot: time against N on logarithmic axes with decade labels, one line per
+/// benchmark, in two panels (derivatives and solves).
 pub fn figure(measurements: &[Measurement]) -> Figure {
     let by_name = series(measurements);
-    let log =
-        |points: &[(usize, f64)]| points.iter().map(|&(n, t)| ((n as f64).log10(), t.log10())).collect::<Vec<_>>();
-    let mut derivatives = Panel::new("Derivatives", "log10 N", "log10 time (s)");
-    let mut solves = Panel::new("Steps and solves", "log10 N", "log10 time (s)");
+    let points_of = |points: &[(usize, f64)]| points.iter().map(|&(n, t)| (n as f64, t)).collect::<Vec<_>>();
+    let mut derivatives = Panel::new("Derivatives", "N (links)", "time (s)").x_log().y_log();
+    let mut solves = Panel::new("Steps and solves", "N (links)", "time (s)").x_log().y_log();
     for (k, (name, points)) in by_name.iter().enumerate() {
-        let series = Series::line_markers(name.clone(), log(points)).colour(k);
+        let series = Series::line_markers(name.clone(), points_of(points)).colour(k);
         if name.starts_with("jacobian")
             || name.starts_with("gradients")
             || name.starts_with("hessian")

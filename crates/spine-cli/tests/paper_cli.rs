@@ -107,6 +107,22 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
     ] {
         assert!(svg.contains(text), "{text}");
     }
+    // Issue 16: the stiffness panel counts nodes (whole-number labels 1…6, nothing between) and
+    // spans decades (labels 10^k on a logarithmic axis); no tick reads "-0".
+    let labels: Vec<&str> = svg.split(">\n").filter_map(|t| t.split_once("\n<").map(|(l, _)| l)).collect();
+    let panel_d = labels.iter().position(|l| l.starts_with("(b) 5 links")).unwrap();
+    let ticks = &labels[panel_d..];
+    for node in 1..=6 {
+        assert!(ticks.contains(&node.to_string().as_str()), "node label {node}: {ticks:?}");
+    }
+    assert!(ticks.contains(&"10²") && ticks.contains(&"10⁴"), "decades: {ticks:?}");
+    assert!(!labels
+        .iter()
+        .any(|l| l.starts_with("-0") && l.trim_start_matches("-0").trim_start_matches('.').chars().all(|c| c == '0')));
+    assert!(
+        !ticks.iter().any(|l| l.contains('.') && l.parse::<f64>().is_ok_and(|v| v > 0.5)),
+        "fractional node labels: {ticks:?}"
+    );
     // Same input, same bytes.
     let first: Vec<Vec<u8>> =
         ["result.json", "figure.svg", "shape_n5.csv"].iter().map(|f| std::fs::read(out.join(f)).unwrap()).collect();

@@ -93,6 +93,19 @@ impl Series {
     }
 }
 
+/// How an axis maps and labels its values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear, labels with the decimals the axis span needs (never "-0").
+    #[default]
+    Linear,
+    /// Linear, counting things (nodes, links, joints): labels only at whole numbers.
+    Integer,
+    /// Base-10 logarithmic with decade labels `10^k` (quantities spanning decades: stiffness,
+    /// damping); values ≤ 0 cannot be drawn and are left out.
+    Log10,
+}
+
 /// One chart: a caption, axis labels with units, and its series.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Panel {
@@ -105,6 +118,8 @@ pub struct Panel {
     /// Fixed axis ranges; `None`: fitted to the data with a 5 % margin.
     pub x_range: Option<(f64, f64)>,
     pub y_range: Option<(f64, f64)>,
+    pub x_scale: Scale,
+    pub y_scale: Scale,
 }
 
 impl Panel {
@@ -117,7 +132,24 @@ impl Panel {
             equal_aspect: false,
             x_range: None,
             y_range: None,
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
         }
+    }
+    /// The x axis counts things: labels at whole numbers only.
+    pub fn x_integer(mut self) -> Self {
+        self.x_scale = Scale::Integer;
+        self
+    }
+    /// A logarithmic x axis with decade labels.
+    pub fn x_log(mut self) -> Self {
+        self.x_scale = Scale::Log10;
+        self
+    }
+    /// A logarithmic y axis with decade labels.
+    pub fn y_log(mut self) -> Self {
+        self.y_scale = Scale::Log10;
+        self
     }
     pub fn with(mut self, series: Series) -> Self {
         self.series.push(series);
@@ -246,11 +278,73 @@ fn ranges(panel: &Panel, plot_px: (f64, f64)) -> ((f64, f64), (f64, f64)) {
     (x, y)
 }
 
+/// `v` on the axis: `log10 v` on a logarithmic one (NaN for `v ≤ 0`, which is then skipped).
+fn mapped(scale: Scale, v: f64) -> f64 {
+    match scale {
+        Scale::Log10 if v > 0.0 => v.log10(),
+        Scale::Log10 => f64::NAN,
+        Scale::Linear | Scale::Integer => v,
+    }
+}
+
+/// The panel in axis coordinates (logarithmic axes mapped to `log10`).
+fn in_axis_coordinates(panel: &Panel) -> Panel {
+    let mut out = panel.clone();
+    let (sx, sy) = (panel.x_scale, panel.y_scale);
+    for s in &mut out.series {
+        for p in &mut s.points {
+            *p = (mapped(sx, p.0), mapped(sy, p.1));
+        }
+    }
+    out.x_range = panel.x_range.map(|(a, b)| (mapped(sx, a), mapped(sx, b)));
+    out.y_range = panel.y_range.map(|(a, b)| (mapped(sy, a), mapped(sy, b)));
+    out
+}
+
+const SUPERSCRIPTS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+
+/// The label of tick `v` on an axis of `scale` spanning `span` (axis units).
+fn tick_label(scale: Scale, v: f64, span: f64) -> String {
+    let whole = (v - v.round()).abs() <= 1e-9 * span.max(1.0);
+    match scale {
+        Scale::Integer if whole => format!("{}", v.round() as i64),
+        Scale::Log10 if whole => {
+            let k = v.round() as i64;
+            let digits: String =
+                k.unsigned_abs().to_string().chars().map(|c| SUPERSCRIPTS[c as usize - '0' as usize]).collect();
+            format!("10{}{digits}", if k < 0 { "⁻" } else { "" })
+        }
+        Scale::Integer | Scale::Log10 => String::new(),
+        Scale::Linear => {
+            // Enough decimals for ticks a tenth of the span apart; "-0" is "0".
+            let decimals = if span > 0.0 { (-(span / 10.0).log10()).ceil().clamp(0.0, 12.0) as usize } else { 3 };
+            let text = format!("{v:.decimals$}");
+            if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+                text.trim_start_matches('-').to_string()
+            } else {
+                text
+            }
+        }
+    }
+}
+
+/// How many ticks an axis asks for: one per whole number on a counting or logarithmic axis with
+/// few of them, plotters' default otherwise.
+fn tick_count(scale: Scale, (lo, hi): (f64, f64)) -> usize {
+    let whole = (hi.floor() - lo.ceil()) as i64 + 1;
+    match scale {
+        Scale::Integer | Scale::Log10 if (1..=12).contains(&whole) => (hi - lo).ceil().max(1.0) as usize + 1,
+        _ => 10,
+    }
+}
+
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: &Panel,
     size: (u32, u32),
 ) -> Result<(), PlotError> {
+    let (x_scale, y_scale) = (panel.x_scale, panel.y_scale);
+    let panel = &in_axis_coordinates(panel);
     let plot_px =
         (f64::from(size.0 - Y_LABEL_AREA - 2 * MARGIN), f64::from(size.1 - X_LABEL_AREA - CAPTION - 2 * MARGIN));
     let (x, y) = ranges(panel, plot_px);
@@ -261,8 +355,15 @@ fn draw_panel<DB: DrawingBackend>(
         .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(x.0..x.1, y.0..y.1)
         .map_err(err)?;
+    let (x_span, y_span) = (x.1 - x.0, y.1 - y.0);
+    let x_format = move |v: &f64| tick_label(x_scale, *v, x_span);
+    let y_format = move |v: &f64| tick_label(y_scale, *v, y_span);
     chart
         .configure_mesh()
+        .x_labels(tick_count(x_scale, x))
+        .y_labels(tick_count(y_scale, y))
+        .x_label_formatter(&x_format)
+        .y_label_formatter(&y_format)
         .x_desc(&panel.x_label)
         .y_desc(&panel.y_label)
         .label_style((FAMILY, 12))
@@ -349,6 +450,47 @@ mod tests {
         }
         assert!(a.contains("<polyline") || a.contains("<path"));
         assert!(a.contains("<rect"));
+    }
+
+    #[test]
+    fn tick_labels_count_whole_numbers_show_decades_and_never_minus_zero() {
+        assert_eq!(tick_label(Scale::Integer, 3.0, 10.0), "3");
+        assert_eq!(tick_label(Scale::Integer, 2.5, 10.0), "");
+        assert_eq!(tick_label(Scale::Log10, 2.0, 2.0), "10²");
+        assert_eq!(tick_label(Scale::Log10, -3.0, 2.0), "10⁻³");
+        assert_eq!(tick_label(Scale::Log10, 12.0, 2.0), "10¹²");
+        assert_eq!(tick_label(Scale::Log10, 2.5, 2.0), "");
+        assert_eq!(tick_label(Scale::Linear, -1e-17, 0.2), "0.00");
+        assert_eq!(tick_label(Scale::Linear, -0.0, 2.0), "0.0");
+        assert_eq!(tick_label(Scale::Linear, -0.05, 0.2), "-0.05");
+        assert_eq!(tick_label(Scale::Linear, 150.0, 1000.0), "150");
+    }
+
+    #[test]
+    fn counting_and_logarithmic_axes_label_only_what_they_should() {
+        let stiffness: Vec<(f64, f64)> = (1..=11).map(|j| (j as f64, if j % 3 == 0 { 100.0 } else { 1e4 })).collect();
+        let svg = Figure::new("axes", 1)
+            .with(
+                Panel::new("K", "node j", "K_j (N·m/rad)")
+                    .x_integer()
+                    .y_log()
+                    .with(Series::line_markers("K", stiffness)),
+            )
+            .to_svg()
+            .unwrap();
+        for decade in ["10²", "10³", "10⁴"] {
+            assert!(svg.contains(&format!(">\n{decade}\n<")), "decade label {decade}");
+        }
+        for node in 1..=11 {
+            assert!(svg.contains(&format!(">\n{node}\n<")), "node label {node}");
+        }
+        assert!(
+            !svg.contains(">\n1.0\n<") && !svg.contains(">\n2.5\n<") && !svg.contains("-0.0"),
+            "no fractional labels"
+        );
+        // Exactly one label per node and per decade (11 + 3), besides the title, the caption, the
+        // two axis names and the legend: the empty labels between them are not drawn.
+        assert_eq!(svg.matches("<text").count(), 5 + 11 + 3);
     }
 
     #[test]

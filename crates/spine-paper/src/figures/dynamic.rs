@@ -44,7 +44,7 @@ fn response_panel(title: &str, r: &StepResponse, target: Option<f64>, colour: us
 }
 
 fn damping_panel(title: &str, series: Vec<Series>) -> Panel {
-    series.into_iter().fold(Panel::new(title, "joint j", "C_j (N·m·s/rad)"), Panel::with)
+    series.into_iter().fold(Panel::new(title, "joint j", "C_j (N·m·s/rad)").x_integer(), Panel::with)
 }
 
 /// The claims on one eq. (35) design.

@@ -132,7 +132,7 @@ fn design_csv(design: &Design) -> String {
 }
 
 fn stiffness_panel(title: &str, series: Vec<Series>) -> Panel {
-    series.into_iter().fold(Panel::new(title, "node j", "K_j (N·m/rad)"), Panel::with)
+    series.into_iter().fold(Panel::new(title, "node j", "K_j (N·m/rad)").x_integer().y_log(), Panel::with)
 }
 
 /// Panel letters (a), (b), …
