@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Python front's environment: a virtual environment in crates/spine-py/.venv with numpy,
+# The Python front's environment: a virtual environment in crates/spine-py/.venv with numpy, pypdf,
 # pytest and maturin, and the `flexspine` package built from this checkout and installed into it
 # (`pip install ./crates/spine-py`, linking the system Ipopt). Idempotent: pip rebuilds only what
 # changed (cargo's incremental build in target/). Installs Debian's python3-venv if missing.
@@ -17,10 +17,10 @@ if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
   fi
 fi
-if ! "$venv/bin/python" -c "import numpy, pytest, maturin" 2>/dev/null; then
-  echo "python: pip install numpy pytest maturin into $venv"
+if ! "$venv/bin/python" -c "import numpy, pytest, maturin, pypdf" 2>/dev/null; then
+  echo "python: pip install numpy pytest maturin pypdf into $venv"
   "$venv/bin/pip" install --quiet --upgrade pip
-  "$venv/bin/pip" install --quiet "numpy>=1.22" "pytest>=7" "maturin>=1.9,<2"
+  "$venv/bin/pip" install --quiet "numpy>=1.22" "pytest>=7" "maturin>=1.9,<2" "pypdf>=4"
 fi
 # The package itself, from source: maturin is already in the venv, so no isolated build
 # environment is downloaded; cargo rebuilds only what changed.

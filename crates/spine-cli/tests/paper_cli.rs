@@ -70,7 +70,7 @@ fn twolink_figure_checks_the_closed_forms() {
     assert!((orders["eq10"].as_f64().unwrap() - 1.0).abs() < 0.05);
     assert!((orders["first_order"].as_f64().unwrap() - 2.0).abs() < 0.05);
     assert!((orders["eq11_relative"].as_f64().unwrap() - 1.0).abs() < 0.05);
-    assert_files(&dir, &r, &["twolink.csv", "figure.svg", "figure.png"]);
+    assert_files(&dir, &r, &["twolink.csv", "figure.svg", "figure.png", "figure.pdf"]);
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("PASS ["), "{stdout}");
     let svg = std::fs::read_to_string(dir.join("figure.svg")).unwrap();
@@ -95,7 +95,7 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
     let summary = &r["summary"]["n5"];
     assert!((summary["end_displacement"].as_f64().unwrap() + 0.02).abs() < 1e-8);
     assert!((summary["objective"].as_f64().unwrap() - 7.6031253e-3).abs() < 1e-9, "{summary}");
-    assert_files(&out, &r, &["shape_n5.csv", "design_n5.csv", "figure.svg", "figure.png"]);
+    assert_files(&out, &r, &["shape_n5.csv", "design_n5.csv", "figure.svg", "figure.png", "figure.pdf"]);
     let shape = std::fs::read_to_string(out.join("shape_n5.csv")).unwrap();
     assert_eq!(shape.lines().count(), 1 + 6, "header and six nodes");
     let svg = std::fs::read_to_string(out.join("figure.svg")).unwrap();

@@ -311,7 +311,7 @@ pub fn run_ck_study(
         claims_total: claims.len(),
         claims,
         conclusion: sweep.conclusion(),
-        files: ["ck_study.csv", "figure.svg", "figure.png"].map(String::from).to_vec(),
+        files: ["ck_study.csv", "figure.svg", "figure.png", "figure.pdf"].map(String::from).to_vec(),
         study_rows: sweep.rows.clone(),
         total_seconds: clock.elapsed().as_secs_f64(),
         sweep,

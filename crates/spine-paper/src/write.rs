@@ -153,7 +153,9 @@ impl Folder {
                     let png = stage.path.join(format!("{name}.png"));
                     figure.write_png(&png).map_err(|e| WriteError::Io(format!("{name}.png: {e}")))?;
                     sync(&png).map_err(&io)?;
-                    written += 2;
+                    let pdf = figure.to_pdf().map_err(|e| WriteError::Io(format!("{name}.pdf: {e}")))?;
+                    create_new(&stage.path.join(format!("{name}.pdf")), &pdf).map_err(&io)?;
+                    written += 3;
                 }
             }
         }

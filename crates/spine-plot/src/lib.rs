@@ -5,7 +5,8 @@
 //! figure recipe builds it from results and this crate only draws it ([`Figure::to_svg`]), with
 //! [plotters](https://docs.rs/plotters). DejaVu Sans is embedded for text layout (its licence is
 //! beside it in `assets/`), so no system font library is needed. The same figure always gives the
-//! same bytes.
+//! same bytes. [`Figure::to_pdf`] converts the SVG to a vector PDF sized for a journal page
+//! (svg2pdf, the same embedded font).
 //!
 //! ```
 //! use spine_plot::{Figure, Panel, Series};
@@ -231,6 +232,26 @@ impl Figure {
         Ok(text)
     }
 
+    /// The figure as a vector PDF (svg2pdf, text set in the embedded font), scaled to a journal's
+    /// width: one column (3.5 in) for a single panel, the full text width (7 in) for several.
+    pub fn to_pdf(&self) -> Result<Vec<u8>, PlotError> {
+        use svg2pdf::usvg;
+        let svg = self.to_svg()?;
+        let mut options = usvg::Options::default();
+        let db = options.fontdb_mut();
+        db.load_font_data(FONT.to_vec());
+        // The SVG asks for the generic family plotters was given; it is the embedded font.
+        let family = db.faces().next().and_then(|face| face.families.first()).map(|(name, _)| name.clone());
+        if let Some(name) = family {
+            db.set_sans_serif_family(name);
+        }
+        let tree = usvg::Tree::from_str(&svg, &options).map_err(err)?;
+        let (_, columns, (width_px, _)) = self.grid();
+        let width_in = if columns == 1 { 3.5 } else { 7.0 };
+        let page = svg2pdf::PageOptions { dpi: width_px as f32 / width_in };
+        svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), page).map(canonical_pdf).map_err(err)
+    }
+
     /// Draws the figure as a PNG file at `path` (text rasterised with the embedded font).
     pub fn write_png(&self, path: &std::path::Path) -> Result<(), PlotError> {
         let (rows, columns, size) = self.grid();
@@ -276,6 +297,57 @@ fn ranges(panel: &Panel, plot_px: (f64, f64)) -> ((f64, f64), (f64, f64)) {
         }
     }
     (x, y)
+}
+
+/// svg2pdf writes the entries of a resource dictionary (`/xo17 42 0 R` lines) in hash order, so
+/// the same figure gives different bytes. Sorting each run of such lines puts them in one order;
+/// a run keeps its length, so every object stays at its offset and the cross-reference table
+/// stays valid. Streams are copied untouched.
+fn canonical_pdf(pdf: Vec<u8>) -> Vec<u8> {
+    fn is_entry(line: &[u8]) -> bool {
+        let text = match std::str::from_utf8(line) {
+            Ok(t) => t,
+            Err(_) => return false,
+        };
+        let mut words = text.split_whitespace();
+        text.starts_with(' ')
+            && words.next().is_some_and(|w| w.starts_with('/'))
+            && words.next().is_some_and(|w| w.bytes().all(|b| b.is_ascii_digit()))
+            && words.next() == Some("0")
+            && words.next() == Some("R")
+            && words.next().is_none()
+    }
+    let mut out = Vec::with_capacity(pdf.len());
+    let mut rest = &pdf[..];
+    let mut run: Vec<&[u8]> = Vec::new();
+    let flush = |run: &mut Vec<&[u8]>, out: &mut Vec<u8>| {
+        run.sort();
+        for line in run.drain(..) {
+            out.extend_from_slice(line);
+            out.push(b'\n');
+        }
+    };
+    while !rest.is_empty() {
+        let end = rest.iter().position(|&b| b == b'\n').map_or(rest.len(), |i| i + 1);
+        let (line, tail) = rest.split_at(end);
+        let body = line.strip_suffix(b"\n").unwrap_or(line);
+        if line.ends_with(b"\n") && is_entry(body) {
+            run.push(body);
+            rest = tail;
+            continue;
+        }
+        flush(&mut run, &mut out);
+        out.extend_from_slice(line);
+        rest = tail;
+        if body == b"stream" {
+            // Copy the stream through its `endstream` line verbatim.
+            let stop = rest.windows(10).position(|w| w == b"\nendstream").map_or(rest.len(), |i| i + 1);
+            out.extend_from_slice(&rest[..stop]);
+            rest = &rest[stop..];
+        }
+    }
+    flush(&mut run, &mut out);
+    out
 }
 
 /// `v` on the axis: `log10 v` on a logarithmic one (NaN for `v ≤ 0`, which is then skipped).
@@ -491,6 +563,34 @@ mod tests {
         // Exactly one label per node and per decade (11 + 3), besides the title, the caption, the
         // two axis names and the legend: the empty labels between them are not drawn.
         assert_eq!(svg.matches("<text").count(), 5 + 11 + 3);
+    }
+
+    #[test]
+    fn the_pdf_is_a_deterministic_vector_page_of_journal_width_with_its_text() {
+        let pdf = figure().to_pdf().unwrap();
+        assert!(pdf.starts_with(b"%PDF-") && pdf.trim_ascii_end().ends_with(b"%%EOF"));
+        let text = String::from_utf8_lossy(&pdf);
+        // Two panels side by side: 7 in = 504 pt wide.
+        let media = text.split("/MediaBox [").nth(1).and_then(|r| r.split(']').next()).unwrap();
+        let numbers: Vec<f64> = media.split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert!((numbers[2] - numbers[0] - 504.0).abs() < 0.5, "{media}");
+        // The embedded font travels with it (a subset, as a font file).
+        assert!(text.contains("/FontFile2") || text.contains("/FontFile3"), "font embedded");
+        // Every object is where the cross-reference table says (the canonical reordering keeps
+        // offsets).
+        let xref = text.rfind("\nxref\n").unwrap() + 1;
+        let table: Vec<&str> = text[xref..].split("trailer").next().unwrap().lines().collect();
+        let count: usize = table[1].split_whitespace().nth(1).unwrap().parse().unwrap();
+        for (k, entry) in table[2..2 + count].iter().enumerate() {
+            let mut fields = entry.split_whitespace();
+            let offset: usize = fields.next().unwrap().parse().unwrap();
+            if fields.nth(1) == Some("n") {
+                assert!(pdf[offset..].starts_with(format!("{k} 0 obj").as_bytes()), "object {k} at {offset}");
+            }
+        }
+        for _ in 0..3 {
+            assert!(pdf == figure().to_pdf().unwrap(), "same figure, same bytes");
+        }
     }
 
     #[test]

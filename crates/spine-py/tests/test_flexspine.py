@@ -212,3 +212,15 @@ def test_design_start_is_the_point_handed_to_ipopt():
     )
     heights = np.cumsum(s.spans * np.tan(start["theta0"]))[:-1]
     assert np.max(np.abs(heights - start["heights"])) < 1e-12
+
+
+def test_figure_pdf_opens_in_a_pdf_reader_with_its_text(tmp_path):
+    import pypdf  # installed by crates/spine-py/setup.sh
+    case = json.loads((CASES / "fig3.json").read_text())
+    flexspine.run_case(case, out=tmp_path / "fig3", deterministic=True)
+    reader = pypdf.PdfReader(str(tmp_path / "fig3" / "figure.pdf"))
+    assert len(reader.pages) == 1
+    page = reader.pages[0]
+    assert float(page.mediabox.width) == pytest.approx(504.0, abs=0.5)  # 7 in: a two-column figure
+    text = page.extract_text()
+    assert "nodal stiffness" in text and "node j" in text and "K_j (N·m/rad)" in text

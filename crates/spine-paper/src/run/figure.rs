@@ -76,6 +76,7 @@ pub fn run_figure(
     for (stem, _) in &made.figures {
         files.push(format!("{stem}.svg"));
         files.push(format!("{stem}.png"));
+        files.push(format!("{stem}.pdf"));
     }
     Ok(FigureResult {
         kind: "figure",
