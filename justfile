@@ -22,14 +22,14 @@ test:
 # `pip install ./crates/spine-py`), runs its pytest suite against the CLI, and the quickstart
 # example (writes results/python-quickstart/*.csv).
 python:
-    cargo build --release --quiet -p spine-cli
+    cargo build --release --workspace --all-targets --quiet
     ./crates/spine-py/setup.sh
     crates/spine-py/.venv/bin/python -m pytest -q crates/spine-py/tests
     crates/spine-py/.venv/bin/python examples/python/quickstart.py results/python-quickstart
 
 # Eq. (33) from Python beside the CLI and CasADi + IPOPT (5 and 10 links, the same start), one run.
 python-bench REPEATS="5":
-    cargo build --release --quiet -p spine-cli
+    cargo build --release --workspace --all-targets --quiet
     ./crates/spine-py/setup.sh
     ./benchmarks/peers/setup.sh
     crates/spine-py/.venv/bin/python benchmarks/peers/python_side_by_side.py {{REPEATS}}
