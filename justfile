@@ -8,13 +8,15 @@ build:
 
 # Run every test (release build; unit, integration, property and CLI tests), then the Ipopt-facing
 # tests again on the Ipopt 3.14 backend (`just ipopt314 test`), the Python package's tests
-# (`just python`), then the lints (`just lint`).
+# (`just python`), the browser check of the HTML report (`just browser-test`), then the lints
+# (`just lint`).
 test:
     cargo build --release --workspace --all-targets --quiet
     if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
     cargo test --release --workspace --doc --quiet
     just ipopt314 test
     just python
+    just browser-test
     just lint
 
 # The Python package `flexspine` (crates/spine-py): builds it from source and installs it into
@@ -26,6 +28,18 @@ python:
     ./crates/spine-py/setup.sh
     crates/spine-py/.venv/bin/python -m pytest -q crates/spine-py/tests
     crates/spine-py/.venv/bin/python examples/python/quickstart.py results/python-quickstart
+
+# The HTML report in a real browser: installs Debian's chromium if missing, then runs the ignored
+# test that builds a small report.html, loads it in headless Chromium and checks its DOM and a
+# screenshot (crates/spine-cli/tests/paper_cli.rs).
+browser-test:
+    if ! command -v chromium >/dev/null; then \
+        SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"; \
+        echo "browser-test: installing chromium"; \
+        $SUDO apt-get update -qq; \
+        DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core >/dev/null; \
+    fi
+    CHROMIUM="$(command -v chromium)" cargo test --release --quiet -p spine-cli --test paper_cli -- --ignored report_html_renders_in_a_headless_browser
 
 # Eq. (33) from Python beside the CLI and CasADi + IPOPT (5 and 10 links, the same start), one run.
 python-bench REPEATS="5":
@@ -56,7 +70,7 @@ case NAME:
 study NAME:
     cargo run --release --quiet -p spine-cli -- study {{NAME}} paper-cases/study-{{NAME}}.json --out results/study-{{NAME}}
 
-# Every figure and the C_K study, then results/REPORT.md (a failed solver check, exit 3, is reported, not fatal).
+# Every figure and the C_K study, then results/REPORT.md and results/report.html (one self-contained page; a failed solver check, exit 3, is reported, not fatal).
 paper:
     cargo build --release --quiet -p spine-cli
     for c in twolink fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 fig11 fig12; do \

@@ -39,13 +39,19 @@ def run_case(
     formulation: Optional[Literal["full", "reduced"]] = None,
     method: Optional[Literal["ga", "pattern"]] = None,
     time_limit: Optional[float] = None,
+    animate: bool = False,
+    frames: Optional[int] = None,
+    frame_width: Optional[int] = None,
+    magnify: Optional[float] = None,
 ) -> Result:
     """Runs a case of any kind (the CLI's `spine case`): equilibrium, twolink, design (eq. (33)),
     simulate (step or periodic response), damping (eq. (35)), periodic (eq. (37)) or figure.
 
     Overrides as on the command line: `starts`/`seed` (multi-start of eq. (33)), `formulation`,
-    `method` (eq. (37)), `time_limit` (s; the result then says stopped="time_limit"). With `out`
-    the result's folder is written all or nothing, as the CLI's `--out`.
+    `method` (eq. (37)), `time_limit` (s; the result then says stopped="time_limit"), and an
+    animation of a dynamic run (`animate`, `frames` 2..=600, `frame_width` 320..=1920 px,
+    `magnify`; any of them asks for one; `Result.gif()` returns it). With `out` the result's
+    folder is written all or nothing, as the CLI's `--out`.
 
     Raises ValueError (bad input; the message names the field), TimeoutError (the time limit left
     nothing to report), KeyboardInterrupt (Ctrl-C: the run stops at its next check, nothing
@@ -76,6 +82,8 @@ class Result:
         """`result.json` as a dictionary."""
     def __getitem__(self, key: str) -> Any:
         """One top-level entry of `result.json`."""
+    def gif(self) -> Optional[bytes]:
+        """The animation of the chain's motion as GIF bytes, or None when the run has none."""
     def write(self, out: Union[str, os.PathLike[str]], deterministic: bool = False) -> str:
         """Writes the result's folder (result.json, CSV, SVG, PNG) all or nothing; returns the path
         of result.json."""

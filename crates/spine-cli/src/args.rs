@@ -33,6 +33,56 @@ pub struct RunArgs {
     pub time_limit: Option<std::time::Duration>,
 }
 
+/// Animation of a dynamic run (figure cases fig9–fig11 always write one; these set its options).
+#[derive(clap::Args)]
+pub struct AnimateArgs {
+    /// Also write `animation.gif`: the chain moving (displacements magnified when small, the
+    /// factor in the panel title), the path of its end node, the time stamp, and the end
+    /// displacement up to that time. Implied by the options below.
+    #[arg(long)]
+    pub animate: bool,
+    /// Frames of the animation, equally spaced in time (2..=600; default 100).
+    #[arg(long, value_name = "N", value_parser = parse_frames)]
+    pub frames: Option<usize>,
+    /// Width of the animation in pixels (320..=1920; default 800).
+    #[arg(long, value_name = "PX", value_parser = parse_frame_width)]
+    pub frame_width: Option<u32>,
+    /// Factor on the displacements drawn (> 0, ≤ 1e6; default: a round number that makes the
+    /// largest one 15 % of the chain's extent, or 1).
+    #[arg(long, value_name = "FACTOR", value_parser = parse_magnify)]
+    pub magnify: Option<f64>,
+}
+
+impl AnimateArgs {
+    /// The animation options, when any animation flag is given.
+    pub fn options(&self) -> Option<spine_paper::AnimationOptions> {
+        let given = self.animate || self.frames.is_some() || self.frame_width.is_some() || self.magnify.is_some();
+        given.then(|| {
+            let d = spine_paper::AnimationOptions::default();
+            spine_paper::AnimationOptions {
+                frames: self.frames.unwrap_or(d.frames),
+                width: self.frame_width.unwrap_or(d.width),
+                magnification: self.magnify.or(d.magnification),
+            }
+        })
+    }
+}
+
+/// A run whose motion can be animated (`simulate`, `damping`, `case`).
+#[derive(clap::Args)]
+pub struct DynamicArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+    #[command(flatten)]
+    pub animate: AnimateArgs,
+}
+
+impl DynamicArgs {
+    pub fn overrides(&self) -> spine_paper::Overrides {
+        spine_paper::Overrides { animation: self.animate.options(), ..Default::default() }
+    }
+}
+
 #[derive(clap::Args)]
 pub struct DesignArgs {
     #[command(flatten)]
@@ -60,6 +110,8 @@ pub struct PeriodicArgs {
     /// Search for eq. (37): `ga` (genetic algorithm) or `pattern` (pattern search); default: the case file's.
     #[arg(long, value_parser = ["ga", "pattern"])]
     pub method: Option<String>,
+    #[command(flatten)]
+    pub animate: AnimateArgs,
 }
 
 #[derive(clap::Args)]
@@ -100,16 +152,16 @@ pub enum Command {
     /// The static design problem of eq. (33) with Ipopt (optionally multi-start).
     Design(DesignArgs),
     /// Step or periodic response (Sec. 5.2): `response.csv` and `result.json` with T_90, Δ∞, τ, fit error, drift.
-    Simulate(RunArgs),
+    Simulate(DynamicArgs),
     /// The damping design of eq. (35): dampers for each target rise time.
-    Damping(RunArgs),
+    Damping(DynamicArgs),
     /// The periodic-load design of eq. (37) by a genetic algorithm or a pattern search.
     Periodic(PeriodicArgs),
     /// Runs any case file by its `kind` (a `figure` case: its runs, plots, tables and checked claims).
-    Case(RunArgs),
+    Case(DynamicArgs),
     /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
     Study(StudyArgs),
-    /// Gathers the figures' results into `RESULTS/REPORT.md`.
+    /// Gathers the figures' results into `RESULTS/REPORT.md` and `RESULTS/report.html` (one self-contained page).
     Report(ReportArgs),
 }
 
@@ -135,7 +187,11 @@ impl PeriodicArgs {
     pub fn overrides(&self) -> spine_paper::Overrides {
         let method =
             self.method.as_deref().map(|m| if m == "pattern" { SearchMethod::Pattern } else { SearchMethod::Ga });
-        spine_paper::Overrides { dynamics: spine_paper::run::DynamicsOverrides { method }, ..Default::default() }
+        spine_paper::Overrides {
+            dynamics: spine_paper::run::DynamicsOverrides { method },
+            animation: self.animate.options(),
+            ..Default::default()
+        }
     }
 }
 
@@ -160,6 +216,36 @@ fn parse_time_limit(text: &str) -> Result<std::time::Duration, String> {
         return Err(format!("seconds must be > 0 and at most {MAX_TIME_LIMIT:e}, got {text}"));
     }
     Ok(std::time::Duration::from_secs_f64(s))
+}
+
+/// `--frames`: within [`spine_paper::animation::FRAMES`].
+fn parse_frames(text: &str) -> Result<usize, String> {
+    let n: usize = text.parse().map_err(|e| format!("{e}"))?;
+    let allowed = spine_paper::animation::FRAMES;
+    if !allowed.contains(&n) {
+        return Err(format!("allowed {}..={}", allowed.start(), allowed.end()));
+    }
+    Ok(n)
+}
+
+/// `--frame-width`: within [`spine_paper::animation::WIDTH`].
+fn parse_frame_width(text: &str) -> Result<u32, String> {
+    let n: u32 = text.parse().map_err(|e| format!("{e}"))?;
+    let allowed = spine_paper::animation::WIDTH;
+    if !allowed.contains(&n) {
+        return Err(format!("allowed {}..={} px", allowed.start(), allowed.end()));
+    }
+    Ok(n)
+}
+
+/// `--magnify`: a factor in (0, [`spine_paper::animation::MAX_MAGNIFICATION`]].
+fn parse_magnify(text: &str) -> Result<f64, String> {
+    let m: f64 = text.parse().map_err(|e| format!("{e}"))?;
+    let max = spine_paper::animation::MAX_MAGNIFICATION;
+    if !(m > 0.0 && m <= max) {
+        return Err(format!("a factor > 0 and ≤ {max:e}, got {text}"));
+    }
+    Ok(m)
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).

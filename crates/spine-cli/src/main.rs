@@ -41,10 +41,10 @@ fn main() -> ExitCode {
         Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), None),
         Command::Twolink(a) => run(a, Some("twolink"), Default::default(), None),
         Command::Design(a) => run(&a.run, Some("design"), a.overrides(), None),
-        Command::Simulate(a) => run(a, Some("simulate"), Default::default(), None),
-        Command::Damping(a) => run(a, Some("damping"), Default::default(), None),
+        Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), None),
+        Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), None),
         Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), None),
-        Command::Case(a) => run(a, None, Default::default(), None),
+        Command::Case(a) => run(&a.run, None, a.overrides(), None),
         Command::Study(a) => a.values().and_then(|v| run(&a.run, None, Default::default(), Some(v))),
         Command::Report(a) => report::run(a),
     };

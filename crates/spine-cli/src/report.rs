@@ -1,9 +1,10 @@
-//! `spine report`: the figures' results gathered into `RESULTS/REPORT.md`.
+//! `spine report`: the figures' results gathered into `RESULTS/REPORT.md` and the self-contained
+//! `RESULTS/report.html`.
 
 use crate::args::ReportArgs;
 use crate::output::{say, Output};
 use crate::Failure;
-use spine_paper::report::{report, FolderResult};
+use spine_paper::report::{report, report_html, FolderResult};
 
 /// `Ok(true)` when every case had a result.
 pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
@@ -14,12 +15,35 @@ pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
     for name in &a.cases {
         let file = a.results.join(name).join("result.json");
         match std::fs::read_to_string(&file).ok().and_then(|t| serde_json::from_str(&t).ok()) {
-            Some(value) => results.push(FolderResult { name: name.clone(), value }),
+            Some(value) => {
+                let assets = assets(&a.results.join(name), &value);
+                results.push(FolderResult { name: name.clone(), value, assets })
+            }
             None => missing.push(name.clone()),
         }
     }
-    Output::new(&a.results, false).write_text("REPORT.md", &report(&results, &errata, &missing))?;
-    let path = a.results.join("REPORT.md");
-    say(&format!("wrote {} ({} cases, {} missing)\n", path.display(), results.len(), missing.len()));
+    let out = Output::new(&a.results, false);
+    out.write_text("REPORT.md", &report(&results, &errata, &missing))?;
+    out.write_text("report.html", &report_html(&results, &errata, &missing))?;
+    say(&format!(
+        "wrote {} and {} ({} cases, {} missing)\n",
+        a.results.join("REPORT.md").display(),
+        a.results.join("report.html").display(),
+        results.len(),
+        missing.len()
+    ));
     Ok(missing.is_empty())
+}
+
+/// The figures (SVG) and animations (GIF) a result lists, read from its folder; a listed file
+/// that cannot be read is left out (the report then shows the rest).
+fn assets(folder: &std::path::Path, value: &serde_json::Value) -> Vec<(String, Vec<u8>)> {
+    let files = value.get("files").and_then(|f| f.as_array()).into_iter().flatten();
+    files
+        .filter_map(|f| f.as_str())
+        // Plain names of files in the folder only.
+        .filter(|f| !f.contains('/') && !f.contains('\\') && !f.starts_with('.'))
+        .filter(|f| f.ends_with(".svg") || f.ends_with(".gif"))
+        .filter_map(|f| std::fs::read(folder.join(f)).ok().map(|bytes| (f.to_string(), bytes)))
+        .collect()
 }

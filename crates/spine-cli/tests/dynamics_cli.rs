@@ -250,3 +250,45 @@ fn paper_step_case_runs() {
     assert_eq!(r["design"]["source"]["source"], "eq. (33)");
     assert_eq!(r["step_response"]["settled"], true);
 }
+
+#[test]
+fn animate_writes_a_gif_of_the_motion_with_the_asked_frames_and_the_same_bytes() {
+    let dir = tmpdir("animate");
+    let case = write_case(&dir, &step_case(4));
+    let out = dir.join("out");
+    let args = ["simulate", &case, "--out", out.to_str().unwrap(), "--deterministic"];
+    let plain = spine(&args);
+    assert!(plain.status.success(), "{}", String::from_utf8_lossy(&plain.stderr));
+    assert!(!out.join("animation.gif").exists(), "no animation unless asked");
+    let animated = [&args[..], &["--animate", "--frames", "12", "--frame-width", "480"]].concat();
+    let o = spine(&animated);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(out.join("animation.gif")).unwrap();
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut decoder = options.read_info(&bytes[..]).unwrap();
+    assert_eq!(decoder.width(), 480);
+    let mut frames = 0;
+    while decoder.read_next_frame().unwrap().is_some() {
+        frames += 1;
+    }
+    assert_eq!(frames, 12);
+    assert!(bytes.len() < 2_000_000, "{} bytes", bytes.len());
+    // The same input gives the same animation, byte for byte.
+    assert!(spine(&animated).status.success());
+    assert!(std::fs::read(out.join("animation.gif")).unwrap() == bytes);
+    // --magnify alone asks for it too; bad options exit 2 naming the flag, and nothing is written.
+    let fresh = dir.join("fresh");
+    for (bad, flag) in [("--frames", "1"), ("--frame-width", "99999"), ("--magnify", "0")] {
+        let o = spine(&["simulate", &case, "--out", fresh.to_str().unwrap(), bad, flag]);
+        assert_eq!(o.status.code(), Some(2), "{bad} {flag}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(bad), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(!fresh.exists());
+    }
+    // A static case has nothing to animate.
+    let eq = workspace().join("paper-cases/arch10.json");
+    let o = spine(&["case", eq.to_str().unwrap(), "--out", fresh.to_str().unwrap(), "--animate"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("animation:"), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!fresh.exists());
+}

@@ -1,6 +1,8 @@
 //! The paper's small figure cases end to end: `spine case` on twolink, Fig. 3's 5-link panel and
 //! one step response (Fig. 9's 5-link panel), their claims and files; bad figure input; the report.
 //! The long cases (Figs. 9–12 whole, the C_K study) stay out of the default test run: `just paper`.
+//! The browser check of `report.html` needs Chromium and runs in `just browser-test` (part of
+//! `just test`, so of CI).
 
 mod common;
 use common::{spine, tmpdir, workspace};
@@ -33,6 +35,14 @@ fn run_case(case: &Value, dir: &Path, extra: &[&str]) -> std::process::Output {
     let out = dir.join("out");
     let mut args = vec!["case", file.to_str().unwrap(), "--out", out.to_str().unwrap()];
     args.extend_from_slice(extra);
+    spine(&args)
+}
+
+/// `spine report` on the folders `cases` (comma-separated) of `results`, with the errata.
+fn report(results: &Path, cases: &str) -> std::process::Output {
+    let errata = workspace().join("docs/errata.md");
+    let args =
+        ["report", "--results", results.to_str().unwrap(), "--cases", cases, "--errata", errata.to_str().unwrap()];
     spine(&args)
 }
 
@@ -147,7 +157,21 @@ fn fig9_five_link_step_response_meets_the_rise_time_and_is_first_order_like() {
     let s = &r["summary"]["n5"];
     assert!((s["rise_time"].as_f64().unwrap() - 0.2).abs() < 1e-3);
     assert!(s["fit_rms_error"].as_f64().unwrap() < 0.05);
-    assert_files(&out, &r, &["response_n5.csv", "shape_n5.csv", "damping_n5.csv", "figure.svg", "figure.png"]);
+    assert_files(
+        &out,
+        &r,
+        &["response_n5.csv", "shape_n5.csv", "damping_n5.csv", "figure.svg", "figure.png", "animation.gif"],
+    );
+    // The animation of the chain's motion: the default 100 frames, 800 px wide, a few hundred kB.
+    let gif = std::fs::read(out.join("animation.gif")).unwrap();
+    let mut decoder = gif::DecodeOptions::new().read_info(&gif[..]).unwrap();
+    assert_eq!(decoder.width(), 800);
+    let mut frames = 0;
+    while decoder.read_next_frame().unwrap().is_some() {
+        frames += 1;
+    }
+    assert_eq!(frames, 100);
+    assert!(gif.len() < 3_000_000, "{} bytes", gif.len());
     let response = std::fs::read_to_string(out.join("response_n5.csv")).unwrap();
     assert!(response.starts_with("t_s,load_factor,delta_m,end_displacement_m,theta_1_rad"));
     assert!(r["timings"]["total_seconds"].as_f64().is_some());
@@ -189,16 +213,7 @@ fn report_gathers_claims_figures_and_errata() {
         results.join("twolink").to_str().unwrap(),
     ]);
     assert!(o.status.success());
-    let errata = workspace().join("docs/errata.md");
-    let o = spine(&[
-        "report",
-        "--results",
-        results.to_str().unwrap(),
-        "--cases",
-        "twolink,fig3",
-        "--errata",
-        errata.to_str().unwrap(),
-    ]);
+    let o = report(&results, "twolink,fig3");
     // fig3 has no result here: reported as missing, exit 3.
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();
@@ -206,4 +221,71 @@ fn report_gathers_claims_figures_and_errata() {
     assert!(md.contains("**2 of 2 claims pass.**"), "{md}");
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
+}
+
+/// `report.html` opened in a real browser (Debian's Chromium, headless): the page loads from the
+/// file alone, its DOM holds the claims table with every verdict, and the screenshot shows the
+/// table drawn (the PASS cells' colour) beside the inline figure and the animation. Needs
+/// Chromium (`CHROMIUM`, default `/usr/bin/chromium`): `just browser-test` installs it and runs
+/// this test.
+#[test]
+#[ignore = "needs Chromium: run by `just browser-test` (part of `just test`)"]
+fn report_html_renders_in_a_headless_browser() {
+    let results = tmpdir("paper-report-html");
+    let twolink = workspace().join("paper-cases/twolink.json");
+    let o = spine(&["case", twolink.to_str().unwrap(), "--out", results.join("twolink").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let fig9 = run_case(&figure_with_runs("fig9", &["n5"]), &results.join("work"), &["--frames", "10"]);
+    assert!(fig9.status.success(), "{}", String::from_utf8_lossy(&fig9.stderr));
+    std::fs::rename(results.join("work/out"), results.join("fig9")).unwrap();
+    let o = report(&results, "twolink,fig9");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = results.join("report.html");
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains("data:image/gif;base64,R0lGOD"), "the animation is inline");
+    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    let browser = |extra: &[&str]| {
+        let profile = results.join("chromium-profile");
+        let url = format!("file://{}", page.canonicalize().unwrap().display());
+        let mut args = vec![
+            "--headless".to_string(),
+            "--no-sandbox".into(),
+            "--disable-gpu".into(),
+            "--hide-scrollbars".into(),
+            format!("--user-data-dir={}", profile.display()),
+            "--window-size=1280,2000".into(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args.push(url);
+        let o = std::process::Command::new(&chromium)
+            .args(&args)
+            .output()
+            .unwrap_or_else(|e| panic!("{chromium}: cannot start Chromium ({e}); `just browser-test` installs it"));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        o
+    };
+    // The DOM after loading: the claims table with every verdict cell.
+    let dom = String::from_utf8(browser(&["--dump-dom"]).stdout).unwrap();
+    let claims = dom.split("<table id=\"claims\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap();
+    let verdicts =
+        claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
+    assert_eq!(verdicts, 2 + 3, "two twolink claims and three fig9 claims: {claims}");
+    assert!(dom.contains("claims pass."));
+    // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
+    let shot = results.join("shot.png");
+    browser(&[&format!("--screenshot={}", shot.display())]);
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&shot).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    assert_eq!(info.width, 1280);
+    let step = info.color_type.samples();
+    let rgb = pixels[..info.buffer_size()].chunks_exact(step).map(|p| (p[0], p[1], p[2]));
+    let (mut pass_cells, mut dark) = (0, 0);
+    for (r, g, b) in rgb {
+        pass_cells += usize::from((r, g, b) == (0xc8, 0xea, 0xc8));
+        dark += usize::from(r < 80 && g < 80 && b < 80);
+    }
+    assert!(pass_cells > 500, "PASS cells drawn: {pass_cells} px");
+    assert!(dark > 2000, "text drawn: {dark} px");
 }

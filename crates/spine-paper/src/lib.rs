@@ -18,6 +18,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+pub mod animation;
 pub mod claims;
 pub mod figures;
 pub mod metrics;
@@ -26,6 +27,7 @@ pub mod run;
 pub mod study;
 pub mod write;
 
+pub use animation::{Animation, AnimationOptions, Track};
 pub use claims::{Check, Claim};
 pub use figures::{recipe, FigureOutput, NamedRun};
 pub use run::{run_case, run_study, CaseResult, Overrides, RunError, RunOutput};

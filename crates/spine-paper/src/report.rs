@@ -1,5 +1,7 @@
-//! `results/REPORT.md`: every figure's claims with PASS/FAIL and numbers, the figures themselves,
-//! the cross-figure C_K check (Figs. 6–8), the errata and the run times, on one page.
+//! `results/REPORT.md` and `results/report.html`: every figure's claims with PASS/FAIL and
+//! numbers, the figures themselves, the cross-figure C_K check (Figs. 6–8), the errata and the run
+//! times, on one page. The HTML page is one self-contained file (figures inline, animations as
+//! data URIs, no script, no network).
 
 use serde_json::Value;
 use std::fmt::Write as _;
@@ -8,6 +10,34 @@ use std::fmt::Write as _;
 pub struct FolderResult {
     pub name: String,
     pub value: Value,
+    /// Files of the folder the HTML report shows, by name (`figure.svg` as SVG text,
+    /// `animation.gif` as bytes); the caller reads them, this module writes nothing.
+    pub assets: Vec<(String, Vec<u8>)>,
+}
+
+impl FolderResult {
+    /// The claims of the result (none for a result without claims).
+    fn claims(&self) -> &[Value] {
+        self.value.get("claims").and_then(Value::as_array).map_or(&[][..], Vec::as_slice)
+    }
+
+    fn title(&self) -> &str {
+        self.value.get("title").and_then(Value::as_str).unwrap_or("")
+    }
+
+    /// The files `result.json` lists that end in `extension`.
+    fn files_ending(&self, extension: &str) -> Vec<&str> {
+        let files = self.value.get("files").and_then(Value::as_array).into_iter().flatten();
+        files.filter_map(Value::as_str).filter(|f| f.ends_with(extension)).collect()
+    }
+}
+
+fn passed(claim: &Value) -> bool {
+    claim.get("pass") == Some(&Value::Bool(true))
+}
+
+fn text_of<'a>(claim: &'a Value, key: &str) -> &'a str {
+    claim.get(key).and_then(Value::as_str).unwrap_or("")
 }
 
 fn cell(s: &str) -> String {
@@ -18,8 +48,58 @@ fn total_seconds(v: &Value) -> Option<f64> {
     v.get("timings")?.get("total_seconds")?.as_f64()
 }
 
-/// The C_K statement on Figs. 6–8 (C_K = 1, 10², 10⁴): stiffness spread up, shape change down.
+/// Per result: claims passed, claims, run time (s, "—" when unknown); and the totals passed and
+/// claims over all results.
+fn summary(results: &[FolderResult]) -> (Vec<(usize, usize, String)>, usize, usize) {
+    let rows: Vec<(usize, usize, String)> = results
+        .iter()
+        .map(|r| {
+            let claims = r.claims();
+            let t = total_seconds(&r.value).map_or("—".into(), |t| format!("{t:.1}"));
+            (claims.iter().filter(|c| passed(c)).count(), claims.len(), t)
+        })
+        .collect();
+    let passed_count = rows.iter().map(|r| r.0).sum();
+    let total = rows.iter().map(|r| r.1).sum();
+    (rows, passed_count, total)
+}
+
+/// The C_K statement on Figs. 6–8 (C_K = 1, 10², 10⁴): rows `(C_K, CV of K, ‖θ0 − θ0_start‖)`,
+/// and whether the stiffness spread goes up and the shape change down.
+struct CkAcross {
+    rows: [(f64, f64, f64); 3],
+    spread_up: bool,
+    shape_down: bool,
+}
+
+const SPREAD_STATEMENT: &str = "\"as the C_K is increased the stiffness variation between the nodes increases\": CV of K strictly increasing over Figs. 6, 7, 8 and up by more than 10 % from Fig. 6 to Fig. 8.";
+const SHAPE_STATEMENT: &str = "\"whereas the change in orientation of the links is less apparent\": ‖θ0 − θ0_start‖ strictly decreasing over Figs. 6, 7, 8 and down by more than 10 % from Fig. 6 to Fig. 8.";
+
+fn verdict(pass: bool) -> &'static str {
+    if pass {
+        "PASS"
+    } else {
+        "FAIL"
+    }
+}
+
+/// The C_K statement on Figs. 6–8 (C_K = 1, 10², 10⁴) in Markdown.
 fn ck_across_figures(results: &[FolderResult]) -> Option<String> {
+    let CkAcross { rows, spread_up, shape_down } = ck_across(results)?;
+    let mut text = String::from("| C_K | CV of K | ‖θ0 − θ0_start‖ (rad) |\n|---|---|---|\n");
+    for (ck, cv, sh) in rows {
+        let _ = writeln!(text, "| {ck} | {cv:.4} | {sh:.4} |");
+    }
+    let _ = writeln!(
+        text,
+        "\n- **{}** {SPREAD_STATEMENT}\n- **{}** {SHAPE_STATEMENT}",
+        verdict(spread_up),
+        verdict(shape_down)
+    );
+    Some(text)
+}
+
+fn ck_across(results: &[FolderResult]) -> Option<CkAcross> {
     let pick = |name: &str| -> Option<(f64, f64, f64)> {
         let r = results.iter().find(|r| r.name == name)?;
         let s = r.value.get("summary")?.get("n10")?;
@@ -33,17 +113,7 @@ fn ck_across_figures(results: &[FolderResult]) -> Option<String> {
     // The study's rule: monotone, and a change of more than 10 % from C_K = 1 to 10⁴.
     let spread_up = rows.windows(2).all(|w| w[1].1 > w[0].1) && rows[2].1 / rows[0].1 - 1.0 > crate::study::EFFECT;
     let shape_down = rows.windows(2).all(|w| w[1].2 < w[0].2) && rows[2].2 / rows[0].2 - 1.0 < -crate::study::EFFECT;
-    let mut text = String::from("| C_K | CV of K | ‖θ0 − θ0_start‖ (rad) |\n|---|---|---|\n");
-    for (ck, cv, sh) in rows {
-        let _ = writeln!(text, "| {ck} | {cv:.4} | {sh:.4} |");
-    }
-    let _ = writeln!(
-        text,
-        "\n- **{}** \"as the C_K is increased the stiffness variation between the nodes increases\": CV of K strictly increasing over Figs. 6, 7, 8 and up by more than 10 % from Fig. 6 to Fig. 8.\n- **{}** \"whereas the change in orientation of the links is less apparent\": ‖θ0 − θ0_start‖ strictly decreasing over Figs. 6, 7, 8 and down by more than 10 % from Fig. 6 to Fig. 8.",
-        if spread_up { "PASS" } else { "FAIL" },
-        if shape_down { "PASS" } else { "FAIL" }
-    );
-    Some(text)
+    Some(CkAcross { rows, spread_up, shape_down })
 }
 
 /// Writes the report. `order` lists the case names in reading order; `errata` is the text of
@@ -58,27 +128,21 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
          reported, never tuned away. The case files (`paper-cases/NAME.json`) list the paper's values and every \
          assumption with its reason.\n\n",
     );
-    let (mut passed, mut total) = (0, 0);
+    let (rows, passed_count, total) = summary(results);
     md.push_str("## Summary\n\n| case | title | claims passed | run time (s) |\n|---|---|---|---|\n");
-    for r in results {
-        let claims = r.value.get("claims").and_then(Value::as_array).map_or(&[][..], Vec::as_slice);
-        let p = claims.iter().filter(|c| c.get("pass") == Some(&Value::Bool(true))).count();
-        passed += p;
-        total += claims.len();
-        let title = r.value.get("title").and_then(Value::as_str).unwrap_or("");
-        let t = total_seconds(&r.value).map_or("—".into(), |t| format!("{t:.1}"));
-        let _ = writeln!(md, "| [{}](#{}) | {} | {p} / {} | {t} |", r.name, r.name, cell(title), claims.len());
+    for (r, (p, n, t)) in results.iter().zip(rows) {
+        let _ = writeln!(md, "| [{}](#{}) | {} | {p} / {n} | {t} |", r.name, r.name, cell(r.title()));
     }
     for m in missing {
         let _ = writeln!(md, "| {m} | **no result** (the case did not run or failed) | — | — |");
     }
-    let _ = writeln!(md, "\n**{passed} of {total} claims pass.**\n");
+    let _ = writeln!(md, "\n**{passed_count} of {total} claims pass.**\n");
 
     md.push_str("## Claims\n\n| case | scope | check | statement | test | verdict | measured |\n|---|---|---|---|---|---|---|\n");
     for r in results {
-        for c in r.value.get("claims").and_then(Value::as_array).into_iter().flatten() {
-            let s = |k: &str| c.get(k).and_then(Value::as_str).unwrap_or("");
-            let verdict = if c.get("pass") == Some(&Value::Bool(true)) { "PASS" } else { "**FAIL**" };
+        for c in r.claims() {
+            let s = |k: &str| text_of(c, k);
+            let verdict = if passed(c) { "PASS" } else { "**FAIL**" };
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {verdict} | {} |",
@@ -100,12 +164,9 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
     }
     md.push_str("\n## Figures\n");
     for r in results {
-        let title = r.value.get("title").and_then(Value::as_str).unwrap_or("");
-        let _ = writeln!(md, "\n### {}\n\n{}\n", r.name, cell(title));
-        for f in r.value.get("files").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str) {
-            if f.ends_with(".svg") {
-                let _ = writeln!(md, "![{} {f}]({}/{f})\n", r.name, r.name);
-            }
+        let _ = writeln!(md, "\n### {}\n\n{}\n", r.name, cell(r.title()));
+        for f in r.files_ending(".svg").into_iter().chain(r.files_ending(".gif")) {
+            let _ = writeln!(md, "![{} {f}]({}/{f})\n", r.name, r.name);
         }
         let _ = writeln!(
             md,
@@ -116,9 +177,256 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
     md.push_str(
         "\n## Errata\n\nThe slips found in the paper (`docs/errata.md`), each with the test that proves it.\n\n",
     );
-    let table: Vec<&str> =
-        errata.lines().skip_while(|l| !l.starts_with('|')).take_while(|l| l.starts_with('|')).collect();
-    md.push_str(&table.join("\n"));
+    md.push_str(&errata_table(errata).join("\n"));
     md.push('\n');
     md
+}
+
+/// The lines of the first Markdown table of `docs/errata.md`.
+fn errata_table(errata: &str) -> Vec<&str> {
+    errata.lines().skip_while(|l| !l.starts_with('|')).take_while(|l| l.starts_with('|')).collect()
+}
+
+/// `text` with `&`, `<`, `>` and `"` escaped for HTML.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A Markdown table cell as HTML: escaped, with `code` spans and `**bold**`.
+fn inline_markdown(text: &str) -> String {
+    let escaped = escape(text.trim());
+    let mut out = String::new();
+    for (k, part) in escaped.split('`').enumerate() {
+        if k % 2 == 1 {
+            let _ = write!(out, "<code>{part}</code>");
+        } else {
+            for (j, piece) in part.split("**").enumerate() {
+                if j % 2 == 1 {
+                    let _ = write!(out, "<strong>{piece}</strong>");
+                } else {
+                    out.push_str(piece);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The cells of a Markdown table row (`| a | b \| c |`: `\|` is a literal bar).
+fn markdown_cells(line: &str) -> Vec<String> {
+    let line = line.trim();
+    let inner = line.strip_prefix('|').unwrap_or(line);
+    let inner = if inner.ends_with("\\|") { inner } else { inner.strip_suffix('|').unwrap_or(inner) };
+    let mut cells = Vec::new();
+    let mut cell = String::new();
+    let mut chars = inner.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek() == Some(&'|') => {
+                cell.push('|');
+                chars.next();
+            }
+            '|' => cells.push(std::mem::take(&mut cell)),
+            c => cell.push(c),
+        }
+    }
+    cells.push(cell);
+    cells
+}
+
+const STYLE: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
+table{border-collapse:collapse;margin:1em 0;font-size:0.9em}th,td{border:1px solid #bbb;padding:4px 6px;vertical-align:top;text-align:left}\
+th{background:#eee}td.pass{background:#c8eac8;font-weight:bold}td.fail{background:#f4c2c2;font-weight:bold}\
+code{background:#f2f2f2;padding:0 2px}figure{margin:1em 0}figure svg,figure img{max-width:100%;height:auto;border:1px solid #ddd}\
+.total{font-size:1.1em;font-weight:bold}";
+
+/// `report.html`: the report of [`report`] as one self-contained page: the same summary, claims
+/// (verdict cells coloured), C_K check, figures (SVG inline, animations as `data:` URIs), errata
+/// and run times. No script and no external resource; the same inputs give the same bytes.
+pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -> String {
+    let mut h = String::from("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
+    let _ = writeln!(h, "<title>Reproduction report</title>\n<style>{STYLE}</style>\n</head>\n<body>");
+    h.push_str("<h1>Reproduction report</h1>\n<p>Every figure of the paper, computed by <code>just paper</code>. Each claim is the paper's statement, the test this program holds it to, the verdict and the measured numbers. A <strong>solver</strong> check is about this program's own computation (converged, δ<sub>d</sub> met, T<sub>90</sub> met); a <strong>paper</strong> check is a statement of the paper. A FAIL is reported, never tuned away. The case files (<code>paper-cases/NAME.json</code>) list the paper's values and every assumption with its reason.</p>\n");
+    let (rows, passed_count, total) = summary(results);
+    h.push_str("<h2>Summary</h2>\n<table id=\"summary\">\n<tr><th>case</th><th>title</th><th>claims passed</th><th>run time (s)</th></tr>\n");
+    for (r, (p, n, t)) in results.iter().zip(rows) {
+        let _ = writeln!(
+            h,
+            "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{p} / {n}</td><td>{t}</td></tr>",
+            escape(&r.name),
+            escape(r.title()),
+        );
+    }
+    for m in missing {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td><strong>no result</strong> (the case did not run or failed)</td><td>—</td><td>—</td></tr>",
+            escape(m)
+        );
+    }
+    h.push_str("</table>\n");
+    let _ = writeln!(h, "<p class=\"total\" id=\"total\">{passed_count} of {total} claims pass.</p>");
+    h.push_str("<h2>Claims</h2>\n<table id=\"claims\">\n<tr><th>case</th><th>scope</th><th>check</th><th>statement</th><th>test</th><th>verdict</th><th>measured</th></tr>\n");
+    for r in results {
+        for c in r.claims() {
+            let pass = passed(c);
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"{}\">{}</td><td>{}</td></tr>",
+                escape(&r.name),
+                escape(text_of(c, "scope")),
+                escape(text_of(c, "check")),
+                escape(text_of(c, "statement")),
+                escape(text_of(c, "test")),
+                if pass { "pass" } else { "fail" },
+                verdict(pass),
+                escape(text_of(c, "measured"))
+            );
+        }
+    }
+    h.push_str("</table>\n");
+    if let Some(ck) = ck_across(results) {
+        h.push_str("<h2>C_K across Figs. 6–8</h2>\n<table id=\"ck\">\n<tr><th>C<sub>K</sub></th><th>CV of K</th><th>‖θ0 − θ0<sub>start</sub>‖ (rad)</th></tr>\n");
+        for (c, cv, sh) in ck.rows {
+            let _ = writeln!(h, "<tr><td>{c}</td><td>{cv:.4}</td><td>{sh:.4}</td></tr>");
+        }
+        h.push_str("</table>\n<table>\n");
+        for (pass, statement) in [(ck.spread_up, SPREAD_STATEMENT), (ck.shape_down, SHAPE_STATEMENT)] {
+            let class = if pass { "pass" } else { "fail" };
+            let _ = writeln!(h, "<tr><td class=\"{class}\">{}</td><td>{}</td></tr>", verdict(pass), escape(statement));
+        }
+        h.push_str("</table>\n");
+    }
+    if let Some(c) = results.iter().find_map(|r| r.value.get("conclusion").and_then(Value::as_str)) {
+        let _ = writeln!(h, "<h2>C_K study: conclusion</h2>\n<p>{}</p>", escape(c));
+    }
+    h.push_str("<h2>Figures</h2>\n");
+    for r in results {
+        let _ = writeln!(h, "<h3 id=\"{0}\">{0}</h3>\n<p>{1}</p>", escape(&r.name), escape(r.title()));
+        for (name, bytes) in &r.assets {
+            if name.ends_with(".svg") {
+                let svg = String::from_utf8_lossy(bytes);
+                let start = svg.find("<svg").unwrap_or(0);
+                let _ = writeln!(h, "<figure>{}</figure>", svg[start..].trim_end());
+            } else if name.ends_with(".gif") {
+                let _ = writeln!(
+                    h,
+                    "<figure><img alt=\"{} {}\" src=\"data:image/gif;base64,{}\"></figure>",
+                    escape(&r.name),
+                    escape(name),
+                    base64(bytes)
+                );
+            }
+        }
+        let _ = writeln!(
+            h,
+            "<p>Case file <code>paper-cases/{0}.json</code>; data: <code>results/{0}/</code> (<code>result.json</code> and CSV files).</p>",
+            escape(&r.name)
+        );
+    }
+    h.push_str("<h2>Errata</h2>\n<p>The slips found in the paper (<code>docs/errata.md</code>), each with the test that proves it.</p>\n<table id=\"errata\">\n");
+    for (k, line) in errata_table(errata).into_iter().enumerate() {
+        if k == 1 {
+            continue; // the |---| separator
+        }
+        let tag = if k == 0 { "th" } else { "td" };
+        let cells: String =
+            markdown_cells(line).iter().map(|c| format!("<{tag}>{}</{tag}>", inline_markdown(c))).collect();
+        let _ = writeln!(h, "<tr>{cells}</tr>");
+    }
+    h.push_str("</table>\n</body>\n</html>\n");
+    h
+}
+
+/// Standard Base64 (RFC 4648, with padding) of `bytes`.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [chunk[0], chunk.get(1).copied().unwrap_or(0), chunk.get(2).copied().unwrap_or(0)];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn results() -> Vec<FolderResult> {
+        let value = json!({
+            "title": "Fig. 3 <test>",
+            "claims": [
+                { "scope": "n5", "check": "solver", "statement": "converges", "test": "Ipopt", "pass": true, "measured": "J = 1" },
+                { "scope": "n5", "check": "paper", "statement": "a & b", "test": "t", "pass": false, "measured": "x < y" },
+            ],
+            "files": ["figure.svg", "animation.gif"],
+            "timings": { "total_seconds": 1.25 },
+        });
+        let svg = br#"<?xml version="1.0"?><svg width="10" height="10" viewBox="0 0 10 10"><text>panel</text></svg>"#;
+        vec![FolderResult {
+            name: "fig3".into(),
+            value,
+            assets: vec![("figure.svg".into(), svg.to_vec()), ("animation.gif".into(), b"GIF89a".to_vec())],
+        }]
+    }
+
+    #[test]
+    fn base64_follows_rfc_4648() {
+        for (raw, coded) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(base64(raw.as_bytes()), coded);
+        }
+    }
+
+    #[test]
+    fn the_html_report_holds_every_claim_figure_and_erratum_escaped_and_inline() {
+        let errata = "# E\n\n| # | Where |\n|---|---|\n| E1 | eq. (3) `a < b` \\| c **d** |\n\nNotes";
+        let html = report_html(&results(), errata, &["fig4".into()]);
+        assert!(html.starts_with("<!DOCTYPE html>") && html.ends_with("</html>\n"));
+        assert!(html.contains("<td class=\"pass\">PASS</td>") && html.contains("<td class=\"fail\">FAIL</td>"));
+        assert!(html.contains("Fig. 3 &lt;test&gt;") && html.contains("a &amp; b") && html.contains("x &lt; y"));
+        assert!(html.contains("1 of 2 claims pass."));
+        assert!(html.contains("<td>1.2</td>") || html.contains("<td>1.3</td>"), "run time");
+        assert!(html.contains("fig4</td><td><strong>no result</strong>"));
+        // The SVG inline without its XML declaration, the GIF as a data URI.
+        assert!(html.contains("<figure><svg width=\"10\"") && !html.contains("<?xml"));
+        assert!(html.contains("src=\"data:image/gif;base64,R0lGODlh\""));
+        // Errata: one header row, one body row, code spans and an escaped bar kept in its cell.
+        assert!(html.contains("<tr><th>#</th><th>Where</th></tr>"));
+        assert!(
+            html.contains("<td>E1</td><td>eq. (3) <code>a &lt; b</code> | c <strong>d</strong></td></tr>"),
+            "{html}"
+        );
+        // Self-contained: nothing fetched, no script.
+        for outside in ["<script", "http://", "https://", "<link", "@import"] {
+            assert!(!html.contains(outside), "{outside}");
+        }
+        assert_eq!(html, report_html(&results(), errata, &["fig4".into()]), "same inputs, same bytes");
+    }
 }

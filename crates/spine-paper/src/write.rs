@@ -157,6 +157,11 @@ impl Folder {
                     create_new(&stage.path.join(format!("{name}.pdf")), &pdf).map_err(&io)?;
                     written += 3;
                 }
+                FileContent::Animation(animation) => {
+                    let gif = animation.to_gif().map_err(|e| WriteError::Io(format!("{name}.gif: {e}")))?;
+                    create_new(&stage.path.join(format!("{name}.gif")), &gif).map_err(&io)?;
+                    written += 1;
+                }
             }
         }
         let text = result_json(result, self.deterministic);

@@ -17,6 +17,10 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod gif;
+
+pub use gif::to_gif;
+
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::sync::Once;
@@ -160,6 +164,10 @@ impl Panel {
         self.equal_aspect = true;
         self
     }
+    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
+        self.x_range = Some((lo, hi));
+        self
+    }
     pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
         self.y_range = Some((lo, hi));
         self
@@ -250,6 +258,20 @@ impl Figure {
         let width_in = if columns == 1 { 3.5 } else { 7.0 };
         let page = svg2pdf::PageOptions { dpi: width_px as f32 / width_in };
         svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), page).map(canonical_pdf).map_err(err)
+    }
+
+    /// The figure's size in pixels, `(width, height)`.
+    pub fn size(&self) -> (u32, u32) {
+        self.grid().2
+    }
+
+    /// Draws the figure into an RGB buffer (3 bytes per pixel, row by row), text rasterised with
+    /// the embedded font; returns its width, height and pixels.
+    pub fn to_rgb(&self) -> Result<(u32, u32, Vec<u8>), PlotError> {
+        let (rows, columns, size) = self.grid();
+        let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        self.draw(BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area(), rows, columns)?;
+        Ok((size.0, size.1, pixels))
     }
 
     /// Draws the figure as a PNG file at `path` (text rasterised with the embedded font).

@@ -106,6 +106,19 @@ impl CaseResult {
         series_of(py, &self.inner)
     }
 
+    /// The animation of the chain's motion as GIF bytes (`IPython.display.Image(data=...)` shows
+    /// it), or `None` when the run has none (ask with `run_case(..., animate=True)`; figures
+    /// fig9–fig11 always have one). Drawn on each call.
+    fn gif<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, pyo3::types::PyBytes>>> {
+        let animation = self.inner.files().into_iter().find_map(|f| match f.content {
+            spine_paper::run::FileContent::Animation(a) => Some(a),
+            _ => None,
+        });
+        let Some(animation) = animation else { return Ok(None) };
+        let bytes = py.detach(|| animation.to_gif()).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        Ok(Some(pyo3::types::PyBytes::new(py, &bytes)))
+    }
+
     /// The summary the CLI prints: status, the numbers that show it, warnings.
     #[getter]
     fn summary(&self) -> String {
@@ -139,14 +152,16 @@ impl CaseResult {
 /// `case`: a dictionary in the case-file format (docs/case-format.md), its JSON text, or the path
 /// of a case file. The optional overrides are the CLI's: `starts` and `seed` (multi-start of
 /// eq. (33)), `formulation` (`"full"` or `"reduced"`), `method` (`"ga"` or `"pattern"`, eq. (37)),
-/// `time_limit` (s, wall clock; the result then says `stopped="time_limit"`). With `out`, the
-/// result's folder is written as the CLI writes `--out`.
+/// `time_limit` (s, wall clock; the result then says `stopped="time_limit"`), and the animation
+/// of a dynamic run (`animate`, `frames`, `frame_width`, `magnify`, as `--animate`, `--frames`,
+/// `--frame-width`, `--magnify`; any of them asks for it; `Result.gif()` gives its bytes). With
+/// `out`, the result's folder is written as the CLI writes `--out`.
 ///
 /// Bad input raises `ValueError` with the CLI's one-line message naming the field; a time limit
 /// that leaves nothing to report raises `TimeoutError`; Ctrl-C stops the run and raises
 /// `KeyboardInterrupt` (nothing written).
 #[pyfunction]
-#[pyo3(signature = (case, *, out = None, deterministic = false, starts = None, seed = None, formulation = None, method = None, time_limit = None))]
+#[pyo3(signature = (case, *, out = None, deterministic = false, starts = None, seed = None, formulation = None, method = None, time_limit = None, animate = false, frames = None, frame_width = None, magnify = None))]
 #[allow(clippy::too_many_arguments)]
 fn run_case(
     py: Python<'_>,
@@ -158,6 +173,10 @@ fn run_case(
     formulation: Option<&str>,
     method: Option<&str>,
     time_limit: Option<f64>,
+    animate: bool,
+    frames: Option<usize>,
+    frame_width: Option<u32>,
+    magnify: Option<f64>,
 ) -> PyResult<CaseResult> {
     let case = case_from(py, case)?;
     let mut overrides = spine_paper::Overrides::default();
@@ -189,6 +208,14 @@ fn run_case(
             )));
         }
         overrides.time_limit = Some(Duration::from_secs_f64(s));
+    }
+    if animate || frames.is_some() || frame_width.is_some() || magnify.is_some() {
+        let d = spine_paper::AnimationOptions::default();
+        overrides.animation = Some(spine_paper::AnimationOptions {
+            frames: frames.unwrap_or(d.frames),
+            width: frame_width.unwrap_or(d.width),
+            magnification: magnify,
+        });
     }
     let result = interruptible(py, || spine_paper::run_case(&case, &overrides, &mut spine_paper::run::quiet))?
         .map_err(run_error)?;

@@ -224,3 +224,21 @@ def test_figure_pdf_opens_in_a_pdf_reader_with_its_text(tmp_path):
     assert float(page.mediabox.width) == pytest.approx(504.0, abs=0.5)  # 7 in: a two-column figure
     text = page.extract_text()
     assert "nodal stiffness" in text and "node j" in text and "K_j (N·m/rad)" in text
+
+
+def test_animation_bytes_from_python_equal_the_cli_file(tmp_path):
+    case = CASES / "step5.json"
+    plain = flexspine.run_case(case)
+    assert plain.gif() is None  # no animation unless asked
+    r = flexspine.run_case(case, animate=True, frames=8, frame_width=400, out=tmp_path / "py", deterministic=True)
+    gif = r.gif()
+    assert gif[:6] == b"GIF89a"
+    assert int.from_bytes(gif[6:8], "little") == 400  # logical screen width
+    assert (tmp_path / "py" / "animation.gif").read_bytes() == gif
+    done = cli("simulate", str(case), "--out", str(tmp_path / "cli"), "--frames", "8", "--frame-width", "400")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "cli" / "animation.gif").read_bytes() == gif
+    with pytest.raises(ValueError, match=r"animation\.frames"):
+        flexspine.run_case(case, frames=1)
+    with pytest.raises(ValueError, match="no motion to animate"):
+        flexspine.run_case(CASES / "design5.json", animate=True)

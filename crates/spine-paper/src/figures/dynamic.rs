@@ -5,6 +5,7 @@
 use super::*;
 use crate::run::samples_csv;
 use crate::run::DynamicOutput;
+use crate::{Animation, Track};
 use serde_json::json;
 use spine_dynamics::{DampingDesign, PeriodicResponse, StepResponse};
 use std::f64::consts::LN_10;
@@ -116,7 +117,7 @@ fn damping_summary(d: &DampingDesign) -> Value {
 pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
     let mut out = FigureOutput::default();
     let columns = runs.len();
-    let (mut responses, mut dampers, mut shapes) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut responses, mut dampers, mut shapes, mut tracks) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, run) in runs.iter().enumerate() {
         let (used, designs, _) = damping_designs(run)?;
         let d = designs.first().ok_or_else(|| format!("run {:?}: no damping design", run.name))?;
@@ -133,6 +134,7 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
         ));
         let s = Shapes::of_ends(&used.spans, &used.design, &r.ends);
         shapes.push(s.panel(&format!("({}) {}: undeformed and deformed", letter(2 * columns + k), run.title())));
+        tracks.push(Track::new(run.title(), &used.spans, &used.design.theta0, &r.samples));
         out.tables.push((format!("response_{}.csv", run.name), samples_csv(&r.samples)));
         out.tables.push((format!("shape_{}.csv", run.name), s.csv()));
         out.tables.push((format!("damping_{}.csv", run.name), values_csv("damping_n_m_s_per_rad", &d.damping)));
@@ -141,6 +143,8 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
     }
     let fig = responses.into_iter().chain(dampers).chain(shapes).fold(Figure::new(title, columns), Figure::with);
     out.figures.push(("figure".into(), fig));
+    let title = "Fig. 9: step responses of the eq. (35) designs".to_string();
+    out.animations.push(("animation".into(), Animation { title, tracks, options: Default::default() }));
     Ok(out)
 }
 
@@ -246,6 +250,14 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
     out.tables.push(("stiffness.csv".into(), values_csv("stiffness_n_m_per_rad", &p.stiffness)));
     out.tables.push(("shape.csv".into(), shapes.csv()));
+    out.animations.push((
+        "animation".into(),
+        Animation {
+            title: "Fig. 10: the eq. (37) design under the periodic force".into(),
+            tracks: vec![Track::new(run.title(), &used.spans, &design.theta0, &r.samples)],
+            options: Default::default(),
+        },
+    ));
     let scope = run.name;
     out.claims.push(Claim::solver(
         scope,
@@ -320,6 +332,14 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
         .with(shapes);
     out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
     out.tables.push(("damping.csv".into(), values_csv("damping_n_m_s_per_rad", &d.damping)));
+    out.animations.push((
+        "animation".into(),
+        Animation {
+            title: "Fig. 11: the fast design under the pulse train".into(),
+            tracks: vec![Track::new(run.title(), &used.spans, &used.design.theta0, &r.samples)],
+            options: Default::default(),
+        },
+    ));
     out.claims.extend(damping_claims(run.name, d, false));
     // Time the force is on in a period, from the samples of the last period.
     let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;

@@ -39,6 +39,8 @@ pub struct FigureOutput {
     pub figures: Vec<(String, Figure)>,
     /// File name → CSV text.
     pub tables: Vec<(String, String)>,
+    /// File stem → animation of the chain's motion (written as `STEM.gif`).
+    pub animations: Vec<(String, crate::Animation)>,
     pub claims: Vec<Claim>,
     /// Numbers the report and the cross-figure checks read back (`result.json` → `summary`).
     pub summary: serde_json::Map<String, Value>,

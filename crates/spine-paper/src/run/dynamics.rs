@@ -221,13 +221,18 @@ pub struct DynamicsResult {
     pub rise_fraction: f64,
     #[serde(skip)]
     pub n_links: usize,
+    /// The chain's motion, written as `animation.gif` when asked for.
+    #[serde(skip)]
+    pub animation: Option<crate::Animation>,
 }
 
-/// Runs a dynamic case of kind `kind` with title `title`.
+/// Runs a dynamic case of kind `kind` with title `title`, with an animation of its responses
+/// when `animation` is set.
 pub fn run_dynamics_case(
     kind: &'static str,
     title: &str,
     valid: &ValidDynamics,
+    animation: Option<crate::AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DynamicsResult, RunError> {
     // A design from eq. (33) that did not end clean is reported (exit 3), with no dynamics on it.
@@ -259,6 +264,7 @@ pub fn run_dynamics_case(
         periodic_design: None,
         rise_fraction: valid.step.rise_fraction,
         n_links: valid.chain.n_links(),
+        animation: None,
     };
     match output {
         None => {}
@@ -271,6 +277,11 @@ pub fn run_dynamics_case(
             );
         }
         Some(DynamicOutput::PeriodicDesign { design }) => result.periodic_design = Some(design),
+    }
+    if let Some(options) = animation {
+        let tracks = result.tracks(&valid.chain.spans);
+        result.animation =
+            (!tracks.is_empty()).then(|| crate::Animation { title: result.title.clone(), tracks, options });
     }
     Ok(result)
 }
@@ -294,6 +305,26 @@ impl DynamicsResult {
         self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.search.status.finished() && r.response.settled)
     }
 
+    /// The responses to animate: the step or periodic response, each eq. (35) design's step
+    /// response, or the eq. (37) design's periodic response.
+    fn tracks(&self, spans: &[f64]) -> Vec<crate::Track> {
+        let track = |label: String, samples| crate::Track::new(label, spans, &self.design.theta0, samples);
+        let mut tracks = Vec::new();
+        if let Some(r) = &self.step_response {
+            tracks.push(track("step response".into(), &r.samples));
+        }
+        if let Some(r) = &self.periodic_response {
+            tracks.push(track("periodic response".into(), &r.samples));
+        }
+        for d in self.damping_designs.iter().flatten() {
+            tracks.push(track(format!("T_d = {} s", d.design.target_rise_time), &d.design.response.samples));
+        }
+        if let Some(r) = &self.periodic_design {
+            tracks.push(track("eq. (37) design".into(), &r.response.samples));
+        }
+        tracks
+    }
+
     /// `response.csv` (step, periodic, eq. (37)), or `response_T{T_d}.csv` and
     /// `periodic_T{T_d}.csv` for each eq. (35) target.
     pub fn files(&self) -> Vec<OutputFile> {
@@ -314,6 +345,9 @@ impl DynamicsResult {
         }
         if let Some(r) = &self.periodic_design {
             files.push(csv("response.csv".into(), &r.response.samples));
+        }
+        if let Some(a) = &self.animation {
+            files.push(OutputFile { name: "animation".into(), content: FileContent::Animation(a.clone()) });
         }
         files
     }

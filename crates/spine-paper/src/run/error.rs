@@ -42,6 +42,9 @@ pub enum RunError {
         #[source]
         cause: Box<RunError>,
     },
+    /// A command-line option out of its range (the message names it and what is allowed).
+    #[error("{0}")]
+    Option(String),
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -76,7 +79,8 @@ impl RunError {
             | Self::Design(_)
             | Self::Dynamics(_)
             | Self::NotInFigure(_)
-            | Self::Recipe { .. } => true,
+            | Self::Recipe { .. }
+            | Self::Option(_) => true,
             Self::StaticDesignNotClean { .. } | Self::Interrupted | Self::TimeLimit { .. } => false,
             Self::InRun { source, .. } => source.is_input(),
         }

@@ -38,12 +38,17 @@ pub struct FigureResult {
     pub figures: Vec<(String, spine_plot::Figure)>,
     #[serde(skip)]
     pub tables: Vec<(String, String)>,
+    /// File stem → animation (written as `STEM.gif`).
+    #[serde(skip)]
+    pub animations: Vec<(String, crate::Animation)>,
 }
 
-/// Runs every run of `case` (checked as `runs`), then its recipe.
+/// Runs every run of `case` (checked as `runs`), then its recipe; its animations (if any) are
+/// drawn with `animation`, or the default options.
 pub fn run_figure(
     case: &FigureCase,
     runs: &[ValidRun],
+    animation: Option<crate::AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<FigureResult, RunError> {
     let title = if case.title.is_empty() { case.figure.clone() } else { case.title.clone() };
@@ -78,6 +83,11 @@ pub fn run_figure(
         files.push(format!("{stem}.png"));
         files.push(format!("{stem}.pdf"));
     }
+    let mut animations = made.animations;
+    for (stem, a) in &mut animations {
+        files.push(format!("{stem}.gif"));
+        a.options = animation.unwrap_or(a.options);
+    }
     Ok(FigureResult {
         kind: "figure",
         figure: case.figure.clone(),
@@ -92,6 +102,7 @@ pub fn run_figure(
         total_seconds: clock.elapsed().as_secs_f64(),
         figures: made.figures,
         tables: made.tables,
+        animations,
     })
 }
 
@@ -102,14 +113,18 @@ impl FigureResult {
         self.claims.iter().all(|c| c.pass || c.check != Check::Solver)
     }
 
-    /// The recipe's CSV tables, then its figures.
+    /// The recipe's CSV tables, then its figures, then its animations.
     pub fn files(&self) -> Vec<OutputFile> {
         let tables = self.tables.iter().map(|(name, text)| OutputFile::text(name.clone(), text.clone()));
         let figures = self
             .figures
             .iter()
             .map(|(stem, fig)| OutputFile { name: stem.clone(), content: FileContent::Figure(fig.clone()) });
-        tables.chain(figures).collect()
+        let animations = self
+            .animations
+            .iter()
+            .map(|(stem, a)| OutputFile { name: stem.clone(), content: FileContent::Animation(a.clone()) });
+        tables.chain(figures).chain(animations).collect()
     }
 }
 

@@ -7,8 +7,10 @@ use std::fmt::Write as _;
 pub enum FileContent {
     /// A CSV table or other text.
     Text(String),
-    /// A figure, written as `NAME.svg` and `NAME.png`.
+    /// A figure, written as `NAME.svg`, `NAME.png` and `NAME.pdf`.
     Figure(spine_plot::Figure),
+    /// An animation of the chain's motion, written as `NAME.gif`.
+    Animation(crate::Animation),
 }
 
 /// A file written beside `result.json`: its name (a figure's stem) and content.

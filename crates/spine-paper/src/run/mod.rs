@@ -40,6 +40,10 @@ pub struct Overrides {
     /// GA and pattern search at their next generation or poll, a multi-start before its next
     /// start; the run returns what it reached, marked [`CaseResult::stopped`] (exit code 3).
     pub time_limit: Option<std::time::Duration>,
+    /// Animations: a dynamic run (`simulate`, `damping`, `periodic`) writes `animation.gif` when
+    /// set; a figure with an animation (fig9–fig11) always writes one, with these options when
+    /// set and the defaults otherwise.
+    pub animation: Option<crate::AnimationOptions>,
 }
 
 /// Runs `run` under `overrides.time_limit`; a run the limit stopped is marked, or, when the limit
@@ -82,6 +86,15 @@ pub fn run_case(
     overrides: &Overrides,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
+    if let Some(a) = &overrides.animation {
+        a.validate().map_err(RunError::Option)?;
+        if matches!(case, Case::Equilibrium(_) | Case::Twolink(_) | Case::Design(_)) {
+            return Err(RunError::Option(format!(
+                "animation: a \"{}\" case has no motion to animate (kinds simulate, damping, periodic and the figures fig9-fig11 do)",
+                case.kind()
+            )));
+        }
+    }
     limited(overrides, || {
         Ok(match case {
             Case::Equilibrium(c) => KindResult::Equilibrium(run_equilibrium(c, &c.validate()?)),
@@ -94,9 +107,9 @@ pub fn run_case(
             Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
                 let mut valid = c.validate(case.kind())?;
                 overrides.dynamics.apply(&mut valid);
-                KindResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, progress)?)
+                KindResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, overrides.animation, progress)?)
             }
-            Case::Figure(c) => KindResult::Figure(run_figure(c, &c.validate()?, progress)?),
+            Case::Figure(c) => KindResult::Figure(run_figure(c, &c.validate()?, overrides.animation, progress)?),
         })
     })
 }
