@@ -101,6 +101,21 @@ pub struct DesignArgs {
     /// `FROM` or `FROM:FACTOR`; default: the case file's `solver.refine`.
     #[arg(long)]
     pub refine: Option<spine_design::refine::Refine>,
+    /// Worker processes for the seeded starts of a multi-start, 1..=256 (default: the number of
+    /// cores; 1 solves them all in this process). The census is the same, byte for byte.
+    #[arg(long, value_name = "N", value_parser = parse_jobs)]
+    pub jobs: Option<usize>,
+}
+
+/// A worker process of `spine design --jobs N` (started by it, not by hand): checks CASE with the
+/// overrides, then answers each start design read from standard input (one JSON line) with the
+/// unchecked eq. (33) run (one JSON line).
+#[derive(clap::Args)]
+pub struct WorkerArgs {
+    pub case: PathBuf,
+    /// The parent's design overrides, as JSON.
+    #[arg(long)]
+    pub overrides: String,
 }
 
 #[derive(clap::Args)]
@@ -161,12 +176,31 @@ pub enum Command {
     Case(DynamicArgs),
     /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
     Study(StudyArgs),
+    #[command(hide = true)]
+    Worker(WorkerArgs),
     /// Gathers the figures' results into `RESULTS/REPORT.md` and `RESULTS/report.html` (one self-contained page).
     Report(ReportArgs),
 }
 
 impl DesignArgs {
-    pub fn overrides(&self) -> spine_paper::Overrides {
+    /// The overrides, with worker processes for a multi-start: `--jobs`, or one per core.
+    pub fn overrides(&self) -> Result<spine_paper::Overrides, crate::Failure> {
+        let mut overrides = self.design_overrides();
+        let jobs = self.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        if jobs > 1 {
+            let program = std::env::current_exe().map_err(|e| {
+                crate::Failure::Other(format!("--jobs: cannot find this program to start workers: {e}"))
+            })?;
+            let design = serde_json::to_string(&overrides.design).expect("overrides serialise");
+            let case = self.run.case.display().to_string();
+            let args = vec!["worker".to_string(), case, "--overrides".into(), design];
+            let command = spine_paper::run::workers::WorkerCommand { program, args };
+            overrides.workers = Some(spine_paper::run::workers::Workers { jobs, command });
+        }
+        Ok(overrides)
+    }
+
+    fn design_overrides(&self) -> spine_paper::Overrides {
         let design = spine_paper::run::DesignOverrides {
             formulation: self.formulation.as_deref().map(|f| {
                 if f == "reduced" {
@@ -246,6 +280,16 @@ fn parse_magnify(text: &str) -> Result<f64, String> {
         return Err(format!("a factor > 0 and ≤ {max:e}, got {text}"));
     }
     Ok(m)
+}
+
+/// `--jobs`: 1..=[`spine_paper::run::workers::MAX_JOBS`].
+fn parse_jobs(text: &str) -> Result<usize, String> {
+    let n: usize = text.parse().map_err(|e| format!("{e}"))?;
+    let max = spine_paper::run::workers::MAX_JOBS;
+    if !(1..=max).contains(&n) {
+        return Err(format!("allowed 1..={max}"));
+    }
+    Ok(n)
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).

@@ -40,13 +40,14 @@ fn main() -> ExitCode {
     let done = match &cli.command {
         Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), None),
         Command::Twolink(a) => run(a, Some("twolink"), Default::default(), None),
-        Command::Design(a) => run(&a.run, Some("design"), a.overrides(), None),
+        Command::Design(a) => a.overrides().and_then(|o| run(&a.run, Some("design"), o, None)),
         Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), None),
         Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), None),
         Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), None),
         Command::Case(a) => run(&a.run, None, a.overrides(), None),
         Command::Study(a) => a.values().and_then(|v| run(&a.run, None, Default::default(), Some(v))),
         Command::Report(a) => report::run(a),
+        Command::Worker(a) => worker(a),
     };
     match done {
         Ok(true) => ExitCode::SUCCESS,
@@ -70,6 +71,34 @@ fn main() -> ExitCode {
     }
 }
 
+/// Reads and parses a case file (refusing an oversized one before reading it).
+fn read_case(file: &std::path::Path) -> Result<spine_case::Case, Failure> {
+    let path = file.display().to_string();
+    let size = std::fs::metadata(file).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?.len();
+    if size > spine_case::MAX_CASE_BYTES as u64 {
+        let max = spine_case::MAX_CASE_BYTES;
+        return Err(Failure::Input(format!("{path}: case file: {size} bytes; at most {max} are accepted")));
+    }
+    let text = std::fs::read_to_string(file).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
+    spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))
+}
+
+/// `spine worker`: a worker process of `spine design --jobs N`, answering start designs on its
+/// standard input until it closes.
+fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
+    let path = a.case.display().to_string();
+    let spine_case::Case::Design(c) = read_case(&a.case)? else {
+        return Err(Failure::Input(format!("{path}: kind: a worker solves \"design\" cases")));
+    };
+    let overrides: spine_paper::run::DesignOverrides =
+        serde_json::from_str(&a.overrides).map_err(|e| Failure::Input(format!("--overrides: {e}")))?;
+    let mut valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+    overrides.apply(&mut valid);
+    let (input, output) = (std::io::stdin().lock(), std::io::stdout().lock());
+    spine_paper::run::workers::serve(&valid, input, output).map_err(|e| Failure::Other(format!("worker: {e}")))?;
+    Ok(true)
+}
+
 /// Reads and runs one case (of kind `expect` when given; a C_K study when `study` gives its
 /// values), writes its results and prints its summary. `Ok(clean)`.
 fn run(
@@ -80,14 +109,7 @@ fn run(
 ) -> Result<bool, Failure> {
     overrides.time_limit = args.time_limit;
     let path = args.case.display().to_string();
-    // Refuse an oversized file before reading it into memory.
-    let size = std::fs::metadata(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?.len();
-    if size > spine_case::MAX_CASE_BYTES as u64 {
-        let max = spine_case::MAX_CASE_BYTES;
-        return Err(Failure::Input(format!("{path}: case file: {size} bytes; at most {max} are accepted")));
-    }
-    let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
-    let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+    let case = read_case(&args.case)?;
     if let Some(kind) = expect.filter(|k| *k != case.kind()) {
         let msg = format!(
             "{path}: kind: this command runs \"{kind}\" cases, the file is \"{}\" (use `spine case`)",

@@ -16,7 +16,8 @@ impl Bars {
                 if self.bar.as_ref().is_none_or(|(s, _)| s != stage) {
                     self.clear();
                     let bar = ProgressBar::new(total as u64);
-                    let style = ProgressStyle::with_template("  {msg} {bar:40} {pos}/{len} [{elapsed_precise}]");
+                    let style =
+                        ProgressStyle::with_template("  {msg} {bar:40} {pos}/{len} [{elapsed_precise}, ETA {eta}]");
                     bar.set_style(style.expect("a valid template"));
                     bar.set_message(stage.to_string());
                     self.bar = Some((stage.to_string(), bar));

@@ -282,3 +282,30 @@ fn refined_design_reports_every_level_and_is_deterministic() {
     assert!(!out.join("result.json").exists());
     assert!(String::from_utf8_lossy(&o.stderr).contains("refine"));
 }
+
+#[test]
+fn worker_processes_give_the_census_of_one_process_byte_for_byte() {
+    let census = |jobs: &str, formulation: &str| {
+        let tag = format!("jobs-{jobs}-{formulation}");
+        let (o, out) = design_deterministic(
+            "paper-cases/design10.json",
+            &tag,
+            &["--starts", "12", "--seed", "3", "--jobs", jobs, "--formulation", formulation],
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        (std::fs::read(out.join("result.json")).unwrap(), String::from_utf8_lossy(&o.stdout).into_owned())
+    };
+    for formulation in ["full", "reduced"] {
+        let (one, summary) = census("1", formulation);
+        assert!(summary.contains("multi-start: 13 runs"), "{summary}");
+        for jobs in ["2", "3"] {
+            assert!(census(jobs, formulation).0 == one, "--jobs {jobs} ({formulation}) differs from --jobs 1");
+        }
+    }
+    for bad in ["0", "257", "two"] {
+        let (o, out) = design_deterministic("paper-cases/design10.json", &format!("jobs-bad-{bad}"), &["--jobs", bad]);
+        assert_eq!(o.status.code(), Some(2), "--jobs {bad}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--jobs"));
+        assert!(!out.join("result.json").exists());
+    }
+}

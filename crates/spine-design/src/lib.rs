@@ -40,4 +40,4 @@ pub mod solve;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
 pub use settings::{Formulation, ScalingMethod, SolverSettings};
-pub use solve::{solve_design, DesignError};
+pub use solve::{run_solver, solve_design, DesignError, SolverRun};

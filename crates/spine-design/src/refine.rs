@@ -331,7 +331,7 @@ pub fn prolong(
 }
 
 /// How a level of the ladder started.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LevelStart {
     /// From the case's start design (restricted to the level), states by load continuation,

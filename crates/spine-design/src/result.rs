@@ -4,7 +4,7 @@
 use crate::problem::DesignProblem;
 use crate::refine::{Ladder, LevelStart, WarmStart};
 use crate::settings::{ExtraOption, Formulation, SolverSettings};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use spine_ipopt::{EvaluationCounts, Solution};
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::{end_constraint, end_x, link_lengths, node_positions};
@@ -71,7 +71,7 @@ impl Serialize for DesignWarning {
 }
 
 /// Ipopt's account of the run.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SolverReport {
     /// The Ipopt the program is built against ([`spine_ipopt::IPOPT_VERSION`]).
     pub ipopt_version: String,
@@ -98,10 +98,23 @@ pub struct SolverReport {
     pub start_seconds: f64,
     pub check_seconds: f64,
     pub total_seconds: f64,
-    #[serde(serialize_with = "serialize_counts")]
+    #[serde(serialize_with = "serialize_counts", deserialize_with = "deserialize_counts")]
     pub evaluations: EvaluationCounts,
     /// Reduced space: distinct designs at which both equilibria were solved.
     pub equilibrium_solves: usize,
+}
+
+fn deserialize_counts<'de, D: serde::Deserializer<'de>>(d: D) -> Result<EvaluationCounts, D::Error> {
+    #[derive(Deserialize)]
+    struct Counts {
+        objective: usize,
+        gradient: usize,
+        constraints: usize,
+        jacobian: usize,
+        hessian: usize,
+    }
+    let Counts { objective, gradient, constraints, jacobian, hessian } = Counts::deserialize(d)?;
+    Ok(EvaluationCounts { objective, gradient, constraints, jacobian, hessian })
 }
 
 fn serialize_counts<S: serde::Serializer>(c: &EvaluationCounts, s: S) -> Result<S::Ok, S::Error> {
@@ -139,7 +152,7 @@ impl SolverReport {
 }
 
 /// One level of a mesh-sequenced run ([`crate::refine`]).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LevelReport {
     /// Links of this level's chain.
     pub links: usize,
@@ -156,7 +169,7 @@ pub struct LevelReport {
 }
 
 /// How a mesh-sequenced run went.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefinementReport {
     pub ladder: Ladder,
     pub warm_start: WarmStart,

@@ -7,6 +7,7 @@ use crate::reduced_space::ReducedSpaceNlp;
 use crate::refine::{self, LevelStart, Multipliers};
 use crate::result::{DesignResult, LevelReport, RefinementReport, SolverReport};
 use crate::settings::{Formulation, SolverSettings};
+use serde::{Deserialize, Serialize};
 use spine_ipopt::{IterationInfo, OptionValue, SetupError, Solution};
 use spine_model::{Design, State};
 use std::time::Instant;
@@ -22,6 +23,7 @@ pub enum DesignError {
 /// Solves eq. (33) from `start` (projected into the bounds first) in the given formulation; in the
 /// full space through the mesh-sequencing ladder of `settings.refine` when it applies.
 /// `observer` sees every Ipopt iteration (of every level) and may stop the run by returning `false`.
+/// The same as [`run_solver`] then [`SolverRun::check`].
 pub fn solve_design(
     problem: &DesignProblem,
     start: &Design,
@@ -29,6 +31,46 @@ pub fn solve_design(
     settings: &SolverSettings,
     observer: &mut dyn FnMut(&IterationInfo) -> bool,
 ) -> Result<DesignResult, DesignError> {
+    Ok(run_solver(problem, start, formulation, settings, observer)?.check(problem, settings))
+}
+
+/// What Ipopt returned for eq. (33), before it is checked: the design, the states, the solver's
+/// report, notes on the start and the ladder's levels. Serialisable without loss (a worker
+/// process sends it to the process that checks it); [`SolverRun::check`] turns it into the
+/// [`DesignResult`], the same wherever it runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SolverRun {
+    pub formulation: Formulation,
+    pub design: Design,
+    pub states: Option<(State, State)>,
+    pub solver: SolverReport,
+    pub start_notes: Vec<String>,
+    pub refinement: Option<RefinementReport>,
+}
+
+impl SolverRun {
+    /// Recomputes and checks everything the result reports from the design and states
+    /// ([`DesignResult::check`]).
+    pub fn check(self, problem: &DesignProblem, settings: &SolverSettings) -> DesignResult {
+        let check_clock = Instant::now();
+        let SolverRun { formulation, design, states, solver, start_notes, refinement } = self;
+        let solved_seconds = solver.total_seconds;
+        let mut result = DesignResult::check(problem, formulation, design, states, solver, start_notes, settings);
+        result.solver.check_seconds = check_clock.elapsed().as_secs_f64();
+        result.solver.total_seconds = solved_seconds + result.solver.check_seconds;
+        result.refinement = refinement;
+        result
+    }
+}
+
+/// Eq. (33) with Ipopt from `start`, as [`solve_design`], without the final check.
+pub fn run_solver(
+    problem: &DesignProblem,
+    start: &Design,
+    formulation: Formulation,
+    settings: &SolverSettings,
+    observer: &mut dyn FnMut(&IterationInfo) -> bool,
+) -> Result<SolverRun, DesignError> {
     let clock = Instant::now();
     let (start, mut notes) = problem.project_start(start);
     let options = settings.ipopt();
@@ -72,12 +114,8 @@ pub fn solve_design(
         .iter()
         .map(|(k, v)| (k.to_string(), if let OptionValue::Str(text) = v { text.clone() } else { v.to_string() }))
         .collect();
-    let check_clock = Instant::now();
-    let mut result = DesignResult::check(problem, formulation, design, states, report, notes, settings);
-    result.solver.check_seconds = check_clock.elapsed().as_secs_f64();
-    result.solver.total_seconds = clock.elapsed().as_secs_f64();
-    result.refinement = refinement;
-    Ok(result)
+    report.total_seconds = clock.elapsed().as_secs_f64();
+    Ok(SolverRun { formulation, design, states, solver: report, start_notes: notes, refinement })
 }
 
 /// Eq. (33) in the full space through the ladder of chain sizes (see [`crate::refine`]). Returns

@@ -1,8 +1,9 @@
 //! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
 
+use super::workers::{solve_starts, Workers};
 use super::{Progress, RunError};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
 use spine_design::multistart::{cluster, feasible_starts, MultiStartSummary};
@@ -48,7 +49,7 @@ pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
 }
 
 /// Changes to a design case from the command line (each `None` keeps the case file's value).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DesignOverrides {
     pub formulation: Option<Formulation>,
     /// Extra seeded feasible starts.
@@ -91,10 +92,12 @@ pub struct DesignCaseResult {
     pub multistart: Option<MultiStartSummary>,
 }
 
-/// Eq. (33) from the case's start, then from `valid.multistart.starts` seeded feasible starts.
+/// Eq. (33) from the case's start, then from `valid.multistart.starts` seeded feasible starts (in
+/// `workers` processes when given with more than one job: the same census).
 pub fn run_design_case(
     case: &DesignCase,
     valid: &ValidDesign,
+    workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
     let own = solve(valid, &valid.start)?;
@@ -104,13 +107,25 @@ pub fn run_design_case(
         return Ok(DesignCaseResult { kind: "design", title, reported_start: 0, result: own, multistart: None });
     }
     let mut results = vec![own];
-    for (k, d) in feasible_starts(&valid.problem, starts, seed).iter().enumerate() {
-        progress(Progress::Step { stage: "multi-start", done: k, total: starts });
-        if spine_stop::check().is_some() {
-            // Time limit: the census holds the starts run so far (`multistart.starts` says how many).
-            break;
+    let seeded = feasible_starts(&valid.problem, starts, seed);
+    match workers.filter(|w| w.jobs > 1) {
+        Some(w) => {
+            progress(Progress::Step { stage: "multi-start", done: 0, total: starts });
+            let runs = solve_starts(w, &seeded, &mut |k| {
+                progress(Progress::Step { stage: "multi-start", done: k, total: starts })
+            })?;
+            results.extend(runs.into_iter().map(|run| run.check(&valid.problem, &valid.settings)));
         }
-        results.push(solve(valid, d)?);
+        None => {
+            for (k, d) in seeded.iter().enumerate() {
+                progress(Progress::Step { stage: "multi-start", done: k, total: starts });
+                if spine_stop::check().is_some() {
+                    // Time limit: the census holds the starts run so far (`multistart.starts` says how many).
+                    break;
+                }
+                results.push(solve(valid, d)?);
+            }
+        }
     }
     progress(Progress::Step { stage: "multi-start", done: results.len() - 1, total: starts });
     let own = results[0].clone();

@@ -45,6 +45,9 @@ pub enum RunError {
     /// A command-line option out of its range (the message names it and what is allowed).
     #[error("{0}")]
     Option(String),
+    /// A worker process of a multi-start failed (it could not start, or ended without an answer).
+    #[error("{0}")]
+    Worker(String),
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -81,7 +84,7 @@ impl RunError {
             | Self::NotInFigure(_)
             | Self::Recipe { .. }
             | Self::Option(_) => true,
-            Self::StaticDesignNotClean { .. } | Self::Interrupted | Self::TimeLimit { .. } => false,
+            Self::StaticDesignNotClean { .. } | Self::Interrupted | Self::TimeLimit { .. } | Self::Worker(_) => false,
             Self::InRun { source, .. } => source.is_input(),
         }
     }

@@ -13,6 +13,7 @@ mod output;
 mod progress;
 mod result;
 mod twolink;
+pub mod workers;
 
 pub use design::{run_design, run_design_case, DesignCaseResult, DesignOverrides, StaticDesign};
 pub use dynamics::{
@@ -31,7 +32,7 @@ pub use twolink::{run_twolink_case, TwoLinkResult};
 use spine_case::Case;
 
 /// Changes to a case from the command line (each `None` keeps the case file's value).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Overrides {
     pub design: DesignOverrides,
     pub dynamics: DynamicsOverrides,
@@ -44,6 +45,9 @@ pub struct Overrides {
     /// set; a figure with an animation (fig9–fig11) always writes one, with these options when
     /// set and the defaults otherwise.
     pub animation: Option<crate::AnimationOptions>,
+    /// Worker processes for the seeded starts of a multi-start (`None`, or one job: every solve in
+    /// this process). The census is the same either way.
+    pub workers: Option<workers::Workers>,
 }
 
 /// Runs `run` under `overrides.time_limit`; a run the limit stopped is marked, or, when the limit
@@ -102,7 +106,7 @@ pub fn run_case(
             Case::Design(c) => {
                 let mut valid = c.validate()?;
                 overrides.design.apply(&mut valid);
-                KindResult::Design(run_design_case(c, &valid, progress)?)
+                KindResult::Design(run_design_case(c, &valid, overrides.workers.as_ref(), progress)?)
             }
             Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
                 let mut valid = c.validate(case.kind())?;

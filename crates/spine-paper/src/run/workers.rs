@@ -1,0 +1,208 @@
+//! Eq. (33) multi-start solves in worker processes (`--jobs N`).
+//!
+//! Debian's Ipopt 3.11.9 with MUMPS aborts when two solves run in one process (and the abort exits
+//! 0), so independent solves run in separate processes, never threads. A worker is this program
+//! started again ([`WorkerCommand`], `spine worker CASE …`): it checks the same case with the same
+//! overrides, then reads start designs from its standard input, one JSON line each, and answers
+//! each with one JSON line: the unchecked [`SolverRun`] or an error ([`serve`]). The parent hands
+//! out starts as workers become free, checks every run itself ([`SolverRun::check`]) and keeps
+//! them in start order, so the census is the one the sequential run gives, byte for byte.
+//!
+//! A time limit or an interrupt stops handing out starts; solves still in flight are abandoned
+//! (their workers are killed), so the census holds the starts completed.
+
+use super::RunError;
+use serde::{Deserialize, Serialize};
+use spine_design::{run_solver, SolverRun};
+use spine_model::Design;
+use std::io::{BufRead, BufReader, Write};
+use std::path::PathBuf;
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{mpsc, Mutex};
+use std::time::Duration;
+
+/// How to start a worker process: a program and its arguments (the CLI: its own executable with
+/// `worker CASE` and the design overrides).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkerCommand {
+    pub program: PathBuf,
+    pub args: Vec<String>,
+}
+
+/// Worker processes for the independent solves of a multi-start.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Workers {
+    /// How many solves run at once (processes), ≥ 1; 1 runs every solve in this process.
+    pub jobs: usize,
+    pub command: WorkerCommand,
+}
+
+/// Most worker processes allowed.
+pub const MAX_JOBS: usize = 256;
+
+/// One answer of a worker.
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum Answer {
+    Run(Box<SolverRun>),
+    Error(String),
+}
+
+/// The worker's side: eq. (33) of `valid` from every start design read from `input` (one JSON
+/// line each), one answer line each on `output`, until `input` ends.
+pub fn serve(valid: &spine_case::ValidDesign, input: impl BufRead, mut output: impl Write) -> std::io::Result<()> {
+    for line in input.lines() {
+        let line = line?;
+        let answer = match serde_json::from_str::<Design>(&line) {
+            Ok(start) => match run_solver(&valid.problem, &start, valid.formulation, &valid.settings, &mut |_| true) {
+                Ok(run) => Answer::Run(Box::new(run)),
+                Err(e) => Answer::Error(format!("solver: {e}")),
+            },
+            Err(e) => Answer::Error(format!("worker: not a start design: {e}")),
+        };
+        let mut text = serde_json::to_string(&answer).expect("answers serialise");
+        text.push('\n');
+        output.write_all(text.as_bytes())?;
+        output.flush()?;
+    }
+    Ok(())
+}
+
+/// The pipes of a running worker.
+struct Pipes {
+    input: ChildStdin,
+    output: BufReader<ChildStdout>,
+}
+
+fn worker_error(message: String) -> RunError {
+    RunError::Worker(message)
+}
+
+/// Starts a worker; its process and its pipes.
+fn start_worker(command: &WorkerCommand) -> Result<(Child, Pipes), RunError> {
+    let mut child = Command::new(&command.program)
+        .args(&command.args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .map_err(|e| worker_error(format!("{}: cannot start a worker: {e}", command.program.display())))?;
+    match (child.stdin.take(), child.stdout.take()) {
+        (Some(input), Some(output)) => Ok((child, Pipes { input, output: BufReader::new(output) })),
+        _ => {
+            let _ = child.kill();
+            let _ = child.wait();
+            Err(worker_error("a worker started without its pipes".into()))
+        }
+    }
+}
+
+impl Pipes {
+    /// Solves from `start` in the worker.
+    fn solve(&mut self, start: &Design) -> Result<SolverRun, RunError> {
+        let mut line = serde_json::to_string(start).expect("designs serialise");
+        line.push('\n');
+        let lost = |e: std::io::Error| worker_error(format!("a worker stopped answering: {e}"));
+        self.input.write_all(line.as_bytes()).map_err(lost)?;
+        self.input.flush().map_err(lost)?;
+        let mut answer = String::new();
+        if self.output.read_line(&mut answer).map_err(lost)? == 0 {
+            return Err(worker_error("a worker ended before answering (see its message above)".into()));
+        }
+        match serde_json::from_str(&answer) {
+            Ok(Answer::Run(run)) => Ok(*run),
+            Ok(Answer::Error(message)) => Err(worker_error(message)),
+            Err(e) => Err(worker_error(format!("a worker's answer is not a run: {e}"))),
+        }
+    }
+}
+
+/// What a worker thread reports to the thread that drives the run.
+type Event = (usize, Result<SolverRun, RunError>);
+
+/// Eq. (33) from every design of `starts` in `workers.jobs` worker processes. Returns the runs in
+/// start order up to the first start not completed (a stop: the time limit or an interrupt, seen
+/// through [`spine_stop::check`] on this thread, which ends every worker at once); `done(k)` is
+/// called as runs complete, `k` of them so far.
+pub fn solve_starts(
+    workers: &Workers,
+    starts: &[Design],
+    done: &mut dyn FnMut(usize),
+) -> Result<Vec<SolverRun>, RunError> {
+    let jobs = workers.jobs.clamp(1, MAX_JOBS).min(starts.len().max(1));
+    let mut children = Vec::with_capacity(jobs);
+    let mut pipes = Vec::with_capacity(jobs);
+    let end = |children: &mut Vec<Mutex<Child>>| {
+        for c in children.iter_mut() {
+            let c = c.get_mut().unwrap_or_else(|p| p.into_inner());
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    };
+    for _ in 0..jobs {
+        match start_worker(&workers.command) {
+            Ok((child, p)) => {
+                children.push(Mutex::new(child));
+                pipes.push(p);
+            }
+            Err(e) => {
+                end(&mut children);
+                return Err(e);
+            }
+        }
+    }
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let mut slots: Vec<Option<SolverRun>> = vec![None; starts.len()];
+    let mut failure = None;
+    let (send, receive) = mpsc::channel::<Event>();
+    std::thread::scope(|scope| {
+        for mut p in pipes {
+            let (send, next, stop) = (send.clone(), &next, &stop);
+            scope.spawn(move || {
+                while !stop.load(Ordering::SeqCst) {
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(start) = starts.get(k) else { break };
+                    let run = p.solve(start);
+                    let failed = run.is_err();
+                    if send.send((k, run)).is_err() || failed {
+                        break;
+                    }
+                }
+                // Dropping the pipes closes the worker's input: it ends.
+            });
+        }
+        drop(send);
+        let mut completed = 0;
+        loop {
+            match receive.recv_timeout(Duration::from_millis(20)) {
+                Ok((k, Ok(run))) => {
+                    slots[k] = Some(run);
+                    completed += 1;
+                    done(completed);
+                }
+                Ok((_, Err(e))) => {
+                    failure.get_or_insert(e);
+                    stop.store(true, Ordering::SeqCst);
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+            }
+            if spine_stop::check().is_some() && !stop.swap(true, Ordering::SeqCst) {
+                // Abandon the solves in flight: their threads see the pipes close.
+                for c in &children {
+                    let _ = c.lock().unwrap_or_else(|p| p.into_inner()).kill();
+                }
+            }
+        }
+    });
+    end(&mut children);
+    if spine_stop::interrupt_requested() {
+        return Err(RunError::Interrupted);
+    }
+    if let Some(e) = failure.filter(|_| spine_stop::check().is_none()) {
+        return Err(e);
+    }
+    Ok(slots.into_iter().map_while(|s| s).collect())
+}
