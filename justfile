@@ -8,7 +8,8 @@ build:
 
 # Run every test (release build; unit, integration, property and CLI tests), then the Ipopt-facing
 # tests again on the Ipopt 3.14 backend (`just ipopt314 test`), the Python package's tests
-# (`just python`), the browser check of the HTML report (`just browser-test`), then the lints
+# (`just python`), the browser check of the HTML report (`just browser-test`), the shard/merge
+# path of a multi-start under GNU parallel and the Slurm script (`just shard-test`), then the lints
 # (`just lint`).
 test:
     cargo build --release --workspace --all-targets --quiet
@@ -17,6 +18,7 @@ test:
     just ipopt314 test
     just python
     just browser-test
+    just shard-test
     just lint
 
 # The Python package `flexspine` (crates/spine-py): builds it from source and installs it into
@@ -40,6 +42,13 @@ browser-test:
         DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core >/dev/null; \
     fi
     CHROMIUM="$(command -v chromium)" cargo test --release --quiet -p spine-cli --test paper_cli -- --ignored report_html_renders_in_a_headless_browser
+
+# A multi-start split into shards as on a cluster (GNU parallel, and scripts/slurm/multistart.sbatch
+# as a simulated job array), merged and compared byte for byte with the single run; installs
+# Debian's parallel if missing.
+shard-test:
+    cargo build --release --workspace --all-targets --quiet
+    ./scripts/shard-merge-check.sh
 
 # Eq. (33) from Python beside the CLI and CasADi + IPOPT (5 and 10 links, the same start), one run.
 python-bench REPEATS="5":

@@ -105,6 +105,23 @@ pub struct DesignArgs {
     /// cores; 1 solves them all in this process). The census is the same, byte for byte.
     #[arg(long, value_name = "N", value_parser = parse_jobs)]
     pub jobs: Option<usize>,
+    /// Solve only the K-th of N shares of the starts (start i belongs to shard i mod N + 1) and
+    /// write `DIR/shard.json`; `spine merge` combines the N shards into the single run's result.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<spine_paper::run::shard::ShardSpec>,
+}
+
+#[derive(clap::Args)]
+pub struct MergeArgs {
+    /// The shards: folders holding `shard.json` (or the files themselves), one per shard.
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// Output folder; `result.json` is written there, as the single run writes it.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
+    /// Leave timings out of `result.json`, so the same input gives the same bytes.
+    #[arg(long)]
+    pub deterministic: bool,
 }
 
 /// A worker process of `spine design --jobs N` (started by it, not by hand): checks CASE with the
@@ -176,6 +193,8 @@ pub enum Command {
     Case(DynamicArgs),
     /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
     Study(StudyArgs),
+    /// Combines the shards of a multi-start (`spine design … --shard K/N`) into its `result.json`.
+    Merge(MergeArgs),
     #[command(hide = true)]
     Worker(WorkerArgs),
     /// Gathers the figures' results into `RESULTS/REPORT.md` and `RESULTS/report.html` (one self-contained page).

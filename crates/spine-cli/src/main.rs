@@ -40,7 +40,11 @@ fn main() -> ExitCode {
     let done = match &cli.command {
         Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), None),
         Command::Twolink(a) => run(a, Some("twolink"), Default::default(), None),
-        Command::Design(a) => a.overrides().and_then(|o| run(&a.run, Some("design"), o, None)),
+        Command::Design(a) => a.overrides().and_then(|o| match a.shard {
+            Some(spec) => shard(&a.run, o, spec),
+            None => run(&a.run, Some("design"), o, None),
+        }),
+        Command::Merge(a) => merge(a),
         Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), None),
         Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), None),
         Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), None),
@@ -83,6 +87,66 @@ fn read_case(file: &std::path::Path) -> Result<spine_case::Case, Failure> {
     spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))
 }
 
+/// `spine design --shard K/N`: the K-th share of a multi-start's starts, written to
+/// `DIR/shard.json` (exit 3 when a time limit left it incomplete: `spine merge` refuses it).
+fn shard(
+    args: &RunArgs,
+    overrides: spine_paper::Overrides,
+    spec: spine_paper::run::shard::ShardSpec,
+) -> Result<bool, Failure> {
+    let path = args.case.display().to_string();
+    read_case(&args.case)?;
+    let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
+    let mut bars = progress::Bars::default();
+    let (shard, _) = spine_stop::with_time_limit(args.time_limit, || {
+        spine_paper::run::shard::run_shard(&text, &overrides.design, spec, overrides.workers.as_ref(), &mut |p| {
+            bars.report(p)
+        })
+    });
+    bars.clear();
+    let shard = shard.map_err(|e| failure(&path, e))?;
+    let json = serde_json::to_string(&shard).expect("shards serialise") + "\n";
+    output::Output::new(&args.out, args.deterministic).write_text("shard.json", &json)?;
+    output::say(&format!(
+        "shard {}/{}: {} runs{}; wrote {}\n",
+        spec.index,
+        spec.count,
+        shard.runs.len(),
+        if shard.complete { "" } else { " (INCOMPLETE: stopped early; merge will refuse it)" },
+        args.out.join("shard.json").display()
+    ));
+    Ok(shard.complete)
+}
+
+/// `spine merge DIR…`: the shards' runs checked and combined into the single run's result.
+fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
+    let mut shards = Vec::new();
+    for dir in &a.shards {
+        let file = if dir.is_dir() { dir.join("shard.json") } else { dir.clone() };
+        let name = file.display().to_string();
+        let text = std::fs::read_to_string(&file).map_err(|e| Failure::Input(format!("{name}: cannot read: {e}")))?;
+        let shard = serde_json::from_str(&text).map_err(|e| Failure::Input(format!("{name}: not a shard: {e}")))?;
+        shards.push(shard);
+    }
+    let result = spine_paper::run::shard::merge(shards).map_err(|e| failure("merge", e))?;
+    let (path, _) = output::Output::new(&a.out, a.deterministic).write_result(&result)?;
+    output::say(&format!("{result}wrote {}\n", path.display()));
+    Ok(result.is_clean())
+}
+
+/// A run's error as its exit code.
+fn failure(path: &str, e: spine_paper::RunError) -> Failure {
+    if e.is_interrupted() {
+        Failure::Interrupted
+    } else if e.is_time_limit() {
+        Failure::TimeLimit(format!("{path}: {e}"))
+    } else if e.is_input() {
+        Failure::Input(format!("{path}: {e}"))
+    } else {
+        Failure::Other(format!("{path}: {e}"))
+    }
+}
+
 /// `spine worker`: a worker process of `spine design --jobs N`, answering start designs on its
 /// standard input until it closes.
 fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
@@ -123,17 +187,7 @@ fn run(
         None => spine_paper::run_case(&case, &overrides, &mut |p| bars.report(p)),
     };
     bars.clear();
-    let result = result.map_err(|e| {
-        if e.is_interrupted() {
-            Failure::Interrupted
-        } else if e.is_time_limit() {
-            Failure::TimeLimit(format!("{path}: {e}"))
-        } else if e.is_input() {
-            Failure::Input(format!("{path}: {e}"))
-        } else {
-            Failure::Other(format!("{path}: {e}"))
-        }
-    })?;
+    let result = result.map_err(|e| failure(&path, e))?;
     if spine_stop::interrupt_requested() {
         return Err(Failure::Interrupted);
     }

@@ -309,3 +309,71 @@ fn worker_processes_give_the_census_of_one_process_byte_for_byte() {
         assert!(!out.join("result.json").exists());
     }
 }
+
+#[test]
+fn shards_merge_to_the_single_run_and_mismatched_or_incomplete_shards_are_refused() {
+    let case = workspace().join("paper-cases/design10.json");
+    let dir = tmpdir("shards");
+    let design = |extra: &[&str], out: &str| {
+        let out = dir.join(out);
+        let mut args = vec!["design", case.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        if !extra.contains(&"--starts") {
+            args.extend(["--starts", "9"]);
+        }
+        spine(&args)
+    };
+    assert!(design(&["--deterministic", "--jobs", "1"], "single").status.success());
+    // Three shards, one of them in two worker processes.
+    for (k, jobs) in [("1/3", "1"), ("2/3", "2"), ("3/3", "1")] {
+        let o = design(&["--shard", k, "--jobs", jobs], &format!("s{}", &k[..1]));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let shard = |k: &str| dir.join(k).to_str().unwrap().to_string();
+    let merge = |shards: &[&str], out: &str| {
+        let out = dir.join(out);
+        let shards: Vec<String> = shards.iter().map(|s| shard(s)).collect();
+        let mut args = vec!["merge"];
+        args.extend(shards.iter().map(String::as_str));
+        args.extend(["--out", out.to_str().unwrap(), "--deterministic"]);
+        (spine(&args), out)
+    };
+    // Any order of the shards gives the single run's bytes.
+    let (o, merged) = merge(&["s3", "s1", "s2"], "merged");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        std::fs::read(merged.join("result.json")).unwrap() == std::fs::read(dir.join("single/result.json")).unwrap()
+    );
+    // Another seed, a missing shard, a shard twice, a shard cut short by its time limit: exit 2,
+    // a message naming the problem, nothing written.
+    assert!(design(&["--shard", "2/3", "--seed", "9"], "other-seed").status.success());
+    let o = design(&["--shard", "2/3", "--starts", "100000", "--time-limit", "0.5"], "cut");
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stdout));
+    for (shards, message) in [
+        (vec!["s1", "other-seed", "s3"], "other settings"),
+        (vec!["s1", "s3"], "missing [2]"),
+        (vec!["s1", "s1", "s2", "s3"], "more than once [1]"),
+        (vec!["s2"], "missing [1, 3]"),
+        (vec!["single"], "cannot read"),
+    ] {
+        let (o, out) = merge(&shards, "refused");
+        assert_eq!(o.status.code(), Some(2), "{shards:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains(message), "{shards:?}: {stderr}");
+        assert!(!out.exists());
+    }
+    let cut: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("cut/shard.json")).unwrap()).unwrap();
+    assert_eq!(cut["complete"], false);
+    // A shard that lost its last run (as a cut one does) among its own partners: incomplete.
+    let mut short: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("s2/shard.json")).unwrap()).unwrap();
+    short["runs"].as_array_mut().unwrap().pop();
+    short["complete"] = serde_json::json!(false);
+    std::fs::create_dir_all(dir.join("short")).unwrap();
+    std::fs::write(dir.join("short/shard.json"), short.to_string()).unwrap();
+    let (o, out) = merge(&["s1", "short", "s3"], "refused");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("shard 2/3 is incomplete: 2 of its 3 starts"));
+    assert!(!out.exists());
+}

@@ -8,7 +8,7 @@ use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
 use spine_design::multistart::{cluster, feasible_starts, MultiStartSummary};
 use spine_design::refine::Refine;
-use spine_design::{solve_design, DesignProblem, DesignResult, Formulation};
+use spine_design::{run_solver, solve_design, DesignProblem, DesignResult, Formulation, SolverRun};
 use spine_model::{Design, State};
 
 /// An eq. (33) run with what the figures need besides the solver's result.
@@ -101,40 +101,69 @@ pub fn run_design_case(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
     let own = solve(valid, &valid.start)?;
-    let (starts, seed) = (valid.multistart.starts, valid.multistart.seed);
-    let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
-    if starts == 0 {
-        return Ok(DesignCaseResult { kind: "design", title, reported_start: 0, result: own, multistart: None });
-    }
+    let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);
+    let runs = solve_all(valid, &seeded, workers, progress)?;
     let mut results = vec![own];
-    let seeded = feasible_starts(&valid.problem, starts, seed);
+    results.extend(runs.into_iter().map(|run| run.check(&valid.problem, &valid.settings)));
+    Ok(census(case, valid, results))
+}
+
+/// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with
+/// more than one job), with the multi-start's progress. A time limit ends it early: the runs
+/// completed come back; an interrupt is [`RunError::Interrupted`].
+pub fn solve_all(
+    valid: &ValidDesign,
+    starts: &[Design],
+    workers: Option<&Workers>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Vec<SolverRun>, RunError> {
+    let total = starts.len();
+    if total == 0 {
+        return Ok(Vec::new());
+    }
+    let mut runs = Vec::new();
     match workers.filter(|w| w.jobs > 1) {
         Some(w) => {
-            progress(Progress::Step { stage: "multi-start", done: 0, total: starts });
-            let runs = solve_starts(w, &seeded, &mut |k| {
-                progress(Progress::Step { stage: "multi-start", done: k, total: starts })
-            })?;
-            results.extend(runs.into_iter().map(|run| run.check(&valid.problem, &valid.settings)));
+            progress(Progress::Step { stage: "multi-start", done: 0, total });
+            runs = solve_starts(w, starts, &mut |k| progress(Progress::Step { stage: "multi-start", done: k, total }))?;
         }
         None => {
-            for (k, d) in seeded.iter().enumerate() {
-                progress(Progress::Step { stage: "multi-start", done: k, total: starts });
+            for (k, d) in starts.iter().enumerate() {
+                progress(Progress::Step { stage: "multi-start", done: k, total });
                 if spine_stop::check().is_some() {
                     // Time limit: the census holds the starts run so far (`multistart.starts` says how many).
                     break;
                 }
-                results.push(solve(valid, d)?);
+                runs.push(
+                    run_solver(&valid.problem, d, valid.formulation, &valid.settings, &mut |_| true)
+                        .map_err(RunError::Design)?,
+                );
+                if spine_stop::interrupt_requested() {
+                    return Err(RunError::Interrupted);
+                }
             }
         }
     }
-    progress(Progress::Step { stage: "multi-start", done: results.len() - 1, total: starts });
+    progress(Progress::Step { stage: "multi-start", done: runs.len(), total });
+    Ok(runs)
+}
+
+/// The result of a design case from its checked runs in start order (`results[0]` from the case's
+/// own start): the run itself without multi-start, else the census headed by the best clean
+/// optimum.
+pub fn census(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignResult>) -> DesignCaseResult {
+    let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
+    if valid.multistart.starts == 0 && results.len() == 1 {
+        let result = results.remove(0);
+        return DesignCaseResult { kind: "design", title, reported_start: 0, result, multistart: None };
+    }
     let own = results[0].clone();
-    let summary = cluster(results, seed);
+    let summary = cluster(results, valid.multistart.seed);
     let (reported_start, result) = match summary.best_clean() {
         Some(best) => (best.starts[0], best.result.clone()),
         None => (0, own),
     };
-    Ok(DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary) })
+    DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary) }
 }
 
 impl DesignCaseResult {

@@ -48,6 +48,9 @@ pub enum RunError {
     /// A worker process of a multi-start failed (it could not start, or ended without an answer).
     #[error("{0}")]
     Worker(String),
+    /// Shards that cannot be merged (mismatched, missing, incomplete).
+    #[error(transparent)]
+    Merge(#[from] super::shard::MergeError),
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -83,7 +86,8 @@ impl RunError {
             | Self::Dynamics(_)
             | Self::NotInFigure(_)
             | Self::Recipe { .. }
-            | Self::Option(_) => true,
+            | Self::Option(_)
+            | Self::Merge(_) => true,
             Self::StaticDesignNotClean { .. } | Self::Interrupted | Self::TimeLimit { .. } | Self::Worker(_) => false,
             Self::InRun { source, .. } => source.is_input(),
         }

@@ -12,6 +12,7 @@ mod files;
 mod output;
 mod progress;
 mod result;
+pub mod shard;
 mod twolink;
 pub mod workers;
 

@@ -1,0 +1,206 @@
+//! A multi-start split over machines: `spine design CASE --shard K/N` solves the K-th share of the
+//! starts and writes a partial result ([`Shard`], `shard.json`); `spine merge DIR…` checks that
+//! the shards belong together and are complete, and gives the `result.json` the single run gives
+//! (byte for byte with `--deterministic`).
+//!
+//! Start `i` (0: the case's own, 1…`starts`: the seeded ones) belongs to shard `i mod N + 1`, so
+//! shares differ by one start at most. A shard holds Ipopt's unchecked runs ([`SolverRun`]); the
+//! merge checks them against the case, which the shard carries verbatim with the overrides it ran
+//! with, so a merge needs nothing but the shards.
+
+use super::design::{census, solve_all, DesignOverrides};
+use super::workers::Workers;
+use super::{CaseResult, KindResult, Progress, RunError};
+use serde::{Deserialize, Serialize};
+use spine_design::multistart::feasible_starts;
+use spine_design::SolverRun;
+
+/// The format tag of `shard.json`.
+pub const SHARD_FORMAT: &str = "spine-shard-1";
+
+/// Which share of the starts a run solves: shard `index` of `count` (1-based, `K/N` on the
+/// command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShardSpec {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl std::str::FromStr for ShardSpec {
+    type Err = String;
+    /// `K/N` with `1 ≤ K ≤ N ≤ 10⁵`.
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (k, n) = text.split_once('/').ok_or_else(|| format!("K/N expected, got {text:?}"))?;
+        let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| format!("K/N: {v:?}: {e}"));
+        let (index, count) = (parse(k)?, parse(n)?);
+        if !(1..=spine_case::MAX_STARTS).contains(&count) || !(1..=count).contains(&index) {
+            return Err(format!("K/N with 1 ≤ K ≤ N ≤ {}, got {text}", spine_case::MAX_STARTS));
+        }
+        Ok(Self { index, count })
+    }
+}
+
+impl ShardSpec {
+    /// The starts of this shard among `0..=starts`.
+    pub fn starts(&self, starts: usize) -> Vec<usize> {
+        (0..=starts).filter(|i| i % self.count == self.index - 1).collect()
+    }
+}
+
+/// `shard.json`: the runs of one shard, with what a merge needs to check and finish them.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Shard {
+    pub format: String,
+    /// The case file's text, verbatim.
+    pub case: String,
+    /// The overrides the shard ran with (`starts` and `seed` as used).
+    pub overrides: DesignOverrides,
+    pub shard: ShardSpec,
+    /// `(start, run)` in start order; fewer than the share when a time limit stopped the shard.
+    pub runs: Vec<(usize, SolverRun)>,
+    /// Every start of the share was solved.
+    pub complete: bool,
+}
+
+/// Why shards cannot be merged (bad input: exit code 2).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MergeError {
+    #[error("no shards given")]
+    Empty,
+    #[error("{0}")]
+    Mismatch(String),
+    #[error("{0}")]
+    Incomplete(String),
+    #[error("the shards' case: {0}")]
+    Case(String),
+}
+
+fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
+    match spine_case::Case::from_json(text)? {
+        spine_case::Case::Design(c) => Ok(c),
+        other => {
+            Err(RunError::Option(format!("--shard: a multi-start shards \"design\" cases, not \"{}\"", other.kind())))
+        }
+    }
+}
+
+/// Runs shard `spec` of the design case `text` (with `overrides`): its share of the starts,
+/// unchecked (in `workers` processes when given).
+pub fn run_shard(
+    text: &str,
+    overrides: &DesignOverrides,
+    spec: ShardSpec,
+    workers: Option<&Workers>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Shard, RunError> {
+    let case = design_case(text)?;
+    let mut valid = case.validate()?;
+    overrides.apply(&mut valid);
+    let used =
+        DesignOverrides { starts: Some(valid.multistart.starts), seed: Some(valid.multistart.seed), ..*overrides };
+    let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);
+    let share = spec.starts(valid.multistart.starts);
+    let designs: Vec<_> =
+        share.iter().map(|&i| if i == 0 { valid.start.clone() } else { seeded[i - 1].clone() }).collect();
+    let runs = solve_all(&valid, &designs, workers, progress)?;
+    let complete = runs.len() == share.len();
+    Ok(Shard {
+        format: SHARD_FORMAT.into(),
+        case: text.to_string(),
+        overrides: used,
+        shard: spec,
+        runs: share.into_iter().zip(runs).collect(),
+        complete,
+    })
+}
+
+/// Merges the shards of one multi-start into the result of the single run. Refused (with the
+/// reason) unless every shard has the same case, overrides and shard count, each of `1..=N`
+/// appears once, and each is complete.
+pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
+    let first = shards.first().ok_or(MergeError::Empty)?.clone();
+    for s in &shards {
+        if s.format != SHARD_FORMAT {
+            return Err(MergeError::Mismatch(format!("shard format {:?}, expected {SHARD_FORMAT:?}", s.format)).into());
+        }
+        if s.case != first.case {
+            return Err(MergeError::Mismatch(format!(
+                "shard {}/{} ran another case file than shard {}/{}",
+                s.shard.index, s.shard.count, first.shard.index, first.shard.count
+            ))
+            .into());
+        }
+        if s.overrides != first.overrides || s.shard.count != first.shard.count {
+            let settings = |o: &DesignOverrides| serde_json::to_string(o).unwrap_or_default();
+            return Err(MergeError::Mismatch(format!(
+                "shard {}/{} ran with other settings ({}) than shard {}/{} ({})",
+                s.shard.index,
+                s.shard.count,
+                settings(&s.overrides),
+                first.shard.index,
+                first.shard.count,
+                settings(&first.overrides)
+            ))
+            .into());
+        }
+    }
+    let count = first.shard.count;
+    shards.sort_by_key(|s| s.shard.index);
+    let indices: Vec<usize> = shards.iter().map(|s| s.shard.index).collect();
+    if indices != (1..=count).collect::<Vec<_>>() {
+        let missing: Vec<usize> = (1..=count).filter(|k| !indices.contains(k)).collect();
+        let twice: Vec<usize> = indices.windows(2).filter(|w| w[0] == w[1]).map(|w| w[0]).collect();
+        return Err(MergeError::Incomplete(format!(
+            "{count} shards expected; missing {missing:?}, given more than once {twice:?}"
+        ))
+        .into());
+    }
+    let case = design_case(&first.case).map_err(|e| MergeError::Case(e.to_string()))?;
+    let mut valid = case.validate().map_err(|e| MergeError::Case(e.to_string()))?;
+    first.overrides.apply(&mut valid);
+    let mut runs = Vec::with_capacity(valid.multistart.starts + 1);
+    for s in shards {
+        let expected = s.shard.starts(valid.multistart.starts);
+        let got: Vec<usize> = s.runs.iter().map(|(i, _)| *i).collect();
+        if !s.complete || got != expected {
+            return Err(MergeError::Incomplete(format!(
+                "shard {}/{} is incomplete: {} of its {} starts solved (stopped early?)",
+                s.shard.index,
+                count,
+                got.len(),
+                expected.len()
+            ))
+            .into());
+        }
+        runs.extend(s.runs);
+    }
+    runs.sort_by_key(|(i, _)| *i);
+    let results = runs.into_iter().map(|(_, run)| run.check(&valid.problem, &valid.settings)).collect();
+    Ok(KindResult::Design(census(&case, &valid, results)).into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shares_cover_every_start_once_and_differ_by_one_at_most() {
+        for (starts, count) in [(0, 1), (12, 3), (7, 4), (3, 5)] {
+            let mut all: Vec<usize> = Vec::new();
+            let sizes: Vec<usize> = (1..=count)
+                .map(|index| {
+                    let share = ShardSpec { index, count }.starts(starts);
+                    all.extend(&share);
+                    share.len()
+                })
+                .collect();
+            all.sort_unstable();
+            assert_eq!(all, (0..=starts).collect::<Vec<_>>());
+            assert!(sizes.iter().max().unwrap() - sizes.iter().min().unwrap() <= 1, "{sizes:?}");
+        }
+        assert_eq!("2/3".parse::<ShardSpec>(), Ok(ShardSpec { index: 2, count: 3 }));
+        for bad in ["0/3", "4/3", "3", "a/b", "1/0"] {
+            assert!(bad.parse::<ShardSpec>().is_err(), "{bad}");
+        }
+    }
+}
