@@ -132,7 +132,7 @@ pub fn design_periodic(
     let start_stiffness: Vec<f64> =
         problem.design.stiffness.iter().map(|k| k.clamp(settings.stiffness_min, settings.stiffness_max)).collect();
     let start_u: Vec<f64> = start_stiffness.iter().map(|k| k.log10()).collect();
-    let mut objective = |u: &[f64]| match evaluate(problem, &forcing, &to_stiffness(u), delta_d, settings) {
+    let objective = |u: &[f64]| match evaluate(problem, &forcing, &to_stiffness(u), delta_d, settings) {
         Ok((e, _)) => e,
         Err(_) => Evaluation::failed(),
     };
@@ -142,8 +142,8 @@ pub fn design_periodic(
     }
     let start = objective(&start_u);
     let search = match method {
-        SearchMethod::Ga => genetic_algorithm(&mut objective, &bounds, Some(&start_u), &settings.ga, progress)?,
-        SearchMethod::Pattern => pattern_search(&mut objective, &bounds, &start_u, &settings.pattern, progress)?,
+        SearchMethod::Ga => genetic_algorithm(&objective, &bounds, Some(&start_u), &settings.ga, progress)?,
+        SearchMethod::Pattern => pattern_search(&mut |u| objective(u), &bounds, &start_u, &settings.pattern, progress)?,
     };
     let stiffness = to_stiffness(&search.x);
     // The best point's response in full, also when a time limit ended the search (one more

@@ -75,10 +75,22 @@ pub const MAX_POPULATION: usize = 10_000;
 /// Most GA generations accepted.
 pub const MAX_GENERATIONS: usize = 100_000;
 
+/// `f` at every point, on rayon's pool (in order: the same values as one by one). Each pool thread
+/// works under this thread's time limit; a limit that passed is then seen here too.
+fn evaluate_all(f: &(dyn Fn(&[f64]) -> Evaluation + Sync), points: &[Vec<f64>]) -> Vec<Evaluation> {
+    use rayon::prelude::*;
+    let deadline = spine_stop::deadline();
+    let values = points.par_iter().map(|x| spine_stop::with_deadline(deadline, || f(x)).0).collect();
+    let _ = spine_stop::check();
+    values
+}
+
 /// Minimises `f` over `bounds`. `start`, when given, is one member of the first population (the
-/// rest are uniform in the bounds).
+/// rest are uniform in the bounds). The members of a generation are evaluated in parallel
+/// (rayon's pool; `RAYON_NUM_THREADS` sets its size), which changes nothing but the wall time: `f`
+/// must be a pure function of its point.
 pub fn genetic_algorithm(
-    f: &mut dyn FnMut(&[f64]) -> Evaluation,
+    f: &(dyn Fn(&[f64]) -> Evaluation + Sync),
     bounds: &Bounds,
     start: Option<&[f64]>,
     settings: &GaSettings,
@@ -97,11 +109,8 @@ pub fn genetic_algorithm(
             _ => (0..n).map(|i| rng.random_range(bounds.lower[i]..=bounds.upper[i])).collect(),
         })
         .collect();
-    let mut values: Vec<Evaluation> = Vec::with_capacity(pop_size);
-    for x in &population {
-        values.push(f(x));
-        evaluations += 1;
-    }
+    let mut values = evaluate_all(f, &population);
+    evaluations += values.len();
     let best_of =
         |values: &[Evaluation]| (0..values.len()).fold(0, |b, k| if values[k].better_than(&values[b]) { k } else { b });
     let mut best = best_of(&values);
@@ -180,11 +189,9 @@ pub fn genetic_algorithm(
                 children.push(c2);
             }
         }
-        for c in children {
-            next_values.push(f(&c));
-            evaluations += 1;
-            next.push(c);
-        }
+        next_values.extend(evaluate_all(f, &children));
+        evaluations += children.len();
+        next.extend(children);
         population = next;
         values = next_values;
         best = best_of(&values);

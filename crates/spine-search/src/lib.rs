@@ -112,7 +112,7 @@ impl Bounds {
 }
 
 /// Progress of a search, reported after every generation or poll.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Progress {
     /// Generation (GA) or iteration (pattern search).
     pub iteration: usize,

@@ -149,3 +149,17 @@ fn a_passed_time_limit_ends_both_searches_with_their_best_point() {
     assert_eq!(r.status, spine_search::SearchStatus::TimeLimit);
     assert_eq!((r.evaluations, r.x.clone()), (1, vec![-1.2, 1.0]));
 }
+
+#[test]
+fn parallel_evaluation_changes_nothing_but_the_wall_time() {
+    let settings = GaSettings { generations: 30, seed: 5, ..Default::default() };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| genetic_algorithm(&rastrigin, &boxed(5, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap())
+    };
+    let one = run(1);
+    for threads in [2, 3, 7] {
+        let many = run(threads);
+        assert_eq!((&many.x, many.evaluations, &many.history), (&one.x, one.evaluations, &one.history), "{threads}");
+    }
+}

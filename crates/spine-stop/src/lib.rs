@@ -87,6 +87,19 @@ pub fn check() -> Option<StopReason> {
     None
 }
 
+/// This thread's deadline, if it runs under a time limit: what a thread that works for it takes
+/// along ([`with_deadline`]).
+pub fn deadline() -> Option<Instant> {
+    DEADLINE.with(Cell::get)
+}
+
+/// Runs `f` on this thread under `deadline` (the [`deadline`] of the thread it works for, e.g. a
+/// pool thread evaluating part of a GA generation). Returns `f`'s value and whether some loop
+/// inside saw the deadline pass.
+pub fn with_deadline<R>(deadline: Option<Instant>, f: impl FnOnce() -> R) -> (R, bool) {
+    with_time_limit(deadline.map(|d| d.saturating_duration_since(Instant::now())), f)
+}
+
 /// Runs `f` with a wall-clock limit of `limit` on this thread (`None`: no limit of its own).
 /// Limits nest: the inner one never extends the outer one. Returns `f`'s value and whether some
 /// loop inside saw the limit pass (that loop ended early and says so in its own status).
