@@ -30,7 +30,7 @@ fn pattern_search_finds_the_rosenbrock_minimum() {
 fn ga_finds_the_global_rastrigin_minimum_among_many_local_ones() {
     let settings =
         GaSettings { population: 60, generations: 200, stall_generations: 200, seed: 7, ..Default::default() };
-    let r = genetic_algorithm(&mut rastrigin, &boxed(3, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
+    let r = genetic_algorithm(&rastrigin, &boxed(3, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
     assert!(r.best.objective < 0.05, "f = {} at {:?}", r.best.objective, r.x);
     assert!(r.x.iter().all(|v| v.abs() < 0.05), "{:?}", r.x);
 }
@@ -39,7 +39,7 @@ fn ga_finds_the_global_rastrigin_minimum_among_many_local_ones() {
 fn ga_gets_close_on_rosenbrock_and_pattern_search_polishes_it() {
     let settings =
         GaSettings { population: 40, generations: 150, stall_generations: 150, seed: 3, ..Default::default() };
-    let ga = genetic_algorithm(&mut rosenbrock, &boxed(2, -2.0, 2.0), None, &settings, &mut |_| {}).unwrap();
+    let ga = genetic_algorithm(&rosenbrock, &boxed(2, -2.0, 2.0), None, &settings, &mut |_| {}).unwrap();
     assert!(ga.best.objective < 0.1, "GA f = {}", ga.best.objective);
     let ps = pattern_search(
         &mut rosenbrock,
@@ -73,7 +73,7 @@ fn both_respect_an_equality_constraint_by_feasibility_rules() {
     // it stops at a feasible point, not necessarily the minimum.
     assert!(ps.best.objective <= 1.0);
     let ga = genetic_algorithm(
-        &mut f,
+        &f,
         &b,
         None,
         &GaSettings { generations: 300, stall_generations: 300, population: 60, ..Default::default() },
@@ -86,18 +86,13 @@ fn both_respect_an_equality_constraint_by_feasibility_rules() {
 #[test]
 fn same_seed_same_result() {
     let settings = GaSettings { generations: 20, seed: 11, ..Default::default() };
-    let a = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
-    let b = genetic_algorithm(&mut rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
+    let a = genetic_algorithm(&rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
+    let b = genetic_algorithm(&rastrigin, &boxed(4, -5.12, 5.12), None, &settings, &mut |_| {}).unwrap();
     assert_eq!(a.x, b.x);
     assert_eq!(a.evaluations, b.evaluations);
-    let c = genetic_algorithm(
-        &mut rastrigin,
-        &boxed(4, -5.12, 5.12),
-        None,
-        &GaSettings { seed: 12, ..settings },
-        &mut |_| {},
-    )
-    .unwrap();
+    let c =
+        genetic_algorithm(&rastrigin, &boxed(4, -5.12, 5.12), None, &GaSettings { seed: 12, ..settings }, &mut |_| {})
+            .unwrap();
     assert_ne!(a.x, c.x, "a different seed explores differently");
 }
 
@@ -118,7 +113,7 @@ fn deb_rules() {
 fn settings_are_checked_not_rounded() {
     let f = &mut |x: &[f64]| Evaluation::unconstrained(x[0] * x[0]);
     let odd = GaSettings { population: 7, ..Default::default() };
-    let e = genetic_algorithm(f, &boxed(1, -1.0, 1.0), None, &odd, &mut |_| {}).unwrap_err();
+    let e = genetic_algorithm(&*f, &boxed(1, -1.0, 1.0), None, &odd, &mut |_| {}).unwrap_err();
     assert_eq!(e.field, "population");
     let bad = PatternSettings { contraction: 1.0, ..Default::default() };
     assert_eq!(pattern_search(f, &boxed(1, -1.0, 1.0), &[0.5], &bad, &mut |_| {}).unwrap_err().field, "contraction");
@@ -134,7 +129,7 @@ fn a_passed_time_limit_ends_both_searches_with_their_best_point() {
     let zero = Some(std::time::Duration::ZERO);
     let settings = GaSettings { seed: 3, ..Default::default() };
     let (r, reached) = spine_stop::with_time_limit(zero, || {
-        genetic_algorithm(&mut rastrigin, &boxed(3, -5.0, 5.0), None, &settings, &mut |_| {})
+        genetic_algorithm(&rastrigin, &boxed(3, -5.0, 5.0), None, &settings, &mut |_| {})
     });
     let r = r.unwrap();
     assert!(reached);
