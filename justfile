@@ -41,7 +41,7 @@ browser-test:
         $SUDO apt-get update -qq; \
         DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core >/dev/null; \
     fi
-    CHROMIUM="$(command -v chromium)" cargo test --release --quiet -p spine-cli --test paper_cli -- --ignored report_html_renders_in_a_headless_browser
+    CHROMIUM="$(command -v chromium)" cargo test --release --quiet --workspace --test paper_cli -- --ignored report_html_renders_in_a_headless_browser
 
 # A multi-start split into shards as on a cluster (GNU parallel, and scripts/slurm/multistart.sbatch
 # as a simulated job array), merged and compared byte for byte with the single run; installs
