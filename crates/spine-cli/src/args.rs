@@ -156,6 +156,10 @@ pub struct StudyArgs {
     /// The C_K values; default 1 to 10⁴ in half-decades.
     #[arg(long, value_delimiter = ',')]
     pub values: Option<Vec<f64>>,
+    /// Worker processes for the study's eq. (33) solves, 1..=256 (default: the number of cores);
+    /// the rows are the same, byte for byte.
+    #[arg(long, value_name = "N", value_parser = parse_jobs)]
+    pub jobs: Option<usize>,
 }
 
 #[derive(clap::Args)]
@@ -205,17 +209,7 @@ impl DesignArgs {
     /// The overrides, with worker processes for a multi-start: `--jobs`, or one per core.
     pub fn overrides(&self) -> Result<spine_paper::Overrides, crate::Failure> {
         let mut overrides = self.design_overrides();
-        let jobs = self.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-        if jobs > 1 {
-            let program = std::env::current_exe().map_err(|e| {
-                crate::Failure::Other(format!("--jobs: cannot find this program to start workers: {e}"))
-            })?;
-            let design = serde_json::to_string(&overrides.design).expect("overrides serialise");
-            let case = self.run.case.display().to_string();
-            let args = vec!["worker".to_string(), case, "--overrides".into(), design];
-            let command = spine_paper::run::workers::WorkerCommand { program, args };
-            overrides.workers = Some(spine_paper::run::workers::Workers { jobs, command });
-        }
+        overrides.workers = workers(self.jobs, &self.run.case, &overrides.design)?;
         Ok(overrides)
     }
 
@@ -248,7 +242,32 @@ impl PeriodicArgs {
     }
 }
 
+/// Worker processes (`--jobs`, default one per core) solving `case` with `design` overrides:
+/// `spine worker CASE --overrides JSON`, this program started again; `None` for one job.
+fn workers(
+    jobs: Option<usize>,
+    case: &std::path::Path,
+    design: &spine_paper::run::DesignOverrides,
+) -> Result<Option<spine_paper::run::workers::Workers>, crate::Failure> {
+    let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if jobs <= 1 {
+        return Ok(None);
+    }
+    let program = std::env::current_exe()
+        .map_err(|e| crate::Failure::Other(format!("--jobs: cannot find this program to start workers: {e}")))?;
+    let design = serde_json::to_string(design).expect("overrides serialise");
+    let args = vec!["worker".to_string(), case.display().to_string(), "--overrides".into(), design];
+    let command = spine_paper::run::workers::WorkerCommand { program, args };
+    Ok(Some(spine_paper::run::workers::Workers { jobs, command }))
+}
+
 impl StudyArgs {
+    /// The overrides: worker processes for the study's solves.
+    pub fn overrides(&self) -> Result<spine_paper::Overrides, crate::Failure> {
+        let workers = workers(self.jobs, &self.run.case, &Default::default())?;
+        Ok(spine_paper::Overrides { workers, ..Default::default() })
+    }
+
     /// The C_K values of `spine study ck` (default: half-decades from 1 to 10⁴).
     pub fn values(&self) -> Result<Vec<f64>, crate::Failure> {
         let values = self.values.clone().unwrap_or_else(spine_paper::study::half_decades);

@@ -49,7 +49,7 @@ fn main() -> ExitCode {
         Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), None),
         Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), None),
         Command::Case(a) => run(&a.run, None, a.overrides(), None),
-        Command::Study(a) => a.values().and_then(|v| run(&a.run, None, Default::default(), Some(v))),
+        Command::Study(a) => a.values().and_then(|v| run(&a.run, None, a.overrides()?, Some(v))),
         Command::Report(a) => report::run(a),
         Command::Worker(a) => worker(a),
     };

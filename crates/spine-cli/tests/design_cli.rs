@@ -377,3 +377,18 @@ fn shards_merge_to_the_single_run_and_mismatched_or_incomplete_shards_are_refuse
     assert!(String::from_utf8_lossy(&o.stderr).contains("shard 2/3 is incomplete: 2 of its 3 starts"));
     assert!(!out.exists());
 }
+
+#[test]
+fn the_ck_study_in_worker_processes_gives_the_same_rows() {
+    let case = workspace().join("paper-cases/study-ck.json");
+    let study = |jobs: &str| {
+        let out = tmpdir(&format!("ck-jobs-{jobs}"));
+        let args = ["study", "ck", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"];
+        let o = spine(&[&args[..], &["--values", "1,100,10000", "--jobs", jobs]].concat());
+        assert!(o.status.code() == Some(0) || o.status.code() == Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+        ["result.json", "ck_study.csv"].map(|f| std::fs::read(out.join(f)).unwrap())
+    };
+    let one = study("1");
+    assert!(String::from_utf8_lossy(&one[1]).lines().count() == 7, "6 rows and a header");
+    assert!(study("2") == one, "--jobs 2 differs from --jobs 1");
+}

@@ -5,10 +5,11 @@
 
 use crate::claims::Claim;
 use crate::metrics::DesignChange;
+use crate::run::workers::{solve_starts, Task, Workers};
 use crate::run::{run_design, RunError};
 use serde::Serialize;
 use spine_case::ValidDesign;
-use spine_design::ScalingMethod;
+use spine_design::{DesignResult, ScalingMethod};
 use spine_plot::{Figure, Panel, Series};
 use std::fmt::Write as _;
 
@@ -52,30 +53,52 @@ fn scaling_name(s: ScalingMethod) -> &'static str {
 pub fn ck_study(
     case: &ValidDesign,
     values: &[f64],
+    workers: Option<&Workers>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<CkStudy, RunError> {
-    let total = values.len() * SCALINGS.len();
+    let tasks: Vec<Task> = SCALINGS
+        .into_iter()
+        .flat_map(|scaling| {
+            values.iter().map(move |&ck| Task {
+                start: case.start.clone(),
+                stiffness_scale: Some(ck),
+                scaling: Some(scaling),
+            })
+        })
+        .collect();
+    let total = tasks.len();
+    let row = |task: &Task, r: &DesignResult| {
+        let valid = task.case(case);
+        let (start, _) = valid.problem.project_start(&valid.start);
+        CkRow {
+            stiffness_scale: valid.problem.stiffness_scale,
+            scaling: valid.settings.scaling,
+            status: r.solver.status.clone(),
+            clean: r.is_clean(),
+            iterations: r.solver.iterations,
+            objective: r.objective,
+            change: DesignChange::new(&r.design, &start),
+            theta0: r.design.theta0.clone(),
+            stiffness: r.design.stiffness.clone(),
+            ipopt_seconds: r.solver.ipopt_seconds,
+        }
+    };
     let mut rows = Vec::new();
-    for scaling in SCALINGS {
-        for &ck in values {
-            progress(rows.len(), total);
-            let mut valid = case.clone();
-            valid.problem.stiffness_scale = ck;
-            valid.settings.scaling = scaling;
-            let s = run_design(&valid)?;
-            let r = &s.result;
-            rows.push(CkRow {
-                stiffness_scale: ck,
-                scaling,
-                status: r.solver.status.clone(),
-                clean: r.is_clean(),
-                iterations: r.solver.iterations,
-                objective: r.objective,
-                change: DesignChange::new(&r.design, &s.start),
-                theta0: r.design.theta0.clone(),
-                stiffness: r.design.stiffness.clone(),
-                ipopt_seconds: r.solver.ipopt_seconds,
-            });
+    match workers.filter(|w| w.jobs > 1) {
+        // The points in worker processes, each run checked here (the same rows).
+        Some(w) => {
+            progress(0, total);
+            let runs = solve_starts(w, &tasks, &mut |k| progress(k, total))?;
+            for (task, run) in tasks.iter().zip(runs) {
+                let valid = task.case(case);
+                rows.push(row(task, &run.check(&valid.problem, &valid.settings)));
+            }
+        }
+        None => {
+            for task in &tasks {
+                progress(rows.len(), total);
+                rows.push(row(task, &run_design(&task.case(case))?.result));
+            }
         }
     }
     progress(total, total);
@@ -291,6 +314,7 @@ pub fn run_ck_study(
     title: &str,
     case: &ValidDesign,
     values: &[f64],
+    workers: Option<&Workers>,
     progress: &mut dyn FnMut(crate::run::Progress<'_>),
 ) -> Result<StudyResult, RunError> {
     let clock = std::time::Instant::now();
@@ -298,7 +322,7 @@ pub fn run_ck_study(
     progress(crate::run::Progress::Done {
         message: format!("{title}: C_K = {values:?}, Ipopt scaling gradient-based and none"),
     });
-    let sweep = ck_study(case, values, &mut |done, total| {
+    let sweep = ck_study(case, values, workers, &mut |done, total| {
         progress(crate::run::Progress::Step { stage: "eq. (33) solves", done, total })
     })?;
     let claims = sweep.claims();

@@ -1,7 +1,7 @@
 //! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
 
-use super::workers::{solve_starts, Workers};
+use super::workers::{solve_starts, Task, Workers};
 use super::{Progress, RunError};
 use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
@@ -125,7 +125,8 @@ pub fn solve_all(
     match workers.filter(|w| w.jobs > 1) {
         Some(w) => {
             progress(Progress::Step { stage: "multi-start", done: 0, total });
-            runs = solve_starts(w, starts, &mut |k| progress(Progress::Step { stage: "multi-start", done: k, total }))?;
+            let tasks: Vec<Task> = starts.iter().map(Task::start).collect();
+            runs = solve_starts(w, &tasks, &mut |k| progress(Progress::Step { stage: "multi-start", done: k, total }))?;
         }
         None => {
             for (k, d) in starts.iter().enumerate() {

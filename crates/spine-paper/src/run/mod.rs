@@ -131,5 +131,13 @@ pub fn run_study(
     };
     let mut valid = c.validate()?;
     overrides.design.apply(&mut valid);
-    limited(overrides, || Ok(KindResult::Study(crate::study::run_ck_study(&c.title, &valid, values, progress)?)))
+    limited(overrides, || {
+        Ok(KindResult::Study(crate::study::run_ck_study(
+            &c.title,
+            &valid,
+            values,
+            overrides.workers.as_ref(),
+            progress,
+        )?))
+    })
 }

@@ -41,6 +41,36 @@ pub struct Workers {
 /// Most worker processes allowed.
 pub const MAX_JOBS: usize = 256;
 
+/// One solve handed to a worker: a start design, and for a study point the C_K of eq. (34) and
+/// Ipopt's scaling that replace the case's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Task {
+    pub start: Design,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_scale: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scaling: Option<spine_design::ScalingMethod>,
+}
+
+impl Task {
+    /// A start of the case as it is.
+    pub fn start(start: &Design) -> Self {
+        Self { start: start.clone(), stiffness_scale: None, scaling: None }
+    }
+
+    /// The case this task solves: `valid` with the task's C_K and scaling.
+    pub fn case(&self, valid: &spine_case::ValidDesign) -> spine_case::ValidDesign {
+        let mut v = valid.clone();
+        if let Some(c) = self.stiffness_scale {
+            v.problem.stiffness_scale = c;
+        }
+        if let Some(s) = self.scaling {
+            v.settings.scaling = s;
+        }
+        v
+    }
+}
+
 /// One answer of a worker.
 #[derive(Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -49,17 +79,20 @@ enum Answer {
     Error(String),
 }
 
-/// The worker's side: eq. (33) of `valid` from every start design read from `input` (one JSON
-/// line each), one answer line each on `output`, until `input` ends.
+/// The worker's side: eq. (33) of `valid` for every [`Task`] read from `input` (one JSON line
+/// each), one answer line each on `output`, until `input` ends.
 pub fn serve(valid: &spine_case::ValidDesign, input: impl BufRead, mut output: impl Write) -> std::io::Result<()> {
     for line in input.lines() {
         let line = line?;
-        let answer = match serde_json::from_str::<Design>(&line) {
-            Ok(start) => match run_solver(&valid.problem, &start, valid.formulation, &valid.settings, &mut |_| true) {
-                Ok(run) => Answer::Run(Box::new(run)),
-                Err(e) => Answer::Error(format!("solver: {e}")),
-            },
-            Err(e) => Answer::Error(format!("worker: not a start design: {e}")),
+        let answer = match serde_json::from_str::<Task>(&line) {
+            Ok(task) => {
+                let v = task.case(valid);
+                match run_solver(&v.problem, &task.start, v.formulation, &v.settings, &mut |_| true) {
+                    Ok(run) => Answer::Run(Box::new(run)),
+                    Err(e) => Answer::Error(format!("solver: {e}")),
+                }
+            }
+            Err(e) => Answer::Error(format!("worker: not a task: {e}")),
         };
         let mut text = serde_json::to_string(&answer).expect("answers serialise");
         text.push('\n');
@@ -99,9 +132,9 @@ fn start_worker(command: &WorkerCommand) -> Result<(Child, Pipes), RunError> {
 }
 
 impl Pipes {
-    /// Solves from `start` in the worker.
-    fn solve(&mut self, start: &Design) -> Result<SolverRun, RunError> {
-        let mut line = serde_json::to_string(start).expect("designs serialise");
+    /// Solves `task` in the worker.
+    fn solve(&mut self, task: &Task) -> Result<SolverRun, RunError> {
+        let mut line = serde_json::to_string(task).expect("tasks serialise");
         line.push('\n');
         let lost = |e: std::io::Error| worker_error(format!("a worker stopped answering: {e}"));
         self.input.write_all(line.as_bytes()).map_err(lost)?;
@@ -121,13 +154,13 @@ impl Pipes {
 /// What a worker thread reports to the thread that drives the run.
 type Event = (usize, Result<SolverRun, RunError>);
 
-/// Eq. (33) from every design of `starts` in `workers.jobs` worker processes. Returns the runs in
-/// start order up to the first start not completed (a stop: the time limit or an interrupt, seen
+/// Eq. (33) for every task of `starts` in `workers.jobs` worker processes. Returns the runs in
+/// task order up to the first task not completed (a stop: the time limit or an interrupt, seen
 /// through [`spine_stop::check`] on this thread, which ends every worker at once); `done(k)` is
 /// called as runs complete, `k` of them so far.
 pub fn solve_starts(
     workers: &Workers,
-    starts: &[Design],
+    starts: &[Task],
     done: &mut dyn FnMut(usize),
 ) -> Result<Vec<SolverRun>, RunError> {
     let jobs = workers.jobs.clamp(1, MAX_JOBS).min(starts.len().max(1));
