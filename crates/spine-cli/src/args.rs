@@ -290,24 +290,27 @@ fn parse_time_limit(text: &str) -> Result<std::time::Duration, String> {
     Ok(std::time::Duration::from_secs_f64(s))
 }
 
-/// `--frames`: within [`spine_paper::animation::FRAMES`].
-fn parse_frames(text: &str) -> Result<usize, String> {
-    let n: usize = text.parse().map_err(|e| format!("{e}"))?;
-    let allowed = spine_paper::animation::FRAMES;
+/// A whole number within `allowed` (the message gives the range, with `unit`).
+fn parse_within<T>(text: &str, allowed: std::ops::RangeInclusive<T>, unit: &str) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display,
+    T::Err: std::fmt::Display,
+{
+    let n: T = text.parse().map_err(|e| format!("{e}"))?;
     if !allowed.contains(&n) {
-        return Err(format!("allowed {}..={}", allowed.start(), allowed.end()));
+        return Err(format!("allowed {}..={}{unit}", allowed.start(), allowed.end()));
     }
     Ok(n)
 }
 
+/// `--frames`: within [`spine_paper::animation::FRAMES`].
+fn parse_frames(text: &str) -> Result<usize, String> {
+    parse_within(text, spine_paper::animation::FRAMES, "")
+}
+
 /// `--frame-width`: within [`spine_paper::animation::WIDTH`].
 fn parse_frame_width(text: &str) -> Result<u32, String> {
-    let n: u32 = text.parse().map_err(|e| format!("{e}"))?;
-    let allowed = spine_paper::animation::WIDTH;
-    if !allowed.contains(&n) {
-        return Err(format!("allowed {}..={} px", allowed.start(), allowed.end()));
-    }
-    Ok(n)
+    parse_within(text, spine_paper::animation::WIDTH, " px")
 }
 
 /// `--magnify`: a factor in (0, [`spine_paper::animation::MAX_MAGNIFICATION`]].
@@ -322,12 +325,7 @@ fn parse_magnify(text: &str) -> Result<f64, String> {
 
 /// `--jobs`: 1..=[`spine_paper::run::workers::MAX_JOBS`].
 fn parse_jobs(text: &str) -> Result<usize, String> {
-    let n: usize = text.parse().map_err(|e| format!("{e}"))?;
-    let max = spine_paper::run::workers::MAX_JOBS;
-    if !(1..=max).contains(&n) {
-        return Err(format!("allowed 1..={max}"));
-    }
-    Ok(n)
+    parse_within(text, 1..=spine_paper::run::workers::MAX_JOBS, "")
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).

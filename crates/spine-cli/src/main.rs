@@ -75,8 +75,8 @@ fn main() -> ExitCode {
     }
 }
 
-/// Reads and parses a case file (refusing an oversized one before reading it).
-fn read_case(file: &std::path::Path) -> Result<spine_case::Case, Failure> {
+/// Reads and parses a case file (refusing an oversized one before reading it): its text and case.
+fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failure> {
     let path = file.display().to_string();
     let size = std::fs::metadata(file).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?.len();
     if size > spine_case::MAX_CASE_BYTES as u64 {
@@ -84,7 +84,8 @@ fn read_case(file: &std::path::Path) -> Result<spine_case::Case, Failure> {
         return Err(Failure::Input(format!("{path}: case file: {size} bytes; at most {max} are accepted")));
     }
     let text = std::fs::read_to_string(file).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
-    spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))
+    let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+    Ok((text, case))
 }
 
 /// `spine design --shard K/N`: the K-th share of a multi-start's starts, written to
@@ -95,8 +96,7 @@ fn shard(
     spec: spine_paper::run::shard::ShardSpec,
 ) -> Result<bool, Failure> {
     let path = args.case.display().to_string();
-    read_case(&args.case)?;
-    let text = std::fs::read_to_string(&args.case).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
+    let (text, _) = read_case(&args.case)?;
     let mut bars = progress::Bars::default();
     let (shard, _) = spine_stop::with_time_limit(args.time_limit, || {
         spine_paper::run::shard::run_shard(&text, &overrides.design, spec, overrides.workers.as_ref(), &mut |p| {
@@ -151,7 +151,7 @@ fn failure(path: &str, e: spine_paper::RunError) -> Failure {
 /// standard input until it closes.
 fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
     let path = a.case.display().to_string();
-    let spine_case::Case::Design(c) = read_case(&a.case)? else {
+    let (_, spine_case::Case::Design(c)) = read_case(&a.case)? else {
         return Err(Failure::Input(format!("{path}: kind: a worker solves \"design\" cases")));
     };
     let overrides: spine_paper::run::DesignOverrides =
@@ -173,7 +173,7 @@ fn run(
 ) -> Result<bool, Failure> {
     overrides.time_limit = args.time_limit;
     let path = args.case.display().to_string();
-    let case = read_case(&args.case)?;
+    let (_, case) = read_case(&args.case)?;
     if let Some(kind) = expect.filter(|k| *k != case.kind()) {
         let msg = format!(
             "{path}: kind: this command runs \"{kind}\" cases, the file is \"{}\" (use `spine case`)",

@@ -164,13 +164,7 @@ fn fig9_five_link_step_response_meets_the_rise_time_and_is_first_order_like() {
     );
     // The animation of the chain's motion: the default 100 frames, 800 px wide, a few hundred kB.
     let gif = std::fs::read(out.join("animation.gif")).unwrap();
-    let mut decoder = gif::DecodeOptions::new().read_info(&gif[..]).unwrap();
-    assert_eq!(decoder.width(), 800);
-    let mut frames = 0;
-    while decoder.read_next_frame().unwrap().is_some() {
-        frames += 1;
-    }
-    assert_eq!(frames, 100);
+    assert_eq!(common::gif_width_and_frames(&gif), (800, 100));
     assert!(gif.len() < 3_000_000, "{} bytes", gif.len());
     let response = std::fs::read_to_string(out.join("response_n5.csv")).unwrap();
     assert!(response.starts_with("t_s,load_factor,delta_m,end_displacement_m,theta_1_rad"));

@@ -20,3 +20,15 @@ pub fn tmpdir(tag: &str) -> PathBuf {
 pub fn spine(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_spine")).args(args).output().unwrap()
 }
+
+/// A GIF's width (px) and its number of frames, decoding every frame.
+pub fn gif_width_and_frames(bytes: &[u8]) -> (u16, usize) {
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut decoder = options.read_info(bytes).unwrap();
+    let mut frames = 0;
+    while decoder.read_next_frame().unwrap().is_some() {
+        frames += 1;
+    }
+    (decoder.width(), frames)
+}

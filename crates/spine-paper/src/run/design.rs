@@ -8,7 +8,7 @@ use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
 use spine_design::multistart::{cluster, feasible_starts, MultiStartSummary};
 use spine_design::refine::Refine;
-use spine_design::{run_solver, solve_design, DesignProblem, DesignResult, Formulation, SolverRun};
+use spine_design::{run_solver, DesignProblem, DesignResult, Formulation, SolverRun};
 use spine_model::{Design, State};
 
 /// An eq. (33) run with what the figures need besides the solver's result.
@@ -32,12 +32,18 @@ fn states(result: &DesignResult) -> Option<(State, State)> {
 /// Eq. (33) from `start`. Ipopt stops at its next iteration when a stop is requested (the run
 /// returns [`RunError::Interrupted`]) or the time limit passes (its status says `time_limit`).
 fn solve(valid: &ValidDesign, start: &Design) -> Result<DesignResult, RunError> {
-    let result = solve_design(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| true)
+    Ok(solve_unchecked(valid, start)?.check(&valid.problem, &valid.settings))
+}
+
+/// Eq. (33) from `start`, before the result's check ([`SolverRun::check`]); an interrupt is
+/// [`RunError::Interrupted`].
+fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, RunError> {
+    let run = run_solver(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| true)
         .map_err(RunError::Design)?;
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
-    Ok(result)
+    Ok(run)
 }
 
 /// Eq. (33) from the case's start.
@@ -135,13 +141,7 @@ pub fn solve_all(
                     // Time limit: the census holds the starts run so far (`multistart.starts` says how many).
                     break;
                 }
-                runs.push(
-                    run_solver(&valid.problem, d, valid.formulation, &valid.settings, &mut |_| true)
-                        .map_err(RunError::Design)?,
-                );
-                if spine_stop::interrupt_requested() {
-                    return Err(RunError::Interrupted);
-                }
+                runs.push(solve_unchecked(valid, d)?);
             }
         }
     }

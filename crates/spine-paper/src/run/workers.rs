@@ -19,7 +19,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{mpsc, Mutex};
+use std::sync::mpsc;
 use std::time::Duration;
 
 /// How to start a worker process: a program and its arguments (the CLI: its own executable with
@@ -108,10 +108,6 @@ struct Pipes {
     output: BufReader<ChildStdout>,
 }
 
-fn worker_error(message: String) -> RunError {
-    RunError::Worker(message)
-}
-
 /// Starts a worker; its process and its pipes.
 fn start_worker(command: &WorkerCommand) -> Result<(Child, Pipes), RunError> {
     let mut child = Command::new(&command.program)
@@ -120,13 +116,13 @@ fn start_worker(command: &WorkerCommand) -> Result<(Child, Pipes), RunError> {
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
-        .map_err(|e| worker_error(format!("{}: cannot start a worker: {e}", command.program.display())))?;
+        .map_err(|e| RunError::Worker(format!("{}: cannot start a worker: {e}", command.program.display())))?;
     match (child.stdin.take(), child.stdout.take()) {
         (Some(input), Some(output)) => Ok((child, Pipes { input, output: BufReader::new(output) })),
         _ => {
             let _ = child.kill();
             let _ = child.wait();
-            Err(worker_error("a worker started without its pipes".into()))
+            Err(RunError::Worker("a worker started without its pipes".into()))
         }
     }
 }
@@ -136,17 +132,17 @@ impl Pipes {
     fn solve(&mut self, task: &Task) -> Result<SolverRun, RunError> {
         let mut line = serde_json::to_string(task).expect("tasks serialise");
         line.push('\n');
-        let lost = |e: std::io::Error| worker_error(format!("a worker stopped answering: {e}"));
+        let lost = |e: std::io::Error| RunError::Worker(format!("a worker stopped answering: {e}"));
         self.input.write_all(line.as_bytes()).map_err(lost)?;
         self.input.flush().map_err(lost)?;
         let mut answer = String::new();
         if self.output.read_line(&mut answer).map_err(lost)? == 0 {
-            return Err(worker_error("a worker ended before answering (see its message above)".into()));
+            return Err(RunError::Worker("a worker ended before answering (see its message above)".into()));
         }
         match serde_json::from_str(&answer) {
             Ok(Answer::Run(run)) => Ok(*run),
-            Ok(Answer::Error(message)) => Err(worker_error(message)),
-            Err(e) => Err(worker_error(format!("a worker's answer is not a run: {e}"))),
+            Ok(Answer::Error(message)) => Err(RunError::Worker(message)),
+            Err(e) => Err(RunError::Worker(format!("a worker's answer is not a run: {e}"))),
         }
     }
 }
@@ -166,9 +162,9 @@ pub fn solve_starts(
     let jobs = workers.jobs.clamp(1, MAX_JOBS).min(starts.len().max(1));
     let mut children = Vec::with_capacity(jobs);
     let mut pipes = Vec::with_capacity(jobs);
-    let end = |children: &mut Vec<Mutex<Child>>| {
+    // Only this thread touches the processes; the worker threads hold their pipes.
+    let end = |children: &mut Vec<Child>| {
         for c in children.iter_mut() {
-            let c = c.get_mut().unwrap_or_else(|p| p.into_inner());
             let _ = c.kill();
             let _ = c.wait();
         }
@@ -176,7 +172,7 @@ pub fn solve_starts(
     for _ in 0..jobs {
         match start_worker(&workers.command) {
             Ok((child, p)) => {
-                children.push(Mutex::new(child));
+                children.push(child);
                 pipes.push(p);
             }
             Err(e) => {
@@ -224,8 +220,8 @@ pub fn solve_starts(
             }
             if spine_stop::check().is_some() && !stop.swap(true, Ordering::SeqCst) {
                 // Abandon the solves in flight: their threads see the pipes close.
-                for c in &children {
-                    let _ = c.lock().unwrap_or_else(|p| p.into_inner()).kill();
+                for c in children.iter_mut() {
+                    let _ = c.kill();
                 }
             }
         }
