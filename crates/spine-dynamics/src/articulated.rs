@@ -20,6 +20,26 @@
 //! stays as the test oracle.
 
 use spine_model::Scalar;
+use std::ops::{Add, AddAssign, Div, Mul, Sub, SubAssign};
+
+/// The arithmetic the recursion needs: real and dual numbers for the accelerations and their
+/// derivatives, complex numbers for the shifted Newton matrices of the implicit integrator
+/// ([`crate::newton`]).
+pub trait ChainNumber:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + AddAssign
+    + SubAssign
+    + From<f64>
+{
+}
+impl<T> ChainNumber for T where
+    T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T> + Div<Output = T> + AddAssign + SubAssign + From<f64>
+{
+}
 
 /// A planar spatial vector or the columns of a planar spatial inertia: `(angular, x, y)`.
 type V3<D> = [D; 3];
@@ -39,7 +59,7 @@ pub struct ArticulatedChain<D> {
 
 /// `Xᵀ A X` for the shift `X = [[1, 0, 0], [p_x, 1, 0], [p_y, 0, 1]]` (motion at the outboard joint
 /// from motion at the inboard one): an inertia at the outboard joint seen from the inboard joint.
-fn shift_inertia<D: Scalar>(a: &M3<D>, p: &[D; 2]) -> M3<D> {
+fn shift_inertia<D: ChainNumber>(a: &M3<D>, p: &[D; 2]) -> M3<D> {
     // A X: column 0 gains p_x · column 1 + p_y · column 2.
     let mut ax = *a;
     for row in ax.iter_mut() {
@@ -54,12 +74,12 @@ fn shift_inertia<D: Scalar>(a: &M3<D>, p: &[D; 2]) -> M3<D> {
 }
 
 /// `Xᵀ f`: a force at the outboard joint seen at the inboard joint.
-fn shift_force<D: Scalar>(f: &V3<D>, p: &[D; 2]) -> V3<D> {
+fn shift_force<D: ChainNumber>(f: &V3<D>, p: &[D; 2]) -> V3<D> {
     [f[0] + f[1] * p[0] + f[2] * p[1], f[1], f[2]]
 }
 
 /// `X a`: motion at the inboard joint seen at the outboard joint.
-fn shift_motion<D: Scalar>(a: &V3<D>, p: &[D; 2]) -> V3<D> {
+fn shift_motion<D: ChainNumber>(a: &V3<D>, p: &[D; 2]) -> V3<D> {
     [a[0], a[1] + a[0] * p[0], a[2] + a[0] * p[1]]
 }
 
@@ -67,26 +87,61 @@ impl<D: Scalar> ArticulatedChain<D> {
     /// Factorises `M(θ)` for links of lengths `lengths` (m) and masses `masses` (kg, uniform rods).
     /// `None` when a pivot `D_k` is not positive (a massless tip, or a non-finite `θ`).
     pub fn new(lengths: &[f64], masses: &[f64], theta: &[D]) -> Option<Self> {
-        let n = theta.len();
-        let zero = D::zero();
+        let shifts = theta.iter().zip(lengths).map(|(t, &l)| {
+            let (s, c) = t.sin_cos();
+            [-s * l, c * l]
+        });
+        let positive = |d: &D| d.re().partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
+        Self::factor(lengths, masses, shifts.collect(), None, &positive)
+    }
+}
+
+impl<T: ChainNumber> ArticulatedChain<T> {
+    /// Factorises `M(θ) + T⁻ᵀ diag(joint) T⁻¹ + diag(body)` at a real configuration `θ`: the mass
+    /// matrix plus a term on each joint's relative angle `α_k = θ_k − θ_{k−1}` (`joint_k`, added to
+    /// the joint's pivot `D_k`) and a term on each link's absolute angle (`body_k`, added to the
+    /// link's rotational inertia). With `joint = (σ C_k + K_k)/σ²` this is the Newton matrix of the
+    /// springs and dampers ([`crate::newton`]). `None` when a pivot fails `pivot_ok`.
+    pub fn with_additions(
+        lengths: &[f64],
+        masses: &[f64],
+        theta: &[f64],
+        joint: &[T],
+        body: &[T],
+        pivot_ok: &dyn Fn(&T) -> bool,
+    ) -> Option<Self> {
+        let shifts = theta.iter().zip(lengths).map(|(t, &l)| [T::from(-t.sin() * l), T::from(t.cos() * l)]);
+        Self::factor(lengths, masses, shifts.collect(), Some((joint, body)), pivot_ok)
+    }
+
+    /// The tip-to-base sweep from the links' shifts `r_k^⊥`.
+    fn factor(
+        lengths: &[f64],
+        masses: &[f64],
+        shift: Vec<[T; 2]>,
+        additions: Option<(&[T], &[T])>,
+        pivot_ok: &dyn Fn(&T) -> bool,
+    ) -> Option<Self> {
+        let n = shift.len();
+        let zero = T::from(0.0);
         let mut u = vec![[zero; 3]; n];
         let mut d = vec![zero; n];
-        let mut shift = vec![[zero; 2]; n];
         // The reduced articulated inertia the outboard link hands inboard, at its own joint.
-        let mut outboard: Option<M3<D>> = None;
+        let mut outboard: Option<M3<T>> = None;
         for k in (0..n).rev() {
-            let (s, c) = theta[k].sin_cos();
             let (l, m) = (lengths[k], masses[k]);
-            let p = [-s * l, c * l];
-            shift[k] = p;
+            let p = shift[k];
             // Rigid inertia at the inboard joint: centre of mass at c = (L/2) e_k, c^⊥ = (L/2) e_k^⊥,
             // I_c = m L² / 12: [[I_c + m|c|², m c^⊥ᵀ], [m c^⊥, m 1]].
-            let half = [p[0] * (0.5 * m), p[1] * (0.5 * m)];
-            let mut inertia: M3<D> = [
-                [D::from(m * l * l / 3.0), half[0], half[1]],
-                [half[0], D::from(m), zero],
-                [half[1], zero, D::from(m)],
+            let half = [p[0] * T::from(0.5 * m), p[1] * T::from(0.5 * m)];
+            let mut inertia: M3<T> = [
+                [T::from(m * l * l / 3.0), half[0], half[1]],
+                [half[0], T::from(m), zero],
+                [half[1], zero, T::from(m)],
             ];
+            if let Some((_, body)) = additions {
+                inertia[0][0] += body[k];
+            }
             if let Some(a) = &outboard {
                 let seen = shift_inertia(a, &p);
                 for (row, add) in inertia.iter_mut().zip(seen) {
@@ -95,11 +150,14 @@ impl<D: Scalar> ArticulatedChain<D> {
                     }
                 }
             }
-            let dk = inertia[0][0];
-            if dk.re().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            let uk = [inertia[0][0], inertia[1][0], inertia[2][0]];
+            let dk = match additions {
+                Some((joint, _)) => uk[0] + joint[k],
+                None => uk[0],
+            };
+            if !pivot_ok(&dk) {
                 return None;
             }
-            let uk = [inertia[0][0], inertia[1][0], inertia[2][0]];
             // I^a = I^A − U Uᵀ / D: what the free joint passes on.
             let mut reduced = inertia;
             for (i, row) in reduced.iter_mut().enumerate() {
@@ -115,9 +173,9 @@ impl<D: Scalar> ArticulatedChain<D> {
     }
 
     /// `x = M(θ)⁻¹ b` (`b` in N·m per absolute angle, `x` in rad/s²).
-    pub fn solve(&self, b: &[D]) -> Vec<D> {
+    pub fn solve(&self, b: &[T]) -> Vec<T> {
         let n = b.len();
-        let zero = D::zero();
+        let zero = T::from(0.0);
         // Joint moments τ = Tᵀ b: the moment at joint k carries every link from k outward.
         let mut tau = vec![zero; n];
         let mut sum = zero;
@@ -127,7 +185,7 @@ impl<D: Scalar> ArticulatedChain<D> {
         }
         // Tip to base: the bias force p^A at each joint and u_k = τ_k − Sᵀ p^A_k.
         let mut free = vec![zero; n];
-        let mut bias: V3<D> = [zero; 3];
+        let mut bias: V3<T> = [zero; 3];
         for k in (0..n).rev() {
             let uk = tau[k] - bias[0];
             free[k] = uk;
@@ -140,7 +198,7 @@ impl<D: Scalar> ArticulatedChain<D> {
         }
         // Base to tip: the base joint is fixed (zero acceleration of its point).
         let mut x = vec![zero; n];
-        let mut motion: V3<D> = [zero; 3];
+        let mut motion: V3<T> = [zero; 3];
         for k in 0..n {
             let seen = if k > 0 { shift_motion(&motion, &self.shift[k - 1]) } else { [zero; 3] };
             let dot = self.u[k][0] * seen[0] + self.u[k][1] * seen[1] + self.u[k][2] * seen[2];

@@ -12,7 +12,7 @@
 //! forward-mode AD. The damper coefficients are a separate argument so that they can carry dual parts
 //! (the sensitivities of the damping design, eq. (35)).
 
-use crate::articulated::ArticulatedChain;
+use crate::articulated::{ArticulatedChain, ChainNumber};
 use crate::forcing::Forcing;
 use spine_model::kinematics::link_lengths;
 use spine_model::{Chain, Design, LinkLoads, NodalLoads, Scalar};
@@ -68,7 +68,7 @@ impl Dynamics {
     /// `c_ij = L_i L_j (½ m_j + Σ_{k>j} m_k)` for `i ≤ j` below the diagonal's own term: the
     /// coefficient of `cos(θ_i − θ_j)` in `M_ij`. Returns `(c, diag)` with
     /// `diag_i = L_i² (m_i / 3 + Σ_{k>i} m_k)`.
-    fn inertia_coefficients(&self) -> (Vec<f64>, Vec<f64>) {
+    pub(crate) fn inertia_coefficients(&self) -> (Vec<f64>, Vec<f64>) {
         let n = self.n_links();
         let mut beyond = vec![0.0; n];
         for i in (0..n.saturating_sub(1)).rev() {
@@ -346,9 +346,9 @@ const PROJECTION_SWEEPS: usize = 3;
 /// Moments of joint elements with coefficients `c_0..c_N` acting on the relative motion of
 /// neighbouring links: `(c_i (x_i − x_{i−1}) − c_{i+1} (x_{i+1} − x_i))` with `x_{−1} = x_N = 0`
 /// (ground and slider). For springs `x = θ − θ0` (the `K_m Δθ` of eq. (47)); for dampers `x = θ̇`.
-pub fn joint_moments<D: Scalar>(coefficients: &[D], x: &[D]) -> Vec<D> {
+pub fn joint_moments<D: ChainNumber>(coefficients: &[D], x: &[D]) -> Vec<D> {
     let n = x.len();
-    let at = |i: isize| if i < 0 || i as usize >= n { D::zero() } else { x[i as usize] };
+    let at = |i: isize| if i < 0 || i as usize >= n { D::from(0.0) } else { x[i as usize] };
     (0..n)
         .map(|i| {
             let i = i as isize;

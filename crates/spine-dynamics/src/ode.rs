@@ -1,7 +1,8 @@
 //! The problem an integrator solves: a first-order system `ẏ = f(t, y; p)` ([`OdeSystem`]),
 //! apart from any method.
 
-use nalgebra::DMatrix;
+use crate::integrator::linear::{DenseJacobian, Linearization};
+use nalgebra::{DMatrix, DVector};
 
 /// A first-order system `ẏ = f(t, y; p)`.
 pub trait OdeSystem {
@@ -11,6 +12,15 @@ pub trait OdeSystem {
     fn rhs(&self, t: f64, piece: f64, y: &[f64]) -> Vec<f64>;
     /// `∂f/∂y`, `dim × dim`.
     fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64>;
+    /// `J̃ ≈ ∂f/∂y` at `(t, y)` for the Newton matrices of the implicit stages (default: the dense
+    /// [`OdeSystem::jacobian`]). An approximation changes how fast the stages converge, not to what.
+    fn linearize(&self, t: f64, piece: f64, y: &[f64]) -> Box<dyn Linearization> {
+        Box::new(DenseJacobian(self.jacobian(t, piece, y)))
+    }
+    /// `(∂f/∂y) v`, exact (default: through [`OdeSystem::jacobian`]); sensitivities use it.
+    fn jacobian_times(&self, t: f64, piece: f64, y: &[f64], v: &[f64]) -> Vec<f64> {
+        (self.jacobian(t, piece, y) * DVector::from_column_slice(v)).as_slice().to_vec()
+    }
     /// Number of parameters `p` whose sensitivities can be propagated.
     fn n_params(&self) -> usize {
         0

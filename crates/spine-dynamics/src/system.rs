@@ -2,7 +2,9 @@
 //! damper sensitivities from forward AD ([`num_dual::Dual64`] directional passes).
 
 use crate::eom::Dynamics;
+use crate::integrator::linear::Linearization;
 use crate::integrator::OdeSystem;
+use crate::newton::ChainLinearization;
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
@@ -47,6 +49,17 @@ impl OdeSystem for SpineOde<'_> {
             }
         }
         jac
+    }
+
+    /// The structured `J̃` of [`crate::newton`]: `O(N)` per factorisation.
+    fn linearize(&self, t: f64, piece: f64, y: &[f64]) -> Box<dyn Linearization> {
+        Box::new(ChainLinearization::new(self.dynamics, t, piece, y))
+    }
+
+    /// One directional dual pass, `O(N)`.
+    fn jacobian_times(&self, t: f64, piece: f64, y: &[f64], v: &[f64]) -> Vec<f64> {
+        let yd: Vec<Dual64> = y.iter().zip(v).map(|(&a, &b)| Dual64::new(a, b)).collect();
+        self.dynamics.rhs(t, piece, &yd, &self.damping()).iter().map(|f| f.eps).collect()
     }
 
     fn n_params(&self) -> usize {

@@ -1,35 +1,41 @@
-//! TR-BDF2: an L-stable, stiffly accurate, second-order one-step method with an embedded
-//! third-order error estimate (Bank et al. 1985; Hosea & Shampine 1996, the method of MATLAB's
-//! `ode23tb`), with
+//! Stiff one-step integrators for `ẏ = f(t, y)` with a projection onto an invariant manifold:
 //!
-//! * simplified Newton iterations on each implicit stage, using the exact Jacobian `∂f/∂y` supplied
-//!   by the system (forward AD for the spine);
-//! * error control on the weighted RMS norm `‖e_i / (atol + rtol |y_i|)‖`, with the estimate filtered
-//!   through `(I − h d J)⁻¹` as in Hosea & Shampine (so stiff components do not force tiny steps);
+//! * **Radau IIA of order 5** (the default, [`Method::Radau5`]; Hairer & Wanner 1996, IV.8): three
+//!   collocation stages, L-stable and stiffly accurate, solved by simplified Newton iterations in the
+//!   transformed variables (one real and one complex Newton matrix per step size), with the
+//!   embedded third-order error estimate filtered through `(μ/h I − J̃)⁻¹` and Gustafsson's
+//!   predictive step-size control;
+//! * **TR-BDF2** ([`Method::TrBdf2`]; Bank et al. 1985, Hosea & Shampine 1996, MATLAB's `ode23tb`):
+//!   L-stable, second order, kept as an option and as the cross-check of the tests.
+//!
+//! Both share:
+//! * error control on the weighted RMS norm `‖e_i / (atol + rtol |y_i|)‖`;
+//! * Newton matrices `σ I − J̃` from the system's [`OdeSystem::linearize`] ([`linear`]: dense LU by
+//!   default, the chain's `O(N)` structured factorisation for the spine);
 //! * a projection of every accepted step onto the system's invariant manifold (for the spine,
 //!   `Φ = 0` and `Φ̇ = 0`);
 //! * steps that land on the system's breakpoints (switching instants of the forcing), never across;
-//! * cubic Hermite dense output, used to locate events and sample the solution;
+//! * cubic Hermite dense output (the order of Radau IIA's own collocation polynomial between the
+//!   steps), used to locate events and sample the solution;
 //! * optional forward sensitivities `S = ∂y/∂p`, propagated through the same discrete scheme
 //!   (internal differentiation: the exact derivative of the computed solution for the accepted step
 //!   sequence), including the projection.
 //!
-//! Stages: `z₂ = y + h d (f(y) + f(z₂))` (trapezoidal rule to `t + γh`) and
-//! `y₁ = y + h (w f(y) + w f(z₂) + d f(y₁))` (BDF2), with `γ = 2 − √2`, `d = γ/2`, `w = √2/4`.
-//!
-//! Modules: [`options`] (settings and statistics), [`trbdf2`] (one step), [`dense`] (dense output
-//! and events); this file is the driver (step-size control, breakpoints, projection).
+//! Modules: [`options`] (settings and statistics), [`radau`] and [`trbdf2`] (each method's step
+//! and driver), [`linear`] (the Newton matrices), [`dense`] (dense output and events); this file
+//! holds what the drivers share (stops, landing on breakpoints, projection).
 
 mod dense;
+pub mod linear;
 mod options;
+mod radau;
 mod trbdf2;
 
 pub use crate::ode::OdeSystem;
 pub use dense::{Event, Interval, Trajectory};
-pub use options::{Options, Outcome, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
+pub use options::{Method, Options, Outcome, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
 
 use nalgebra::DMatrix;
-use trbdf2::{attempt, step_sensitivities, D};
 
 /// Optional parts of a run.
 #[derive(Default)]
@@ -46,7 +52,7 @@ pub struct Extras<'a> {
 /// A test on an accepted step `(t, y)`: `true` ends the integration.
 pub type StopCondition<'a> = dyn Fn(f64, &[f64]) -> bool + 'a;
 
-/// Integrates from `(t0, y0)` to `t_end`.
+/// Integrates from `(t0, y0)` to `t_end` by `opts.method`.
 pub fn integrate(
     sys: &dyn OdeSystem,
     t0: f64,
@@ -55,144 +61,132 @@ pub fn integrate(
     opts: &Options,
     extras: Extras<'_>,
 ) -> Trajectory {
-    let Extras { sensitivities, steps, stop } = extras;
-    let n = sys.dim();
-    let mut stats = Stats::default();
-    let mut intervals = Vec::new();
-    let mut breaks = sys.breakpoints(t0, t_end);
-    breaks.push(t_end);
-    let mut next_break = 0;
-    let piece_of = |t: f64, end: f64| 0.5 * (t + end);
+    match opts.method {
+        Method::Radau5 => radau::integrate(sys, t0, y0, t_end, opts, extras),
+        Method::TrBdf2 => trbdf2::integrate(sys, t0, y0, t_end, opts, extras),
+    }
+}
 
-    let mut t = t0;
-    let mut y = y0.to_vec();
-    sys.project(&mut y);
-    let y_start = y.clone();
-    let mut s = sensitivities;
-    let mut piece = piece_of(t, breaks[0]);
-    let evaluate = |t: f64, piece: f64, y: &[f64], s: &Option<DMatrix<f64>>, stats: &mut Stats| {
-        let f = sys.rhs(t, piece, y);
-        let jac = sys.jacobian(t, piece, y);
-        stats.rhs_evaluations += 1;
-        stats.jacobian_evaluations += 1;
-        let s_dot = s.as_ref().map(|s| &jac * s + sys.rhs_params(t, piece, y));
-        (f, jac, s_dot)
-    };
-    // Without sensitivities the Newton matrix may use a Jacobian from an earlier step (simplified
-    // Newton); it is refreshed when Newton slows down, fails, or after `JACOBIAN_AGE` steps. With
-    // sensitivities it is exact at every step (`Ṡ = J S + ∂f/∂p` needs it).
-    const JACOBIAN_AGE: usize = 20;
-    const SLOW_NEWTON: usize = 6;
-    let mut jac_age = 0usize;
-    let (mut f, mut jac, mut s_dot) = evaluate(t, piece, &y, &s, &mut stats);
-    let span = t_end - t0;
-    let mut h = opts.initial_step.unwrap_or(1e-5 * span);
-    let h_max = opts.max_step.unwrap_or(f64::INFINITY);
-    let mut replay = steps.map(|st| st.iter().copied().filter(|&x| x > t0).collect::<Vec<_>>().into_iter());
-    let mut outcome = Outcome::Completed;
+/// The span `[t0, t_end]` cut at the system's breakpoints, and where the driver is in it.
+pub(super) struct Course<'a> {
+    t0: f64,
+    span: f64,
+    breaks: Vec<f64>,
+    next_break: usize,
+    replay: Option<std::vec::IntoIter<f64>>,
+    max_steps: usize,
+    sys: &'a dyn OdeSystem,
+}
 
-    while t < t_end {
+/// Where the next step ends.
+pub(super) struct NextStep {
+    pub t1: f64,
+    /// A replayed step (no error control).
+    pub fixed: bool,
+}
+
+impl<'a> Course<'a> {
+    pub(super) fn new(sys: &'a dyn OdeSystem, t0: f64, t_end: f64, steps: Option<&[f64]>, opts: &Options) -> Self {
+        let mut breaks = sys.breakpoints(t0, t_end);
+        breaks.push(t_end);
+        let replay = steps.map(|st| st.iter().copied().filter(|&x| x > t0).collect::<Vec<_>>().into_iter());
+        Self { t0, span: t_end - t0, breaks, next_break: 0, replay, max_steps: opts.max_steps, sys }
+    }
+
+    /// A time inside the current smooth piece of `f`.
+    pub(super) fn piece(&self, t: f64) -> f64 {
+        0.5 * (t + self.breaks[self.next_break])
+    }
+
+    /// The end of the current piece.
+    pub(super) fn piece_end(&self) -> f64 {
+        self.breaks[self.next_break]
+    }
+
+    /// The default first step, s.
+    pub(super) fn initial_step(&self, opts: &Options) -> f64 {
+        opts.initial_step.unwrap_or(1e-5 * self.span)
+    }
+
+    /// Why the run must end before a step from `t`: a stop request, the step limit.
+    pub(super) fn must_stop(&self, t: f64, stats: &Stats) -> Option<Outcome> {
         if let Some(reason) = spine_stop::check() {
-            outcome = match reason {
+            return Some(match reason {
                 spine_stop::StopReason::TimeLimit => Outcome::TimeLimit { t },
                 spine_stop::StopReason::Interrupted => Outcome::Interrupted { t },
-            };
-            break;
+            });
         }
-        if stats.accepted_steps >= opts.max_steps {
-            outcome = Outcome::StepLimit { t };
-            break;
-        }
-        let seg_end = breaks[next_break];
-        let fixed = replay.as_mut().map(|r| r.next().unwrap_or(t_end));
+        (stats.accepted_steps >= self.max_steps).then_some(Outcome::StepLimit { t })
+    }
+
+    /// The next step from `t` of (at most) `h`: the replayed one, or `h` cut at the piece's end and
+    /// stretched onto it when it would stop just short. `Err` below the step floor (or NaN).
+    pub(super) fn next_step(&mut self, t: f64, h: f64) -> Result<NextStep, Outcome> {
+        let seg_end = self.piece_end();
+        let fixed = self.replay.as_mut().map(|r| r.next().unwrap_or(seg_end.max(t)));
         let mut h_try = match fixed {
             Some(t1) => t1 - t,
-            None => h.min(h_max).min(seg_end - t),
+            None => h.min(seg_end - t),
         };
         if seg_end - (t + h_try) <= 1e-10 * h_try {
             h_try = seg_end - t;
         }
-        // Below the step floor, or NaN.
-        if h_try.partial_cmp(&(10.0 * f64::EPSILON * t.abs().max(span))) != Some(std::cmp::Ordering::Greater) {
-            outcome = Outcome::StepTooSmall { t };
-            break;
+        if h_try.partial_cmp(&(10.0 * f64::EPSILON * t.abs().max(self.span))) != Some(std::cmp::Ordering::Greater) {
+            return Err(Outcome::StepTooSmall { t });
         }
         let t1 = if seg_end - (t + h_try) <= 1e-10 * h_try { seg_end } else { t + h_try };
-        let h_step = t1 - t;
+        Ok(NextStep { t1, fixed: fixed.is_some() })
+    }
 
-        let lu = (DMatrix::<f64>::identity(n, n) - &jac * (h_step * D)).lu();
-        stats.factorizations += 1;
-        let iterations_before = stats.newton_iterations;
-        let Some(step) = attempt(sys, t, piece, h_step, &y, &f, &lu, opts, &mut stats) else {
-            stats.newton_failures += 1;
-            if jac_age > 0 {
-                jac = sys.jacobian(t, piece, &y);
-                stats.jacobian_evaluations += 1;
-                jac_age = 0;
-                continue;
-            }
-            if fixed.is_some() {
-                outcome = Outcome::StepTooSmall { t };
-                break;
-            }
-            h = 0.25 * h_step;
-            continue;
-        };
-        if fixed.is_none() && step.err > 1.0 {
-            stats.rejected_steps += 1;
-            h = h_step * (0.9 * step.err.powf(-1.0 / 3.0)).clamp(0.2, 0.9);
-            continue;
+    /// After an accepted step to `t`: `true` when `t` ends the current piece and another follows
+    /// (the caller re-evaluates `f` and `J̃` there).
+    pub(super) fn passed_break(&mut self, t: f64) -> bool {
+        if t >= self.piece_end() && self.next_break + 1 < self.breaks.len() {
+            self.next_break += 1;
+            return true;
         }
+        false
+    }
 
-        // Accepted.
-        let mut y1 = step.y1.clone();
-        let start_sens = s.clone().zip(s_dot.clone());
-        if let (Some(s0), Some(sd0)) = (s.as_mut(), s_dot.as_ref()) {
-            *s0 = step_sensitivities(sys, (t, t1), piece, &step, &y1, s0, sd0, &mut stats);
+    /// Projects an accepted `y₁` (and its sensitivities, at the unprojected point) onto the
+    /// system's manifold, recording the largest move.
+    pub(super) fn project(&self, y1: &mut [f64], s1: Option<&mut DMatrix<f64>>, stats: &mut Stats) {
+        if let Some(s1) = s1 {
+            self.sys.project_sensitivities(y1, s1);
         }
-        let before = y1.clone();
-        sys.project(&mut y1);
-        let moved = before.iter().zip(&y1).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let before = y1.to_vec();
+        self.sys.project(y1);
+        let moved = before.iter().zip(y1.iter()).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         stats.max_projection = stats.max_projection.max(moved);
-        let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
-        let (f1, jac1, s_dot1) = if s.is_some() || slow || jac_age + 1 >= JACOBIAN_AGE {
-            jac_age = 0;
-            let (f1, j1, sd1) = evaluate(t1, piece, &y1, &s, &mut stats);
-            (f1, Some(j1), sd1)
-        } else {
-            jac_age += 1;
-            stats.rhs_evaluations += 1;
-            (sys.rhs(t1, piece, &y1), None, None)
-        };
-        let sens = match (start_sens, &s, &s_dot1) {
-            (Some((s0, sd0)), Some(s1), Some(sd1)) => Some([s0, sd0, s1.clone(), sd1.clone()]),
-            _ => None,
-        };
-        intervals.push(Interval { t0: t, t1, y0: y.clone(), y1: y1.clone(), f0: f.clone(), f1: f1.clone(), sens });
-        stats.accepted_steps += 1;
-        t = t1;
-        y = y1;
-        f = f1;
-        if let Some(j1) = jac1 {
-            jac = j1;
-        }
-        s_dot = s_dot1;
-        if fixed.is_none() {
-            h = h_step * (0.9 * step.err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
-        }
-        if stop.is_some_and(|f| f(t, &y)) {
-            outcome = Outcome::Stopped { t };
-            break;
-        }
-        if t >= seg_end && next_break + 1 < breaks.len() {
-            next_break += 1;
-            piece = piece_of(t, breaks[next_break]);
-            let (fa, ja, sa) = evaluate(t, piece, &y, &s, &mut stats);
-            f = fa;
-            jac = ja;
-            s_dot = sa;
-            jac_age = 0;
+    }
+
+    /// The start time.
+    pub(super) fn t0(&self) -> f64 {
+        self.t0
+    }
+}
+
+/// The weighted RMS norm of `v` with scales `atol + rtol max(|a_i|, |b_i|)`.
+pub(super) fn weighted_rms(v: &[f64], a: &[f64], b: &[f64], o: &Options) -> f64 {
+    let n = v.len().max(1);
+    let s: f64 = (0..v.len())
+        .map(|i| {
+            let scale = o.atol + o.rtol * a[i].abs().max(b[i].abs());
+            (v[i] / scale).powi(2)
+        })
+        .sum();
+    (s / n as f64).sqrt()
+}
+
+/// `Ṡ = J S + ∂f/∂p` at `(t, y)`, column by column through [`OdeSystem::jacobian_times`].
+pub(super) fn sensitivity_rate(sys: &dyn OdeSystem, t: f64, piece: f64, y: &[f64], s: &DMatrix<f64>) -> DMatrix<f64> {
+    let mut rate = sys.rhs_params(t, piece, y);
+    for k in 0..s.ncols() {
+        let column: Vec<f64> = s.column(k).iter().copied().collect();
+        let js = sys.jacobian_times(t, piece, y, &column);
+        for (i, v) in js.into_iter().enumerate() {
+            rate[(i, k)] += v;
         }
     }
-    Trajectory { start: (t0, y_start), intervals, outcome, stats }
+    rate
 }

@@ -11,10 +11,24 @@ pub const DEFAULT_RTOL: f64 = 1e-9;
 /// Default absolute tolerance, rad and rad/s (a hundredth of [`DEFAULT_RTOL`]).
 pub const DEFAULT_ATOL: f64 = 1e-11;
 
+/// The integration method.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// Radau IIA, order 5 (three stages; the default).
+    #[default]
+    Radau5,
+    /// TR-BDF2, order 2 (the cross-check).
+    #[serde(rename = "trbdf2")]
+    TrBdf2,
+}
+
 /// Integrator settings.
 #[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Options {
+    /// The method (default [`Method::Radau5`]).
+    pub method: Method,
     /// Relative tolerance (default [`DEFAULT_RTOL`]).
     pub rtol: f64,
     /// Absolute tolerance, in the units of each component (rad, rad/s; default [`DEFAULT_ATOL`]).
@@ -65,6 +79,7 @@ pub const MAX_STEPS: usize = 100_000_000;
 impl Default for Options {
     fn default() -> Self {
         Self {
+            method: Method::default(),
             rtol: DEFAULT_RTOL,
             atol: DEFAULT_ATOL,
             initial_step: None,

@@ -1,15 +1,23 @@
-//! One TR-BDF2 step: the two implicit stages by simplified Newton, the embedded error estimate and
-//! the forward sensitivities through the same discrete scheme.
+//! TR-BDF2 ([`super::Method::TrBdf2`]): the two implicit stages by simplified Newton, the embedded
+//! error estimate, the forward sensitivities through the same discrete scheme, and the driver.
+//!
+//! Stages: `z₂ = y + h d (f(y) + f(z₂))` (trapezoidal rule to `t + γh`) and
+//! `y₁ = y + h (w f(y) + w f(z₂) + d f(y₁))` (BDF2), with `γ = 2 − √2`, `d = γ/2`, `w = √2/4`. The
+//! error estimate is filtered through `(I − h d J)⁻¹` as in Hosea & Shampine (so stiff components do
+//! not force tiny steps). The sensitivities use the exact dense Jacobian at both stages.
 
-use super::options::{Options, Stats};
+use super::dense::{Interval, Trajectory};
+use super::linear::ShiftedSolve;
+use super::options::{Options, Outcome, Stats};
+use super::{weighted_rms, Course, Extras};
 use crate::ode::OdeSystem;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 const SQRT2: f64 = std::f64::consts::SQRT_2;
 /// `γ = 2 − √2`: the trapezoidal stage ends at `t + γ h`.
 const GAMMA: f64 = 2.0 - SQRT2;
 /// Diagonal coefficient `d = γ / 2`.
-pub(super) const D: f64 = GAMMA / 2.0;
+const D: f64 = GAMMA / 2.0;
 /// BDF2 stage weights of `f(y)` and `f(z₂)`.
 const W: f64 = SQRT2 / 4.0;
 /// `b − b̂` for the error estimate (third-order companion `b̂ = ((1 − w)/3, (3w + 1)/3, d/3)`).
@@ -17,19 +25,8 @@ const E1: f64 = (4.0 * W - 1.0) / 3.0;
 const E2: f64 = -1.0 / 3.0;
 const E3: f64 = 2.0 * D / 3.0;
 
-fn weighted_rms(v: &[f64], y0: &[f64], y1: &[f64], o: &Options) -> f64 {
-    let n = v.len().max(1);
-    let s: f64 = (0..v.len())
-        .map(|i| {
-            let scale = o.atol + o.rtol * y0[i].abs().max(y1[i].abs());
-            (v[i] / scale).powi(2)
-        })
-        .sum();
-    (s / n as f64).sqrt()
-}
-
 /// A tried step: the new point, the stage, and the weighted error estimate.
-pub(super) struct Attempt {
+struct Attempt {
     /// The trapezoidal stage at `t + γh`.
     pub z2: Vec<f64>,
     /// The new point (before projection).
@@ -82,20 +79,23 @@ fn newton(
 }
 
 #[allow(clippy::too_many_arguments)]
-pub(super) fn attempt(
+fn attempt(
     sys: &dyn OdeSystem,
     t: f64,
     piece: f64,
     h: f64,
     y: &[f64],
     f: &[f64],
-    lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    newton_matrix: &dyn ShiftedSolve<f64>,
     opts: &Options,
     stats: &mut Stats,
 ) -> Option<Attempt> {
     let n = y.len();
-    let solve = |rhs: Vec<f64>| -> Vec<f64> {
-        lu.solve(&DVector::from_vec(rhs)).map(|v| v.as_slice().to_vec()).unwrap_or_else(|| vec![f64::NAN; n])
+    // `I − h d J̃ = h d (σ I − J̃)` with `σ = 1/(h d)`.
+    let solve = |mut rhs: Vec<f64>| -> Vec<f64> {
+        newton_matrix.solve(&mut rhs);
+        rhs.iter_mut().for_each(|v| *v /= h * D);
+        rhs
     };
     // Stage 2: trapezoidal rule to t + γh.
     let guess: Vec<f64> = (0..n).map(|i| y[i] + GAMMA * h * f[i]).collect();
@@ -114,7 +114,7 @@ pub(super) fn attempt(
 /// derivative of the two stages (the same discrete scheme), then of the projection at the
 /// unprojected `y₁`.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn step_sensitivities(
+fn step_sensitivities(
     sys: &dyn OdeSystem,
     (t, t1): (f64, f64),
     piece: f64,
@@ -135,9 +135,136 @@ pub(super) fn step_sensitivities(
     let p3 = sys.rhs_params(t1, piece, y1);
     let w3 = (DMatrix::<f64>::identity(n, n) - &j3 * (h_step * D)).lu();
     let rhs = s0 + (sd0 * W + (&j2 * &s2 + &p2) * W + &p3 * D) * h_step;
-    let mut s1 = w3.solve(&rhs).expect("stage matrix is regular");
+    let s1 = w3.solve(&rhs).expect("stage matrix is regular");
     stats.jacobian_evaluations += 2;
     stats.factorizations += 2;
-    sys.project_sensitivities(y1, &mut s1);
     s1
+}
+
+/// The TR-BDF2 driver: step-size control (exponent 1/3), Jacobian reuse, breakpoints, projection.
+pub(super) fn integrate(
+    sys: &dyn OdeSystem,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    opts: &Options,
+    extras: Extras<'_>,
+) -> Trajectory {
+    let Extras { sensitivities, steps, stop } = extras;
+    let mut stats = Stats::default();
+    let mut intervals = Vec::new();
+    let mut course = Course::new(sys, t0, t_end, steps, opts);
+    let mut t = t0;
+    let mut y = y0.to_vec();
+    sys.project(&mut y);
+    let y_start = y.clone();
+    let mut s = sensitivities;
+    let mut piece = course.piece(t);
+    let evaluate = |t: f64, piece: f64, y: &[f64], s: &Option<DMatrix<f64>>, stats: &mut Stats| {
+        let f = sys.rhs(t, piece, y);
+        let jac = sys.linearize(t, piece, y);
+        stats.rhs_evaluations += 1;
+        stats.jacobian_evaluations += 1;
+        let s_dot = s.as_ref().map(|s| super::sensitivity_rate(sys, t, piece, y, s));
+        (f, jac, s_dot)
+    };
+    // The Newton matrix may use a linearisation from an earlier step (simplified Newton); it is
+    // refreshed when Newton slows down, fails, or after `JACOBIAN_AGE` steps.
+    const JACOBIAN_AGE: usize = 20;
+    const SLOW_NEWTON: usize = 6;
+    let mut jac_age = 0usize;
+    let (mut f, mut jac, mut s_dot) = evaluate(t, piece, &y, &s, &mut stats);
+    let mut h = course.initial_step(opts);
+    let h_max = opts.max_step.unwrap_or(f64::INFINITY);
+    let mut outcome = Outcome::Completed;
+
+    while t < t_end {
+        if let Some(o) = course.must_stop(t, &stats) {
+            outcome = o;
+            break;
+        }
+        let next = match course.next_step(t, h.min(h_max)) {
+            Ok(next) => next,
+            Err(o) => {
+                outcome = o;
+                break;
+            }
+        };
+        let (t1, fixed) = (next.t1, next.fixed);
+        let h_step = t1 - t;
+        stats.factorizations += 1;
+        let Some(matrix) = jac.factor_real(1.0 / (h_step * D)) else {
+            outcome = Outcome::StepTooSmall { t };
+            break;
+        };
+        let iterations_before = stats.newton_iterations;
+        let Some(step) = attempt(sys, t, piece, h_step, &y, &f, matrix.as_ref(), opts, &mut stats) else {
+            stats.newton_failures += 1;
+            if jac_age > 0 {
+                jac = sys.linearize(t, piece, &y);
+                stats.jacobian_evaluations += 1;
+                jac_age = 0;
+                continue;
+            }
+            if fixed {
+                outcome = Outcome::StepTooSmall { t };
+                break;
+            }
+            h = 0.25 * h_step;
+            continue;
+        };
+        if !fixed && step.err > 1.0 {
+            stats.rejected_steps += 1;
+            h = h_step * (0.9 * step.err.powf(-1.0 / 3.0)).clamp(0.2, 0.9);
+            continue;
+        }
+
+        // Accepted.
+        let mut y1 = step.y1.clone();
+        let start_sens = s.clone().zip(s_dot.clone());
+        if let (Some(s0), Some(sd0)) = (s.as_mut(), s_dot.as_ref()) {
+            *s0 = step_sensitivities(sys, (t, t1), piece, &step, &y1, s0, sd0, &mut stats);
+        }
+        course.project(&mut y1, s.as_mut(), &mut stats);
+        let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
+        let (f1, jac1, s_dot1) = if slow || jac_age + 1 >= JACOBIAN_AGE {
+            jac_age = 0;
+            let (f1, j1, sd1) = evaluate(t1, piece, &y1, &s, &mut stats);
+            (f1, Some(j1), sd1)
+        } else {
+            jac_age += 1;
+            stats.rhs_evaluations += 1;
+            let sd1 = s.as_ref().map(|s| super::sensitivity_rate(sys, t1, piece, &y1, s));
+            (sys.rhs(t1, piece, &y1), None, sd1)
+        };
+        let sens = match (start_sens, &s, &s_dot1) {
+            (Some((s0, sd0)), Some(s1), Some(sd1)) => Some([s0, sd0, s1.clone(), sd1.clone()]),
+            _ => None,
+        };
+        intervals.push(Interval { t0: t, t1, y0: y.clone(), y1: y1.clone(), f0: f.clone(), f1: f1.clone(), sens });
+        stats.accepted_steps += 1;
+        t = t1;
+        y = y1;
+        f = f1;
+        if let Some(j1) = jac1 {
+            jac = j1;
+        }
+        s_dot = s_dot1;
+        if !fixed {
+            h = h_step * (0.9 * step.err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
+        }
+        if stop.is_some_and(|f| f(t, &y)) {
+            outcome = Outcome::Stopped { t };
+            break;
+        }
+        if course.passed_break(t) {
+            piece = course.piece(t);
+            let (fa, ja, sa) = evaluate(t, piece, &y, &s, &mut stats);
+            f = fa;
+            jac = ja;
+            s_dot = sa;
+            jac_age = 0;
+        }
+    }
+    Trajectory { start: (course.t0(), y_start), intervals, outcome, stats }
 }
