@@ -127,6 +127,11 @@ lint:
 bench-design *SIZES:
     cargo run --release --quiet -p spine-benchmarks --bin design_scaling -- {{SIZES}}
 
-# Dynamics: wall time, steps and evaluations to simulate 1 s of the step response for N (default 5 10 20 50).
+# Dynamics, side by side with scipy: work against precision of 1 s of the scaled step response
+# (PEERS.md) for N (default 5 10 20 50 100 200 500), this workspace's Radau IIA and scipy's Radau
+# (benchmarks/peers/scipy_dynamics.py, in the venv of benchmarks/peers/setup.sh) at several
+# tolerances; writes benchmarks/DYNAMICS.md and benchmarks/dynamics-work-precision.svg (about 10 min).
 bench-dynamics *SIZES:
-    cargo run --release --quiet -p spine-benchmarks --bin dynamics_scaling -- {{SIZES}}
+    ./benchmarks/peers/setup.sh
+    cargo build --release --quiet -p spine-benchmarks --bins
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/release/dynamics_scaling {{SIZES}}

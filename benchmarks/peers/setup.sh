@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The Python environment of `just bench-peers`: a virtual environment in benchmarks/peers/.venv
-# with CasADi (its bundled IPOPT and MUMPS). Idempotent; installs Debian's python3-venv if the
+# The Python environment of `just bench-peers` and `just bench-dynamics`: a virtual environment in
+# benchmarks/peers/.venv with CasADi (its bundled IPOPT and MUMPS) and scipy (the Radau peer). Idempotent; installs Debian's python3-venv if the
 # venv module is missing.
 set -euo pipefail
 venv=benchmarks/peers/.venv
@@ -18,4 +18,8 @@ fi
 if ! "$venv/bin/python" -c "import casadi" 2>/dev/null; then
   echo "bench-peers: pip install casadi==3.8.2 into $venv"
   "$venv/bin/pip" install --quiet "casadi==3.8.2"
+fi
+if ! "$venv/bin/python" -c "import scipy" 2>/dev/null; then
+  echo "bench-peers: pip install scipy==1.17.1 into $venv"
+  "$venv/bin/pip" install --quiet "scipy==1.17.1"
 fi

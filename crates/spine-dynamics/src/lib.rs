@@ -2,8 +2,9 @@
 //!
 //! * [`eom`]: the constrained equations of motion (eq. (6), `docs/model.md` "Dynamics"), generic over
 //!   num-dual numbers: mass matrix, centrifugal terms, springs, dampers, loads, end constraint.
-//! * [`integrator`]: TR-BDF2 (L-stable, error-controlled) with projection onto `Φ = 0, Φ̇ = 0`,
-//!   dense output, event location and forward sensitivities.
+//! * [`integrator`]: Radau IIA of order 5 (default) and TR-BDF2, L-stable and error-controlled, with
+//!   projection onto `Φ = 0, Φ̇ = 0`, dense output, event location and forward sensitivities.
+//! * [`newton`]: the integrator's Newton matrices for the chain in `O(N)`, real and complex.
 //! * [`system`]: the equations of motion as an ODE in `(θ, θ̇)`, Jacobians by forward AD.
 //! * [`forcing`]: the time profile of the axial force (step, pulse train, sinusoid).
 //!

@@ -1,5 +1,6 @@
-//! TR-BDF2 on problems with known solutions, and on the spine: energy conservation without damping,
-//! dissipation with damping, constraint drift, sensitivities against finite differences.
+//! Radau IIA (the default) and TR-BDF2 on problems with known solutions, and on the spine: energy
+//! conservation without damping, dissipation with damping, constraint drift, sensitivities against
+//! finite differences, and the two methods against each other.
 
 use nalgebra::DMatrix;
 use spine_dynamics::integrator::{integrate, Extras, Method, OdeSystem, Options, Outcome};
@@ -41,19 +42,21 @@ fn a_passed_time_limit_ends_the_run_and_leaves_a_usable_trajectory() {
 
 #[test]
 fn stiff_problem_is_solved_to_tolerance_in_few_steps() {
-    let opts = Options { rtol: 1e-6, atol: 1e-8, max_step: Some(0.05), ..Default::default() };
-    let traj = integrate(&ProtheroRobinson(-1e6), 0.0, &[1.0], 10.0, &opts, Extras::default());
-    assert_eq!(traj.outcome, Outcome::Completed);
-    let err = traj.points().map(|(t, y)| (y[0] - t.cos()).abs()).fold(0.0, f64::max);
-    assert!(err < 1e-5, "max error {err}");
-    assert!(
-        traj.stats.accepted_steps < 3000,
-        "{} steps: the stiff mode must not limit the step",
-        traj.stats.accepted_steps
-    );
-    // Dense output between the steps is accurate too.
-    let dense = (0..1000).map(|k| k as f64 * 0.01).map(|t| (traj.value(t)[0] - t.cos()).abs()).fold(0.0, f64::max);
-    assert!(dense < 1e-5, "dense output error {dense}");
+    for (method, most_steps) in [(Method::Radau5, 300), (Method::TrBdf2, 3000)] {
+        let opts = Options { method, rtol: 1e-6, atol: 1e-8, max_step: Some(0.05), ..Default::default() };
+        let traj = integrate(&ProtheroRobinson(-1e6), 0.0, &[1.0], 10.0, &opts, Extras::default());
+        assert_eq!(traj.outcome, Outcome::Completed);
+        let err = traj.points().map(|(t, y)| (y[0] - t.cos()).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-5, "{method:?}: max error {err}");
+        assert!(
+            traj.stats.accepted_steps < most_steps,
+            "{method:?}: {} steps: the stiff mode must not limit the step",
+            traj.stats.accepted_steps
+        );
+        // Dense output between the steps is accurate too.
+        let dense = (0..1000).map(|k| k as f64 * 0.01).map(|t| (traj.value(t)[0] - t.cos()).abs()).fold(0.0, f64::max);
+        assert!(dense < 1e-5, "{method:?}: dense output error {dense}");
+    }
 }
 
 /// `y'' = −y` as a system: exact `(cos t, −sin t)`.
@@ -199,31 +202,62 @@ fn with_damping_energy_never_increases_and_the_dissipation_balances() {
 #[test]
 fn damper_sensitivities_equal_finite_differences_of_the_discrete_solution() {
     let (d, y0) = spine(3, 3.0, Forcing::Step);
-    let opts = Options { rtol: 1e-7, atol: 1e-9, newton_tolerance: 1e-6, ..Default::default() };
-    let ode = SpineOde { dynamics: &d, damping_sensitivities: true };
-    let traj = integrate(
-        &ode,
-        0.0,
-        &y0,
-        0.3,
-        &opts,
-        Extras { sensitivities: Some(DMatrix::zeros(6, 4)), ..Default::default() },
-    );
-    let steps: Vec<f64> = traj.points().map(|(t, _)| t).collect();
-    let t_probe = 0.137;
-    let s = traj.intervals.iter().find(|iv| iv.t1 >= t_probe).unwrap().sensitivity(t_probe).unwrap();
-    for k in 0..4 {
-        let eps = 1e-4 * d.damping[k];
-        let run = |c: f64| {
-            let mut dk = d.clone();
-            dk.damping[k] = c;
-            let ode = SpineOde { dynamics: &dk, damping_sensitivities: false };
-            integrate(&ode, 0.0, &y0, 0.3, &opts, Extras { steps: Some(&steps), ..Default::default() }).value(t_probe)
-        };
-        let (plus, minus) = (run(d.damping[k] + eps), run(d.damping[k] - eps));
-        for i in 0..6 {
-            let fd = (plus[i] - minus[i]) / (2.0 * eps);
-            assert!((fd - s[(i, k)]).abs() < 1e-6 * (1.0 + fd.abs()), "∂y{i}/∂C{k}: AD {} vs FD {fd}", s[(i, k)]);
+    for method in [Method::Radau5, Method::TrBdf2] {
+        let opts = Options { method, rtol: 1e-7, atol: 1e-9, newton_tolerance: 1e-6, ..Default::default() };
+        let ode = SpineOde { dynamics: &d, damping_sensitivities: true };
+        let traj = integrate(
+            &ode,
+            0.0,
+            &y0,
+            0.3,
+            &opts,
+            Extras { sensitivities: Some(DMatrix::zeros(6, 4)), ..Default::default() },
+        );
+        let steps: Vec<f64> = traj.points().map(|(t, _)| t).collect();
+        let t_probe = 0.137;
+        let s = traj.intervals.iter().find(|iv| iv.t1 >= t_probe).unwrap().sensitivity(t_probe).unwrap();
+        for k in 0..4 {
+            let eps = 1e-4 * d.damping[k];
+            let run = |c: f64| {
+                let mut dk = d.clone();
+                dk.damping[k] = c;
+                let ode = SpineOde { dynamics: &dk, damping_sensitivities: false };
+                integrate(&ode, 0.0, &y0, 0.3, &opts, Extras { steps: Some(&steps), ..Default::default() })
+                    .value(t_probe)
+            };
+            let (plus, minus) = (run(d.damping[k] + eps), run(d.damping[k] - eps));
+            for i in 0..6 {
+                let fd = (plus[i] - minus[i]) / (2.0 * eps);
+                assert!(
+                    (fd - s[(i, k)]).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "{method:?} ∂y{i}/∂C{k}: AD {} vs FD {fd}",
+                    s[(i, k)]
+                );
+            }
         }
     }
+}
+
+/// The two methods cross-check each other on the spine: the same step response to 1e-8 s in `T_90`
+/// (TR-BDF2 at a tight tolerance, Radau IIA at its default), through 10 links and a pulse train's
+/// switches.
+#[test]
+fn radau_and_trbdf2_give_the_same_response() {
+    let (d, y0) = spine(10, 20.0, Forcing::PulseTrain { period: 0.2, duty: 0.5, delay: 0.01 });
+    let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+    let run = |opts: Options| integrate(&ode, 0.0, &y0, 0.5, &opts, Extras::default());
+    let radau = run(Options::default());
+    let trbdf2 = run(Options { method: Method::TrBdf2, rtol: 1e-11, atol: 1e-13, ..Default::default() });
+    assert_eq!(radau.outcome, Outcome::Completed);
+    assert!(
+        radau.stats.accepted_steps * 10 < trbdf2.stats.accepted_steps,
+        "Radau {} steps, TR-BDF2 {}",
+        radau.stats.accepted_steps,
+        trbdf2.stats.accepted_steps
+    );
+    let gap = (0..=500).map(|k| k as f64 * 1e-3).fold(0.0f64, |m, t| {
+        let (a, b) = (radau.value(t), trbdf2.value(t));
+        m.max(a[..10].iter().zip(&b[..10]).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())))
+    });
+    assert!(gap < 1e-7, "largest angle difference {gap:.2e} rad");
 }
