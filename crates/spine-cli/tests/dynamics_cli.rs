@@ -62,6 +62,11 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
             "forcing.duty",
         ),
         ("simulate", Box::new(|c| c["simulation"]["integrator"] = json!({"rtol": 0.0})), "simulation.integrator.rtol"),
+        (
+            "simulate",
+            Box::new(|c| c["simulation"]["integrator"] = json!({"method": "rk4"})),
+            "unknown variant `rk4`, expected `radau5` or `trbdf2`",
+        ),
         // Issue 19: extreme but well-formed values are refused with their range, not run.
         ("simulate", Box::new(|c| c["simulation"]["samples"] = json!(1e15 as u64)), "simulation.samples"),
         ("simulate", Box::new(|c| c["simulation"]["t_end"] = json!(1e300)), "simulation.t_end"),

@@ -87,17 +87,21 @@ impl<D: Scalar> ArticulatedChain<D> {
     /// Factorises `M(θ)` for links of lengths `lengths` (m) and masses `masses` (kg, uniform rods).
     /// `None` when a pivot `D_k` is not positive (a massless tip, or a non-finite `θ`).
     pub fn new(lengths: &[f64], masses: &[f64], theta: &[D]) -> Option<Self> {
-        let shifts = theta.iter().zip(lengths).map(|(t, &l)| {
-            let (s, c) = t.sin_cos();
-            [-s * l, c * l]
-        });
+        let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
+        Self::from_trig(lengths, masses, &trig)
+    }
+
+    /// [`Self::new`] from `(sin θ_k, cos θ_k)`.
+    pub fn from_trig(lengths: &[f64], masses: &[f64], trig: &[(D, D)]) -> Option<Self> {
+        let shifts = trig.iter().zip(lengths).map(|(&(s, c), &l)| [-s * l, c * l]);
         let positive = |d: &D| d.re().partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
         Self::factor(lengths, masses, shifts.collect(), None, &positive)
     }
 }
 
 impl<T: ChainNumber> ArticulatedChain<T> {
-    /// Factorises `M(θ) + T⁻ᵀ diag(joint) T⁻¹ + diag(body)` at a real configuration `θ`: the mass
+    /// Factorises `M(θ) + T⁻ᵀ diag(joint) T⁻¹ + diag(body)` at a real configuration `θ` (given as
+    /// `(sin θ_k, cos θ_k)`): the mass
     /// matrix plus a term on each joint's relative angle `α_k = θ_k − θ_{k−1}` (`joint_k`, added to
     /// the joint's pivot `D_k`) and a term on each link's absolute angle (`body_k`, added to the
     /// link's rotational inertia). With `joint = (σ C_k + K_k)/σ²` this is the Newton matrix of the
@@ -105,12 +109,12 @@ impl<T: ChainNumber> ArticulatedChain<T> {
     pub fn with_additions(
         lengths: &[f64],
         masses: &[f64],
-        theta: &[f64],
+        trig: &[(f64, f64)],
         joint: &[T],
         body: &[T],
         pivot_ok: &dyn Fn(&T) -> bool,
     ) -> Option<Self> {
-        let shifts = theta.iter().zip(lengths).map(|(t, &l)| [T::from(-t.sin() * l), T::from(t.cos() * l)]);
+        let shifts = trig.iter().zip(lengths).map(|(&(s, c), &l)| [T::from(-s * l), T::from(c * l)]);
         Self::factor(lengths, masses, shifts.collect(), Some((joint, body)), pivot_ok)
     }
 

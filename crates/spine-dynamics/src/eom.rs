@@ -102,11 +102,17 @@ impl Dynamics {
     /// (cos θ_j, sin θ_j)`, a prefix sum (scaled by `μ_i`) over `j < i` plus a `μ_j`-weighted suffix
     /// sum over `j > i`.
     pub fn velocity_terms<D: Scalar>(&self, theta: &[D], omega: &[D]) -> Vec<D> {
+        let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
+        self.velocity_terms_from(&trig, omega)
+    }
+
+    /// [`Self::velocity_terms`] from `(sin θ_i, cos θ_i)`.
+    fn velocity_terms_from<D: Scalar>(&self, trig: &[(D, D)], omega: &[D]) -> Vec<D> {
         let n = self.n_links();
         let (coupling, _) = self.inertia_coefficients();
         let w: Vec<(D, D)> = (0..n)
             .map(|j| {
-                let (s, c) = theta[j].sin_cos();
+                let (s, c) = trig[j];
                 let a = omega[j] * omega[j] * self.lengths[j];
                 (a * c, a * s)
             })
@@ -120,7 +126,7 @@ impl Dynamics {
         let mut before = (D::zero(), D::zero());
         (0..n)
             .map(|i| {
-                let (s, c) = theta[i].sin_cos();
+                let (s, c) = trig[i];
                 let a = before.0 * coupling[i] + after[i].0;
                 let b = before.1 * coupling[i] + after[i].1;
                 before = (before.0 + w[i].0, before.1 + w[i].1);
@@ -220,7 +226,7 @@ impl Dynamics {
     fn index1_terms<D: Scalar>(
         &self,
         loads: &LinkLoads,
-        theta: &[D],
+        (theta, trig): (&[D], &[(D, D)]),
         omega: &[D],
         damping: &[D],
         h: &[D],
@@ -230,10 +236,17 @@ impl Dynamics {
         let stiffness: Vec<D> = self.stiffness.iter().map(|&k| D::from(k)).collect();
         let spring = joint_moments(&stiffness, &delta);
         let damper = joint_moments(damping, omega);
-        let p = self.generalised_load(loads, theta);
-        let q: Vec<D> = (0..n).map(|i| p[i] - h[i] - damper[i] - spring[i]).collect();
-        let g = self.constraint_gradient(theta);
-        let b: D = (0..n).map(|i| theta[i].sin() * omega[i] * omega[i] * self.lengths[i]).sum();
+        let l = &self.lengths;
+        // P_i (eq. (48)), Q, ∇Φ_i = L_i cos θ_i and Σ L_i sin θ_i θ̇_i², from one sin/cos per link.
+        let q: Vec<D> = (0..n)
+            .map(|i| {
+                let (s, c) = trig[i];
+                let p = (c * loads.vertical[i] - s * loads.axial[i]) * l[i];
+                p - h[i] - damper[i] - spring[i]
+            })
+            .collect();
+        let g = (0..n).map(|i| trig[i].1 * l[i]).collect();
+        let b: D = (0..n).map(|i| trig[i].0 * omega[i] * omega[i] * l[i]).sum();
         (q, g, b)
     }
 
@@ -243,11 +256,12 @@ impl Dynamics {
     /// by the articulated-body recursion ([`ArticulatedChain`], one factorisation for both), then
     /// `λ = (b − ∇Φᵀ M⁻¹ Q) / (∇Φᵀ M⁻¹ ∇Φ)`. [`Self::acceleration_dense`] is the dense reference.
     pub fn acceleration<D: Scalar>(&self, loads: &LinkLoads, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
-        let h = self.velocity_terms(theta, omega);
-        let (q, g, b) = self.index1_terms(loads, theta, omega, damping, &h);
+        let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
+        let h = self.velocity_terms_from(&trig, omega);
+        let (q, g, b) = self.index1_terms(loads, (theta, &trig), omega, damping, &h);
         // M is positive definite for links with mass; a non-finite trial state (a diverging Newton
         // iterate) gives NaN accelerations, which the integrator rejects.
-        let Some(chain) = ArticulatedChain::new(&self.lengths, &self.masses, theta) else {
+        let Some(chain) = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig) else {
             return nan_accelerations(self.n_links());
         };
         bordered(&chain.solve(&q), &chain.solve(&g), &g, b)
@@ -263,7 +277,8 @@ impl Dynamics {
         damping: &[D],
     ) -> (Vec<D>, D) {
         let h = self.velocity_terms_dense(theta, omega);
-        let (q, g, b) = self.index1_terms(loads, theta, omega, damping, &h);
+        let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
+        let (q, g, b) = self.index1_terms(loads, (theta, &trig), omega, damping, &h);
         let Some(chol) = cholesky(self.mass_matrix(theta)) else {
             return nan_accelerations(self.n_links());
         };

@@ -34,7 +34,7 @@ struct Chain {
     lengths: Vec<f64>,
     masses: Vec<f64>,
     theta: Vec<f64>,
-    /// `(cos θ_i, sin θ_i)`.
+    /// `(sin θ_i, cos θ_i)`.
     trig: Vec<(f64, f64)>,
     /// `μ_j = ½ m_j + Σ_{k>j} m_k` (kg) and `M_ii` (kg·m²).
     coupling: Vec<f64>,
@@ -59,10 +59,10 @@ impl ChainLinearization {
         let loads = d.loads_at(t, piece);
         let (_, lambda) = d.acceleration(&loads, theta, omega, &d.damping);
         let (coupling, diag) = d.inertia_coefficients();
-        let trig: Vec<(f64, f64)> = theta.iter().map(|t| (t.cos(), t.sin())).collect();
+        let trig: Vec<(f64, f64)> = theta.iter().map(|t| t.sin_cos()).collect();
         let load_stiffness = (0..n)
             .map(|i| {
-                let (c, s) = trig[i];
+                let (s, c) = trig[i];
                 d.lengths[i] * (s * loads.vertical[i] + c * loads.axial[i] + lambda * s)
             })
             .collect();
@@ -70,7 +70,7 @@ impl ChainLinearization {
             lengths: d.lengths.clone(),
             masses: d.masses.clone(),
             theta: theta.to_vec(),
-            gradient: (0..n).map(|i| d.lengths[i] * trig[i].0).collect(),
+            gradient: (0..n).map(|i| d.lengths[i] * trig[i].1).collect(),
             trig,
             coupling,
             diag,
@@ -91,7 +91,7 @@ impl ChainLinearization {
         if n > 0 {
             body[n - 1] += element(n);
         }
-        let chain = ArticulatedChain::with_additions(&c.lengths, &c.masses, &c.theta, &joint, &body, pivot_ok)?;
+        let chain = ArticulatedChain::with_additions(&c.lengths, &c.masses, &c.trig, &joint, &body, pivot_ok)?;
         let g: Vec<T> = c.gradient.iter().map(|&v| T::from(v)).collect();
         let ag = chain.solve(&g);
         let gag = dot(&g, &ag);
@@ -110,7 +110,7 @@ impl Chain {
         let zero = T::from(0.0);
         let w: Vec<(T, T)> = (0..n)
             .map(|j| {
-                let (c, s) = self.trig[j];
+                let (s, c) = self.trig[j];
                 let a = r[j] * T::from(self.lengths[j]);
                 (a * T::from(c), a * T::from(s))
             })
@@ -125,7 +125,7 @@ impl Chain {
         let mut before = (zero, zero);
         (0..n)
             .map(|i| {
-                let (c, s) = self.trig[i];
+                let (s, c) = self.trig[i];
                 let mu = T::from(self.coupling[i]);
                 let a = before.0 * mu + after[i].0;
                 let b = before.1 * mu + after[i].1;
