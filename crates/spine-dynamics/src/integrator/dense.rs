@@ -1,11 +1,17 @@
-//! Dense output (cubic Hermite on each accepted step) and event location.
+//! Dense output (Radau IIA's collocation polynomial, or cubic Hermite, on each accepted step) and
+//! event location.
 
 use super::options::{Outcome, Stats};
 use nalgebra::DMatrix;
 
-/// One accepted step: the data of its cubic Hermite interpolant.
+/// One accepted step: the data of its interpolant.
 #[derive(Clone, Debug)]
 pub struct Interval {
+    /// The collocation polynomial `y(t0 + x h) = y0 + Σ_k q_k x^{k+1}` of a Radau IIA step (its
+    /// stage values interpolated, Hairer & Wanner's dense output), used for `y(t)` and `ẏ(t)` when
+    /// present; otherwise the cubic Hermite interpolant of the ends. Sensitivities always use the
+    /// Hermite form of `(S, Ṡ)`.
+    pub collocation: Option<[Vec<f64>; 3]>,
     pub t0: f64,
     pub t1: f64,
     pub y0: Vec<f64>,
@@ -25,7 +31,25 @@ fn hermite(s: f64, h: f64) -> ([f64; 4], [f64; 4]) {
     )
 }
 
+/// The sensitivities `(S, Ṡ)` at one end of a step.
+pub(super) type SensitivityEnd = (DMatrix<f64>, DMatrix<f64>);
+
 impl Interval {
+    /// An accepted step from `(t0, y0, f0)` to `(t1, y1, f1)`; its sensitivities when propagated
+    /// at both ends.
+    pub(super) fn accepted(
+        (t0, y0, f0): (f64, &[f64], &[f64]),
+        (t1, y1, f1): (f64, &[f64], &[f64]),
+        sensitivities: (Option<SensitivityEnd>, Option<SensitivityEnd>),
+        collocation: Option<[Vec<f64>; 3]>,
+    ) -> Self {
+        let sens = match sensitivities {
+            (Some((s0, sd0)), Some((s1, sd1))) => Some([s0, sd0, s1, sd1]),
+            _ => None,
+        };
+        Self { collocation, t0, t1, y0: y0.to_vec(), y1: y1.to_vec(), f0: f0.to_vec(), f1: f1.to_vec(), sens }
+    }
+
     fn weights(&self, t: f64) -> ([f64; 4], [f64; 4]) {
         let h = self.t1 - self.t0;
         hermite(((t - self.t0) / h).clamp(0.0, 1.0), h)
@@ -33,6 +57,10 @@ impl Interval {
 
     /// `y(t)` on this interval.
     pub fn value(&self, t: f64) -> Vec<f64> {
+        if let Some(q) = &self.collocation {
+            let x = ((t - self.t0) / (self.t1 - self.t0)).clamp(0.0, 1.0);
+            return (0..self.y0.len()).map(|i| self.y0[i] + x * (q[0][i] + x * (q[1][i] + x * q[2][i]))).collect();
+        }
         let (b, _) = self.weights(t);
         (0..self.y0.len())
             .map(|i| b[0] * self.y0[i] + b[1] * self.f0[i] + b[2] * self.y1[i] + b[3] * self.f1[i])
@@ -41,6 +69,11 @@ impl Interval {
 
     /// `ẏ(t)` of the interpolant.
     pub fn derivative(&self, t: f64) -> Vec<f64> {
+        if let Some(q) = &self.collocation {
+            let h = self.t1 - self.t0;
+            let x = ((t - self.t0) / h).clamp(0.0, 1.0);
+            return (0..self.y0.len()).map(|i| (q[0][i] + x * (2.0 * q[1][i] + x * 3.0 * q[2][i])) / h).collect();
+        }
         let (_, d) = self.weights(t);
         (0..self.y0.len())
             .map(|i| d[0] * self.y0[i] + d[1] * self.f0[i] + d[2] * self.y1[i] + d[3] * self.f1[i])

@@ -15,8 +15,9 @@
 //! * a projection of every accepted step onto the system's invariant manifold (for the spine,
 //!   `Φ = 0` and `Φ̇ = 0`);
 //! * steps that land on the system's breakpoints (switching instants of the forcing), never across;
-//! * cubic Hermite dense output (the order of Radau IIA's own collocation polynomial between the
-//!   steps), used to locate events and sample the solution;
+//! * dense output, used to locate events and sample the solution: Radau IIA's collocation
+//!   polynomial (through the stage values), TR-BDF2's cubic Hermite interpolant of the step ends
+//!   (sensitivities: cubic Hermite of `S` and `Ṡ` for both);
 //! * optional forward sensitivities `S = ∂y/∂p`, propagated through the same discrete scheme
 //!   (internal differentiation: the exact derivative of the computed solution for the accepted step
 //!   sequence), including the projection.

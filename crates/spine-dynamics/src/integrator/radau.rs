@@ -390,11 +390,9 @@ pub(super) fn integrate(
         let f1 = sys.rhs(t1, piece, &y1);
         stats.rhs_evaluations += 1;
         let s_dot1 = s.as_ref().map(|s| sensitivity_rate(sys, t1, piece, &y1, s));
-        let sens = match (start_sens, &s, &s_dot1) {
-            (Some((s0, sd0)), Some(s1), Some(sd1)) => Some([s0, sd0, s1.clone(), sd1.clone()]),
-            _ => None,
-        };
-        intervals.push(Interval { t0: t, t1, y0: y.clone(), y1: y1.clone(), f0: f.clone(), f1: f1.clone(), sens });
+        let end_sens = s.clone().zip(s_dot1.clone());
+        let collocation = polynomial.as_ref().map(|p| p.q.clone());
+        intervals.push(Interval::accepted((t, &y, &f), (t1, &y1, &f1), (start_sens, end_sens), collocation));
         stats.accepted_steps += 1;
         let refresh = col.iterations > 2 && col.rate.is_some_and(|r| r > 1e-3);
         let factor = (safety * predict_factor(h_step, last, err)).min(10.0);

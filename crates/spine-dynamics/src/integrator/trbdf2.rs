@@ -237,11 +237,8 @@ pub(super) fn integrate(
             let sd1 = s.as_ref().map(|s| super::sensitivity_rate(sys, t1, piece, &y1, s));
             (sys.rhs(t1, piece, &y1), None, sd1)
         };
-        let sens = match (start_sens, &s, &s_dot1) {
-            (Some((s0, sd0)), Some(s1), Some(sd1)) => Some([s0, sd0, s1.clone(), sd1.clone()]),
-            _ => None,
-        };
-        intervals.push(Interval { t0: t, t1, y0: y.clone(), y1: y1.clone(), f0: f.clone(), f1: f1.clone(), sens });
+        let end_sens = s.clone().zip(s_dot1.clone());
+        intervals.push(Interval::accepted((t, &y, &f), (t1, &y1, &f1), (start_sens, end_sens), None));
         stats.accepted_steps += 1;
         t = t1;
         y = y1;
