@@ -4,9 +4,10 @@ use serde::Serialize;
 use spine_solve::OptionError;
 
 /// Default relative tolerance: T_90 of a step response and the reach and return times of a pulse
-/// train within 1e-6 relative of a run at 1e-12 (measured 3e-7 on the paper's 5- and 10-link step
-/// cases and the 7-link pulse case; at 1e-6 the error was 2.5–2.9e-5, and it shrinks like
-/// rtol^0.67 with this second-order method). `tests/accuracy.rs` checks it.
+/// train within 1e-6 relative of a run at 1e-12. Chosen with TR-BDF2 (measured 3e-7 on the paper's
+/// 5- and 10-link step cases and the 7-link pulse case; its error shrinks like rtol^0.67); Radau IIA
+/// is far inside it (T_90 within about 1e-11 s at this rtol, `benchmarks/DYNAMICS.md`), and the
+/// default is kept so that results of a case stay comparable. `tests/accuracy.rs` checks it.
 pub const DEFAULT_RTOL: f64 = 1e-9;
 /// Default absolute tolerance, rad and rad/s (a hundredth of [`DEFAULT_RTOL`]).
 pub const DEFAULT_ATOL: f64 = 1e-11;
