@@ -34,8 +34,8 @@
 
 use serde::Deserialize;
 use spine_dynamics::fixtures::peer_step_problem;
-use spine_dynamics::response::simulate_step;
-use spine_dynamics::{Forcing, Options, StepSettings};
+use spine_dynamics::response::{simulate_step, StaticEnds};
+use spine_dynamics::{Dynamics, Forcing, Options, StepSettings};
 use spine_plot::{Figure, Panel, Series};
 use std::fmt::Write as _;
 
@@ -105,15 +105,27 @@ impl Size {
     }
 }
 
-fn ours(n: usize, rtol: f64) -> Result<Run, String> {
-    let problem = peer_step_problem(n);
-    let ends = problem.static_ends(&Default::default()).expect("the peer chains have stable ends");
-    let d = problem.dynamics(Forcing::Step);
+/// One chain: its dynamics and static ends, computed once and shared by every run and the model file.
+struct Chain {
+    n: usize,
+    d: Dynamics,
+    ends: StaticEnds,
+}
+
+impl Chain {
+    fn new(n: usize) -> Self {
+        let problem = peer_step_problem(n);
+        let ends = problem.static_ends(&Default::default()).expect("the peer chains have stable ends");
+        Self { n, d: problem.dynamics(Forcing::Step), ends }
+    }
+}
+
+fn ours(Chain { d, ends, .. }: &Chain, rtol: f64) -> Result<Run, String> {
     let integrator = Options { rtol, atol: rtol / 100.0, max_steps: 10_000_000, ..Default::default() };
     let settings = StepSettings { t_end: 1.0, samples: 2, integrator, ..Default::default() };
     let mut best: Option<Run> = None;
     for _ in 0..REPEATS {
-        let r = simulate_step(&d, ends.clone(), &settings, false);
+        let r = simulate_step(d, ends.clone(), &settings, false);
         if r.outcome != spine_dynamics::Outcome::Completed {
             return Err(format!("{:?}", r.outcome));
         }
@@ -137,10 +149,7 @@ fn ours(n: usize, rtol: f64) -> Result<Run, String> {
 }
 
 /// Writes the model scipy reads; returns `Δ∞`.
-fn write_model(n: usize, path: &std::path::Path) -> f64 {
-    let problem = peer_step_problem(n);
-    let ends = problem.static_ends(&Default::default()).expect("stable ends");
-    let d = problem.dynamics(Forcing::Step);
+fn write_model(Chain { n, d, ends }: &Chain, path: &std::path::Path) -> f64 {
     let model = serde_json::json!({
         "n_links": n,
         "lengths": d.lengths,
@@ -216,11 +225,12 @@ fn main() {
     let mut out_of_budget: Vec<f64> = Vec::new();
     for &n in &sizes {
         let model = dir.join(format!("model-{n}.json"));
-        let delta_inf = write_model(n, &model);
-        let reference = ours(n, REFERENCE_RTOL).unwrap_or_else(|e| panic!("N = {n}: the reference run ended {e}"));
+        let chain = Chain::new(n);
+        let delta_inf = write_model(&chain, &model);
+        let reference = ours(&chain, REFERENCE_RTOL).unwrap_or_else(|e| panic!("N = {n}: the reference run ended {e}"));
         let runs: Vec<Run> = OURS
             .iter()
-            .filter_map(|&r| ours(n, r).map_err(|e| eprintln!("N = {n}, rtol {r:e}: ours ended {e}")).ok())
+            .filter_map(|&r| ours(&chain, r).map_err(|e| eprintln!("N = {n}, rtol {r:e}: ours ended {e}")).ok())
             .collect();
         let peer_rtols: Vec<f64> = SCIPY.iter().copied().filter(|r| !out_of_budget.iter().any(|s| *s >= *r)).collect();
         let (scipy_runs, stopped) = scipy(&python, &model, budget, &peer_rtols);

@@ -33,7 +33,6 @@ use std::rc::Rc;
 struct Chain {
     lengths: Vec<f64>,
     masses: Vec<f64>,
-    theta: Vec<f64>,
     /// `(sin θ_i, cos θ_i)`.
     trig: Vec<(f64, f64)>,
     /// `μ_j = ½ m_j + Σ_{k>j} m_k` (kg) and `M_ii` (kg·m²).
@@ -69,7 +68,6 @@ impl ChainLinearization {
         Self(Rc::new(Chain {
             lengths: d.lengths.clone(),
             masses: d.masses.clone(),
-            theta: theta.to_vec(),
             gradient: (0..n).map(|i| d.lengths[i] * trig[i].1).collect(),
             trig,
             coupling,
@@ -83,7 +81,7 @@ impl ChainLinearization {
     /// `σ I − J̃` factored, or `None` when a pivot of the recursion fails `pivot_ok`.
     fn factor<T: ChainNumber + 'static>(&self, sigma: T, pivot_ok: &dyn Fn(&T) -> bool) -> Option<ChainFactor<T>> {
         let c = &self.0;
-        let n = c.theta.len();
+        let n = c.trig.len();
         let inv = T::from(1.0) / sigma;
         let element = |k: usize| (sigma * T::from(c.damping[k]) + T::from(c.stiffness[k])) * inv * inv;
         let joint: Vec<T> = (0..n).map(element).collect();
@@ -95,7 +93,8 @@ impl ChainLinearization {
         let g: Vec<T> = c.gradient.iter().map(|&v| T::from(v)).collect();
         let ag = chain.solve(&g);
         let gag = dot(&g, &ag);
-        Some(ChainFactor { data: Rc::clone(&self.0), inv, chain, ag, gag })
+        let stiffness = c.stiffness.iter().map(|&v| T::from(v)).collect();
+        Some(ChainFactor { data: Rc::clone(&self.0), inv, chain, g, ag, gag, stiffness })
     }
 }
 
@@ -135,10 +134,9 @@ impl Chain {
             .collect()
     }
 
-    /// `K̃ r`.
-    fn stiffness_times<T: ChainNumber>(&self, r: &[T]) -> Vec<T> {
-        let k: Vec<T> = self.stiffness.iter().map(|&v| T::from(v)).collect();
-        let springs = joint_moments(&k, r);
+    /// `K̃ r`, with the springs `stiffness` already in the number type of `r`.
+    fn stiffness_times<T: ChainNumber>(&self, stiffness: &[T], r: &[T]) -> Vec<T> {
+        let springs = joint_moments(stiffness, r);
         springs.into_iter().zip(r).zip(&self.load_stiffness).map(|((s, &x), &l)| s + x * T::from(l)).collect()
     }
 }
@@ -150,22 +148,24 @@ struct ChainFactor<T> {
     inv: T,
     /// `M + (C_m + K̃/σ)/σ` by the articulated-body recursion.
     chain: ArticulatedChain<T>,
-    /// `A⁻¹ ∇Φ` and `∇Φᵀ A⁻¹ ∇Φ`.
+    /// `∇Φ`, `A⁻¹ ∇Φ` and `∇Φᵀ A⁻¹ ∇Φ`.
+    g: Vec<T>,
     ag: Vec<T>,
     gag: T,
+    /// `K_1..K_{N+1}` in the number type.
+    stiffness: Vec<T>,
 }
 
 impl<T: ChainNumber> ShiftedSolve<T> for ChainFactor<T> {
     fn solve(&self, rhs: &mut [T]) {
         let c = &self.data;
-        let n = c.theta.len();
+        let n = c.trig.len();
         let (r1, r2) = rhs.split_at_mut(n);
-        let kr1 = c.stiffness_times(r1);
+        let kr1 = c.stiffness_times(&self.stiffness, r1);
         let mr2 = c.mass_times(r2);
         let rhs_u: Vec<T> = mr2.iter().zip(&kr1).map(|(&m, &k)| (m - k * self.inv) * self.inv).collect();
         let au = self.chain.solve(&rhs_u);
-        let g: Vec<T> = c.gradient.iter().map(|&v| T::from(v)).collect();
-        let mu = (dot(&g, &au) - dot(&g, r2) * self.inv) / self.gag;
+        let mu = (dot(&self.g, &au) - dot(&self.g, r2) * self.inv) / self.gag;
         for i in 0..n {
             let u = au[i] - mu * self.ag[i];
             r1[i] = (r1[i] + u) * self.inv;

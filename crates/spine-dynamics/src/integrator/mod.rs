@@ -70,7 +70,6 @@ pub fn integrate(
 
 /// The span `[t0, t_end]` cut at the system's breakpoints, and where the driver is in it.
 pub(super) struct Course<'a> {
-    t0: f64,
     span: f64,
     breaks: Vec<f64>,
     next_break: usize,
@@ -91,7 +90,7 @@ impl<'a> Course<'a> {
         let mut breaks = sys.breakpoints(t0, t_end);
         breaks.push(t_end);
         let replay = steps.map(|st| st.iter().copied().filter(|&x| x > t0).collect::<Vec<_>>().into_iter());
-        Self { t0, span: t_end - t0, breaks, next_break: 0, replay, max_steps: opts.max_steps, sys }
+        Self { span: t_end - t0, breaks, next_break: 0, replay, max_steps: opts.max_steps, sys }
     }
 
     /// A time inside the current smooth piece of `f`.
@@ -159,11 +158,6 @@ impl<'a> Course<'a> {
         self.sys.project(y1);
         let moved = before.iter().zip(y1.iter()).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         stats.max_projection = stats.max_projection.max(moved);
-    }
-
-    /// The start time.
-    pub(super) fn t0(&self) -> f64 {
-        self.t0
     }
 }
 

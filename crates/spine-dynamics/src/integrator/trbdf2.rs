@@ -263,5 +263,5 @@ pub(super) fn integrate(
             jac_age = 0;
         }
     }
-    Trajectory { start: (course.t0(), y_start), intervals, outcome, stats }
+    Trajectory { start: (t0, y_start), intervals, outcome, stats }
 }
