@@ -9,7 +9,7 @@
 //!
 //! Fixtures are families that grow with `N` without changing character:
 //! * [`scaled_arch`]: an arch under transverse and axial load (equilibrium benchmarks);
-//! * [`DesignFixture`]: the scaled family of `../shared/PEERS.md` at the arch start (design
+//! * [`DesignFixture`]: the scaled family of `docs/PEERS.md` at the arch start (design
 //!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
 #![forbid(unsafe_code)]
 

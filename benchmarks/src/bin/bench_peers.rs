@@ -1,4 +1,4 @@
-//! `just bench-peers`: eq. (33) on the scaled family of `../shared/PEERS.md`, solved by this
+//! `just bench-peers`: eq. (33) on the scaled family of `docs/PEERS.md`, solved by this
 //! workspace and by CasADi + IPOPT (`benchmarks/peers/casadi_static.py`) from the same case file
 //! and the same start point, one N at a time. Prints the comparison table and writes
 //! `benchmarks/peers/results.json` (read by `bench_report` into `benchmarks/RESULTS.md`).

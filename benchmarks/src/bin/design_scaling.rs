@@ -1,4 +1,4 @@
-//! `just bench-design`: eq. (33) on the scaled family of `../shared/PEERS.md` for growing N, full
+//! `just bench-design`: eq. (33) on the scaled family of `docs/PEERS.md` for growing N, full
 //! space and (where affordable) reduced space: Ipopt status, iterations, wall time, time per
 //! iteration and the optimum J. Each configuration runs `REPEATS` times and reports the fastest
 //! (machines here are shared and noisy).

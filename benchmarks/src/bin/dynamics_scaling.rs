@@ -1,7 +1,7 @@
 //! `just bench-dynamics`: work against precision of the step response, this workspace against
 //! scipy's Radau on the same chains, side by side in one run.
 //!
-//! The chains are the scaled step case of `../shared/PEERS.md`
+//! The chains are the scaled step case of `docs/PEERS.md`
 //! ([`spine_dynamics::fixtures::peer_step_problem`]: 1 s of response to a −400 N step). For each
 //! `N`, the model (lengths, masses, springs, dampers, link loads, the passive equilibrium `θ1` and
 //! the rise target) is written to `target/bench-dynamics/model-N.json`; the workspace simulates it
@@ -273,7 +273,7 @@ fn report(results: &[Size], budget: f64) -> String {
         s,
         "# Dynamics: work against precision, this workspace against scipy Radau\n\n\
          Written by `just bench-dynamics` (benchmarks/src/bin/dynamics_scaling.rs). The scaled step case of \
-         `../shared/PEERS.md` (1 s of response to a −400 N step), N links; both sides simulate the same model \
+         `docs/PEERS.md` (1 s of response to a −400 N step), N links; both sides simulate the same model \
          file (`target/bench-dynamics/model-N.json`), scipy with its own numpy equations of motion \
          (benchmarks/peers/scipy_dynamics.py). Times are the integration alone, on one core \
          (`OPENBLAS_NUM_THREADS=1`); errors against the workspace at rtol {REFERENCE_RTOL:e}. scipy runs \

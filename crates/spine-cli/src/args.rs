@@ -55,11 +55,11 @@ pub struct AnimateArgs {
 
 impl AnimateArgs {
     /// The animation options, when any animation flag is given.
-    pub fn options(&self) -> Option<spine_paper::AnimationOptions> {
+    pub fn options(&self) -> Option<spine_run::AnimationOptions> {
         let given = self.animate || self.frames.is_some() || self.frame_width.is_some() || self.magnify.is_some();
         given.then(|| {
-            let d = spine_paper::AnimationOptions::default();
-            spine_paper::AnimationOptions {
+            let d = spine_run::AnimationOptions::default();
+            spine_run::AnimationOptions {
                 frames: self.frames.unwrap_or(d.frames),
                 width: self.frame_width.unwrap_or(d.width),
                 magnification: self.magnify.or(d.magnification),
@@ -78,8 +78,8 @@ pub struct DynamicArgs {
 }
 
 impl DynamicArgs {
-    pub fn overrides(&self) -> spine_paper::Overrides {
-        spine_paper::Overrides { animation: self.animate.options(), ..Default::default() }
+    pub fn overrides(&self) -> spine_run::Overrides {
+        spine_run::Overrides { animation: self.animate.options(), ..Default::default() }
     }
 }
 
@@ -108,7 +108,7 @@ pub struct DesignArgs {
     /// Solve only the K-th of N shares of the starts (start i belongs to shard i mod N + 1) and
     /// write `DIR/shard.json`; `spine merge` combines the N shards into the single run's result.
     #[arg(long, value_name = "K/N")]
-    pub shard: Option<spine_paper::run::shard::ShardSpec>,
+    pub shard: Option<spine_run::shard::ShardSpec>,
 }
 
 #[derive(clap::Args)]
@@ -207,14 +207,14 @@ pub enum Command {
 
 impl DesignArgs {
     /// The overrides, with worker processes for a multi-start: `--jobs`, or one per core.
-    pub fn overrides(&self) -> Result<spine_paper::Overrides, crate::Failure> {
+    pub fn overrides(&self) -> Result<spine_run::Overrides, crate::Failure> {
         let mut overrides = self.design_overrides();
         overrides.workers = workers(self.jobs, &self.run.case, &overrides.design)?;
         Ok(overrides)
     }
 
-    fn design_overrides(&self) -> spine_paper::Overrides {
-        let design = spine_paper::run::DesignOverrides {
+    fn design_overrides(&self) -> spine_run::Overrides {
+        let design = spine_run::DesignOverrides {
             formulation: self.formulation.as_deref().map(|f| {
                 if f == "reduced" {
                     Formulation::Reduced
@@ -226,16 +226,16 @@ impl DesignArgs {
             seed: self.seed,
             refine: self.refine,
         };
-        spine_paper::Overrides { design, ..Default::default() }
+        spine_run::Overrides { design, ..Default::default() }
     }
 }
 
 impl PeriodicArgs {
-    pub fn overrides(&self) -> spine_paper::Overrides {
+    pub fn overrides(&self) -> spine_run::Overrides {
         let method =
             self.method.as_deref().map(|m| if m == "pattern" { SearchMethod::Pattern } else { SearchMethod::Ga });
-        spine_paper::Overrides {
-            dynamics: spine_paper::run::DynamicsOverrides { method },
+        spine_run::Overrides {
+            dynamics: spine_run::DynamicsOverrides { method },
             animation: self.animate.options(),
             ..Default::default()
         }
@@ -247,8 +247,8 @@ impl PeriodicArgs {
 fn workers(
     jobs: Option<usize>,
     case: &std::path::Path,
-    design: &spine_paper::run::DesignOverrides,
-) -> Result<Option<spine_paper::run::workers::Workers>, crate::Failure> {
+    design: &spine_run::DesignOverrides,
+) -> Result<Option<spine_run::workers::Workers>, crate::Failure> {
     let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     if jobs <= 1 {
         return Ok(None);
@@ -257,20 +257,20 @@ fn workers(
         .map_err(|e| crate::Failure::Other(format!("--jobs: cannot find this program to start workers: {e}")))?;
     let design = serde_json::to_string(design).expect("overrides serialise");
     let args = vec!["worker".to_string(), case.display().to_string(), "--overrides".into(), design];
-    let command = spine_paper::run::workers::WorkerCommand { program, args };
-    Ok(Some(spine_paper::run::workers::Workers { jobs, command }))
+    let command = spine_run::workers::WorkerCommand { program, args };
+    Ok(Some(spine_run::workers::Workers { jobs, command }))
 }
 
 impl StudyArgs {
     /// The overrides: worker processes for the study's solves.
-    pub fn overrides(&self) -> Result<spine_paper::Overrides, crate::Failure> {
+    pub fn overrides(&self) -> Result<spine_run::Overrides, crate::Failure> {
         let workers = workers(self.jobs, &self.run.case, &Default::default())?;
-        Ok(spine_paper::Overrides { workers, ..Default::default() })
+        Ok(spine_run::Overrides { workers, ..Default::default() })
     }
 
     /// The C_K values of `spine study ck` (default: half-decades from 1 to 10⁴).
     pub fn values(&self) -> Result<Vec<f64>, crate::Failure> {
-        let values = self.values.clone().unwrap_or_else(spine_paper::study::half_decades);
+        let values = self.values.clone().unwrap_or_else(spine_run::study::half_decades);
         match values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
             Some(v) => Err(crate::Failure::Input(format!("--values: every C_K must be finite and > 0, got {v}"))),
             None => Ok(values),
@@ -303,29 +303,29 @@ where
     Ok(n)
 }
 
-/// `--frames`: within [`spine_paper::animation::FRAMES`].
+/// `--frames`: within [`spine_run::animation::FRAMES`].
 fn parse_frames(text: &str) -> Result<usize, String> {
-    parse_within(text, spine_paper::animation::FRAMES, "")
+    parse_within(text, spine_run::animation::FRAMES, "")
 }
 
-/// `--frame-width`: within [`spine_paper::animation::WIDTH`].
+/// `--frame-width`: within [`spine_run::animation::WIDTH`].
 fn parse_frame_width(text: &str) -> Result<u32, String> {
-    parse_within(text, spine_paper::animation::WIDTH, " px")
+    parse_within(text, spine_run::animation::WIDTH, " px")
 }
 
-/// `--magnify`: a factor in (0, [`spine_paper::animation::MAX_MAGNIFICATION`]].
+/// `--magnify`: a factor in (0, [`spine_run::animation::MAX_MAGNIFICATION`]].
 fn parse_magnify(text: &str) -> Result<f64, String> {
     let m: f64 = text.parse().map_err(|e| format!("{e}"))?;
-    let max = spine_paper::animation::MAX_MAGNIFICATION;
+    let max = spine_run::animation::MAX_MAGNIFICATION;
     if !(m > 0.0 && m <= max) {
         return Err(format!("a factor > 0 and ≤ {max:e}, got {text}"));
     }
     Ok(m)
 }
 
-/// `--jobs`: 1..=[`spine_paper::run::workers::MAX_JOBS`].
+/// `--jobs`: 1..=[`spine_run::workers::MAX_JOBS`].
 fn parse_jobs(text: &str) -> Result<usize, String> {
-    parse_within(text, 1..=spine_paper::run::workers::MAX_JOBS, "")
+    parse_within(text, 1..=spine_run::workers::MAX_JOBS, "")
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).

@@ -4,7 +4,7 @@
 //! clean — not a stable, converged equilibrium, a failed solver check, or stopped by
 //! `--time-limit` (the result is still written, with its status; a time limit that left nothing
 //! to report writes nothing); 130 interrupted (nothing written); 1 any other failure (for example the output folder cannot be
-//! written). The command only parses arguments, calls `spine_paper::run_case` and prints.
+//! written). The command only parses arguments, calls `spine_run::run_case` and prints.
 #![forbid(unsafe_code)]
 
 mod args;
@@ -90,18 +90,12 @@ fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failu
 
 /// `spine design --shard K/N`: the K-th share of a multi-start's starts, written to
 /// `DIR/shard.json` (exit 3 when a time limit left it incomplete: `spine merge` refuses it).
-fn shard(
-    args: &RunArgs,
-    overrides: spine_paper::Overrides,
-    spec: spine_paper::run::shard::ShardSpec,
-) -> Result<bool, Failure> {
+fn shard(args: &RunArgs, overrides: spine_run::Overrides, spec: spine_run::shard::ShardSpec) -> Result<bool, Failure> {
     let path = args.case.display().to_string();
     let (text, _) = read_case(&args.case)?;
     let mut bars = progress::Bars::default();
     let (shard, _) = spine_stop::with_time_limit(args.time_limit, || {
-        spine_paper::run::shard::run_shard(&text, &overrides.design, spec, overrides.workers.as_ref(), &mut |p| {
-            bars.report(p)
-        })
+        spine_run::shard::run_shard(&text, &overrides.design, spec, overrides.workers.as_ref(), &mut |p| bars.report(p))
     });
     bars.clear();
     let shard = shard.map_err(|e| failure(&path, e))?;
@@ -128,14 +122,14 @@ fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
         let shard = serde_json::from_str(&text).map_err(|e| Failure::Input(format!("{name}: not a shard: {e}")))?;
         shards.push(shard);
     }
-    let result = spine_paper::run::shard::merge(shards).map_err(|e| failure("merge", e))?;
+    let result = spine_run::shard::merge(shards).map_err(|e| failure("merge", e))?;
     let (path, _) = output::Output::new(&a.out, a.deterministic).write_result(&result)?;
     output::say(&format!("{result}wrote {}\n", path.display()));
     Ok(result.is_clean())
 }
 
 /// A run's error as its exit code.
-fn failure(path: &str, e: spine_paper::RunError) -> Failure {
+fn failure(path: &str, e: spine_run::RunError) -> Failure {
     if e.is_interrupted() {
         Failure::Interrupted
     } else if e.is_time_limit() {
@@ -154,12 +148,12 @@ fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
     let (_, spine_case::Case::Design(c)) = read_case(&a.case)? else {
         return Err(Failure::Input(format!("{path}: kind: a worker solves \"design\" cases")));
     };
-    let overrides: spine_paper::run::DesignOverrides =
+    let overrides: spine_run::DesignOverrides =
         serde_json::from_str(&a.overrides).map_err(|e| Failure::Input(format!("--overrides: {e}")))?;
     let mut valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     overrides.apply(&mut valid);
     let (input, output) = (std::io::stdin().lock(), std::io::stdout().lock());
-    spine_paper::run::workers::serve(&valid, input, output).map_err(|e| Failure::Other(format!("worker: {e}")))?;
+    spine_run::workers::serve(&valid, input, output).map_err(|e| Failure::Other(format!("worker: {e}")))?;
     Ok(true)
 }
 
@@ -168,7 +162,7 @@ fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
 fn run(
     args: &RunArgs,
     expect: Option<&str>,
-    mut overrides: spine_paper::Overrides,
+    mut overrides: spine_run::Overrides,
     study: Option<Vec<f64>>,
 ) -> Result<bool, Failure> {
     overrides.time_limit = args.time_limit;
@@ -183,8 +177,8 @@ fn run(
     }
     let mut bars = progress::Bars::default();
     let result = match &study {
-        Some(values) => spine_paper::run_study(&case, &overrides, values, &mut |p| bars.report(p)),
-        None => spine_paper::run_case(&case, &overrides, &mut |p| bars.report(p)),
+        Some(values) => spine_run::run_study(&case, &overrides, values, &mut |p| bars.report(p)),
+        None => spine_run::run_case(&case, &overrides, &spine_paper::PaperFigures, &mut |p| bars.report(p)),
     };
     bars.clear();
     let result = result.map_err(|e| failure(&path, e))?;

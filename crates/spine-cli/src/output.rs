@@ -1,9 +1,9 @@
 //! Printing to stdout without a panic when the reader has gone (`spine … | head`), and the
-//! result folder through `spine_paper::write` with its errors as exit codes.
+//! result folder through `spine_run::write` with its errors as exit codes.
 
 use crate::Failure;
-use spine_paper::write::{Folder, WriteError};
-use spine_paper::CaseResult;
+use spine_run::write::{Folder, WriteError};
+use spine_run::CaseResult;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 

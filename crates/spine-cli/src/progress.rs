@@ -1,7 +1,7 @@
 //! Progress of a long run on the terminal (stderr): one bar per stage, finished lines printed.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use spine_paper::run::Progress;
+use spine_run::Progress;
 
 /// Draws [`Progress`] reports as bars.
 #[derive(Default)]

@@ -35,7 +35,7 @@ pub fn paper_problem(n: usize, p_y: f64, p_x: f64, delta_d: f64, stiffness_scale
     }
 }
 
-/// The scaled family of `../shared/PEERS.md`: `s = N/10`, `P_Y = −5 N` per node,
+/// The scaled family of `docs/PEERS.md`: `s = N/10`, `P_Y = −5 N` per node,
 /// `P_X = −400 s N`, `K ∈ [10² s², 10⁴ s²]`, `y_min = 0.01 min(1, 10/N)`, `δ_d = −0.02 m`,
 /// `C_K = s²`. At `N = 10` it is the paper's 10-link configuration.
 pub fn scaled_family(n: usize) -> DesignProblem {

@@ -21,7 +21,7 @@ pub fn arch_problem(n_links: usize, damping: f64) -> DynamicProblem {
     }
 }
 
-/// The scaled step case of `../shared/PEERS.md` ("Dynamics"), simulated by `just bench-dynamics` and
+/// The scaled step case of `docs/PEERS.md` ("Dynamics"), simulated by `just bench-dynamics` and
 /// its scipy peer: over 1 m, arch `θ0` of amplitude 0.3 rad, `K = 1000 N/5` N·m/rad at every joint
 /// but the slider's (0), `C = 20 N/5` N·m·s/rad at every joint, `0.5/N` kg per link (no gravity),
 /// `−50/N` N at every node and `−400` N at the end, as a step at `t = 0`. Springs and dampers grow

@@ -1,33 +1,27 @@
-//! # spine-paper: the paper's figures, computed, drawn and checked
+//! # spine-paper: the paper's figures, drawn and checked, and the reproduction report
 //!
-//! A figure case (`"kind": "figure"`, see `docs/case-format.md`) lists runs; [`run`] computes each
-//! one, a recipe in [`figures`] turns the results into panels (SVG and PNG through `spine-plot`),
-//! CSV tables of the plotted data and [`Claim`]s — the paper's statements, each measured and given
-//! PASS or FAIL with its numbers. [`study`] is the C_K study of eq. (34) and [`report`] gathers
-//! every figure's claims into `results/REPORT.md`.
+//! A figure case (`"kind": "figure"`, see `docs/case-format.md`) lists runs; `spine-run` computes
+//! each one, and a recipe in [`figures`] turns the results into panels (SVG, PNG and PDF through
+//! `spine-plot`), CSV tables of the plotted data and [`Claim`](spine_run::Claim)s — the paper's
+//! statements, each measured and given PASS or FAIL with its numbers. [`PaperFigures`] hands the
+//! recipes to the run path; [`report`] gathers every figure's claims into `results/REPORT.md` and
+//! `results/report.html`.
 //!
 //! ```
-//! // Any case file runs through one path: parse, check, run, a typed result.
+//! // Fig. "twolink" (Sec. 3) from a figure case: its runs through spine-run, its panels and claims here.
 //! let case = spine_case::Case::from_json(r#"{
-//!   "kind": "twolink", "length": 0.5, "stiffness": 1000, "p_y": -10, "p_x": -400, "deltas": [-1e-4, -1e-5]
+//!   "kind": "figure", "figure": "twolink",
+//!   "runs": [{ "name": "exact", "case": {
+//!     "kind": "twolink", "length": 0.5, "stiffness": 1000, "p_y": -10, "p_x": -400,
+//!     "deltas": [-1e-3, -1e-4, -1e-5, -1e-6] } }]
 //! }"#).unwrap();
-//! let result = spine_paper::run_case(&case, &Default::default(), &mut spine_paper::run::quiet).unwrap();
-//! assert!(result.is_clean()); // the exact θ0 was found for every δ
-//! let json = result.to_json(); // what `spine case` writes to result.json
-//! assert_eq!(json["study"]["rows"].as_array().unwrap().len(), 2);
+//! let result = spine_run::run_case(&case, &Default::default(), &spine_paper::PaperFigures, &mut spine_run::quiet).unwrap();
+//! let json = result.to_json();
+//! assert!(json["claims_total"].as_u64().unwrap() > 0); // each claim PASS or FAIL with its numbers
 //! ```
 #![forbid(unsafe_code)]
 
-pub mod animation;
-pub mod claims;
 pub mod figures;
-pub mod metrics;
 pub mod report;
-pub mod run;
-pub mod study;
-pub mod write;
 
-pub use animation::{Animation, AnimationOptions, Track};
-pub use claims::{Check, Claim};
-pub use figures::{recipe, FigureOutput, NamedRun};
-pub use run::{run_case, run_study, CaseResult, Overrides, RunError, RunOutput};
+pub use figures::PaperFigures;

@@ -111,8 +111,9 @@ fn ck_across(results: &[FolderResult]) -> Option<CkAcross> {
     };
     let rows = [pick("fig6")?, pick("fig7")?, pick("fig8")?];
     // The study's rule: monotone, and a change of more than 10 % from C_K = 1 to 10⁴.
-    let spread_up = rows.windows(2).all(|w| w[1].1 > w[0].1) && rows[2].1 / rows[0].1 - 1.0 > crate::study::EFFECT;
-    let shape_down = rows.windows(2).all(|w| w[1].2 < w[0].2) && rows[2].2 / rows[0].2 - 1.0 < -crate::study::EFFECT;
+    let spread_up = rows.windows(2).all(|w| w[1].1 > w[0].1) && rows[2].1 / rows[0].1 - 1.0 > spine_run::study::EFFECT;
+    let shape_down =
+        rows.windows(2).all(|w| w[1].2 < w[0].2) && rows[2].2 / rows[0].2 - 1.0 < -spine_run::study::EFFECT;
     Some(CkAcross { rows, spread_up, shape_down })
 }
 

@@ -4,7 +4,7 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyTimeoutError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
-use spine_paper::run::FileContent;
+use spine_run::FileContent;
 
 /// The case `obj` describes: a dictionary (case-file format), JSON text (starts with `{`), or the
 /// path of a case file (`str` or `os.PathLike`). Parsed and checked as the CLI does; bad input is
@@ -54,7 +54,7 @@ pub fn case_text(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<String> {
 
 /// A run error as a Python exception: bad input `ValueError`, a time limit that left nothing to
 /// report `TimeoutError`, an outside stop `KeyboardInterrupt`, anything else `RuntimeError`.
-pub fn run_error(e: spine_paper::RunError) -> PyErr {
+pub fn run_error(e: spine_run::RunError) -> PyErr {
     let message = e.to_string();
     if e.is_interrupted() {
         PyKeyboardInterrupt::new_err(message)
@@ -68,7 +68,7 @@ pub fn run_error(e: spine_paper::RunError) -> PyErr {
 }
 
 /// The CSV tables of a result as `{file name: {column: numpy array}}`.
-pub fn series_of<'py>(py: Python<'py>, result: &spine_paper::CaseResult) -> PyResult<Bound<'py, PyDict>> {
+pub fn series_of<'py>(py: Python<'py>, result: &spine_run::CaseResult) -> PyResult<Bound<'py, PyDict>> {
     let all = PyDict::new(py);
     for file in result.files() {
         let FileContent::Text(text) = &file.content else { continue };

@@ -1,8 +1,8 @@
 //! `flexspine`: the Python front of the workspace (PyO3, abi3, numpy arrays).
 //!
 //! Every call goes through the same Rust code as the `spine` CLI — case files are parsed and
-//! checked by `spine_case`, runs go through `spine_paper::run_case`, folders are written by
-//! `spine_paper::write` — so a result from Python is the CLI's `result.json`, byte for byte with
+//! checked by `spine_case`, runs go through `spine_run::run_case`, folders are written by
+//! `spine_run::write` — so a result from Python is the CLI's `result.json`, byte for byte with
 //! `deterministic=True`. This crate only converts: Python objects to case text, results to
 //! dictionaries and numpy arrays, errors to Python exceptions (`ValueError` naming the field for
 //! bad input, `TimeoutError`, `KeyboardInterrupt`, `RuntimeError`).
@@ -53,7 +53,7 @@ pub(crate) fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + 
 /// The typed result of a case: what `result.json` holds, with the time series as numpy arrays.
 #[pyclass(name = "Result", module = "flexspine", frozen)]
 pub struct CaseResult {
-    inner: spine_paper::CaseResult,
+    inner: spine_run::CaseResult,
 }
 
 #[pymethods]
@@ -84,12 +84,12 @@ impl CaseResult {
     /// `--deterministic` does: then the same input gives the same bytes.
     #[pyo3(signature = (deterministic = false))]
     fn json(&self, deterministic: bool) -> String {
-        spine_paper::write::result_json(&self.inner, deterministic)
+        spine_run::write::result_json(&self.inner, deterministic)
     }
 
     /// `result.json` as a Python dictionary (wall times under `"timings"`).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let text = spine_paper::write::result_json(&self.inner, false);
+        let text = spine_run::write::result_json(&self.inner, false);
         py.import("json")?.call_method1("loads", (text,))
     }
 
@@ -111,7 +111,7 @@ impl CaseResult {
     /// fig9–fig11 always have one). Drawn on each call.
     fn gif<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, pyo3::types::PyBytes>>> {
         let animation = self.inner.files().into_iter().find_map(|f| match f.content {
-            spine_paper::run::FileContent::Animation(a) => Some(a),
+            spine_run::FileContent::Animation(a) => Some(a),
             _ => None,
         });
         let Some(animation) = animation else { return Ok(None) };
@@ -129,7 +129,7 @@ impl CaseResult {
     /// `out`, all or nothing, exactly as the CLI's `--out`. Returns the path of `result.json`.
     #[pyo3(signature = (out, deterministic = false))]
     fn write(&self, py: Python<'_>, out: std::path::PathBuf, deterministic: bool) -> PyResult<String> {
-        let written = py.detach(|| spine_paper::write::Folder::new(&out, deterministic).write_result(&self.inner));
+        let written = py.detach(|| spine_run::write::Folder::new(&out, deterministic).write_result(&self.inner));
         match written {
             Ok((path, _)) => Ok(path.display().to_string()),
             Err(e) if e.is_input() => Err(PyValueError::new_err(e.to_string())),
@@ -179,7 +179,7 @@ fn run_case(
     magnify: Option<f64>,
 ) -> PyResult<CaseResult> {
     let case = case_from(py, case)?;
-    let mut overrides = spine_paper::Overrides::default();
+    let mut overrides = spine_run::Overrides::default();
     if let Some(n) = starts {
         if n > spine_case::MAX_STARTS {
             return Err(PyValueError::new_err(format!("starts: at most {}, got {n}", spine_case::MAX_STARTS)));
@@ -210,15 +210,17 @@ fn run_case(
         overrides.time_limit = Some(Duration::from_secs_f64(s));
     }
     if animate || frames.is_some() || frame_width.is_some() || magnify.is_some() {
-        let d = spine_paper::AnimationOptions::default();
-        overrides.animation = Some(spine_paper::AnimationOptions {
+        let d = spine_run::AnimationOptions::default();
+        overrides.animation = Some(spine_run::AnimationOptions {
             frames: frames.unwrap_or(d.frames),
             width: frame_width.unwrap_or(d.width),
             magnification: magnify,
         });
     }
-    let result = interruptible(py, || spine_paper::run_case(&case, &overrides, &mut spine_paper::run::quiet))?
-        .map_err(run_error)?;
+    let result = interruptible(py, || {
+        spine_run::run_case(&case, &overrides, &spine_paper::PaperFigures, &mut spine_run::quiet)
+    })?
+    .map_err(run_error)?;
     let result = CaseResult { inner: result };
     if let Some(out) = out {
         result.write(py, out, deterministic)?;

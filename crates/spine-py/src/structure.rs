@@ -175,9 +175,10 @@ impl Structure {
     /// projected Hessian): the CLI's `spine equilibrium`, as a [`Result`] (`result["loaded"]`).
     fn equilibria(&self, py: Python<'_>) -> PyResult<CaseResult> {
         let case = Case::Equilibrium(self.case.clone());
-        let inner =
-            interruptible(py, || spine_paper::run_case(&case, &Default::default(), &mut spine_paper::run::quiet))?
-                .map_err(run_error)?;
+        let inner = interruptible(py, || {
+            spine_run::run_case(&case, &Default::default(), &spine_run::NoRecipes, &mut spine_run::quiet)
+        })?
+        .map_err(run_error)?;
         Ok(CaseResult { inner })
     }
 

@@ -13,7 +13,9 @@
 //! constraint violation. No penalty weight to tune. Both are seeded and deterministic: the same
 //! seed gives the same sequence of evaluations on every machine.
 //!
-//! No maintained crate offers both methods with constraint handling (see `../shared/CRATES.md`);
+//! No maintained crate offers both methods with constraint handling (genevo is unmaintained and
+//! weak on continuous problems; argmin 0.11 has Nelder–Mead and PSO but neither a GA nor pattern
+//! search; see `docs/design.md`);
 //! these are tested on Rosenbrock, Rastrigin and a constrained problem with known minima.
 //!
 //! ```

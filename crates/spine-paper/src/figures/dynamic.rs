@@ -3,11 +3,9 @@
 //! designs for three rise times).
 
 use super::*;
-use crate::run::samples_csv;
-use crate::run::DynamicOutput;
-use crate::{Animation, Track};
 use serde_json::json;
 use spine_dynamics::{DampingDesign, PeriodicResponse, StepResponse};
+use spine_run::{samples_csv, Animation, Track};
 use std::f64::consts::LN_10;
 
 /// RMS misfit of `Δ∞(1 − e^{−τt})`, as a fraction of `|Δ∞|`, below which a response is "first-order-like".

@@ -5,45 +5,22 @@ mod dynamic;
 mod statics;
 mod twolink;
 
-use crate::claims::Claim;
-use crate::run::{RunOutput, StaticDesign, UsedDesign};
 use serde_json::Value;
 use spine_dynamics::response::Sample;
 use spine_model::kinematics::{link_lengths, node_positions};
 use spine_model::Design;
 use spine_plot::{Figure, Panel, Series};
+use spine_run::{Claim, DynamicOutput, FigureOutput, FigureRecipes, NamedRun, RunOutput, StaticDesign, UsedDesign};
 use std::fmt::Write as _;
 
-/// A run of a figure, with its result.
-pub struct NamedRun<'a> {
-    pub name: &'a str,
-    pub label: &'a str,
-    pub output: &'a RunOutput,
-}
+/// The paper's recipes, by figure name: what `spine case` and `flexspine` pass to the run path.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PaperFigures;
 
-impl NamedRun<'_> {
-    /// The label, or the name when the case gives none.
-    pub fn title(&self) -> &str {
-        if self.label.is_empty() {
-            self.name
-        } else {
-            self.label
-        }
+impl FigureRecipes for PaperFigures {
+    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+        recipe(figure, title, runs)
     }
-}
-
-/// Everything a recipe makes.
-#[derive(Default)]
-pub struct FigureOutput {
-    /// File stem → figure (written as `STEM.svg` and `STEM.png`).
-    pub figures: Vec<(String, Figure)>,
-    /// File name → CSV text.
-    pub tables: Vec<(String, String)>,
-    /// File stem → animation of the chain's motion (written as `STEM.gif`).
-    pub animations: Vec<(String, crate::Animation)>,
-    pub claims: Vec<Claim>,
-    /// Numbers the report and the cross-figure checks read back (`result.json` → `summary`).
-    pub summary: serde_json::Map<String, Value>,
 }
 
 /// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
@@ -67,7 +44,7 @@ fn expect_design<'a>(run: &NamedRun<'a>) -> Result<&'a StaticDesign, String> {
     }
 }
 
-fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a crate::run::DynamicOutput), String> {
+fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a DynamicOutput), String> {
     match run.output {
         RunOutput::Dynamics { used, output } => Ok((used, output)),
         _ => Err(format!("run {:?}: this figure needs a dynamic run", run.name)),

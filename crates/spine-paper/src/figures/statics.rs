@@ -2,8 +2,8 @@
 //! Fig. 5 (the design as the transverse load varies).
 
 use super::*;
-use crate::metrics::{sensitivity_ratio, DesignChange};
 use serde_json::json;
+use spine_run::metrics::{sensitivity_ratio, DesignChange};
 
 /// Tolerance on `|X_{N+1}(θ2) − L_x − δ_d|`, m: the constraint tolerance of the solves (1e-8) with room.
 const END_TOLERANCE: f64 = 1e-6;

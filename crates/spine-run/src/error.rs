@@ -31,7 +31,7 @@ pub enum RunError {
     /// The figure's recipe rejected its runs.
     #[error("{figure}: {message}")]
     Recipe { figure: String, message: String },
-    /// A stop was requested from outside ([`super::interrupt`]); nothing is reported.
+    /// A stop was requested from outside (Ctrl-C, SIGTERM); nothing is reported.
     #[error("interrupted: the run was stopped before it finished; nothing written")]
     Interrupted,
     /// The run's time limit passed and left nothing to report (`cause`: how the run failed once
@@ -50,7 +50,7 @@ pub enum RunError {
     Worker(String),
     /// Shards that cannot be merged (mismatched, missing, incomplete).
     #[error(transparent)]
-    Merge(#[from] super::shard::MergeError),
+    Merge(#[from] crate::shard::MergeError),
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {

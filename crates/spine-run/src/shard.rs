@@ -8,9 +8,11 @@
 //! merge checks them against the case, which the shard carries verbatim with the overrides it ran
 //! with, so a merge needs nothing but the shards.
 
-use super::design::{census, solve_all, DesignOverrides};
-use super::workers::Workers;
-use super::{CaseResult, KindResult, Progress, RunError};
+use crate::design::{census, solve_all, DesignOverrides};
+use crate::error::RunError;
+use crate::progress::Progress;
+use crate::result::{CaseResult, KindResult};
+use crate::workers::Workers;
 use serde::{Deserialize, Serialize};
 use spine_design::multistart::feasible_starts;
 use spine_design::SolverRun;

@@ -11,7 +11,7 @@
 //! A time limit or an interrupt stops handing out starts; solves still in flight are abandoned
 //! (their workers are killed), so the census holds the starts completed.
 
-use super::RunError;
+use crate::error::RunError;
 use serde::{Deserialize, Serialize};
 use spine_design::{run_solver, SolverRun};
 use spine_model::Design;

@@ -1,12 +1,64 @@
 //! Kind `figure`: every run of a figure case, then its recipe's panels, tables and checked claims.
 
-use super::files::{FileContent, OutputFile};
-use super::output::{run, RunOutput};
-use super::{Progress, RunError};
-use crate::{recipe, Check, Claim, NamedRun};
+use crate::animation::{Animation, AnimationOptions};
+use crate::claims::{Check, Claim};
+use crate::error::RunError;
+use crate::files::{FileContent, OutputFile};
+use crate::output::{run, RunOutput};
+use crate::progress::Progress;
 use serde::Serialize;
 use serde_json::{Map, Value};
 use spine_case::{FigureCase, Notes, ValidRun};
+
+/// The recipes that turn a figure case's runs into its panels, tables and checked claims, by the
+/// figure's name (`"figure": "fig6"`). The paper's are `spine_paper::PaperFigures`.
+pub trait FigureRecipes: Sync {
+    /// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
+    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String>;
+}
+
+/// No recipes: a figure case is refused ([`RunError::Recipe`]). For callers that run only
+/// solver kinds.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoRecipes;
+
+impl FigureRecipes for NoRecipes {
+    fn draw(&self, figure: &str, _: &str, _: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+        Err(format!("no recipe for {figure:?}: figure cases are drawn by spine-paper's recipes"))
+    }
+}
+
+/// A run of a figure, with its result: what a recipe reads.
+pub struct NamedRun<'a> {
+    pub name: &'a str,
+    pub label: &'a str,
+    pub output: &'a RunOutput,
+}
+
+impl NamedRun<'_> {
+    /// The label, or the name when the case gives none.
+    pub fn title(&self) -> &str {
+        if self.label.is_empty() {
+            self.name
+        } else {
+            self.label
+        }
+    }
+}
+
+/// Everything a recipe makes.
+#[derive(Default)]
+pub struct FigureOutput {
+    /// File stem → figure (written as `STEM.svg`, `STEM.png` and `STEM.pdf`).
+    pub figures: Vec<(String, spine_plot::Figure)>,
+    /// File name → CSV text.
+    pub tables: Vec<(String, String)>,
+    /// File stem → animation of the chain's motion (written as `STEM.gif`).
+    pub animations: Vec<(String, Animation)>,
+    pub claims: Vec<Claim>,
+    /// Numbers the report and the cross-figure checks read back (`result.json` → `summary`).
+    pub summary: Map<String, Value>,
+}
 
 /// One run of a figure with its result.
 #[derive(Clone, Debug, Serialize)]
@@ -40,7 +92,7 @@ pub struct FigureResult {
     pub tables: Vec<(String, String)>,
     /// File stem → animation (written as `STEM.gif`).
     #[serde(skip)]
-    pub animations: Vec<(String, crate::Animation)>,
+    pub animations: Vec<(String, Animation)>,
 }
 
 /// Runs every run of `case` (checked as `runs`), then its recipe; its animations (if any) are
@@ -48,7 +100,8 @@ pub struct FigureResult {
 pub fn run_figure(
     case: &FigureCase,
     runs: &[ValidRun],
-    animation: Option<crate::AnimationOptions>,
+    recipes: &dyn FigureRecipes,
+    animation: Option<AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<FigureResult, RunError> {
     let title = if case.title.is_empty() { case.figure.clone() } else { case.title.clone() };
@@ -75,7 +128,8 @@ pub fn run_figure(
     }
     let named: Vec<NamedRun<'_>> =
         results.iter().map(|r| NamedRun { name: &r.name, label: &r.label, output: &r.result }).collect();
-    let made = recipe(&case.figure, &title, &named)
+    let made = recipes
+        .draw(&case.figure, &title, &named)
         .map_err(|message| RunError::Recipe { figure: case.figure.clone(), message })?;
     let mut files: Vec<String> = made.tables.iter().map(|(name, _)| name.clone()).collect();
     for (stem, _) in &made.figures {

@@ -10,7 +10,7 @@ pub enum FileContent {
     /// A figure, written as `NAME.svg`, `NAME.png` and `NAME.pdf`.
     Figure(spine_plot::Figure),
     /// An animation of the chain's motion, written as `NAME.gif`.
-    Animation(crate::Animation),
+    Animation(crate::animation::Animation),
 }
 
 /// A file written beside `result.json`: its name (a figure's stem) and content.

@@ -1,9 +1,10 @@
 //! A run inside a figure: a checked case computed and kept as a value ([`RunOutput`]) that a
 //! recipe draws and checks.
 
-use super::design::{run_design, StaticDesign};
-use super::dynamics::{run_dynamics, DynamicOutput, UsedDesign};
-use super::{Progress, RunError};
+use crate::design::{run_design, StaticDesign};
+use crate::dynamics::{run_dynamics, DynamicOutput, UsedDesign};
+use crate::error::RunError;
+use crate::progress::Progress;
 use serde::Serialize;
 use spine_case::{ValidCase, ValidTwoLink};
 

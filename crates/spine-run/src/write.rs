@@ -9,8 +9,8 @@
 //! untouched (its staging folder is removed on failure; a killed run leaves only the hidden
 //! staging folder); two runs into one `--out` each swap in a complete set.
 
-use crate::run::{FileContent, OutputFile};
-use crate::CaseResult;
+use crate::files::{FileContent, OutputFile};
+use crate::result::CaseResult;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 

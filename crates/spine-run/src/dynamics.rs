@@ -1,9 +1,11 @@
 //! Kinds `simulate`, `damping` and `periodic`: the dynamics of Sec. 5.2 on a given design or on
 //! the eq. (33) design of the case.
 
-use super::design::{run_design, StaticDesign};
-use super::files::{samples_csv, FileContent, OutputFile};
-use super::{Progress, RunError};
+use crate::animation::{Animation, AnimationOptions, Track};
+use crate::design::{run_design, StaticDesign};
+use crate::error::RunError;
+use crate::files::{samples_csv, FileContent, OutputFile};
+use crate::progress::Progress;
 use serde::{Serialize, Serializer};
 use spine_case::{DesignSource, DynamicsTask, ValidDynamics};
 use spine_dynamics::{
@@ -223,7 +225,7 @@ pub struct DynamicsResult {
     pub n_links: usize,
     /// The chain's motion, written as `animation.gif` when asked for.
     #[serde(skip)]
-    pub animation: Option<crate::Animation>,
+    pub animation: Option<Animation>,
 }
 
 /// Runs a dynamic case of kind `kind` with title `title`, with an animation of its responses
@@ -232,7 +234,7 @@ pub fn run_dynamics_case(
     kind: &'static str,
     title: &str,
     valid: &ValidDynamics,
-    animation: Option<crate::AnimationOptions>,
+    animation: Option<AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DynamicsResult, RunError> {
     // A design from eq. (33) that did not end clean is reported (exit 3), with no dynamics on it.
@@ -280,8 +282,7 @@ pub fn run_dynamics_case(
     }
     if let Some(options) = animation {
         let tracks = result.tracks(&valid.chain.spans);
-        result.animation =
-            (!tracks.is_empty()).then(|| crate::Animation { title: result.title.clone(), tracks, options });
+        result.animation = (!tracks.is_empty()).then(|| Animation { title: result.title.clone(), tracks, options });
     }
     Ok(result)
 }
@@ -307,8 +308,8 @@ impl DynamicsResult {
 
     /// The responses to animate: the step or periodic response, each eq. (35) design's step
     /// response, or the eq. (37) design's periodic response.
-    fn tracks(&self, spans: &[f64]) -> Vec<crate::Track> {
-        let track = |label: String, samples| crate::Track::new(label, spans, &self.design.theta0, samples);
+    fn tracks(&self, spans: &[f64]) -> Vec<Track> {
+        let track = |label: String, samples| Track::new(label, spans, &self.design.theta0, samples);
         let mut tracks = Vec::new();
         if let Some(r) = &self.step_response {
             tracks.push(track("step response".into(), &r.samples));

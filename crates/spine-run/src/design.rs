@@ -1,8 +1,9 @@
 //! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
 
-use super::workers::{solve_starts, Task, Workers};
-use super::{Progress, RunError};
+use crate::error::RunError;
+use crate::progress::Progress;
+use crate::workers::{solve_starts, Task, Workers};
 use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};

@@ -4,9 +4,12 @@
 //! (Sec. 5.1) checked on the results.
 
 use crate::claims::Claim;
+use crate::design::run_design;
+use crate::error::RunError;
+use crate::files::{FileContent, OutputFile};
 use crate::metrics::DesignChange;
-use crate::run::workers::{solve_starts, Task, Workers};
-use crate::run::{run_design, RunError};
+use crate::progress::Progress;
+use crate::workers::{solve_starts, Task, Workers};
 use serde::Serialize;
 use spine_case::ValidDesign;
 use spine_design::{DesignResult, ScalingMethod};
@@ -109,7 +112,7 @@ pub fn ck_study(
 /// than solver tolerance).
 const TIE: f64 = 1e-3;
 /// The smallest relative change between the first and the last C_K that counts as an effect.
-pub(crate) const EFFECT: f64 = 0.10;
+pub const EFFECT: f64 = 0.10;
 
 fn differ(a: f64, b: f64) -> f64 {
     if (a - b).abs() <= TIE * a.abs().max(b.abs()) {
@@ -315,15 +318,13 @@ pub fn run_ck_study(
     case: &ValidDesign,
     values: &[f64],
     workers: Option<&Workers>,
-    progress: &mut dyn FnMut(crate::run::Progress<'_>),
+    progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<StudyResult, RunError> {
     let clock = std::time::Instant::now();
     let title = format!("C_K study, eq. (34): {}", if title.is_empty() { "design case" } else { title });
-    progress(crate::run::Progress::Done {
-        message: format!("{title}: C_K = {values:?}, Ipopt scaling gradient-based and none"),
-    });
+    progress(Progress::Done { message: format!("{title}: C_K = {values:?}, Ipopt scaling gradient-based and none") });
     let sweep = ck_study(case, values, workers, &mut |done, total| {
-        progress(crate::run::Progress::Step { stage: "eq. (33) solves", done, total })
+        progress(Progress::Step { stage: "eq. (33) solves", done, total })
     })?;
     let claims = sweep.claims();
     Ok(StudyResult {
@@ -345,17 +346,14 @@ pub fn run_ck_study(
 impl StudyResult {
     /// Every solver check of the claims passed.
     pub fn is_clean(&self) -> bool {
-        self.claims.iter().all(|c| c.pass || c.check != crate::Check::Solver)
+        self.claims.iter().all(|c| c.pass || c.check != crate::claims::Check::Solver)
     }
 
     /// `ck_study.csv` and `figure` (SVG and PNG).
-    pub fn files(&self) -> Vec<crate::run::OutputFile> {
+    pub fn files(&self) -> Vec<OutputFile> {
         vec![
-            crate::run::OutputFile::text("ck_study.csv", self.sweep.csv()),
-            crate::run::OutputFile {
-                name: "figure".into(),
-                content: crate::run::FileContent::Figure(self.sweep.figure(&self.title)),
-            },
+            OutputFile::text("ck_study.csv", self.sweep.csv()),
+            OutputFile { name: "figure".into(), content: FileContent::Figure(self.sweep.figure(&self.title)) },
         ]
     }
 }

@@ -2,8 +2,13 @@
 //! it, and whether it is clean (exit code 0) or not (exit code 3). A run stopped by its time limit
 //! still gives its result, marked `"stopped": "time_limit"` and never clean.
 
-use super::{DesignCaseResult, DynamicsResult, EquilibriumResult, FigureResult, OutputFile, TwoLinkResult};
+use crate::design::DesignCaseResult;
+use crate::dynamics::DynamicsResult;
+use crate::equilibrium::EquilibriumResult;
+use crate::figure::FigureResult;
+use crate::files::OutputFile;
 use crate::study::StudyResult;
+use crate::twolink::TwoLinkResult;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -12,7 +17,7 @@ use serde_json::{Map, Value};
 pub struct CaseResult {
     pub result: KindResult,
     /// Set when some loop of the run saw its wall-clock limit pass
-    /// ([`super::Overrides::time_limit`]) and ended early: the result holds what was reached
+    /// ([`crate::Overrides::time_limit`]) and ended early: the result holds what was reached
     /// (each solver's status says where it stopped) and is not clean.
     pub stopped: Option<spine_stop::StopReason>,
 }

@@ -1,35 +1,15 @@
-//! One run path: a checked case → its solver → a typed result. [`run_case`] runs any case file's
-//! kind and returns a [`CaseResult`] (what `result.json` holds, the files beside it, whether it is
-//! clean, and its summary for a user); [`run`] runs a case inside a figure and keeps its result as a
-//! [`RunOutput`] value that a recipe draws and checks. Nothing here prints or writes files.
+//! Running a case file: [`run_case`] (any kind) and [`run_study`] (the C_K study), each under
+//! the run's time limit, to a typed [`CaseResult`].
 
-mod design;
-mod dynamics;
-mod equilibrium;
-mod error;
-mod figure;
-mod files;
-mod output;
-mod progress;
-mod result;
-pub mod shard;
-mod twolink;
-pub mod workers;
-
-pub use design::{run_design, run_design_case, DesignCaseResult, DesignOverrides, StaticDesign};
-pub use dynamics::{
-    dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicOutput,
-    DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,
-};
-pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
-pub use error::RunError;
-pub use figure::{run_figure, FigureResult, FigureRunResult};
-pub use files::{samples_csv, FileContent, OutputFile};
-pub use output::{run, run_twolink, RunOutput};
-pub use progress::{quiet, Progress};
-pub use result::{with_timings, CaseResult, KindResult};
-pub use twolink::{run_twolink_case, TwoLinkResult};
-
+use crate::design::{run_design_case, DesignOverrides};
+use crate::dynamics::{run_dynamics_case, DynamicsOverrides};
+use crate::equilibrium::run_equilibrium;
+use crate::error::RunError;
+use crate::figure::{run_figure, FigureRecipes};
+use crate::progress::Progress;
+use crate::result::{CaseResult, KindResult};
+use crate::twolink::run_twolink_case;
+use crate::workers;
 use spine_case::Case;
 
 /// Changes to a case from the command line (each `None` keeps the case file's value).
@@ -45,7 +25,7 @@ pub struct Overrides {
     /// Animations: a dynamic run (`simulate`, `damping`, `periodic`) writes `animation.gif` when
     /// set; a figure with an animation (fig9–fig11) always writes one, with these options when
     /// set and the defaults otherwise.
-    pub animation: Option<crate::AnimationOptions>,
+    pub animation: Option<crate::animation::AnimationOptions>,
     /// Worker processes for the seeded starts of a multi-start (`None`, or one job: every solve in
     /// this process). The census is the same either way.
     pub workers: Option<workers::Workers>,
@@ -70,7 +50,8 @@ fn limited(overrides: &Overrides, run: impl FnOnce() -> Result<KindResult, RunEr
 }
 
 /// Checks `case`, applies `overrides` and runs it to its typed result: the one run path of every
-/// kind (under [`Overrides::time_limit`] when set).
+/// kind (under [`Overrides::time_limit`] when set). A figure case's runs are drawn by `recipes`
+/// (the paper's: `spine_paper::PaperFigures`; [`NoRecipes`](crate::NoRecipes) refuses figure cases).
 ///
 /// ```
 /// let text = r#"{
@@ -80,7 +61,7 @@ fn limited(overrides: &Overrides, run: impl FnOnce() -> Result<KindResult, RunEr
 ///   "loads": { "p_y": [0, -10, 0], "p_x": -50 }
 /// }"#;
 /// let case = spine_case::Case::from_json(text).unwrap();
-/// let result = spine_paper::run_case(&case, &Default::default(), &mut spine_paper::run::quiet).unwrap();
+/// let result = spine_run::run_case(&case, &Default::default(), &spine_run::NoRecipes, &mut spine_run::quiet).unwrap();
 /// assert!(result.is_clean()); // both equilibria found and certified stable
 /// let json = result.to_json();
 /// assert_eq!(json["loaded"]["stability"]["stable"], true);
@@ -89,6 +70,7 @@ fn limited(overrides: &Overrides, run: impl FnOnce() -> Result<KindResult, RunEr
 pub fn run_case(
     case: &Case,
     overrides: &Overrides,
+    recipes: &dyn FigureRecipes,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
     if let Some(a) = &overrides.animation {
@@ -114,7 +96,9 @@ pub fn run_case(
                 overrides.dynamics.apply(&mut valid);
                 KindResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, overrides.animation, progress)?)
             }
-            Case::Figure(c) => KindResult::Figure(run_figure(c, &c.validate()?, overrides.animation, progress)?),
+            Case::Figure(c) => {
+                KindResult::Figure(run_figure(c, &c.validate()?, recipes, overrides.animation, progress)?)
+            }
         })
     })
 }
