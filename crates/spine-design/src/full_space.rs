@@ -282,7 +282,7 @@ pub struct FullSpaceNlp<'a> {
     /// Called once per Ipopt iteration (progress, logging); return `false` to stop.
     pub on_iteration: Option<&'a mut dyn FnMut(&spine_ipopt::IterationInfo) -> bool>,
     /// Start multipliers, used with Ipopt's `warm_start_init_point = yes` (mesh sequencing).
-    pub multipliers: Option<crate::refine::Multipliers>,
+    pub multipliers: Option<Multipliers>,
     /// `x`, `f` and `g` at the last point: Ipopt asks for both at the same point.
     values: Option<(Vec<f64>, f64, Vec<f64>)>,
     /// `x`, `∇f` and the Jacobian values at the last point: Ipopt asks for both at the same point.
@@ -442,4 +442,12 @@ impl FullSpaceStart {
             heights: (1..n).filter_map(|j| layout.height(j).map(|h| x0[h])).collect(),
         }
     }
+}
+
+/// Multipliers of a full-space solution (Ipopt's sign convention), in the layout's order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Multipliers {
+    pub constraints: Vec<f64>,
+    pub z_lower: Vec<f64>,
+    pub z_upper: Vec<f64>,
 }

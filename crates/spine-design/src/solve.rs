@@ -1,10 +1,11 @@
 //! Runs eq. (33) with Ipopt in either formulation and checks what comes back.
 
 use crate::full_space::FullSpaceNlp;
+use crate::full_space::Multipliers;
 use crate::problem::start_states;
 use crate::problem::DesignProblem;
 use crate::reduced_space::ReducedSpaceNlp;
-use crate::refine::{self, LevelStart, Multipliers};
+use crate::refine::{self, LevelStart};
 use crate::result::{DesignResult, LevelReport, RefinementReport, SolverReport};
 use crate::settings::{Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};

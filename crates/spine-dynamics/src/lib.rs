@@ -29,6 +29,7 @@ pub mod eom;
 pub mod fixtures;
 pub mod forcing;
 pub mod integrator;
+pub mod linearization;
 pub mod newton;
 pub mod ode;
 pub mod system;

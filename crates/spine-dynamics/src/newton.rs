@@ -26,7 +26,7 @@
 
 use crate::articulated::{ArticulatedChain, ChainNumber};
 use crate::eom::{joint_moments, Dynamics};
-use crate::integrator::linear::{Complex64, Linearization, ShiftedSolve};
+use crate::linearization::{Complex64, Linearization, ShiftedSolve};
 use std::rc::Rc;
 
 /// What `J̃` needs at one state, shared by its factorisations.
@@ -191,8 +191,8 @@ mod tests {
     use super::*;
     use crate::fixtures::arch_problem;
     use crate::forcing::Forcing;
-    use crate::integrator::linear::DenseJacobian;
     use crate::integrator::OdeSystem;
+    use crate::linearization::DenseJacobian;
     use crate::SpineOde;
 
     /// A state of equilibrium at rest under the passive load (a pulse train that starts later, so

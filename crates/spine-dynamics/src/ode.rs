@@ -1,7 +1,7 @@
 //! The problem an integrator solves: a first-order system `ẏ = f(t, y; p)` ([`OdeSystem`]),
 //! apart from any method.
 
-use crate::integrator::linear::{DenseJacobian, Linearization};
+use crate::linearization::{DenseJacobian, Linearization};
 use nalgebra::{DMatrix, DVector};
 
 /// A first-order system `ẏ = f(t, y; p)`.

@@ -2,8 +2,8 @@
 //! damper sensitivities from forward AD ([`num_dual::Dual64`] directional passes).
 
 use crate::eom::Dynamics;
-use crate::integrator::linear::Linearization;
 use crate::integrator::OdeSystem;
+use crate::linearization::Linearization;
 use crate::newton::ChainLinearization;
 use nalgebra::DMatrix;
 use num_dual::Dual64;

@@ -50,7 +50,7 @@ pub enum RunError {
     Worker(String),
     /// Shards that cannot be merged (mismatched, missing, incomplete).
     #[error(transparent)]
-    Merge(#[from] crate::shard::MergeError),
+    Merge(#[from] MergeError),
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -92,4 +92,17 @@ impl RunError {
             Self::InRun { source, .. } => source.is_input(),
         }
     }
+}
+
+/// Why shards cannot be merged (bad input: exit code 2).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MergeError {
+    #[error("no shards given")]
+    Empty,
+    #[error("{0}")]
+    Mismatch(String),
+    #[error("{0}")]
+    Incomplete(String),
+    #[error("the shards' case: {0}")]
+    Case(String),
 }

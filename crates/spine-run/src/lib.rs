@@ -47,7 +47,7 @@ pub use dynamics::{
     DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,
 };
 pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
-pub use error::RunError;
+pub use error::{MergeError, RunError};
 pub use figure::{run_figure, FigureOutput, FigureRecipes, FigureResult, FigureRunResult, NamedRun, NoRecipes};
 pub use files::{samples_csv, FileContent, OutputFile};
 pub use output::{run, run_twolink, RunOutput};

@@ -9,7 +9,7 @@
 //! with, so a merge needs nothing but the shards.
 
 use crate::design::{census, solve_all, DesignOverrides};
-use crate::error::RunError;
+use crate::error::{MergeError, RunError};
 use crate::progress::Progress;
 use crate::result::{CaseResult, KindResult};
 use crate::workers::Workers;
@@ -62,19 +62,6 @@ pub struct Shard {
     pub runs: Vec<(usize, SolverRun)>,
     /// Every start of the share was solved.
     pub complete: bool,
-}
-
-/// Why shards cannot be merged (bad input: exit code 2).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum MergeError {
-    #[error("no shards given")]
-    Empty,
-    #[error("{0}")]
-    Mismatch(String),
-    #[error("{0}")]
-    Incomplete(String),
-    #[error("the shards' case: {0}")]
-    Case(String),
 }
 
 fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {

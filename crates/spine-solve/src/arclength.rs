@@ -10,10 +10,11 @@
 //! factor by bisection on the sign of `t_s`: near the fold `s(σ) ≈ s* − c (σ − σ*)²`, so a
 //! bracket of width `w` in `σ` gives `s*` to `c w²`, far below `critical_load_tolerance`.
 
-use crate::equilibrium::{
-    angle_change, factor, load_derivative, max_abs, newton, on_branch, rounding_floor, ContinuationOptions, Converged,
-    LoadPath, SolveStats,
+use crate::corrector::{
+    angle_change, factor, load_derivative, max_abs, newton, on_branch, rounding_floor, Converged, LoadPath,
 };
+use crate::options::ContinuationOptions;
+use crate::solution::SolveStats;
 use crate::stability;
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::{LinkLoads, State};

@@ -28,15 +28,18 @@
 #![forbid(unsafe_code)]
 
 mod arclength;
+mod corrector;
 pub mod equilibrium;
 pub mod linalg;
+mod options;
 pub mod problem;
+mod solution;
 pub mod stability;
 pub mod twolink;
 
-pub use equilibrium::{
-    solve_path, solve_static, ContinuationOptions, EquilibriumSolution, EquilibriumStatus, LoadPath, OptionError,
-    SolveStats, StaticSolution,
-};
+pub use corrector::LoadPath;
+pub use equilibrium::{solve_path, solve_static, StaticSolution};
+pub use options::{ContinuationOptions, OptionError, MAX_CONTINUATION_STEPS, MAX_NEWTON_ITERATIONS};
 pub use problem::StaticProblem;
+pub use solution::{EquilibriumSolution, EquilibriumStatus, SolveStats};
 pub use stability::Stability;

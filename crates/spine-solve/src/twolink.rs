@@ -5,7 +5,8 @@
 //! equilibrium solver on the chain `N = 2`, `K = [0, K, 0]`, spans `a = L cos θ0` (so the link length
 //! stays `L`, as in the paper's Sec. 3), `P_Y` at the middle node and `P_X` at the slider.
 
-use crate::equilibrium::{solve_static, ContinuationOptions, StaticSolution};
+use crate::equilibrium::{solve_static, StaticSolution};
+use crate::options::ContinuationOptions;
 use crate::problem::StaticProblem;
 use spine_model::twolink::TwoLink;
 use spine_model::{Chain, Design, NodalLoads, Structure};

@@ -27,7 +27,6 @@
 //! holds what the drivers share (stops, landing on breakpoints, projection).
 
 mod dense;
-pub mod linear;
 mod options;
 mod radau;
 mod trbdf2;

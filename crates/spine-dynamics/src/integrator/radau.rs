@@ -20,9 +20,9 @@
 //! iteration to round-off; `S₁ = S₀ + dZ₃`, then the projection's derivative.
 
 use super::dense::{Interval, Trajectory};
-use super::linear::{Complex64, Linearization, ShiftedSolve};
 use super::options::{Options, Outcome, Stats};
 use super::{sensitivity_rate, weighted_rms, Course, Extras};
+use crate::linearization::{Complex64, Linearization, ShiftedSolve};
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 

@@ -7,9 +7,9 @@
 //! not force tiny steps). The sensitivities use the exact dense Jacobian at both stages.
 
 use super::dense::{Interval, Trajectory};
-use super::linear::ShiftedSolve;
 use super::options::{Options, Outcome, Stats};
 use super::{weighted_rms, Course, Extras};
+use crate::linearization::ShiftedSolve;
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 

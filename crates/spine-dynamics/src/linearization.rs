@@ -1,4 +1,5 @@
-//! The linear systems of the implicit stages, `(σ I − J̃) x = r`, for a real shift (TR-BDF2, the real
+//! How a system offers its linearisation to the implicit stages (a problem-side interface): the linear
+//! systems of the implicit stages, `(σ I − J̃) x = r`, for a real shift (TR-BDF2, the real
 //! eigenvalue of Radau IIA) or a complex one (Radau IIA's complex pair): [`Linearization`] at one
 //! point, factored once per shift ([`ShiftedSolve`]). The default ([`DenseJacobian`]) is the LU of
 //! the dense Jacobian; a system with structure supplies its own (the chain's `O(N)` one,

@@ -1,0 +1,183 @@
+//! Mesh sequencing for eq. (33): solve a coarse discretisation of the same structure first, then
+//! warm-start each finer chain from the previous optimum, up to the chain asked for.
+//!
+//! A cold solve of eq. (33) needs about `2N` Ipopt iterations (hundreds of bounds become active
+//! one after the other); from a coarse optimum most active bounds are already right and the fine
+//! level needs a few dozen to a few hundred.
+//!
+//! # Coarsening ([`coarsen`])
+//! A chain of `M < N` links is made by grouping consecutive fine links (coarse node `c` is fine
+//! node `b_c`, `b_c = ⌊c N / M⌉`), so it is the same structure discretised more coarsely:
+//!
+//! * spans and link masses add up; gravity, `δ_d` and the angle and height bounds are kept;
+//! * nodal forces (passive and actuation) are shared between the two coarse nodes around them
+//!   in proportion to their distance (hat functions in `X`), so resultant forces are kept;
+//! * a torsional spring `K` over a span `h` stands for a bending stiffness `EI ≈ K h`, so the
+//!   stiffness bounds and `C_K` of eq. (34) are scaled by `h_fine / h_coarse` (the mean span at
+//!   the node): the optimiser's variable `k = K / C_K` means the same at every level.
+//!
+//! # Prolongation ([`prolong`])
+//! The coarse optimum becomes a fine start that satisfies every design constraint: fine node
+//! heights interpolate the coarse ones linearly in `X`, so each fine `θ0` equals its coarse link's
+//! angle, `Φ(θ0) = 0` holds and no bound or relative angle is exceeded; `k` is interpolated
+//! linearly between coarse nodes; states are interpolated at link midpoints and then made exact
+//! equilibria of the fine design by Newton's method at full load (falling back to load
+//! continuation from `θ0`). Each warm level starts Ipopt close to the boundary
+//! (`mu_init`, `bound_push`, `bound_frac`: [`WarmStart`]).
+
+mod level;
+mod mesh;
+mod multipliers;
+
+pub use level::{prepare_level, solution_parts, warm_states, LevelSetup, LevelStart};
+pub use mesh::{coarse_nodes, coarsen, prolong, restrict};
+pub use multipliers::prolong_multipliers;
+
+use serde::{Deserialize, Serialize};
+
+/// The ladder of chain sizes: start at `from` links, multiply by `factor` until the next size
+/// would reach the chain's own `N`, then solve `N` itself.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ladder {
+    /// Links of the coarsest chain (≥ 2).
+    pub from: usize,
+    /// Growth factor between levels (> 1, at most 16).
+    #[serde(default = "two")]
+    pub factor: f64,
+}
+
+fn two() -> f64 {
+    2.0
+}
+
+/// The case-file field `solver.refine`: `"auto"` (default), `"off"`, or a [`Ladder`]
+/// such as `{ "from": 50, "factor": 2 }`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Refine {
+    Mode(RefineMode),
+    Ladder(Ladder),
+}
+
+/// The named refinement choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RefineMode {
+    /// [`AUTO_LADDER`] from [`AUTO_FROM_LINKS`] links on (measured: below it a cold solve is as
+    /// fast), off below.
+    Auto,
+    /// One cold solve at the chain's own `N`.
+    Off,
+}
+
+impl Default for Refine {
+    fn default() -> Self {
+        Refine::Mode(RefineMode::Auto)
+    }
+}
+
+/// `"auto"` refines chains of at least this many links.
+pub const AUTO_FROM_LINKS: usize = 100;
+/// `"auto"`'s ladder.
+pub const AUTO_LADDER: Ladder = Ladder { from: 50, factor: 2.0 };
+
+impl Ladder {
+    /// Why the ladder is not usable, naming the field.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        if self.from < 2 {
+            return Err(("from", format!("must be at least 2 links, got {}", self.from)));
+        }
+        if !(self.factor.is_finite() && self.factor > 1.0 && self.factor <= 16.0) {
+            return Err(("factor", format!("must be a number in (1, 16], got {}", self.factor)));
+        }
+        Ok(())
+    }
+
+    /// The chain sizes to solve, coarsest first, ending with `n` (just `[n]` when `from ≥ n`).
+    pub fn levels(&self, n: usize) -> Vec<usize> {
+        let mut levels = Vec::new();
+        let mut size = self.from as f64;
+        while (size.round() as usize) < n && levels.len() < 64 {
+            let m = size.round() as usize;
+            if levels.last() != Some(&m) {
+                levels.push(m);
+            }
+            size *= self.factor;
+        }
+        levels.push(n);
+        levels
+    }
+}
+
+impl std::str::FromStr for Refine {
+    type Err = String;
+    /// The command-line form: `off`, `auto`, `FROM` or `FROM:FACTOR` (e.g. `50:2`).
+    fn from_str(text: &str) -> Result<Self, String> {
+        let refine = match text {
+            "off" => Refine::Mode(RefineMode::Off),
+            "auto" => Refine::Mode(RefineMode::Auto),
+            _ => {
+                let (from, factor) = text.split_once(':').unwrap_or((text, "2"));
+                let bad = || format!("expected off, auto, FROM or FROM:FACTOR (e.g. 50:2), got {text:?}");
+                let ladder =
+                    Ladder { from: from.parse().map_err(|_| bad())?, factor: factor.parse().map_err(|_| bad())? };
+                ladder.check().map_err(|(field, why)| format!("{field} {why}"))?;
+                Refine::Ladder(ladder)
+            }
+        };
+        Ok(refine)
+    }
+}
+
+impl Refine {
+    /// The ladder to use for a chain of `n` links, if any.
+    pub fn ladder(&self, n: usize) -> Option<Ladder> {
+        match *self {
+            Refine::Mode(RefineMode::Off) => None,
+            Refine::Mode(RefineMode::Auto) => (n >= AUTO_FROM_LINKS).then_some(AUTO_LADDER),
+            Refine::Ladder(l) => (l.from < n).then_some(l),
+        }
+    }
+}
+
+/// Ipopt options of a warm level (case-file field `solver.warm_start`): start the barrier small
+/// and the point close to its bounds, so that Ipopt keeps the active set of the coarse optimum
+/// instead of pushing every variable into the interior first. Carrying the multipliers over
+/// (`multipliers: true`) saved iterations at some sizes and cost them at others (docs/design.md),
+/// so it is off by default.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WarmStart {
+    pub mu_init: f64,
+    pub bound_push: f64,
+    pub bound_frac: f64,
+    /// Start from the prolonged multipliers ([`prolong_multipliers`], Ipopt's
+    /// `warm_start_init_point`), with bound multipliers of inactive bounds lifted to
+    /// `mult_bound_push`.
+    pub multipliers: bool,
+    pub mult_bound_push: f64,
+}
+
+impl Default for WarmStart {
+    fn default() -> Self {
+        WarmStart { mu_init: 1e-6, bound_push: 1e-8, bound_frac: 1e-8, multipliers: false, mult_bound_push: 1e-8 }
+    }
+}
+
+impl WarmStart {
+    /// Why these options are not usable, naming the field.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        for (name, v) in [
+            ("mu_init", self.mu_init),
+            ("bound_push", self.bound_push),
+            ("bound_frac", self.bound_frac),
+            ("mult_bound_push", self.mult_bound_push),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v <= 0.5) {
+                return Err((name, format!("must be a number in (0, 0.5], got {v}")));
+            }
+        }
+        Ok(())
+    }
+}
