@@ -32,7 +32,7 @@ use std::time::Instant;
 
 fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
     SolverRun {
-        status: r.solver.status.clone(),
+        status: r.solver.status.to_string(),
         converged: r.solver.optimal && r.is_clean(),
         iterations: r.solver.iterations,
         wall_seconds,
@@ -46,7 +46,7 @@ fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
                 .iter()
                 .map(|l| LevelRun {
                     links: l.links,
-                    status: l.status.clone(),
+                    status: l.status.to_string(),
                     iterations: l.iterations,
                     wall_seconds: l.wall_seconds,
                 })

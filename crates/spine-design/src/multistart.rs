@@ -105,7 +105,7 @@ pub struct MultiStartSummary {
     /// clean, is the best clean optimum found.
     pub optima: Vec<Optimum>,
     /// Starts that did not converge, with Ipopt's status.
-    pub failed: Vec<(usize, String)>,
+    pub failed: Vec<(usize, spine_ipopt::Status)>,
 }
 
 impl MultiStartSummary {
@@ -143,7 +143,7 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
     let mut converged = 0;
     for (k, r) in results.into_iter().enumerate() {
         if !r.solver.converged || !r.objective.is_finite() {
-            failed.push((k, r.solver.status.clone()));
+            failed.push((k, r.solver.status));
             continue;
         }
         converged += 1;

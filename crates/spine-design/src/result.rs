@@ -24,7 +24,7 @@ pub enum LoadCase {
 #[derive(Clone, Debug, PartialEq)]
 pub enum DesignWarning {
     /// Ipopt ended without converging (its status).
-    NotConverged { status: String },
+    NotConverged { status: spine_ipopt::Status },
     /// An equilibrium of the final design is not stable (its smallest reduced-Hessian
     /// eigenvalue, N·m/rad, when it has one).
     Unstable { equilibrium: LoadCase, min_eigenvalue: Option<f64> },
@@ -77,8 +77,8 @@ pub struct SolverReport {
     pub ipopt_version: String,
     /// Every option passed to Ipopt (the cold solve's; warm levels add `refinement.warm_start`).
     pub ipopt_options: std::collections::BTreeMap<String, String>,
-    /// Ipopt's return status (snake_case name).
-    pub status: String,
+    /// Ipopt's return status (serialised as its snake_case name).
+    pub status: spine_ipopt::Status,
     /// Converged to the requested tolerances.
     pub optimal: bool,
     /// Converged to the requested or the acceptable tolerances.
@@ -133,7 +133,7 @@ impl SolverReport {
         SolverReport {
             ipopt_version: spine_ipopt::IPOPT_VERSION.to_string(),
             ipopt_options: Default::default(),
-            status: solution.status.name(),
+            status: solution.status,
             optimal: solution.status.is_optimal(),
             converged: solution.status.is_converged(),
             infeasible: solution.status.is_infeasible(),
@@ -158,7 +158,7 @@ pub struct LevelReport {
     pub links: usize,
     pub start: LevelStart,
     /// Ipopt's status at this level; `optimal`: `solve_succeeded`.
-    pub status: String,
+    pub status: spine_ipopt::Status,
     pub optimal: bool,
     pub iterations: usize,
     /// `J` of this level's (coarse) problem, J.
@@ -332,7 +332,7 @@ impl DesignResult {
         let path = solve_static(&problem.static_problem(&design), continuation);
         let mut warnings = Vec::new();
         if !solver.converged {
-            warnings.push(DesignWarning::NotConverged { status: solver.status.clone() });
+            warnings.push(DesignWarning::NotConverged { status: solver.status });
         }
 
         let (passive, loaded, end_displacement, violations, objective) = match &states {

@@ -162,7 +162,7 @@ fn solve_refined(
         levels.push(LevelReport {
             links: m,
             start: how,
-            status: solution.status.name(),
+            status: solution.status,
             optimal: solution.status.is_optimal(),
             iterations: solution.iterations,
             objective: solution.objective,

@@ -54,7 +54,7 @@ fn check(name: &str, (problem, start): (DesignProblem, Design)) {
     assert!(on_bound >= 2, "{name}: the case is meant to have θ0 on its bound: {:?}", r.design.theta0);
 
     let clipped = run(&problem, &start, Some("yes"));
-    assert_eq!(clipped.solver.status, "solve_succeeded", "{name}");
+    assert_eq!(clipped.solver.status, spine_ipopt::Status::SolveSucceeded, "{name}");
     let moved = clipped.design.theta0.iter().zip(&r.design.theta0).any(|(a, b)| a != b);
     if !moved {
         // Ipopt 3.14 no longer moves the point when its relaxed bounds are left within round-off;

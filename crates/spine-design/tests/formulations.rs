@@ -102,7 +102,7 @@ fn scaling_off_and_iteration_limits_are_reported() {
     assert!(r.solver.optimal, "{}", r.solver.status);
     let settings = SolverSettings { max_iterations: 2, ..SolverSettings::default() };
     let r = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &settings, &mut |_| true).unwrap();
-    assert_eq!(r.solver.status, "maximum_iterations_exceeded");
+    assert_eq!(r.solver.status, spine_ipopt::Status::MaximumIterationsExceeded);
     assert!(r.warnings.iter().any(|w| matches!(w, spine_design::result::DesignWarning::NotConverged { .. })));
     let mut calls = 0;
     let r =
@@ -111,5 +111,5 @@ fn scaling_off_and_iteration_limits_are_reported() {
             calls < 3
         })
         .unwrap();
-    assert_eq!(r.solver.status, "user_requested_stop");
+    assert_eq!(r.solver.status, spine_ipopt::Status::UserRequestedStop);
 }

@@ -214,7 +214,7 @@ fn a_failed_coarse_level_falls_back_to_a_cold_solve_and_says_so() {
     let report = r.refinement.as_ref().unwrap();
     assert!(report.fell_back_to_cold);
     assert_eq!(report.levels.len(), 2);
-    assert_eq!((report.levels[0].links, report.levels[0].status.as_str()), (10, "user_requested_stop"));
+    assert_eq!((report.levels[0].links, report.levels[0].status), (10, spine_ipopt::Status::UserRequestedStop));
     assert_eq!((report.levels[1].links, report.levels[1].start), (n, LevelStart::Cold));
     assert!(r.start_notes.iter().any(|s| s.contains("solved cold instead")), "{:?}", r.start_notes);
     assert!(r.solver.optimal && r.is_clean());

@@ -42,8 +42,8 @@ impl Default for DampingSettings {
 /// What the damping design found.
 #[derive(Clone, Debug, Serialize)]
 pub struct DampingDesign {
-    /// Ipopt's status; `"uniform-start-infeasible"` when no uniform damping in the bounds reaches `T_d`.
-    pub status: String,
+    /// Ipopt's status, or that no uniform damping in the bounds reaches `T_d`.
+    pub status: DampingStatus,
     pub converged: bool,
     pub iterations: usize,
     pub target_rise_time: f64,
@@ -61,6 +61,37 @@ pub struct DampingDesign {
     pub time_seconds: f64,
     /// The final design's step response.
     pub response: StepResponse,
+}
+
+/// How an eq. (35) design ended: Ipopt's status, or no feasible uniform start (then Ipopt is not
+/// run). Serialised as Ipopt's snake_case name or `"uniform-start-infeasible"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DampingStatus {
+    Ipopt(Status),
+    /// No uniform damping in `[C_min, C_max]` reaches `T_d`.
+    UniformStartInfeasible,
+}
+
+impl DampingStatus {
+    /// The name written to result files.
+    pub fn name(self) -> String {
+        match self {
+            Self::Ipopt(s) => s.name(),
+            Self::UniformStartInfeasible => "uniform-start-infeasible".into(),
+        }
+    }
+}
+
+impl std::fmt::Display for DampingStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(&self.name())
+    }
+}
+
+impl Serialize for DampingStatus {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.name())
+    }
 }
 
 /// `|T_90 − T_d| / T_d` at which an eq. (35) design is accepted as meeting its target (0.5 %).
@@ -203,7 +234,7 @@ pub fn design_damping(
     });
 
     let (status, converged, iterations, damping) = match uniform_start {
-        None => ("uniform-start-infeasible".to_string(), false, 0, vec![settings.damping_min; n_dampers]),
+        None => (DampingStatus::UniformStartInfeasible, false, 0, vec![settings.damping_min; n_dampers]),
         Some(c0) => {
             let mut eq35 = Eq35 {
                 base: &base,
@@ -223,7 +254,7 @@ pub fn design_damping(
             let sol = spine_ipopt::solve(&mut eq35, &options).expect("eq. (35) is a valid Ipopt problem");
             simulations += eq35.simulations;
             (
-                sol.status.name(),
+                DampingStatus::Ipopt(sol.status),
                 sol.status == Status::SolveSucceeded || sol.status.is_converged(),
                 sol.iterations,
                 sol.x,

@@ -43,7 +43,7 @@ pub mod response;
 pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, StepSettings};
 pub mod damping;
 
-pub use damping::{design_damping, DampingDesign, DampingSettings, RISE_TIME_ACCEPTANCE};
+pub use damping::{design_damping, DampingDesign, DampingSettings, DampingStatus, RISE_TIME_ACCEPTANCE};
 pub mod periodic;
 pub mod periodic_design;
 

@@ -108,7 +108,74 @@ impl Status {
 }
 
 impl std::fmt::Display for Status {
+    /// The snake_case name, padded as a string would be (`{:<20}` in tables).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.name())
+        f.pad(&self.name())
+    }
+}
+
+impl Status {
+    /// Every named status (all but [`Status::Unknown`]).
+    pub const NAMED: [Status; 21] = [
+        Status::SolveSucceeded,
+        Status::SolvedToAcceptableLevel,
+        Status::InfeasibleProblemDetected,
+        Status::SearchDirectionBecomesTooSmall,
+        Status::DivergingIterates,
+        Status::UserRequestedStop,
+        Status::TimeLimit,
+        Status::Interrupted,
+        Status::FeasiblePointFound,
+        Status::MaximumIterationsExceeded,
+        Status::RestorationFailed,
+        Status::ErrorInStepComputation,
+        Status::MaximumCpuTimeExceeded,
+        Status::NotEnoughDegreesOfFreedom,
+        Status::InvalidProblemDefinition,
+        Status::InvalidOption,
+        Status::InvalidNumberDetected,
+        Status::UnrecoverableException,
+        Status::NonIpoptExceptionThrown,
+        Status::InsufficientMemory,
+        Status::InternalError,
+    ];
+
+    /// The status of a [`Status::name`] (`None` for a name no status has).
+    pub fn from_name(name: &str) -> Option<Status> {
+        if let Some(code) = name.strip_prefix("unknown_status_") {
+            return code.parse().ok().map(Status::Unknown);
+        }
+        Status::NAMED.into_iter().find(|s| s.name() == name)
+    }
+}
+
+/// Serialised as its [`Status::name`] (`"solve_succeeded"`), as result files have always held it.
+impl serde::Serialize for Status {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Status {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        Status::from_name(&name).ok_or_else(|| serde::de::Error::custom(format!("unknown Ipopt status {name:?}")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_status_round_trips_through_its_name_and_codes_through_from_code() {
+        for s in Status::NAMED.into_iter().chain([Status::Unknown(-7)]) {
+            assert_eq!(Status::from_name(&s.name()), Some(s));
+            let json = serde_json::to_string(&s).unwrap();
+            assert_eq!(json, format!("\"{}\"", s.name()));
+            assert_eq!(serde_json::from_str::<Status>(&json).unwrap(), s);
+        }
+        assert_eq!(Status::from_name("solve_suceeded"), None);
+        assert_eq!(format!("{:>17}|", Status::SolveSucceeded), "  solve_succeeded|");
     }
 }

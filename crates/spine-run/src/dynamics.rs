@@ -49,7 +49,7 @@ pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
     let used = design_of(valid)?;
     if let Some(s) = used.static_design.as_ref().filter(|s| !s.result.is_clean()) {
         return Err(RunError::StaticDesignNotClean {
-            status: s.result.solver.status.clone(),
+            status: s.result.solver.status,
             warnings: s.result.warnings.iter().map(ToString::to_string).collect(),
         });
     }
@@ -162,7 +162,7 @@ pub enum DesignOrigin {
 #[derive(Clone, Debug, Serialize)]
 pub struct Eq33Summary {
     pub source: &'static str,
-    pub status: String,
+    pub status: spine_ipopt::Status,
     pub iterations: usize,
     /// `J`, J.
     pub objective: f64,
@@ -245,7 +245,7 @@ pub fn run_dynamics_case(
         None => DesignOrigin::Given,
         Some(s) => DesignOrigin::Eq33(Eq33Summary {
             source: "eq. (33)",
-            status: s.result.solver.status.clone(),
+            status: s.result.solver.status,
             iterations: s.result.solver.iterations,
             objective: s.result.objective,
             end_displacement: s.result.end_displacement,

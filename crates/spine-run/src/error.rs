@@ -24,7 +24,7 @@ pub enum RunError {
     #[error(
         "the static design of eq. (33) did not end clean ({status}; warnings: {warnings:?}); no dynamics run on it"
     )]
-    StaticDesignNotClean { status: String, warnings: Vec<String> },
+    StaticDesignNotClean { status: spine_ipopt::Status, warnings: Vec<String> },
     /// A kind of case a figure cannot hold.
     #[error("{0}")]
     NotInFigure(&'static str),

@@ -26,7 +26,7 @@ pub fn half_decades() -> Vec<f64> {
 pub struct CkRow {
     pub stiffness_scale: f64,
     pub scaling: ScalingMethod,
-    pub status: String,
+    pub status: spine_ipopt::Status,
     pub clean: bool,
     pub iterations: usize,
     /// `J`, J.
@@ -76,7 +76,7 @@ pub fn ck_study(
         CkRow {
             stiffness_scale: valid.problem.stiffness_scale,
             scaling: valid.settings.scaling,
-            status: r.solver.status.clone(),
+            status: r.solver.status,
             clean: r.is_clean(),
             iterations: r.solver.iterations,
             objective: r.objective,
@@ -371,7 +371,7 @@ impl std::fmt::Display for StudyResult {
                 "{:>10.4e} {:>15} {:>22} {:>5} {:>12.5e} {:>8.4} {:>10.2} {:>10.4}",
                 r.stiffness_scale,
                 format!("{:?}", r.scaling),
-                if r.clean { r.status.clone() } else { format!("{} (NOT clean)", r.status) },
+                if r.clean { r.status.to_string() } else { format!("{} (NOT clean)", r.status) },
                 r.iterations,
                 r.objective,
                 r.change.stiffness_variation,
