@@ -11,6 +11,10 @@ use crate::CaseError;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
+/// Longest run name, characters: a file name such as `shape_<name>.csv` stays far below the
+/// 255 bytes file systems allow.
+pub const MAX_RUN_NAME: usize = 64;
+
 /// The figure recipes this program has (`twolink` is Sec. 3).
 pub const FIGURES: &[&str] =
     &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12"];
@@ -19,7 +23,8 @@ pub const FIGURES: &[&str] =
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FigureRun {
-    /// Short name, used in file names (`shape_<name>.csv`): letters, digits, `-` and `_`.
+    /// Short name, used in file names (`shape_<name>.csv`): 1 to [`MAX_RUN_NAME`] letters, digits,
+    /// `-` and `_`.
     pub name: String,
     /// What the run is, for legends and the report.
     #[serde(default)]
@@ -90,10 +95,16 @@ impl FigureCase {
         let mut runs: Vec<MergedRun> = Vec::new();
         for (i, run) in self.runs.iter().enumerate() {
             let at = format!("runs[{i}]");
-            if run.name.is_empty() || !run.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+            let allowed = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
+            if run.name.is_empty() || run.name.len() > MAX_RUN_NAME || !run.name.chars().all(allowed) {
+                let shown: String = run.name.chars().take(MAX_RUN_NAME + 1).collect();
+                let more = if run.name.chars().count() > MAX_RUN_NAME + 1 { "…" } else { "" };
                 return Err(CaseError::invalid(
                     format!("{at}.name"),
-                    format!("must be non-empty letters, digits, '-' or '_', got {:?}", run.name),
+                    format!(
+                        "must be 1 to {MAX_RUN_NAME} letters, digits, '-' or '_' (it names files), got {} characters: {shown:?}{more}",
+                        run.name.chars().count()
+                    ),
                 ));
             }
             if runs.iter().any(|r| r.name == run.name) {

@@ -35,7 +35,7 @@ pub use dynamics_case::{
 };
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
-pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES};
+pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MAX_RUN_NAME};
 pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;
 pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};

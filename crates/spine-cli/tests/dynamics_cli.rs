@@ -90,6 +90,12 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
             Box::new(|c| c["forcing"] = json!({"type": "pulse_train", "period": 1.0, "duty": 0.5, "phase": 1})),
             "unknown field `phase`",
         ),
+        // Issue 28: a unit forcing refuses unknown fields too.
+        (
+            "simulate",
+            Box::new(|c| c["forcing"] = json!({"type": "step", "period": 5, "bogus": true})),
+            "forcing: unknown field `bogus`",
+        ),
         // A periodic simulation runs whole periods: the step section's t_end is refused, not ignored.
         (
             "simulate",

@@ -49,7 +49,8 @@ impl std::fmt::Display for DesignWarning {
                     LoadCase::Passive => "θ1 (passive)",
                     LoadCase::Loaded => "θ2 (passive + actuation)",
                 };
-                write!(f, "the equilibrium {name} is unstable (smallest reduced-Hessian eigenvalue {min_eigenvalue:?})")
+                let eigenvalue = min_eigenvalue.map_or("none".into(), |e| format!("{e:.3e} N·m/rad"));
+                write!(f, "the equilibrium {name} is unstable (smallest reduced-Hessian eigenvalue {eigenvalue})")
             }
             Self::NoEquilibria => write!(f, "the final design has no equilibria on its load path"),
             Self::OffLoadPath { passive_difference, loaded_difference, passive_status, loaded_status } => write!(

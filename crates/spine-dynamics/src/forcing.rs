@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 
 /// The factor `s(t) ∈ [0, 1]` that multiplies the actuation (the axial force at the end).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields, from = "ForcingFile")]
 pub enum Forcing {
     /// `s = 1` from `t = 0` on: the step of Sec. 5.2.1.
     Step,
@@ -22,6 +22,36 @@ pub enum Forcing {
     /// (The paper gives only "a periodic force of angular frequency Ω"; this form never pulls the end
     /// outward and starts at rest, like the pulse train.)
     Sinusoid { angular_frequency: f64 },
+}
+
+/// [`Forcing`] as a case file writes it. Serde ignores unknown fields beside the tag of a unit
+/// variant even under `deny_unknown_fields` (`{"type": "step", "bogus": 1}` would pass); as empty
+/// struct variants `step` and `off` refuse them like the others.
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum ForcingFile {
+    Step {},
+    Off {},
+    PulseTrain {
+        period: f64,
+        duty: f64,
+        #[serde(default)]
+        delay: f64,
+    },
+    Sinusoid {
+        angular_frequency: f64,
+    },
+}
+
+impl From<ForcingFile> for Forcing {
+    fn from(f: ForcingFile) -> Self {
+        match f {
+            ForcingFile::Step {} => Forcing::Step,
+            ForcingFile::Off {} => Forcing::Off,
+            ForcingFile::PulseTrain { period, duty, delay } => Forcing::PulseTrain { period, duty, delay },
+            ForcingFile::Sinusoid { angular_frequency } => Forcing::Sinusoid { angular_frequency },
+        }
+    }
 }
 
 impl Forcing {
@@ -108,5 +138,33 @@ impl Forcing {
             }
             _ => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_forcing_refuses_unknown_fields_and_round_trips() {
+        for text in [
+            r#"{"type": "step", "bogus": true}"#,
+            r#"{"type": "off", "period": 5}"#,
+            r#"{"type": "pulse_train", "period": 1, "duty": 0.5, "bogus": 1}"#,
+            r#"{"type": "sinusoid", "angular_frequency": 2, "bogus": 1}"#,
+        ] {
+            let e = serde_json::from_str::<Forcing>(text).unwrap_err().to_string();
+            assert!(e.contains("unknown field"), "{text}: {e}");
+        }
+        for f in [
+            Forcing::Step,
+            Forcing::Off,
+            Forcing::PulseTrain { period: 1.0, duty: 0.25, delay: 0.5 },
+            Forcing::Sinusoid { angular_frequency: 3.0 },
+        ] {
+            let text = serde_json::to_string(&f).unwrap();
+            assert_eq!(serde_json::from_str::<Forcing>(&text).unwrap(), f, "{text}");
+        }
+        assert_eq!(serde_json::to_string(&Forcing::Step).unwrap(), r#"{"type":"step"}"#);
     }
 }

@@ -26,6 +26,16 @@ pub enum SearchMethod {
     Pattern,
 }
 
+impl std::fmt::Display for SearchMethod {
+    /// As in a case file: `ga`, `pattern`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(match self {
+            Self::Ga => "ga",
+            Self::Pattern => "pattern",
+        })
+    }
+}
+
 /// Settings of eq. (37).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

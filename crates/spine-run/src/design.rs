@@ -3,6 +3,7 @@
 
 use crate::error::RunError;
 use crate::progress::Progress;
+use crate::text::list;
 use crate::workers::{solve_starts, Task, Workers};
 use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
@@ -229,7 +230,7 @@ impl std::fmt::Display for DesignCaseResult {
             for l in &refinement.levels {
                 writeln!(
                     f,
-                    "  level {:>5} links ({:?} start): {} after {} iterations, J = {:.10e} J",
+                    "  level {:>5} links ({} start): {} after {} iterations, J = {:.10e} J",
                     l.links, l.start, l.status, l.iterations, l.objective
                 )?;
             }
@@ -256,12 +257,8 @@ impl std::fmt::Display for DesignCaseResult {
                 )?;
             }
         }
-        writeln!(f, "θ0 (rad) = {:?}", r.design.theta0.iter().map(|t| (t * 1e6).round() / 1e6).collect::<Vec<_>>())?;
-        writeln!(
-            f,
-            "K (N·m/rad) = {:?}",
-            r.design.stiffness.iter().map(|k| (k * 1e3).round() / 1e3).collect::<Vec<_>>()
-        )?;
+        writeln!(f, "θ0 (rad) = {}", list(&r.design.theta0, 6))?;
+        writeln!(f, "K (N·m/rad) = {}", list(&r.design.stiffness, 3))?;
         for note in &r.start_notes {
             writeln!(f, "start: {note}")?;
         }

@@ -6,6 +6,7 @@ use crate::design::{run_design, StaticDesign};
 use crate::error::RunError;
 use crate::files::{samples_csv, FileContent, OutputFile};
 use crate::progress::Progress;
+use crate::text::{list, quantity};
 use serde::{Serialize, Serializer};
 use spine_case::{DesignSource, DynamicsTask, ValidDynamics};
 use spine_dynamics::{
@@ -393,7 +394,7 @@ fn write_step(f: &mut std::fmt::Formatter<'_>, r: &StepResponse, rise_fraction: 
     )?;
     writeln!(
         f,
-        "integration: {:?}, {} steps ({} rejected), {} f-evaluations, {} Jacobians, {:.3} s",
+        "integration: {}, {} steps ({} rejected), {} f-evaluations, {} Jacobians, {:.3} s",
         r.outcome,
         r.stats.accepted_steps,
         r.stats.rejected_steps,
@@ -439,11 +440,11 @@ impl std::fmt::Display for DynamicsResult {
         if let DesignOrigin::Eq33(s) = &self.design.source {
             writeln!(
                 f,
-                "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {:?} m, {}",
+                "eq. (33) design: {} after {} iterations, J = {:.6e} J, δ = {}, {}",
                 s.status,
                 s.iterations,
                 s.objective,
-                s.end_displacement,
+                quantity(s.end_displacement, 6, "m", "no loaded equilibrium"),
                 if s.clean { "clean" } else { "NOT clean: no dynamics ran on it" }
             )?;
             for w in &s.warnings {
@@ -470,20 +471,20 @@ impl std::fmt::Display for DynamicsResult {
                 let r = &d.design;
                 writeln!(
                     f,
-                    "{:>8} {:>10} {:>12} {:>9.2e} {:>5}  {:?}",
+                    "{:>8} {:>10} {:>12} {:>9.2e} {:>5}  {}",
                     r.target_rise_time,
                     if r.converged { "converged" } else { "FAILED" },
                     r.rise_time.map_or("—".into(), |t| format!("{t:.6}")),
                     r.rise_time_error.unwrap_or(f64::INFINITY),
                     r.iterations,
-                    r.damping.iter().map(|c| (c * 1e3).round() / 1e3).collect::<Vec<_>>()
+                    list(&r.damping, 3)
                 )?;
             }
         }
         if let Some(r) = &self.periodic_design {
             writeln!(
                 f,
-                "eq. (37) by {:?}: {:?} after {} iterations, {} evaluations; {}",
+                "eq. (37) by {}: {} after {} iterations, {} evaluations; {}",
                 r.method,
                 r.search.status,
                 r.search.iterations,
@@ -502,11 +503,7 @@ impl std::fmt::Display for DynamicsResult {
                 r.delta_d,
                 100.0 * r.relative_error
             )?;
-            writeln!(
-                f,
-                "K (N·m/rad) = {:?}",
-                r.stiffness.iter().map(|k| (k * 10.0).round() / 10.0).collect::<Vec<_>>()
-            )?;
+            writeln!(f, "K (N·m/rad) = {}", list(&r.stiffness, 1))?;
             write_periodic(f, &r.response)?;
         }
         Ok(())

@@ -22,7 +22,8 @@ pub enum RunError {
     Dynamics(#[source] DynamicsError),
     /// The eq. (33) design a dynamic case depends on did not end clean.
     #[error(
-        "the static design of eq. (33) did not end clean ({status}; warnings: {warnings:?}); no dynamics run on it"
+        "the static design of eq. (33) did not end clean ({status}; warnings: {}); no dynamics run on it",
+        .warnings.join("; ")
     )]
     StaticDesignNotClean { status: spine_ipopt::Status, warnings: Vec<String> },
     /// A kind of case a figure cannot hold.

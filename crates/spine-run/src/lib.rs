@@ -35,6 +35,7 @@ mod result;
 mod run_case;
 pub mod shard;
 pub mod study;
+pub mod text;
 mod twolink;
 pub mod workers;
 pub mod write;

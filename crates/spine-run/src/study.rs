@@ -322,7 +322,14 @@ pub fn run_ck_study(
 ) -> Result<StudyResult, RunError> {
     let clock = std::time::Instant::now();
     let title = format!("C_K study, eq. (34): {}", if title.is_empty() { "design case" } else { title });
-    progress(Progress::Done { message: format!("{title}: C_K = {values:?}, Ipopt scaling gradient-based and none") });
+    progress(Progress::Done {
+        message: format!(
+            "{title}: {} values of C_K from {:e} to {:e}, Ipopt scaling gradient-based and none",
+            values.len(),
+            values.iter().copied().fold(f64::INFINITY, f64::min),
+            values.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        ),
+    });
     let sweep = ck_study(case, values, workers, &mut |done, total| {
         progress(Progress::Step { stage: "eq. (33) solves", done, total })
     })?;
@@ -370,7 +377,7 @@ impl std::fmt::Display for StudyResult {
                 f,
                 "{:>10.4e} {:>15} {:>22} {:>5} {:>12.5e} {:>8.4} {:>10.2} {:>10.4}",
                 r.stiffness_scale,
-                format!("{:?}", r.scaling),
+                scaling_name(r.scaling),
                 if r.clean { r.status.to_string() } else { format!("{} (NOT clean)", r.status) },
                 r.iterations,
                 r.objective,

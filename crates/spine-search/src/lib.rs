@@ -141,9 +141,27 @@ pub enum SearchStatus {
 }
 
 impl SearchStatus {
+    /// The name written to result files (`mesh_converged`, `generation_limit`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::MeshConverged => "mesh_converged",
+            Self::Stalled => "stalled",
+            Self::GenerationLimit => "generation_limit",
+            Self::EvaluationLimit => "evaluation_limit",
+            Self::TimeLimit => "time_limit",
+            Self::Interrupted => "interrupted",
+        }
+    }
+
     /// The search ran to one of its own ends (not stopped from outside or by the clock).
     pub fn finished(self) -> bool {
         !matches!(self, Self::TimeLimit | Self::Interrupted)
+    }
+}
+
+impl std::fmt::Display for SearchStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
     }
 }
 

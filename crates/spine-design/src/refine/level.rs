@@ -22,6 +22,18 @@ pub enum LevelStart {
     Interpolated,
 }
 
+impl std::fmt::Display for LevelStart {
+    /// As in result files: `cold`, `newton`, `continuation`, `interpolated`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(match self {
+            Self::Cold => "cold",
+            Self::Newton => "newton",
+            Self::Continuation => "continuation",
+            Self::Interpolated => "interpolated",
+        })
+    }
+}
+
 /// Exact equilibria of the prolonged design near the interpolated states, or the best fallback.
 pub fn warm_states(
     problem: &DesignProblem,

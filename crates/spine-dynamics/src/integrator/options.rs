@@ -145,3 +145,18 @@ pub enum Outcome {
         t: f64,
     },
 }
+
+impl std::fmt::Display for Outcome {
+    /// `completed`, or how the run ended and at which time (`step too small at t = 0.1234 s`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (what, t) = match *self {
+            Self::Completed => return f.write_str("completed"),
+            Self::StepTooSmall { t } => ("step too small", t),
+            Self::StepLimit { t } => ("step limit reached", t),
+            Self::Stopped { t } => ("stopped by its stop condition", t),
+            Self::TimeLimit { t } => ("time limit passed", t),
+            Self::Interrupted { t } => ("interrupted", t),
+        };
+        write!(f, "{what} at t = {t:.6} s")
+    }
+}

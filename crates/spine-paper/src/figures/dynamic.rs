@@ -5,6 +5,7 @@
 use super::*;
 use serde_json::json;
 use spine_dynamics::{DampingDesign, PeriodicResponse, StepResponse};
+use spine_run::text::quantity;
 use spine_run::{samples_csv, Animation, Track};
 use std::f64::consts::LN_10;
 
@@ -262,7 +263,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
         "eq. (37): the end point reaches δ_d under the periodic force",
         "min_t (X − L_x) over a settled period within the search's band of δ_d (the case's tolerance)",
         p.feasible && r.settled,
-        format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {:?} after {} evaluations; U(θ1) = {:.4e} J",
+        format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {} after {} evaluations; U(θ1) = {:.4e} J",
             p.min_end_displacement, p.delta_d, 100.0 * p.relative_error, r.settled, p.search.status, p.search.evaluations, p.objective),
     ));
     // The time to δ_d itself when the end reaches it; else (the search's band lets the minimum stop
@@ -290,7 +291,11 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
         "\"the release of stored energy is much faster\" (return faster than reach)",
         "return time (90 %) shorter than reach time (90 %)",
         matches!((r.return_time, r.reach_time), (Some(a), Some(b)) if a < b),
-        format!("reach (90 %) {:?} s, return (90 %) {:?} s", r.reach_time, r.return_time),
+        format!(
+            "reach (90 %) {}, return (90 %) {}",
+            quantity(r.reach_time, 4, "s", "not reached"),
+            quantity(r.return_time, 4, "s", "not reached")
+        ),
     ));
     out.summary.insert(scope.to_string(), json!({
         "stiffness": p.stiffness, "objective": p.objective, "min_end_displacement": p.min_end_displacement,
@@ -357,7 +362,11 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
         "the response keeps up with the pulses (\"valid only for loading patterns with lower frequency\")",
         "reach (90 %) shorter than the time the force is on, return (90 %) shorter than the time it is off",
         matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
-        format!("reach {:?} s (on for {on:.3} s), return {:?} s (off for {off:.3} s)", r.reach_time, r.return_time),
+        format!(
+            "reach {} (on for {on:.3} s), return {} (off for {off:.3} s)",
+            quantity(r.reach_time, 4, "s", "not reached"),
+            quantity(r.return_time, 4, "s", "not reached")
+        ),
     ));
     out.summary.insert(
         run.name.to_string(),

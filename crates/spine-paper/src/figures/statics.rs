@@ -4,6 +4,7 @@
 use super::*;
 use serde_json::json;
 use spine_run::metrics::{sensitivity_ratio, DesignChange};
+use spine_run::text::quantity;
 
 /// Tolerance on `|X_{N+1}(θ2) − L_x − δ_d|`, m: the constraint tolerance of the solves (1e-8) with room.
 const END_TOLERANCE: f64 = 1e-6;
@@ -159,7 +160,11 @@ fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Re
             "\"end-point motion indifference to the variation of localized loading\" (Sec. 5.1)",
             format!("both designs end clean and their end displacements differ by ≤ {END_TOLERANCE:.0e} m"),
             local.result.is_clean() && uniform.result.is_clean() && gap <= END_TOLERANCE,
-            format!("X(θ2) − L_x: localized {el:?} m, uniform {eu:?} m (difference {gap:.1e} m)"),
+            format!(
+                "X(θ2) − L_x: localized {}, uniform {} (difference {gap:.1e} m)",
+                quantity(el, 6, "m", "no loaded equilibrium"),
+                quantity(eu, 6, "m", "no loaded equilibrium")
+            ),
         ),
         Claim::new(
             "figure",
