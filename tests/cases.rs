@@ -120,3 +120,33 @@ fn mutated_paper_cases_never_panic_the_validator() {
     assert!(tried >= 300, "{tried} mutated cases");
     eprintln!("{tried} mutated cases, {valid} still valid");
 }
+
+/// The registry of case kinds (`spine_case::KINDS`) is the only list of kinds: every kind it holds
+/// has its section in `docs/case-format.md` (a heading naming it) and at least one paper case that
+/// runs it (as the file's kind or as a figure's run), so a kind added to the registry without its
+/// documentation or a case fails here.
+#[test]
+fn every_registered_kind_has_its_docs_section_and_a_paper_case() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let docs = std::fs::read_to_string(root.join("docs/case-format.md")).unwrap();
+    let headings: Vec<&str> = docs.lines().filter(|l| l.starts_with('#')).collect();
+    let mut run_kinds = std::collections::BTreeSet::new();
+    for entry in std::fs::read_dir(root.join("paper-cases")).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let case = Case::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        run_kinds.insert(case.kind());
+        if let Case::Figure(f) = &case {
+            run_kinds.extend(f.validate().unwrap().iter().map(|r| r.case.kind()));
+        }
+    }
+    for kind in spine_case::KINDS {
+        let quoted = format!("\"kind\": \"{kind}\"");
+        let named = format!("`{kind}`");
+        assert!(
+            headings.iter().any(|h| h.contains(&quoted) || h.contains(&named)),
+            "docs/case-format.md has no section for kind {kind:?}"
+        );
+        assert!(run_kinds.contains(kind), "no paper case runs kind {kind:?}");
+    }
+}

@@ -16,6 +16,9 @@ import numpy.typing as npt
 
 CaseLike = Union[Mapping[str, Any], str, os.PathLike[str]]
 Array = npt.NDArray[np.float64]
+KINDS: list[str]
+"""The case kinds this build runs (`"kind"` of a case file), from the one registry in Rust."""
+
 Load = Literal["passive", "loaded"]
 
 def version() -> str:
@@ -44,8 +47,8 @@ def run_case(
     frame_width: Optional[int] = None,
     magnify: Optional[float] = None,
 ) -> Result:
-    """Runs a case of any kind (the CLI's `spine case`): equilibrium, twolink, design (eq. (33)),
-    simulate (step or periodic response), damping (eq. (35)), periodic (eq. (37)) or figure.
+    """Runs a case of any kind in `KINDS` (the CLI's `spine case`; docs/case-format.md has a
+    section for each).
 
     Overrides as on the command line: `starts`/`seed` (multi-start of eq. (33)), `formulation`,
     `method` (eq. (37)), `time_limit` (s; the result then says stopped="time_limit"), and an

@@ -8,23 +8,55 @@ use crate::parse::parse;
 use crate::twolink_case::{TwoLinkCase, ValidTwoLink};
 use crate::CaseError;
 
-/// A parsed case file, by kind.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Case {
+/// The registry of case kinds: each kind's name as a case file writes it, its variant and its
+/// parsed type, written once. It makes [`Case`], [`KINDS`], the parser's dispatch and
+/// [`Case::kind`]; adding a kind is one line here, its case module, its run module in `spine-run`,
+/// its section in `docs/case-format.md` and a paper case (a test checks the last two).
+macro_rules! case_kinds {
+    ($( $(#[$doc:meta])* $variant:ident($parsed:ty) = $name:literal, )+) => {
+        /// A parsed case file, by kind.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Case {
+            $( $(#[$doc])* $variant($parsed), )+
+        }
+
+        /// The kinds this program runs, in the registry's order.
+        pub const KINDS: &[&str] = &[$($name),+];
+
+        impl Case {
+            /// The case of kind `kind` from the rest of the file, or `None` for an unknown kind.
+            fn parse_kind(kind: &str, rest: serde_json::Value) -> Option<Result<Self, CaseError>> {
+                match kind {
+                    $( $name => Some(parse(rest).map(Case::$variant)), )+
+                    _ => None,
+                }
+            }
+
+            /// The case's kind as written in the file.
+            pub fn kind(&self) -> &'static str {
+                match self {
+                    $( Self::$variant(_) => $name, )+
+                }
+            }
+        }
+    };
+}
+
+case_kinds! {
     /// `"kind": "equilibrium"`: the passive and loaded equilibria of a given design.
-    Equilibrium(EquilibriumCase),
+    Equilibrium(EquilibriumCase) = "equilibrium",
     /// `"kind": "twolink"`: the two-link analysis of Sec. 3.
-    Twolink(TwoLinkCase),
+    Twolink(TwoLinkCase) = "twolink",
     /// `"kind": "design"`: the static design problem, eq. (33).
-    Design(DesignCase),
+    Design(DesignCase) = "design",
     /// `"kind": "simulate"`: a step or periodic response (Sec. 5.2).
-    Simulate(DynamicsCase),
+    Simulate(DynamicsCase) = "simulate",
     /// `"kind": "damping"`: the damping design, eq. (35).
-    Damping(DynamicsCase),
+    Damping(DynamicsCase) = "damping",
     /// `"kind": "periodic"`: the periodic-load design, eq. (37).
-    Periodic(DynamicsCase),
+    Periodic(DynamicsCase) = "periodic",
     /// `"kind": "figure"`: a figure of the paper, several runs drawn and checked together.
-    Figure(FigureCase),
+    Figure(FigureCase) = "figure",
 }
 
 /// A checked case, ready for a solver.
@@ -40,47 +72,22 @@ pub enum ValidCase {
     Figure(Vec<ValidRun>),
 }
 
-/// The kinds this program runs, for error messages.
-pub const KINDS: &[&str] = &["equilibrium", "twolink", "design", "simulate", "damping", "periodic", "figure"];
-
 impl Case {
     /// Parses a case file. Errors name the field (`chain.links`, `design.theta0[2]`, …).
     pub fn from_json(text: &str) -> Result<Self, CaseError> {
         crate::parse::check_text(text)?;
-        let value: serde_json::Value = serde_json::from_str(text)
-            .map_err(|e| CaseError::Parse { field: "case file".into(), message: format!("not valid JSON: {e}") })?;
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| CaseError::parse("case file", format!("not valid JSON: {e}")))?;
         let serde_json::Value::Object(mut map) = value else {
-            return Err(CaseError::Parse { field: "case file".into(), message: "must be a JSON object".into() });
+            return Err(CaseError::parse("case file", "must be a JSON object"));
         };
         let kind = match map.remove("kind") {
             Some(serde_json::Value::String(k)) => k,
             Some(_) => return Err(CaseError::invalid("kind", format!("must be a string, one of {KINDS:?}"))),
             None => return Err(CaseError::invalid("kind", format!("missing; one of {KINDS:?}"))),
         };
-        let rest = serde_json::Value::Object(map);
-        match kind.as_str() {
-            "equilibrium" => parse(rest).map(Case::Equilibrium),
-            "twolink" => parse(rest).map(Case::Twolink),
-            "design" => parse(rest).map(Case::Design),
-            "simulate" => parse(rest).map(Case::Simulate),
-            "damping" => parse(rest).map(Case::Damping),
-            "periodic" => parse(rest).map(Case::Periodic),
-            "figure" => parse(rest).map(Case::Figure),
-            other => Err(CaseError::invalid("kind", format!("unknown kind {other:?}; one of {KINDS:?}"))),
-        }
-    }
-
-    /// The case's kind as written in the file.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Self::Equilibrium(_) => "equilibrium",
-            Self::Twolink(_) => "twolink",
-            Self::Design(_) => "design",
-            Self::Simulate(_) => "simulate",
-            Self::Damping(_) => "damping",
-            Self::Periodic(_) => "periodic",
-            Self::Figure(_) => "figure",
-        }
+        Self::parse_kind(&kind, serde_json::Value::Object(map))
+            .unwrap_or_else(|| Err(CaseError::invalid("kind", format!("unknown kind {kind:?}; one of {KINDS:?}"))))
     }
 
     /// Checks every value; errors name the field.

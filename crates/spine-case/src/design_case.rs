@@ -1,7 +1,7 @@
 //! `"kind": "design"`: the static design problem of eq. (33).
 
 use crate::per_item::check_finite;
-use crate::specs::{check_options, non_negative, positive, ChainSpec, LoadSpec, Notes};
+use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::refine::Refine;
@@ -190,31 +190,13 @@ impl DesignCase {
                 format!("must be at most {MAX_STARTS}, got {}", self.multistart.starts),
             ));
         }
-        let s = &self.solver;
-        positive("solver.tolerance", s.tolerance, "")?;
-        positive("solver.constraint_tolerance", s.constraint_tolerance, "")?;
-        if s.max_iterations == 0 || s.max_iterations > i32::MAX as usize {
-            return Err(CaseError::invalid("solver.max_iterations", "must be between 1 and 2147483647"));
-        }
-        if !["monotone", "adaptive"].contains(&s.barrier_strategy.as_str()) {
+        self.solver.validate().map_err(|e| e.under("solver"))?;
+        if matches!(self.solver.refine, Refine::Ladder(_)) && self.formulation == Formulation::Reduced {
             return Err(CaseError::invalid(
-                "solver.barrier_strategy",
-                format!("must be \"monotone\" or \"adaptive\", got {:?}", s.barrier_strategy),
+                "solver.refine",
+                "mesh sequencing needs formulation \"full\"; use \"off\" or \"auto\" with \"reduced\"",
             ));
         }
-        check_options(&s.continuation).map_err(|e| e.with_prefix("solver.continuation"))?;
-        s.check_ipopt_options()
-            .map_err(|(name, why)| CaseError::invalid(format!("solver.ipopt_options.{name}"), why))?;
-        if let Refine::Ladder(ladder) = &s.refine {
-            ladder.check().map_err(|(field, why)| CaseError::invalid(format!("solver.refine.{field}"), why))?;
-            if self.formulation == Formulation::Reduced {
-                return Err(CaseError::invalid(
-                    "solver.refine",
-                    "mesh sequencing needs formulation \"full\"; use \"off\" or \"auto\" with \"reduced\"",
-                ));
-            }
-        }
-        s.warm_start.check().map_err(|(field, why)| CaseError::invalid(format!("solver.warm_start.{field}"), why))?;
 
         Ok(ValidDesign {
             problem: DesignProblem {

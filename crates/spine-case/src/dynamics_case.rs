@@ -174,11 +174,11 @@ fn check_periodic(prefix: &str, p: &spine_dynamics::PeriodicSettings) -> Result<
     positive(&field("settle_tolerance"), p.settle_tolerance, "")?;
     check_fraction(&field("reach_fraction"), p.reach_fraction)?;
     check_integrator(&field("integrator"), &p.integrator)?;
-    crate::specs::check_options(&p.continuation).map_err(|e| e.with_prefix(&field("continuation")))
+    Ok(p.continuation.validate().map_err(|e| e.under(&field("continuation")))?)
 }
 
 fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
-    o.validate().map_err(|e| CaseError::invalid(format!("{prefix}.{}", e.field), e.message))
+    Ok(o.validate().map_err(|e| e.under(prefix))?)
 }
 
 fn check_fraction(field: &str, v: f64) -> Result<(), CaseError> {
@@ -231,14 +231,14 @@ impl DynamicsCase {
                 };
                 let valid = as_design.validate().map_err(|e| match e.field() {
                     f if f.starts_with("chain") || f.starts_with("loads") => e,
-                    _ => e.with_prefix("static_design"),
+                    _ => e.under("static_design"),
                 })?;
                 DesignSource::Optimise(Box::new(valid))
             }
         };
         let damping = self.damping.expand("damping", n + 1, "one per damper, N + 1")?;
         non_negative("damping", &damping, "N·m·s/rad")?;
-        self.forcing.validate().map_err(|(f, m)| CaseError::invalid(format!("forcing.{f}"), m))?;
+        self.forcing.validate().map_err(|e| e.under("forcing"))?;
 
         let s = &self.simulation;
         positive("simulation.t_end", s.t_end, "s")?;
@@ -257,7 +257,7 @@ impl DynamicsCase {
             return Err(CaseError::invalid("simulation.samples", format!("must be at least 2, got {}", s.samples)));
         }
         check_integrator("simulation.integrator", &s.integrator)?;
-        crate::specs::check_options(&s.continuation).map_err(|e| e.with_prefix("simulation.continuation"))?;
+        s.continuation.validate().map_err(|e| e.under("simulation.continuation"))?;
         check_periodic("periodic", &self.periodic)?;
 
         let periodic_forcing = self.forcing.period().is_some();
@@ -373,12 +373,8 @@ impl DynamicsCase {
                     ));
                 }
                 positive("periodic_design.settings.tolerance", st.tolerance, "")?;
-                st.ga
-                    .validate()
-                    .map_err(|e| CaseError::invalid(format!("periodic_design.settings.ga.{}", e.field), e.message))?;
-                st.pattern.validate().map_err(|e| {
-                    CaseError::invalid(format!("periodic_design.settings.pattern.{}", e.field), e.message)
-                })?;
+                st.ga.validate().map_err(|e| e.under("periodic_design.settings.ga"))?;
+                st.pattern.validate().map_err(|e| e.under("periodic_design.settings.pattern"))?;
                 if st.tolerance > 1.0 {
                     return Err(CaseError::invalid(
                         "periodic_design.settings.tolerance",

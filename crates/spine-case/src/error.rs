@@ -1,47 +1,66 @@
-//! Errors in case files. Each names the field (a JSON path such as `design.theta0[3]`).
+//! Errors in case files. Each is a [`FieldError`]: the field (a JSON path such as
+//! `design.theta0[3]`) and what is allowed.
 
-/// Why a case file was refused.
+pub use spine_check::FieldError;
+
+/// Why a case file was refused: the one field error of the workspace, marked by whether the file
+/// could not be read as a case (parse) or holds a value that is not allowed (invalid).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CaseError {
     /// Not JSON, or JSON of the wrong shape (unknown field, wrong type, missing field).
-    #[error("{field}: {message}")]
-    Parse { field: String, message: String },
+    #[error(transparent)]
+    Parse(FieldError),
     /// Well-formed but not allowed (wrong length, out of range, inconsistent).
-    #[error("{field}: {message}")]
-    Invalid { field: String, message: String },
+    #[error(transparent)]
+    Invalid(FieldError),
+}
+
+/// An options type's own check (`SolverSettings::validate`, `Forcing::validate`, …) as a case error.
+impl From<FieldError> for CaseError {
+    fn from(e: FieldError) -> Self {
+        Self::Invalid(e)
+    }
 }
 
 impl CaseError {
     pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
-        Self::Invalid { field: field.into(), message: message.into() }
+        Self::Invalid(FieldError::new(field, message))
     }
 
-    /// The same error with its field placed under `prefix` (for a section checked by shared code:
-    /// `solver.residual_tolerance` becomes `solver.continuation.residual_tolerance`).
-    pub fn with_prefix(self, prefix: &str) -> Self {
-        let rename = |field: String| match field.split_once('.') {
-            Some((_, rest)) => format!("{prefix}.{rest}"),
-            None => format!("{prefix}.{field}"),
-        };
+    pub fn parse(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::Parse(FieldError::new(field, message))
+    }
+
+    fn map(self, f: impl FnOnce(FieldError) -> FieldError) -> Self {
         match self {
-            Self::Parse { field, message } => Self::Parse { field: rename(field), message },
-            Self::Invalid { field, message } => Self::Invalid { field: rename(field), message },
+            Self::Parse(e) => Self::Parse(f(e)),
+            Self::Invalid(e) => Self::Invalid(f(e)),
+        }
+    }
+
+    /// The same error inside `prefix`: `chain.links` becomes `runs[1].case.chain.links` (the
+    /// whole file, `case file`, becomes `prefix` itself).
+    pub fn under(self, prefix: &str) -> Self {
+        self.map(
+            |e| {
+                if e.field == "case file" {
+                    FieldError { field: prefix.to_string(), ..e }
+                } else {
+                    e.under(prefix)
+                }
+            },
+        )
+    }
+
+    /// The field error itself.
+    pub fn field_error(&self) -> &FieldError {
+        match self {
+            Self::Parse(e) | Self::Invalid(e) => e,
         }
     }
 
     /// The field the error is about.
-    /// The same error inside `prefix`: `chain.links` becomes `runs[1].case.chain.links`.
-    pub fn under(self, prefix: &str) -> Self {
-        let put = |field: String| if field == "case file" { prefix.to_string() } else { format!("{prefix}.{field}") };
-        match self {
-            Self::Parse { field, message } => Self::Parse { field: put(field), message },
-            Self::Invalid { field, message } => Self::Invalid { field: put(field), message },
-        }
-    }
-
     pub fn field(&self) -> &str {
-        match self {
-            Self::Parse { field, .. } | Self::Invalid { field, .. } => field,
-        }
+        &self.field_error().field
     }
 }

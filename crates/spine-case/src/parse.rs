@@ -19,7 +19,7 @@ pub(crate) fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, 
                 message = msg.to_string();
             }
         }
-        CaseError::Parse { field, message }
+        CaseError::parse(field, message)
     })
 }
 
@@ -31,10 +31,10 @@ pub const MAX_CASE_BYTES: usize = 64 << 20;
 /// (`serde_json` would keep the last one silently). The error names the key's path.
 pub(crate) fn check_text(text: &str) -> Result<(), CaseError> {
     if text.len() > MAX_CASE_BYTES {
-        return Err(CaseError::Parse {
-            field: "case file".into(),
-            message: format!("{} bytes; at most {MAX_CASE_BYTES} are accepted", text.len()),
-        });
+        return Err(CaseError::parse(
+            "case file",
+            format!("{} bytes; at most {MAX_CASE_BYTES} are accepted", text.len()),
+        ));
     }
     let mut de = serde_json::Deserializer::from_str(text);
     match serde_path_to_error::deserialize::<_, NoDuplicateKeys>(&mut de) {
@@ -45,7 +45,7 @@ pub(crate) fn check_text(text: &str) -> Result<(), CaseError> {
             match message.strip_prefix(DUPLICATE) {
                 Some(key) => {
                     let field = if path == "." { key.to_string() } else { format!("{path}.{key}") };
-                    Err(CaseError::Parse { field, message: "given twice; give each field once".into() })
+                    Err(CaseError::parse(field, "given twice; give each field once"))
                 }
                 // Not JSON: `Case::from_json` reports it with its position.
                 None => Ok(()),

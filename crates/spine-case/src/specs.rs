@@ -157,7 +157,7 @@ pub(crate) fn non_negative(field: &str, values: &[f64], unit: &str) -> Result<()
 
 /// The continuation options of a case (field `solver`), checked by their own rules.
 pub fn check_options(o: &ContinuationOptions) -> Result<(), CaseError> {
-    o.validate().map_err(|e| CaseError::invalid(format!("solver.{}", e.field), e.message))
+    Ok(o.validate().map_err(|e| e.under("solver"))?)
 }
 
 /// Largest chain accepted from a case file.

@@ -265,7 +265,7 @@ fn refined_design_reports_every_level_and_is_deterministic() {
             design_deterministic("paper-cases/design10.json", &format!("refine-{tag}"), &["--refine", "5:2"]);
         let stdout = String::from_utf8_lossy(&o.stdout);
         assert!(matches!(o.status.code(), Some(0) | Some(3)), "{}", String::from_utf8_lossy(&o.stderr));
-        assert!(stdout.contains("level     5 links (Cold start)") && stdout.contains("level    10 links"), "{stdout}");
+        assert!(stdout.contains("level     5 links (cold start)") && stdout.contains("level    10 links"), "{stdout}");
         let r = read(&out.join("result.json"));
         let levels = r["refinement"]["levels"].as_array().unwrap();
         assert_eq!(levels.iter().map(|l| l["links"].as_u64().unwrap()).collect::<Vec<_>>(), vec![5, 10]);

@@ -4,6 +4,7 @@
 use crate::reduced_space::ReducedHessian;
 use crate::refine::{Refine, WarmStart};
 use serde::{Deserialize, Serialize};
+use spine_check::{require, FieldError};
 use spine_ipopt::{OptionValue, Options};
 use spine_solve::ContinuationOptions;
 use std::collections::BTreeMap;
@@ -200,16 +201,15 @@ const FILE_OPTIONS: &[&str] = &["output_file", "option_file_name", "file_print_l
 
 impl SolverSettings {
     /// Checks `ipopt_options` against the options a case may set: the option's name (with the
-    /// reason when it is refused) and its type and value. Returns the offending option's name and
-    /// what is allowed.
-    pub fn check_ipopt_options(&self) -> Result<(), (String, String)> {
+    /// reason when it is refused) and its type and value. The error's field is the option's name.
+    pub fn check_ipopt_options(&self) -> Result<(), FieldError> {
         for (name, value) in &self.ipopt_options {
             if FILE_OPTIONS.contains(&name.as_str()) {
-                return Err((name.clone(), "opens or reads a file: not allowed in a case file".into()));
+                return Err(FieldError::new(name.clone(), "opens or reads a file: not allowed in a case file"));
             }
             let Some((_, allowed)) = CASE_IPOPT_OPTIONS.iter().find(|(n, _)| n == name) else {
                 let names: Vec<&str> = CASE_IPOPT_OPTIONS.iter().map(|(n, _)| *n).collect();
-                return Err((
+                return Err(FieldError::new(
                     name.clone(),
                     format!("not an Ipopt option a case may set; allowed: {}", names.join(", ")),
                 ));
@@ -226,10 +226,33 @@ impl SolverSettings {
                     Allowed::Integer => "an integer within ±2147483647".to_string(),
                     Allowed::OneOf(values) => format!("one of {values:?}"),
                 };
-                return Err((name.clone(), format!("must be {expected}, got {value:?}")));
+                return Err(FieldError::new(name.clone(), format!("must be {expected}, got {value:?}")));
             }
         }
         Ok(())
+    }
+}
+
+impl SolverSettings {
+    /// Checks every setting where it is defined; the error's field is the path inside a case
+    /// file's `solver` section (`tolerance`, `continuation.min_step`, `ipopt_options.mu_init`,
+    /// `refine.factor`, `warm_start.bound_push`).
+    pub fn validate(&self) -> Result<(), FieldError> {
+        for (field, v) in [("tolerance", self.tolerance), ("constraint_tolerance", self.constraint_tolerance)] {
+            require(v.is_finite() && v > 0.0, field, || format!("must be a finite number > 0 , got {v}"))?;
+        }
+        require(self.max_iterations >= 1 && self.max_iterations <= i32::MAX as usize, "max_iterations", || {
+            "must be between 1 and 2147483647".into()
+        })?;
+        require(["monotone", "adaptive"].contains(&self.barrier_strategy.as_str()), "barrier_strategy", || {
+            format!("must be \"monotone\" or \"adaptive\", got {:?}", self.barrier_strategy)
+        })?;
+        self.continuation.validate().map_err(|e| e.under("continuation"))?;
+        self.check_ipopt_options().map_err(|e| e.under("ipopt_options"))?;
+        if let crate::refine::Refine::Ladder(ladder) = &self.refine {
+            ladder.validate().map_err(|e| e.under("refine"))?;
+        }
+        self.warm_start.validate().map_err(|e| e.under("warm_start"))
     }
 }
 

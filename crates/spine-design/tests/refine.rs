@@ -27,9 +27,9 @@ fn ladder_levels_end_at_the_chain_itself() {
     assert_eq!(l.levels(30), vec![30]);
     assert_eq!(l.levels(60), vec![50, 60]);
     assert_eq!(Ladder { from: 10, factor: 1.5 }.levels(40), vec![10, 15, 23, 34, 40]);
-    assert!(Ladder { from: 1, factor: 2.0 }.check().is_err());
-    assert!(Ladder { from: 10, factor: 1.0 }.check().is_err());
-    assert!(Ladder { from: 10, factor: f64::NAN }.check().is_err());
+    assert!(Ladder { from: 1, factor: 2.0 }.validate().is_err());
+    assert!(Ladder { from: 10, factor: 1.0 }.validate().is_err());
+    assert!(Ladder { from: 10, factor: f64::NAN }.validate().is_err());
     assert_eq!(Refine::Mode(RefineMode::Auto).ladder(99), None);
     assert_eq!(Refine::Mode(RefineMode::Auto).ladder(refine::AUTO_FROM_LINKS), Some(refine::AUTO_LADDER));
     assert_eq!(Refine::Mode(RefineMode::Off).ladder(5000), None);

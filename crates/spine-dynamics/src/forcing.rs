@@ -112,8 +112,8 @@ impl Forcing {
     }
 
     /// Checks the parameters; the error names the field and what is allowed.
-    pub fn validate(&self) -> Result<(), (String, String)> {
-        let bad = |f: &str, m: String| Err((f.to_string(), m));
+    pub fn validate(&self) -> Result<(), spine_check::FieldError> {
+        let bad = |f: &str, m: String| Err(spine_check::FieldError::new(f, m));
         match *self {
             Forcing::PulseTrain { period, duty, delay } => {
                 if !(period.is_finite() && period > 0.0) {

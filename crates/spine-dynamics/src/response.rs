@@ -59,7 +59,7 @@ pub enum DynamicsError {
     UnstableEnd { status: EquilibriumStatus },
     /// The settings of the search of eq. (37) are out of range.
     #[error("search settings: {0}")]
-    SearchSettings(#[from] spine_search::SettingsError),
+    SearchSettings(#[from] spine_check::FieldError),
 }
 
 impl DynamicProblem {

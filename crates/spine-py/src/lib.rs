@@ -290,5 +290,7 @@ fn flexspine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(strain_energy, m)?)?;
     m.add_function(wrap_pyfunction!(design_start, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    // The case kinds, from the one registry (`spine_case::KINDS`).
+    m.add("KINDS", spine_case::KINDS.to_vec())?;
     Ok(())
 }

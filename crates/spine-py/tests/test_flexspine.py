@@ -242,3 +242,11 @@ def test_animation_bytes_from_python_equal_the_cli_file(tmp_path):
         flexspine.run_case(case, frames=1)
     with pytest.raises(ValueError, match="no motion to animate"):
         flexspine.run_case(CASES / "design5.json", animate=True)
+
+
+def test_kinds_come_from_the_registry_and_each_has_a_paper_case():
+    kinds = flexspine.KINDS
+    assert len(set(kinds)) == len(kinds) and {"equilibrium", "design", "figure"} <= set(kinds)
+    root = pathlib.Path(__file__).resolve().parents[3]
+    found = {json.loads(p.read_text())["kind"] for p in (root / "paper-cases").glob("*.json")}
+    assert found <= set(kinds)

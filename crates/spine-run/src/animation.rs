@@ -4,6 +4,7 @@
 //! time, with the time stamp in the title. Built from a result's samples when the folder is
 //! written; the result itself holds only the data.
 
+use spine_check::{require, FieldError};
 use spine_dynamics::response::Sample;
 use spine_model::kinematics::{link_lengths, node_positions};
 use spine_plot::{Figure, Panel, PlotError, Series};
@@ -46,22 +47,20 @@ impl Default for AnimationOptions {
 
 impl AnimationOptions {
     /// Checks every field against its range; the error names the field and what is allowed.
-    pub fn validate(&self) -> Result<(), String> {
-        if !FRAMES.contains(&self.frames) {
-            return Err(format!(
-                "animation.frames: {} frames, allowed {}..={}",
-                self.frames,
-                FRAMES.start(),
-                FRAMES.end()
-            ));
+    pub fn validate(&self) -> Result<(), FieldError> {
+        require(FRAMES.contains(&self.frames), "animation.frames", || {
+            format!("{} frames, allowed {}..={}", self.frames, FRAMES.start(), FRAMES.end())
+        })?;
+        require(WIDTH.contains(&self.width), "animation.width", || {
+            format!("{} px, allowed {}..={}", self.width, WIDTH.start(), WIDTH.end())
+        })?;
+        match self.magnification.filter(|m| !(*m > 0.0 && *m <= MAX_MAGNIFICATION)) {
+            Some(m) => Err(FieldError::new(
+                "animation.magnification",
+                format!("{m}, allowed a number > 0 and ≤ {MAX_MAGNIFICATION:e}"),
+            )),
+            None => Ok(()),
         }
-        if !WIDTH.contains(&self.width) {
-            return Err(format!("animation.width: {} px, allowed {}..={}", self.width, WIDTH.start(), WIDTH.end()));
-        }
-        if let Some(m) = self.magnification.filter(|m| !(*m > 0.0 && *m <= MAX_MAGNIFICATION)) {
-            return Err(format!("animation.magnification: {m}, allowed a number > 0 and ≤ {MAX_MAGNIFICATION:e}"));
-        }
-        Ok(())
     }
 }
 
@@ -292,7 +291,7 @@ mod tests {
     #[test]
     fn options_name_the_field_out_of_range() {
         assert!(AnimationOptions::default().validate().is_ok());
-        let bad = |o: AnimationOptions| o.validate().unwrap_err();
+        let bad = |o: AnimationOptions| o.validate().unwrap_err().to_string();
         assert!(bad(AnimationOptions { frames: 1, ..Default::default() }).starts_with("animation.frames"));
         assert!(bad(AnimationOptions { width: 100_000, ..Default::default() }).starts_with("animation.width"));
         for m in [0.0, -1.0, f64::NAN, 1e7] {

@@ -1,6 +1,7 @@
 //! Why a run could not give a result, with its cause.
 
 use spine_case::CaseError;
+use spine_check::FieldError;
 use spine_design::DesignError;
 use spine_dynamics::DynamicsError;
 
@@ -29,9 +30,9 @@ pub enum RunError {
     /// A kind of case a figure cannot hold.
     #[error("{0}")]
     NotInFigure(&'static str),
-    /// The figure's recipe rejected its runs.
-    #[error("{figure}: {message}")]
-    Recipe { figure: String, message: String },
+    /// The figure's recipe (named by `figure`) rejected its runs; the error names the run.
+    #[error("{figure}: {error}")]
+    Recipe { figure: String, error: FieldError },
     /// A stop was requested from outside (Ctrl-C, SIGTERM); nothing is reported.
     #[error("interrupted: the run was stopped before it finished; nothing written")]
     Interrupted,
@@ -43,9 +44,9 @@ pub enum RunError {
         #[source]
         cause: Box<RunError>,
     },
-    /// A command-line option out of its range (the message names it and what is allowed).
-    #[error("{0}")]
-    Option(String),
+    /// A command-line option out of its range, or one that does not fit the case.
+    #[error(transparent)]
+    Option(FieldError),
     /// A worker process of a multi-start failed (it could not start, or ended without an answer).
     #[error("{0}")]
     Worker(String),

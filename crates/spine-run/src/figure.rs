@@ -9,12 +9,14 @@ use crate::progress::Progress;
 use serde::Serialize;
 use serde_json::{Map, Value};
 use spine_case::{FigureCase, Notes, ValidRun};
+use spine_check::FieldError;
 
 /// The recipes that turn a figure case's runs into its panels, tables and checked claims, by the
 /// figure's name (`"figure": "fig6"`). The paper's are `spine_paper::PaperFigures`.
 pub trait FigureRecipes: Sync {
     /// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
-    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String>;
+    /// The error names the run that does not fit (`runs.NAME`) or the figure (`figure`).
+    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError>;
 }
 
 /// No recipes: a figure case is refused ([`RunError::Recipe`]). For callers that run only
@@ -23,8 +25,11 @@ pub trait FigureRecipes: Sync {
 pub struct NoRecipes;
 
 impl FigureRecipes for NoRecipes {
-    fn draw(&self, figure: &str, _: &str, _: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
-        Err(format!("no recipe for {figure:?}: figure cases are drawn by spine-paper's recipes"))
+    fn draw(&self, figure: &str, _: &str, _: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
+        Err(FieldError::new(
+            "figure",
+            format!("no recipe for {figure:?}: figure cases are drawn by spine-paper's recipes"),
+        ))
     }
 }
 
@@ -130,7 +135,7 @@ pub fn run_figure(
         results.iter().map(|r| NamedRun { name: &r.name, label: &r.label, output: &r.result }).collect();
     let made = recipes
         .draw(&case.figure, &title, &named)
-        .map_err(|message| RunError::Recipe { figure: case.figure.clone(), message })?;
+        .map_err(|error| RunError::Recipe { figure: case.figure.clone(), error })?;
     let mut files: Vec<String> = made.tables.iter().map(|(name, _)| name.clone()).collect();
     for (stem, _) in &made.figures {
         files.push(format!("{stem}.svg"));

@@ -11,6 +11,7 @@ use crate::result::{CaseResult, KindResult};
 use crate::twolink::run_twolink_case;
 use crate::workers;
 use spine_case::Case;
+use spine_check::FieldError;
 
 /// Changes to a case from the command line (each `None` keeps the case file's value).
 #[derive(Clone, Debug, Default)]
@@ -76,9 +77,12 @@ pub fn run_case(
     if let Some(a) = &overrides.animation {
         a.validate().map_err(RunError::Option)?;
         if matches!(case, Case::Equilibrium(_) | Case::Twolink(_) | Case::Design(_)) {
-            return Err(RunError::Option(format!(
-                "animation: a \"{}\" case has no motion to animate (kinds simulate, damping, periodic and the figures fig9-fig11 do)",
-                case.kind()
+            return Err(RunError::Option(FieldError::new(
+                "animation",
+                format!(
+                    "a \"{}\" case has no motion to animate (kinds simulate, damping, periodic and the figures fig9-fig11 do)",
+                    case.kind()
+                ),
             )));
         }
     }

@@ -67,9 +67,10 @@ pub struct Shard {
 fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
     match spine_case::Case::from_json(text)? {
         spine_case::Case::Design(c) => Ok(c),
-        other => {
-            Err(RunError::Option(format!("--shard: a multi-start shards \"design\" cases, not \"{}\"", other.kind())))
-        }
+        other => Err(RunError::Option(spine_check::FieldError::new(
+            "--shard",
+            format!("a multi-start shards \"design\" cases, not \"{}\"", other.kind()),
+        ))),
     }
 }
 

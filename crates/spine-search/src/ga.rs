@@ -1,10 +1,11 @@
 //! Real-coded genetic algorithm: binary tournaments by Deb's rules, SBX crossover, polynomial
 //! mutation (both bounded), elitism.
 
-use crate::{require, Bounds, Evaluation, Progress, SearchResult, SearchStatus, SettingsError};
+use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
+use spine_check::{require, FieldError};
 
 /// GA settings (defaults after Deb 2000).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,7 +51,7 @@ impl Default for GaSettings {
 
 impl GaSettings {
     /// Checks every setting (the GA runs only with valid settings; nothing is rounded).
-    pub fn validate(&self) -> Result<(), SettingsError> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         let p = self.population;
         require(p >= 4 && p & 1 == 0 && p <= MAX_POPULATION, "population", || {
             format!("must be even, at least 4 and at most {MAX_POPULATION}, got {p}")
@@ -95,7 +96,7 @@ pub fn genetic_algorithm(
     start: Option<&[f64]>,
     settings: &GaSettings,
     progress: &mut dyn FnMut(Progress),
-) -> Result<SearchResult, SettingsError> {
+) -> Result<SearchResult, FieldError> {
     settings.validate()?;
     let n = bounds.dim();
     let pop_size = settings.population;

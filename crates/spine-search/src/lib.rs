@@ -37,23 +37,7 @@ pub use pattern::{pattern_search, PatternSettings};
 
 use serde::{Deserialize, Serialize};
 
-/// A setting outside its allowed range: the field and what is allowed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{field}: {message}")]
-pub struct SettingsError {
-    /// The field's name (as in a case file's `ga` or `pattern` object).
-    pub field: &'static str,
-    pub message: String,
-}
-
-/// `Err` naming `field` unless `ok`.
-pub(crate) fn require(ok: bool, field: &'static str, message: impl FnOnce() -> String) -> Result<(), SettingsError> {
-    if ok {
-        Ok(())
-    } else {
-        Err(SettingsError { field, message: message() })
-    }
-}
+pub use spine_check::FieldError;
 
 /// The value of one point: objective and total constraint violation (`0` when feasible).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

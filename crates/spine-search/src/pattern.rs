@@ -1,8 +1,9 @@
 //! Generalized pattern search on the `2n` coordinate directions, with the mesh size measured as a
 //! fraction of each variable's range.
 
-use crate::{require, Bounds, Evaluation, Progress, SearchResult, SearchStatus, SettingsError};
+use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
 use serde::{Deserialize, Serialize};
+use spine_check::{require, FieldError};
 
 /// Pattern search settings.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -36,7 +37,7 @@ impl Default for PatternSettings {
 
 impl PatternSettings {
     /// Checks every setting.
-    pub fn validate(&self) -> Result<(), SettingsError> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         let m = self.initial_mesh;
         require(m > 0.0 && m <= 1.0, "initial_mesh", || format!("must be in (0, 1], got {m}"))?;
         let t = self.mesh_tolerance;
@@ -65,7 +66,7 @@ pub fn pattern_search(
     start: &[f64],
     settings: &PatternSettings,
     progress: &mut dyn FnMut(Progress),
-) -> Result<SearchResult, SettingsError> {
+) -> Result<SearchResult, FieldError> {
     settings.validate()?;
     let n = bounds.dim();
     let mut x: Vec<f64> = (0..n).map(|i| bounds.clamp(i, start[i])).collect();

@@ -39,7 +39,7 @@ pub mod twolink;
 
 pub use corrector::LoadPath;
 pub use equilibrium::{solve_path, solve_static, StaticSolution};
-pub use options::{ContinuationOptions, OptionError, MAX_CONTINUATION_STEPS, MAX_NEWTON_ITERATIONS};
+pub use options::{ContinuationOptions, MAX_CONTINUATION_STEPS, MAX_NEWTON_ITERATIONS};
 pub use problem::StaticProblem;
 pub use solution::{EquilibriumSolution, EquilibriumStatus, SolveStats};
 pub use stability::Stability;

@@ -1,6 +1,7 @@
 //! Options of Newton and of the load continuation, each checked where it is defined.
 
 use serde::{Deserialize, Serialize};
+use spine_check::FieldError;
 
 /// Options of Newton and of the load continuation. Mirrored by a case file's `solver` section.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -25,22 +26,13 @@ pub struct ContinuationOptions {
     pub critical_load_tolerance: f64,
 }
 
-/// A setting outside its allowed range: the field and what is allowed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{field}: {message}")]
-pub struct OptionError {
-    /// The field's name (as in a case file's `solver` object).
-    pub field: &'static str,
-    pub message: String,
-}
-
 impl ContinuationOptions {
     /// Checks every setting against the range where the solver is meaningful and finishes:
     /// `residual_tolerance` in [1e-300, 1] (below the rounding floor the floor is used),
     /// `critical_load_tolerance` in [1e-15, 0.1], `max_angle_step` in (0, π/2],
     /// `1e-15 ≤ min_step ≤ initial_step ≤ 1`, 1 … 1000 Newton iterations, 1 … 10⁷ steps.
-    pub fn validate(&self) -> Result<(), OptionError> {
-        let err = |field, message: String| Err(OptionError { field, message });
+    pub fn validate(&self) -> Result<(), FieldError> {
+        let err = |field: &str, message: String| Err(FieldError::new(field, message));
         let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
         if !within(self.residual_tolerance, 1e-300, 1.0) {
             return err("residual_tolerance", format!("must be in [1e-300, 1], got {}", self.residual_tolerance));

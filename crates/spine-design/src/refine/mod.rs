@@ -34,6 +34,7 @@ pub use mesh::{coarse_nodes, coarsen, prolong, restrict};
 pub use multipliers::prolong_multipliers;
 
 use serde::{Deserialize, Serialize};
+use spine_check::{require, FieldError};
 
 /// The ladder of chain sizes: start at `from` links, multiply by `factor` until the next size
 /// would reach the chain's own `N`, then solve `N` itself.
@@ -84,14 +85,11 @@ pub const AUTO_LADDER: Ladder = Ladder { from: 50, factor: 2.0 };
 
 impl Ladder {
     /// Why the ladder is not usable, naming the field.
-    pub fn check(&self) -> Result<(), (&'static str, String)> {
-        if self.from < 2 {
-            return Err(("from", format!("must be at least 2 links, got {}", self.from)));
-        }
-        if !(self.factor.is_finite() && self.factor > 1.0 && self.factor <= 16.0) {
-            return Err(("factor", format!("must be a number in (1, 16], got {}", self.factor)));
-        }
-        Ok(())
+    pub fn validate(&self) -> Result<(), FieldError> {
+        require(self.from >= 2, "from", || format!("must be at least 2 links, got {}", self.from))?;
+        require(self.factor.is_finite() && self.factor > 1.0 && self.factor <= 16.0, "factor", || {
+            format!("must be a number in (1, 16], got {}", self.factor)
+        })
     }
 
     /// The chain sizes to solve, coarsest first, ending with `n` (just `[n]` when `from ≥ n`).
@@ -122,7 +120,7 @@ impl std::str::FromStr for Refine {
                 let bad = || format!("expected off, auto, FROM or FROM:FACTOR (e.g. 50:2), got {text:?}");
                 let ladder =
                     Ladder { from: from.parse().map_err(|_| bad())?, factor: factor.parse().map_err(|_| bad())? };
-                ladder.check().map_err(|(field, why)| format!("{field} {why}"))?;
+                ladder.validate().map_err(|e| format!("{} {}", e.field, e.message))?;
                 Refine::Ladder(ladder)
             }
         };
@@ -167,16 +165,14 @@ impl Default for WarmStart {
 
 impl WarmStart {
     /// Why these options are not usable, naming the field.
-    pub fn check(&self) -> Result<(), (&'static str, String)> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         for (name, v) in [
             ("mu_init", self.mu_init),
             ("bound_push", self.bound_push),
             ("bound_frac", self.bound_frac),
             ("mult_bound_push", self.mult_bound_push),
         ] {
-            if !(v.is_finite() && v > 0.0 && v <= 0.5) {
-                return Err((name, format!("must be a number in (0, 0.5], got {v}")));
-            }
+            require(v.is_finite() && v > 0.0 && v <= 0.5, name, || format!("must be a number in (0, 0.5], got {v}"))?;
         }
         Ok(())
     }

@@ -1,7 +1,7 @@
 //! What a run is asked for ([`Options`]) and what it reports ([`Stats`], [`Outcome`]).
 
 use serde::Serialize;
-use spine_solve::OptionError;
+use spine_check::FieldError;
 
 /// Default relative tolerance: T_90 of a step response and the reach and return times of a pulse
 /// train within 1e-6 relative of a run at 1e-12. Chosen with TR-BDF2 (measured 3e-7 on the paper's
@@ -48,7 +48,7 @@ impl Options {
     /// Checks every setting against what the integrator can do: `rtol` in [1e-14, 0.1] (below,
     /// round-off dominates and the steps never pass the test), `atol` in [1e-20, 1],
     /// `newton_tolerance` in [1e-10, 1], steps finite and positive, 1 … 10⁸ accepted steps.
-    pub fn validate(&self) -> Result<(), OptionError> {
+    pub fn validate(&self) -> Result<(), FieldError> {
         let ranges = [
             ("rtol", Some(self.rtol), 1e-14, 0.1),
             ("atol", Some(self.atol), 1e-20, 1.0),
@@ -63,12 +63,12 @@ impl Options {
                 } else {
                     format!("must be in [{lo:e}, {hi}], got {v}")
                 };
-                return Err(OptionError { field, message });
+                return Err(FieldError::new(field, message));
             }
         }
         if !(1..=MAX_STEPS).contains(&self.max_steps) {
             let message = format!("must be between 1 and {MAX_STEPS}, got {}", self.max_steps);
-            return Err(OptionError { field: "max_steps", message });
+            return Err(FieldError::new("max_steps", message));
         }
         Ok(())
     }

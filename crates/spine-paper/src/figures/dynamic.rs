@@ -18,10 +18,10 @@ const PAPER_TIME_TOLERANCE: f64 = 0.20;
 
 fn damping_designs<'a>(
     run: &NamedRun<'a>,
-) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), String> {
+) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), FieldError> {
     match expect_dynamics(run)? {
         (used, DynamicOutput::Damping { designs, periodic }) => Ok((used, designs, periodic)),
-        _ => Err(format!("run {:?}: this figure needs a \"damping\" run (eq. (35))", run.name)),
+        _ => Err(FieldError::new(format!("runs.{}", run.name), "this figure needs a \"damping\" run (eq. (35))")),
     }
 }
 
@@ -113,13 +113,13 @@ fn damping_summary(d: &DampingDesign) -> Value {
 }
 
 /// Fig. 9: for each run (10 links, 5 links) the step response, the dampers and the shapes.
-pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let mut out = FigureOutput::default();
     let columns = runs.len();
     let (mut responses, mut dampers, mut shapes, mut tracks) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, run) in runs.iter().enumerate() {
         let (used, designs, _) = damping_designs(run)?;
-        let d = designs.first().ok_or_else(|| format!("run {:?}: no damping design", run.name))?;
+        let d = designs.first().ok_or_else(|| FieldError::new(format!("runs.{}", run.name), "no damping design"))?;
         let r = &d.response;
         responses.push(response_panel(
             &format!("({}) {}: end-point response", letter(k), run.title()),
@@ -156,8 +156,8 @@ fn values_csv(column: &str, v: &[f64]) -> String {
 }
 
 /// Fig. 12: one damping run with several targets; one response panel per target and the dampers.
-pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
-    let [run] = runs else { return Err("fig12 needs one damping run with its targets".into()) };
+pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
+    let [run] = runs else { return Err(FieldError::new("runs", "fig12 needs one damping run with its targets")) };
     let (_, designs, _) = damping_designs(run)?;
     let mut out = FigureOutput::default();
     let mut fig = Figure::new(title, 2);
@@ -217,10 +217,10 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
 }
 
 /// Fig. 10: the eq. (37) design — stiffness, end-point motion under the periodic force, shapes.
-pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
-    let [run] = runs else { return Err("fig10 needs one periodic design run".into()) };
+pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
+    let [run] = runs else { return Err(FieldError::new("runs", "fig10 needs one periodic design run")) };
     let (used, DynamicOutput::PeriodicDesign { design: p }) = expect_dynamics(run)? else {
-        return Err(format!("run {:?}: fig10 needs a \"periodic\" run (eq. (37))", run.name));
+        return Err(FieldError::new(format!("runs.{}", run.name), "fig10 needs a \"periodic\" run (eq. (37))"));
     };
     let r = &p.response;
     let mut out = FigureOutput::default();
@@ -307,13 +307,15 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
 }
 
 /// Fig. 11: a gradient-based design (eq. (33) then eq. (35)) under a pulse train.
-pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
-    let [run] = runs else { return Err("fig11 needs one damping run with a periodic forcing".into()) };
+pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
+    let [run] = runs else {
+        return Err(FieldError::new("runs", "fig11 needs one damping run with a periodic forcing"));
+    };
     let (used, designs, periodic) = damping_designs(run)?;
     let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {
-        return Err(format!(
-            "run {:?}: fig11 needs a damping design and a periodic forcing to simulate it under",
-            run.name
+        return Err(FieldError::new(
+            format!("runs.{}", run.name),
+            "fig11 needs a damping design and a periodic forcing to simulate it under",
         ));
     };
     let mut out = FigureOutput::default();

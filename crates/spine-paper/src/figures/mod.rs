@@ -6,6 +6,7 @@ mod statics;
 mod twolink;
 
 use serde_json::Value;
+use spine_check::FieldError;
 use spine_dynamics::response::Sample;
 use spine_model::kinematics::{link_lengths, node_positions};
 use spine_model::Design;
@@ -18,13 +19,13 @@ use std::fmt::Write as _;
 pub struct PaperFigures;
 
 impl FigureRecipes for PaperFigures {
-    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
         recipe(figure, title, runs)
     }
 }
 
 /// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
-pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     match figure {
         "twolink" => twolink::figure(title, runs),
         "fig3" | "fig4" | "fig6" | "fig7" | "fig8" => statics::design_figure(figure, title, runs),
@@ -33,21 +34,21 @@ pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<Figure
         "fig10" => dynamic::periodic_design_figure(title, runs),
         "fig11" => dynamic::pulse_figure(title, runs),
         "fig12" => dynamic::rise_time_figure(title, runs),
-        other => Err(format!("figure: no recipe for {other:?}")),
+        other => Err(FieldError::new("figure", format!("no recipe for {other:?}"))),
     }
 }
 
-fn expect_design<'a>(run: &NamedRun<'a>) -> Result<&'a StaticDesign, String> {
+fn expect_design<'a>(run: &NamedRun<'a>) -> Result<&'a StaticDesign, FieldError> {
     match run.output {
         RunOutput::Design(s) => Ok(s),
-        _ => Err(format!("run {:?}: this figure needs a \"design\" run", run.name)),
+        _ => Err(FieldError::new(format!("runs.{}", run.name), "this figure needs a \"design\" run")),
     }
 }
 
-fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a DynamicOutput), String> {
+fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a DynamicOutput), FieldError> {
     match run.output {
         RunOutput::Dynamics { used, output } => Ok((used, output)),
-        _ => Err(format!("run {:?}: this figure needs a dynamic run", run.name)),
+        _ => Err(FieldError::new(format!("runs.{}", run.name), "this figure needs a dynamic run")),
     }
 }
 

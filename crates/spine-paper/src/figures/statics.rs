@@ -92,15 +92,15 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
 }
 
 /// One shape panel and one stiffness panel per run: Figs. 3, 4, 6, 7, 8.
-pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let mut out = FigureOutput::default();
     let mut fig = Figure::new(title, 2);
     let mut designs = Vec::new();
     for (k, run) in runs.iter().enumerate() {
         let s = expect_design(run)?;
         designs.push(s);
-        let shapes =
-            Shapes::of_static(s).ok_or_else(|| format!("run {:?}: the design has no equilibria to draw", run.name))?;
+        let shapes = Shapes::of_static(s)
+            .ok_or_else(|| FieldError::new(format!("runs.{}", run.name), "the design has no equilibria to draw"))?;
         fig = fig.with(shapes.panel(&format!("({}) {}: shapes", letter(2 * k), run.title()))).with(stiffness_panel(
             &format!("({}) {}: nodal stiffness", letter(2 * k + 1), run.title()),
             vec![Series::bars("", points(&s.result.design.stiffness, 1)).colour(k)],
@@ -119,20 +119,20 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
 }
 
 /// Fig. 4: the first run carries the localized load, the second the uniform one.
-fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Result<Vec<Claim>, String> {
+fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Result<Vec<Claim>, FieldError> {
     let [local, uniform] = designs else {
-        return Err("fig4 needs two runs: the localized load first, then the uniform load".into());
+        return Err(FieldError::new("runs", "fig4 needs two runs: the localized load first, then the uniform load"));
     };
     let (pl, pu) = (&local.problem.structure.passive.p_y, &uniform.problem.structure.passive.p_y);
     if pl.len() != pu.len() {
-        return Err("fig4: both runs need the same number of links".into());
+        return Err(FieldError::new("runs", "fig4: both runs need the same number of links"));
     }
     // Loaded nodes: where the localized run's transverse load is larger in magnitude.
     let loaded: Vec<usize> = (0..pl.len()).filter(|&j| pl[j].abs() > pu[j].abs() + 1e-12).collect();
     if loaded.is_empty() || loaded.len() == pl.len() {
-        return Err(format!(
-            "fig4: the run {:?} must load some nodes more than {:?}, not all",
-            runs[0].name, runs[1].name
+        return Err(FieldError::new(
+            format!("runs.{}", runs[0].name),
+            format!("must load some nodes more than {:?}, not all", runs[1].name),
         ));
     }
     let n = local.result.design.theta0.len();
@@ -184,7 +184,7 @@ fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Re
 }
 
 /// Fig. 5: `θ0` and `K` of every run (one per transverse load) on one pair of panels.
-pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
+pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let mut out = FigureOutput::default();
     let mut shape = Panel::new("(a) design angle θ0 under various loads", "link i", "θ0_i (rad)").x_integer();
     let mut stiffness =

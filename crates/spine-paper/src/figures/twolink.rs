@@ -7,10 +7,10 @@ use serde_json::json;
 /// the closed-form errors must be those errata E3 predicts, within this margin.
 const ORDER_MARGIN: f64 = 0.1;
 
-pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, String> {
-    let [run] = runs else { return Err("twolink needs one twolink run".into()) };
+pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
+    let [run] = runs else { return Err(FieldError::new("runs", "twolink needs one twolink run")) };
     let RunOutput::Twolink { study, stiffness } = run.output else {
-        return Err(format!("run {:?}: needs a \"twolink\" run", run.name));
+        return Err(FieldError::new(format!("runs.{}", run.name), "needs a \"twolink\" run"));
     };
     let mut out = FigureOutput::default();
     let rows: Vec<_> = study.rows.iter().filter(|r| r.theta0_exact.is_some()).collect();
