@@ -150,3 +150,39 @@ fn every_registered_kind_has_its_docs_section_and_a_paper_case() {
         assert!(run_kinds.contains(kind), "no paper case runs kind {kind:?}");
     }
 }
+
+/// `docs/case.schema.json` is the schema generated from the Rust types (regenerate it with
+/// `SPINE_UPDATE_SCHEMA=1 cargo test -p spine-integration-tests --test cases`), and every paper case
+/// is valid against it, while files the parser refuses for their shape are invalid against it too.
+#[test]
+fn the_shipped_schema_is_generated_and_every_paper_case_is_valid_against_it() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let path = root.join("docs/case.schema.json");
+    let generated = spine_case::json_schema();
+    let text = serde_json::to_string_pretty(&generated).unwrap() + "\n";
+    if std::env::var_os("SPINE_UPDATE_SCHEMA").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    let shipped = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(shipped == text, "docs/case.schema.json is stale: regenerate it with SPINE_UPDATE_SCHEMA=1");
+    let validator = jsonschema::draft202012::new(&generated).expect("the schema is a valid draft 2020-12 schema");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(root.join("paper-cases")).unwrap() {
+        let p = entry.unwrap().path();
+        let case: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        let errors: Vec<String> =
+            validator.iter_errors(&case).map(|e| format!("{} at {}", e, e.instance_path())).collect();
+        assert!(errors.is_empty(), "{}: {errors:?}", p.display());
+        checked += 1;
+    }
+    assert!(checked >= 20, "only {checked} paper cases");
+    for bad in [
+        serde_json::json!({ "kind": "equilibrium", "chain": { "links": 2, "length_x": 1.0, "lenght": 1 },
+            "design": { "theta0": [0.1, -0.1], "stiffness": 100 }, "loads": { "p_y": -1, "p_x": -1 } }),
+        serde_json::json!({ "kind": "simulate_all" }),
+        serde_json::json!({ "kind": "design", "delta_d": "-0.02" }),
+    ] {
+        assert!(!validator.is_valid(&bad), "the schema accepts {bad}");
+        assert!(Case::from_json(&bad.to_string()).is_err(), "the parser accepts {bad}");
+    }
+}

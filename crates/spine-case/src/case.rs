@@ -39,7 +39,46 @@ macro_rules! case_kinds {
                 }
             }
         }
+
+        /// The JSON Schema (draft 2020-12) of a case file, generated from the types the parser
+        /// reads: one alternative per kind, each the kind's fields with `"kind"` fixed to its
+        /// name. Shipped as `docs/case.schema.json` (a test keeps the two equal); editors use it
+        /// to check and complete case files. Ranges that depend on other fields (one entry per
+        /// link, `Σ a_i tan θ0_i = 0`) are left to [`Case::validate`].
+        pub fn json_schema() -> serde_json::Value {
+            let mut generator = schemars::SchemaGenerator::default();
+            let alternatives = vec![$( kind_schema(<$parsed as schemars::JsonSchema>::json_schema(&mut generator), $name) ),+];
+            let definitions: serde_json::Map<String, serde_json::Value> =
+                generator.definitions().iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+            serde_json::json!({
+                "$schema": "https://json-schema.org/draft/2020-12/schema",
+                "title": "Flexible spine case file",
+                "description": "A case file of the flexible-spine workspace (docs/case-format.md): a JSON object whose \"kind\" says what to run.",
+                "type": "object",
+                "required": ["kind"],
+                "properties": { "kind": { "enum": KINDS } },
+                "oneOf": alternatives,
+                "$defs": definitions,
+            })
+        }
     };
+}
+
+/// The schema of one kind's fields with `"kind": name` added (required, fixed).
+fn kind_schema(schema: schemars::Schema, name: &str) -> serde_json::Value {
+    let mut value = schema.to_value();
+    if let serde_json::Value::Object(map) = &mut value {
+        map.insert("title".into(), serde_json::Value::String(format!("\"kind\": \"{name}\"")));
+        let properties = map.entry("properties").or_insert_with(|| serde_json::json!({}));
+        if let serde_json::Value::Object(p) = properties {
+            p.insert("kind".into(), serde_json::json!({ "const": name }));
+        }
+        let required = map.entry("required").or_insert_with(|| serde_json::json!([]));
+        if let serde_json::Value::Array(r) = required {
+            r.insert(0, serde_json::Value::String("kind".into()));
+        }
+    }
+    value
 }
 
 case_kinds! {

@@ -10,7 +10,7 @@ use spine_model::{Design, Structure};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
 /// Bounds of the design; every field defaults to the paper's value (Sec. 5).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BoundsSpec {
     /// `|θ0_i| ≤ theta0_max`, rad, in (0, π/2) (default π/6).
@@ -60,7 +60,7 @@ impl Default for BoundsSpec {
 
 /// The optimiser's start design; it may lie outside the bounds (it is projected, and the result
 /// says so) but must have `N` angles with `|θ0| < π/2` and `N + 1` stiffnesses ≥ 0.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StartSpec {
     pub theta0: Vec<f64>,
@@ -68,7 +68,7 @@ pub struct StartSpec {
 }
 
 /// Multi-start settings (overridden by `--starts` and `--seed`).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MultiStartSpec {
     /// Number of extra seeded feasible starts (0: only `start`).
@@ -79,7 +79,7 @@ pub struct MultiStartSpec {
 }
 
 /// `"kind": "design"`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignCase {
     #[serde(default)]

@@ -10,7 +10,7 @@ use spine_dynamics::{DampingSettings, Forcing, PeriodicDesignSettings, PeriodicS
 use spine_model::{Chain, Design, NodalLoads};
 
 /// Eq. (33) settings for a dynamic case whose design is `"optimise"` (chain and loads are the case's).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StaticDesignSpec {
     pub delta_d: f64,
@@ -30,7 +30,7 @@ fn step() -> Forcing {
 }
 
 /// Eq. (35): one design per target rise time.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DampingDesignSpec {
     /// Target rise times `T_d`, s (each > 0; each design simulates at least `3 T_d`, more if `simulation.t_end` is longer).
@@ -60,7 +60,7 @@ fn iters() -> usize {
 }
 
 /// Eq. (37).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PeriodicDesignSpec {
     /// Desired `min_t (X_{N+1}(t) − L_x)`, m (≠ 0).
@@ -77,7 +77,7 @@ fn ga() -> SearchMethod {
 }
 
 /// A dynamic case (kinds `simulate`, `damping`, `periodic`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicsCase {
     #[serde(default)]

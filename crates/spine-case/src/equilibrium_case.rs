@@ -7,7 +7,7 @@ use spine_model::Structure;
 use spine_solve::{ContinuationOptions, StaticProblem};
 
 /// `"kind": "equilibrium"`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EquilibriumCase {
     #[serde(default)]

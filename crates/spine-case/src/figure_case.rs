@@ -20,7 +20,7 @@ pub const FIGURES: &[&str] =
     &["twolink", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "fig11", "fig12"];
 
 /// One run of a figure.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FigureRun {
     /// Short name, used in file names (`shape_<name>.csv`): 1 to [`MAX_RUN_NAME`] letters, digits,
@@ -35,7 +35,7 @@ pub struct FigureRun {
 }
 
 /// A figure case as written.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FigureCase {
     /// The recipe, one of [`FIGURES`].

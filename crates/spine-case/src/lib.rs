@@ -28,7 +28,7 @@ mod per_item;
 mod specs;
 mod twolink_case;
 
-pub use case::{Case, ValidCase, ValidRun, KINDS};
+pub use case::{json_schema, Case, ValidCase, ValidRun, KINDS};
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
 pub use dynamics_case::{
     DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics,

@@ -79,3 +79,20 @@ impl Serialize for PerItem {
         }
     }
 }
+
+/// A number or an array of numbers, as [`PerItem`] reads them.
+impl schemars::JsonSchema for PerItem {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "PerItem".into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "description": "One number for every entry, or an array with one number per entry.",
+            "oneOf": [
+                { "type": "number" },
+                { "type": "array", "items": { "type": "number" } }
+            ]
+        })
+    }
+}

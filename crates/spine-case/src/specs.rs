@@ -12,7 +12,7 @@ use std::f64::consts::FRAC_PI_2;
 
 /// Where the numbers come from: what the paper states, and every value it does not state with the
 /// reason for the choice.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Notes {
     /// Values and statements taken from the paper.
@@ -24,7 +24,7 @@ pub struct Notes {
 }
 
 /// A value chosen where the paper is silent.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Assumption {
     /// The field (e.g. `chain.length_x`).
@@ -34,7 +34,7 @@ pub struct Assumption {
 }
 
 /// The chain: number of links, spans, masses, gravity.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChainSpec {
     /// Number of links `N` (≥ 1).
@@ -58,7 +58,7 @@ fn default_gravity() -> f64 {
 }
 
 /// A given design.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GivenDesign {
     /// Unloaded link angles `θ0`, rad (`N` entries, `|θ0| < π/2`, `Σ a_i tan θ0_i = 0`).
@@ -95,8 +95,23 @@ impl<'de> Deserialize<'de> for DesignSpec {
     }
 }
 
+/// `"optimise"` or a [`GivenDesign`], as [`DesignSpec`] reads them.
+impl schemars::JsonSchema for DesignSpec {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "DesignSpec".into()
+    }
+
+    fn json_schema(generator: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        let given = generator.subschema_for::<GivenDesign>();
+        schemars::json_schema!({
+            "description": "The design: given as theta0 and stiffness, or \"optimise\" (found by eq. (33)).",
+            "oneOf": [ { "const": "optimise" }, given ]
+        })
+    }
+}
+
 /// Loads: transverse forces (passive) and the axial forces (actuation).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec {
     /// Transverse force `P_Y` at each node, N, positive up: one number for every node or `N + 1`

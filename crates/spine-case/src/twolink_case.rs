@@ -8,7 +8,7 @@ use spine_model::twolink::TwoLink;
 use spine_solve::ContinuationOptions;
 
 /// `"kind": "twolink"`: Sec. 3.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TwoLinkCase {
     #[serde(default)]

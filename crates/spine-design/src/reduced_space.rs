@@ -50,7 +50,7 @@ impl ReducedLayout {
 }
 
 /// How the reduced space gets second derivatives.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReducedHessian {
     /// Ipopt's L-BFGS approximation (`hessian_approximation = limited-memory`).

@@ -10,7 +10,7 @@ use spine_solve::ContinuationOptions;
 use std::collections::BTreeMap;
 
 /// Which form of eq. (33) Ipopt solves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Formulation {
     /// Design, both equilibria and the node heights are variables; exact sparse Hessian.
@@ -29,7 +29,7 @@ impl Formulation {
 }
 
 /// Ipopt's `nlp_scaling_method`: how Ipopt rescales the problem before solving.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ScalingMethod {
     /// Ipopt's default: objective and constraint rows scaled so that their gradients at the start
@@ -42,7 +42,7 @@ pub enum ScalingMethod {
 }
 
 /// One extra Ipopt option from a case file: a number, an integer or a string.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 pub enum ExtraOption {
     Int(i64),
@@ -51,7 +51,7 @@ pub enum ExtraOption {
 }
 
 /// Solver settings of a design run (case file field `solver`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSettings {
     /// Ipopt `tol` (relative KKT error).

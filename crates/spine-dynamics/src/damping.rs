@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use spine_ipopt::{Problem, Status};
 
 /// Settings of eq. (35).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct DampingSettings {
     /// Lower and upper damper bounds, N·m·s/rad.

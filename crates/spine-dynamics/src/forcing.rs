@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The factor `s(t) ∈ [0, 1]` that multiplies the actuation (the axial force at the end).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields, from = "ForcingFile")]
 pub enum Forcing {
     /// `s = 1` from `t = 0` on: the step of Sec. 5.2.1.
@@ -27,7 +27,7 @@ pub enum Forcing {
 /// [`Forcing`] as a case file writes it. Serde ignores unknown fields beside the tag of a unit
 /// variant even under `deny_unknown_fields` (`{"type": "step", "bogus": 1}` would pass); as empty
 /// struct variants `step` and `off` refuse them like the others.
-#[derive(Deserialize)]
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 enum ForcingFile {
     Step {},

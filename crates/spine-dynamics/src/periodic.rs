@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 use spine_solve::ContinuationOptions;
 
 /// Settings of a periodic response.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct PeriodicSettings {
     /// Most forcing periods simulated (≥ 2).

@@ -19,7 +19,7 @@ use spine_search::{
 };
 
 /// Which search solves eq. (37).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SearchMethod {
     Ga,
@@ -37,7 +37,7 @@ impl std::fmt::Display for SearchMethod {
 }
 
 /// Settings of eq. (37).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct PeriodicDesignSettings {
     /// Stiffness bounds, N·m/rad (the paper's 10² and 10⁴).

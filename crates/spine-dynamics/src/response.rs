@@ -176,7 +176,7 @@ pub fn sample(d: &Dynamics, traj: &Trajectory, count: usize, x_start: f64, lengt
 pub const SETTLED_ANGLE: f64 = 1e-3;
 
 /// Settings of a step response.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct StepSettings {
     /// Simulated time, s (> 0).

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use spine_check::{require, FieldError};
 
 /// GA settings (defaults after Deb 2000).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct GaSettings {
     /// Population size (≥ 4, even).

@@ -40,7 +40,7 @@ use serde::{Deserialize, Serialize};
 pub use spine_check::FieldError;
 
 /// The value of one point: objective and total constraint violation (`0` when feasible).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Evaluation {
     pub objective: f64,
     pub violation: f64,
@@ -77,7 +77,7 @@ impl Evaluation {
 }
 
 /// Box bounds `lower ≤ x ≤ upper` (finite, `lower < upper`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Bounds {
     pub lower: Vec<f64>,
     pub upper: Vec<f64>,

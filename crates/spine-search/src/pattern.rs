@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use spine_check::{require, FieldError};
 
 /// Pattern search settings.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct PatternSettings {
     /// First mesh size, as a fraction of each variable's range.

@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 use spine_check::FieldError;
 
 /// Options of Newton and of the load continuation. Mirrored by a case file's `solver` section.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ContinuationOptions {
     /// Newton stops when `max |r_i|` is at most this: joint rows in N·m, the constraint row in m.

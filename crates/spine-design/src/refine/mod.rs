@@ -38,7 +38,7 @@ use spine_check::{require, FieldError};
 
 /// The ladder of chain sizes: start at `from` links, multiply by `factor` until the next size
 /// would reach the chain's own `N`, then solve `N` itself.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Ladder {
     /// Links of the coarsest chain (≥ 2).
@@ -54,7 +54,7 @@ fn two() -> f64 {
 
 /// The case-file field `solver.refine`: `"auto"` (default), `"off"`, or a [`Ladder`]
 /// such as `{ "from": 50, "factor": 2 }`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 pub enum Refine {
     Mode(RefineMode),
@@ -62,7 +62,7 @@ pub enum Refine {
 }
 
 /// The named refinement choices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum RefineMode {
     /// [`AUTO_LADDER`] from [`AUTO_FROM_LINKS`] links on (measured: below it a cold solve is as
@@ -144,7 +144,7 @@ impl Refine {
 /// instead of pushing every variable into the interior first. Carrying the multipliers over
 /// (`multipliers: true`) saved iterations at some sizes and cost them at others (docs/design.md),
 /// so it is off by default.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct WarmStart {
     pub mu_init: f64,

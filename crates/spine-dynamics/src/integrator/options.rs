@@ -13,7 +13,7 @@ pub const DEFAULT_RTOL: f64 = 1e-9;
 pub const DEFAULT_ATOL: f64 = 1e-11;
 
 /// The integration method.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
     /// Radau IIA, order 5 (three stages; the default).
@@ -25,7 +25,7 @@ pub enum Method {
 }
 
 /// Integrator settings.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Options {
     /// The method (default [`Method::Radau5`]).
