@@ -186,3 +186,29 @@ fn the_shipped_schema_is_generated_and_every_paper_case_is_valid_against_it() {
         assert!(Case::from_json(&bad.to_string()).is_err(), "the parser accepts {bad}");
     }
 }
+
+/// Parse → serialise → parse gives the same case, for every paper case (every kind) and for random
+/// valid cases; the serialised text validates the same.
+#[test]
+fn every_paper_case_round_trips_through_its_json() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    for entry in std::fs::read_dir(root.join("paper-cases")).unwrap() {
+        let p = entry.unwrap().path();
+        let case = Case::from_json(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        let again = Case::from_json(&case.to_json().to_string())
+            .unwrap_or_else(|e| panic!("{}: its own JSON is refused: {e}", p.display()));
+        assert_eq!(again, case, "{}", p.display());
+        assert_eq!(again.to_json(), case.to_json(), "{}", p.display());
+        assert!(again.validate().is_ok(), "{}", p.display());
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
+    #[test]
+    fn random_valid_cases_round_trip_through_their_json(text in valid_case()) {
+        let case = Case::from_json(&text).unwrap();
+        let again = Case::from_json(&case.to_json().to_string()).unwrap();
+        prop_assert_eq!(&again, &case);
+    }
+}

@@ -22,7 +22,8 @@ use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::full_space::{self, Layout};
 use spine_design::DesignProblem;
 use spine_model::finite_difference::{self, CENTRAL_STEP};
-use spine_model::fixtures::{arch, uniform_loads, FixtureRng};
+use spine_model::fixtures::{arch, uniform_loads};
+use spine_model::rng::SplitMix64;
 use spine_model::sparse::BorderedTridiagonal;
 use spine_model::{hand, jacobian, residual, Design, LinkLoads, State, Structure};
 use spine_solve::linalg::BorderedLu;
@@ -170,7 +171,7 @@ pub struct HessianFixture {
 impl HessianFixture {
     pub fn new(design: &DesignFixture) -> Self {
         let layout = Layout { n: design.problem.n_links() };
-        let mut rng = FixtureRng::new(17);
+        let mut rng = SplitMix64::new(17);
         let lambda = (0..layout.num_constraints()).map(|_| rng.uniform(-1.0, 1.0)).collect();
         HessianFixture {
             assembled: full_space::assemble(&design.problem),

@@ -38,6 +38,21 @@ macro_rules! case_kinds {
                     $( Self::$variant(_) => $name, )+
                 }
             }
+
+            /// The case as a case file's JSON object (`"kind"` first, then every field, defaults
+            /// written out): [`Case::from_json`] of its text gives the same case back.
+            pub fn to_json(&self) -> serde_json::Value {
+                let fields = match self {
+                    $( Self::$variant(c) => serde_json::to_value(c), )+
+                }
+                .expect("case files serialise: their maps have string keys");
+                let mut object = serde_json::Map::new();
+                object.insert("kind".into(), serde_json::Value::String(self.kind().into()));
+                if let serde_json::Value::Object(map) = fields {
+                    object.extend(map);
+                }
+                serde_json::Value::Object(object)
+            }
         }
 
         /// The JSON Schema (draft 2020-12) of a case file, generated from the types the parser

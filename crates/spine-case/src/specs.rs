@@ -68,10 +68,20 @@ pub struct GivenDesign {
 }
 
 /// `"design": {"theta0": …, "stiffness": …}` or `"design": "optimise"` (found by the optimiser).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum DesignSpec {
     Given(GivenDesign),
     ToBeOptimised,
+}
+
+/// Written as it is read: the given design's object, or `"optimise"`.
+impl Serialize for DesignSpec {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Self::Given(design) => design.serialize(serializer),
+            Self::ToBeOptimised => serializer.serialize_str("optimise"),
+        }
+    }
 }
 
 impl<'de> Deserialize<'de> for DesignSpec {

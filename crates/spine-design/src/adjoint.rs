@@ -25,6 +25,7 @@ use spine_model::local::{self, LinkRun, SpringEnergy};
 use spine_model::sparse::BorderedTridiagonal;
 use spine_model::{energy, hand, kinematics, Design, LinkLoads, State};
 use spine_solve::linalg::{BorderedLu, SingularMatrix};
+#[cfg(any(test, feature = "testing"))]
 use spine_solve::ContinuationOptions;
 
 /// Values and design gradients of the two reduced functions.
@@ -114,7 +115,8 @@ pub fn adjoint_ad(
 }
 
 /// The direct (forward-sensitivity) gradients with the AD Jacobians: `∂u/∂d_k` for every design
-/// variable `k`, then the chain rule. O(N²); a test oracle for the adjoints.
+/// variable `k`, then the chain rule. O(N²); a test oracle for the adjoints (feature `testing`).
+#[cfg(any(test, feature = "testing"))]
 pub fn forward_ad(
     problem: &DesignProblem,
     design: &Design,
@@ -144,7 +146,9 @@ pub fn forward_ad(
 
 /// The gradients by central differences: for each design variable `d_k`, both equilibria are
 /// re-solved by Newton at `d ± h e_k` (from `passive` and `loaded`, which must be the equilibria at
-/// `design`), `h = step · max(1, |d_k|)`. `None` when a re-solve fails. O(N²).
+/// `design`), `h = step · max(1, |d_k|)`. `None` when a re-solve fails. O(N²); a test oracle
+/// (feature `testing`).
+#[cfg(any(test, feature = "testing"))]
 pub fn central_differences(
     problem: &DesignProblem,
     design: &Design,

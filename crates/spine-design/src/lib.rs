@@ -27,6 +27,7 @@
 
 pub mod adjoint;
 pub mod assembly;
+#[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod full_space;
 pub mod multistart;

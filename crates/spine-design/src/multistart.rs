@@ -5,7 +5,7 @@
 use crate::problem::DesignProblem;
 use crate::result::DesignResult;
 use serde::Serialize;
-use spine_model::fixtures::FixtureRng;
+use spine_model::rng::SplitMix64;
 use spine_model::Design;
 use std::f64::consts::PI;
 
@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 /// `Φ(θ0) = 0` exactly. Shapes breaking the angle bounds are redrawn (up to 1000 times, then
 /// scaled toward the lowest admissible arch). Stiffnesses are log-uniform within their bounds.
 pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<Design> {
-    let mut rng = FixtureRng::new(seed);
+    let mut rng = SplitMix64::new(seed);
     let n = problem.n_links();
     let b = &problem.bounds;
     let spans = &problem.structure.chain.spans;

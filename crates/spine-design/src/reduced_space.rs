@@ -179,11 +179,6 @@ impl<'a> ReducedSpaceNlp<'a> {
         to_optimiser_variables(self.layout.n, self.problem.stiffness_scale, weighted, &mut out);
         Some(out)
     }
-
-    /// The last successful evaluation.
-    pub fn last_evaluation(&self) -> Option<&Evaluation> {
-        self.last.as_ref()
-    }
 }
 
 /// A gradient with respect to `(θ0, K)` (`N` then `N + 1` entries) written into `out` as one with

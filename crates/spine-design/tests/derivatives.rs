@@ -7,7 +7,7 @@ use spine_design::fixtures::{arch_start, paper_problem, scaled_family};
 use spine_design::full_space::{FullSpaceNlp, Layout};
 use spine_design::DesignProblem;
 use spine_ipopt::Problem;
-use spine_model::fixtures::FixtureRng;
+use spine_model::rng::SplitMix64;
 use spine_model::{Design, State};
 use spine_solve::{solve_static, ContinuationOptions};
 
@@ -16,7 +16,7 @@ use spine_solve::{solve_static, ContinuationOptions};
 fn random_point(problem: &DesignProblem, seed: u64) -> Vec<f64> {
     let n = problem.n_links();
     let layout = Layout { n };
-    let mut rng = FixtureRng::new(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut x = vec![0.0; layout.num_variables()];
     for (k, v) in x.iter_mut().enumerate() {
         *v = rng.uniform(-0.5, 0.5);
@@ -103,7 +103,7 @@ fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
         let structure = nlp.hessian_structure().unwrap();
         let jac_structure = nlp.jacobian_structure();
         let m = nlp.num_constraints();
-        let mut rng = FixtureRng::new(n as u64);
+        let mut rng = SplitMix64::new(n as u64);
         let lambda: Vec<f64> = (0..m).map(|_| rng.uniform(-2.0, 2.0)).collect();
         let sigma = 1.7;
         let x = random_point(&problem, 7 + n as u64);
@@ -175,7 +175,7 @@ fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver
     for (n, seed) in [(2, 1), (5, 2), (10, 3), (20, 4)] {
         let mut problem = problem_with_mass(n);
         problem.structure.actuation.p_x[n] = -200.0;
-        let mut rng = FixtureRng::new(seed);
+        let mut rng = SplitMix64::new(seed);
         let mut design = arch_start(n, 0.25, 1500.0);
         for k in design.stiffness.iter_mut() {
             *k *= rng.uniform(0.8, 1.2);

@@ -26,6 +26,7 @@
 
 pub mod articulated;
 pub mod eom;
+#[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod forcing;
 pub mod integrator;

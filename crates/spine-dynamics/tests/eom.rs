@@ -4,12 +4,13 @@
 use num_dual::{Dual64, HyperDual64};
 use spine_dynamics::articulated::ArticulatedChain;
 use spine_dynamics::{Dynamics, Forcing};
-use spine_model::fixtures::{arch, random_problem, uniform_loads, FixtureRng};
+use spine_model::fixtures::{arch, random_problem, uniform_loads};
+use spine_model::rng::SplitMix64;
 use spine_model::{Chain, Design, NodalLoads};
 
 fn random_dynamics(n: usize, seed: u64) -> (Dynamics, Vec<f64>, Vec<f64>) {
     let (mut chain, design, _, state) = random_problem(n, seed);
-    let mut rng = FixtureRng::new(seed + 100);
+    let mut rng = SplitMix64::new(seed + 100);
     chain.masses = (0..n).map(|_| rng.uniform(0.1, 1.0)).collect();
     let damping = (0..=n).map(|_| rng.uniform(1.0, 100.0)).collect();
     let passive = uniform_loads(n, -5.0, 0.0);
@@ -44,7 +45,7 @@ fn mass_matrix_is_the_hessian_of_the_kinetic_energy_and_positive_definite() {
         // T = ½ ωᵀ M ω, and every Rayleigh quotient is positive.
         let t: f64 = 0.5 * (0..n).map(|i| (0..n).map(|j| omega[i] * m[i][j] * omega[j]).sum::<f64>()).sum::<f64>();
         assert!((t - dynamics.kinetic_energy(&theta, &omega)).abs() < 1e-12 * t.abs().max(1.0));
-        let mut rng = FixtureRng::new(seed);
+        let mut rng = SplitMix64::new(seed);
         for _ in 0..20 {
             let v: Vec<f64> = (0..n).map(|_| rng.uniform(-1.0, 1.0)).collect();
             let q: f64 = (0..n).map(|i| (0..n).map(|j| v[i] * m[i][j] * v[j]).sum::<f64>()).sum();

@@ -3,32 +3,8 @@
 //! Deterministic: the random fixtures use a fixed-seed generator of their own (SplitMix64), so the
 //! same seed gives the same structure on every machine.
 
+use crate::rng::SplitMix64;
 use crate::{Chain, Design, LinkLoads, NodalLoads, State};
-
-/// A small deterministic generator (SplitMix64) for fixtures.
-#[derive(Clone, Debug)]
-pub struct FixtureRng(u64);
-
-impl FixtureRng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-}
 
 /// A symmetric arch over `L_x` with `N` equal spans: `θ0_i = amplitude · cos(π (i + ½) / N)`, so
 /// `Σ tan θ0_i = 0` (the unloaded end is on the X axis) and the middle is highest.
@@ -52,7 +28,7 @@ pub fn uniform_loads(n_links: usize, p_y: f64, p_x: f64) -> NodalLoads {
 /// `[0.05, 0.2]` m, masses in `[0, 0.5]` kg, `θ0` in `[−0.5, 0.5]` rad, `K` in `[10², 10⁴]` N·m/rad,
 /// nodal forces in `[−50, 50]` N, `θ = θ0 + [−0.3, 0.3]` rad, `λ` in `[−100, 100]` N.
 pub fn random_problem(n_links: usize, seed: u64) -> (Chain, Design, LinkLoads, State) {
-    let mut rng = FixtureRng::new(seed);
+    let mut rng = SplitMix64::new(seed);
     let spans = (0..n_links).map(|_| rng.uniform(0.05, 0.2)).collect();
     let masses = (0..n_links).map(|_| rng.uniform(0.0, 0.5)).collect();
     let chain = Chain { spans, masses, gravity: crate::STANDARD_GRAVITY };

@@ -41,6 +41,7 @@
 pub mod chain;
 pub mod energy;
 pub mod finite_difference;
+#[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod hand;
 pub mod jacobian;
@@ -48,6 +49,7 @@ pub mod kinematics;
 pub mod loads;
 pub mod local;
 pub mod residual;
+pub mod rng;
 pub mod sparse;
 pub mod structure;
 pub mod twolink;

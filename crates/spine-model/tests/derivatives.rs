@@ -3,10 +3,11 @@
 
 use num_dual::Dual64;
 use spine_model::energy::{load_potential, strain_energy};
-use spine_model::fixtures::{random_problem, FixtureRng};
+use spine_model::fixtures::random_problem;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::kinematics::end_constraint;
 use spine_model::residual::equilibrium_residual;
+use spine_model::rng::SplitMix64;
 use spine_model::{Design, NodalLoads, State};
 
 const SIZES: [usize; 5] = [1, 2, 3, 10, 50];
@@ -94,7 +95,7 @@ proptest::proptest! {
 fn residual_is_the_gradient_of_the_total_potential() {
     for &n in &SIZES {
         let (chain, design, _, state) = random_problem(n, 300 + n as u64);
-        let mut rng = FixtureRng::new(7 + n as u64);
+        let mut rng = SplitMix64::new(7 + n as u64);
         let nodal = NodalLoads {
             p_x: (0..=n).map(|_| rng.uniform(-50.0, 50.0)).collect(),
             p_y: (0..=n).map(|_| rng.uniform(-50.0, 50.0)).collect(),

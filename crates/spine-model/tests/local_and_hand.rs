@@ -3,15 +3,16 @@
 
 use spine_model::energy::strain_energy;
 use spine_model::finite_difference::central_gradient;
-use spine_model::fixtures::{random_problem, FixtureRng};
+use spine_model::fixtures::random_problem;
 use spine_model::hand;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::kinematics::end_x;
 use spine_model::local::{self, Difference, Element, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
 use spine_model::residual::{equilibrium_residual, slot};
+use spine_model::rng::SplitMix64;
 use spine_model::State;
 
-fn random_point<const M: usize>(rng: &mut FixtureRng) -> [f64; M] {
+fn random_point<const M: usize>(rng: &mut SplitMix64) -> [f64; M] {
     std::array::from_fn(|_| rng.uniform(-0.8, 0.8))
 }
 
@@ -19,7 +20,7 @@ fn random_point<const M: usize>(rng: &mut FixtureRng) -> [f64; M] {
 /// value and of the gradient (relative 1e-6), the element's own Hessian method against the full
 /// second-order pass (1e-13), and the full Hessian zero outside `HESSIAN_PAIRS`.
 fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: [f64; M]) {
-    let mut rng = FixtureRng::new(7);
+    let mut rng = SplitMix64::new(7);
     for _ in 0..20 {
         let mut x: [f64; M] = random_point(&mut rng);
         for k in 0..M {
@@ -93,7 +94,7 @@ fn elements_match_central_differences_and_their_declared_hessian_pattern() {
 fn every_declared_hessian_pair_is_nonzero_somewhere() {
     // The declared pattern is exact, not just a superset: each pair is nonzero at a random point.
     fn check<const M: usize, E: Element<M>>(e: &E, name: &str) {
-        let x: [f64; M] = random_point(&mut FixtureRng::new(3));
+        let x: [f64; M] = random_point(&mut SplitMix64::new(3));
         let h = local::hessian(e, &x);
         for &(a, b) in E::HESSIAN_PAIRS {
             assert!(h[a][b] != 0.0, "{name}: declared pair ({a}, {b}) is zero");
@@ -178,7 +179,7 @@ fn hand_state_jacobian_equals_the_ad_one() {
 fn hand_design_products_equal_the_ad_design_jacobian() {
     for n in [1, 2, 3, 10, 50] {
         let (chain, design, loads, state) = random_problem(n, 900 + n as u64);
-        let mut rng = FixtureRng::new(n as u64);
+        let mut rng = SplitMix64::new(n as u64);
         let psi: Vec<f64> = (0..=n).map(|_| rng.uniform(-1.0, 1.0)).collect();
         let ad = design_jacobian(&chain.spans, &design, &loads, &state).transpose_mul_vec(&psi);
         let hand = hand::design_jacobian_transpose_mul(&chain.spans, &design, &loads, &state, &psi);
