@@ -177,6 +177,29 @@ fn check_periodic(prefix: &str, p: &spine_dynamics::PeriodicSettings) -> Result<
     Ok(p.continuation.validate().map_err(|e| e.under(&field("continuation")))?)
 }
 
+/// The step response's settings (`simulation`): time span, samples, rise fraction, settling
+/// tolerance, integrator and continuation.
+fn check_simulation(s: &spine_dynamics::StepSettings) -> Result<(), CaseError> {
+    positive("simulation.t_end", s.t_end, "s")?;
+    let counts = [
+        ("simulation.t_end", s.t_end <= MAX_T_END, format!("at most {MAX_T_END} s, got {}", s.t_end)),
+        ("simulation.samples", s.samples <= MAX_SAMPLES, format!("at most {MAX_SAMPLES}, got {}", s.samples)),
+    ];
+    for (field, ok, message) in counts {
+        if !ok {
+            return Err(CaseError::invalid(field, message));
+        }
+    }
+    check_fraction("simulation.rise_fraction", s.rise_fraction)?;
+    positive("simulation.settle_tolerance", s.settle_tolerance, "")?;
+    if s.samples < 2 {
+        return Err(CaseError::invalid("simulation.samples", format!("must be at least 2, got {}", s.samples)));
+    }
+    check_integrator("simulation.integrator", &s.integrator)?;
+    s.continuation.validate().map_err(|e| e.under("simulation.continuation"))?;
+    Ok(())
+}
+
 fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
     Ok(o.validate().map_err(|e| e.under(prefix))?)
 }
@@ -201,8 +224,39 @@ impl DynamicsCase {
             ));
         }
         let (passive, actuation) = self.loads.resolve(&mut chain)?;
-        let design = match (&self.design, &self.static_design) {
-            (DesignSpec::Given(d), None) => DesignSource::Given(d.validate(&chain)?),
+        let design = self.design_source(&chain)?;
+        let damping = self.damping.expand("damping", n + 1, "one per damper, N + 1")?;
+        non_negative("damping", &damping, "N·m·s/rad")?;
+        self.forcing.validate().map_err(|e| e.under("forcing"))?;
+
+        let s = &self.simulation;
+        check_simulation(s)?;
+        check_periodic("periodic", &self.periodic)?;
+
+        let task = match kind {
+            "simulate" => self.simulate_task()?,
+            "damping" => self.damping_task()?,
+            "periodic" => self.periodic_task()?,
+            other => return Err(CaseError::invalid("kind", format!("not a dynamic kind: {other:?}"))),
+        };
+        Ok(ValidDynamics {
+            chain,
+            design,
+            damping,
+            passive,
+            actuation,
+            forcing: self.forcing.clone(),
+            step: s.clone(),
+            periodic: self.periodic.clone(),
+            task,
+        })
+    }
+
+    /// Where the design comes from: given, or eq. (33) run first on the `static_design` section
+    /// (its errors named under `static_design`, except those of the shared chain and loads).
+    fn design_source(&self, chain: &spine_model::Chain) -> Result<DesignSource, CaseError> {
+        match (&self.design, &self.static_design) {
+            (DesignSpec::Given(d), None) => Ok(DesignSource::Given(d.validate(chain)?)),
             (DesignSpec::Given(_), Some(_)) => {
                 return Err(CaseError::invalid(
                     "static_design",
@@ -233,169 +287,142 @@ impl DynamicsCase {
                     f if f.starts_with("chain") || f.starts_with("loads") => e,
                     _ => e.under("static_design"),
                 })?;
-                DesignSource::Optimise(Box::new(valid))
+                Ok(DesignSource::Optimise(Box::new(valid)))
             }
-        };
-        let damping = self.damping.expand("damping", n + 1, "one per damper, N + 1")?;
-        non_negative("damping", &damping, "N·m·s/rad")?;
-        self.forcing.validate().map_err(|e| e.under("forcing"))?;
+        }
+    }
 
+    /// Kind `simulate`: a force to respond to; a periodic force runs period by period, so the
+    /// step section's own settings are refused rather than ignored.
+    fn simulate_task(&self) -> Result<DynamicsTask, CaseError> {
         let s = &self.simulation;
-        positive("simulation.t_end", s.t_end, "s")?;
-        let counts = [
-            ("simulation.t_end", s.t_end <= MAX_T_END, format!("at most {MAX_T_END} s, got {}", s.t_end)),
-            ("simulation.samples", s.samples <= MAX_SAMPLES, format!("at most {MAX_SAMPLES}, got {}", s.samples)),
-        ];
-        for (field, ok, message) in counts {
-            if !ok {
+        let periodic_forcing = self.forcing.period().is_some();
+        if self.forcing == Forcing::Off {
+            return Err(CaseError::invalid(
+                "forcing.type",
+                "a simulation needs a force: \"step\", \"pulse_train\" or \"sinusoid\"",
+            ));
+        }
+        if periodic_forcing {
+            let default = spine_dynamics::StepSettings::default();
+            for (field, differs) in [
+                ("simulation.t_end", s.t_end != default.t_end),
+                ("simulation.samples", s.samples != default.samples),
+                ("simulation", *s != default),
+            ] {
+                if differs {
+                    return Err(CaseError::invalid(
+                        field,
+                        "a periodic forcing is simulated period by period until two agree: set periodic.max_periods, periodic.samples_per_period and periodic.integrator instead (the simulation section sets up step responses)",
+                    ));
+                }
+            }
+        }
+        Ok(DynamicsTask::Simulate)
+    }
+
+    /// Kind `damping`: the eq. (35) section, checked.
+    fn damping_task(&self) -> Result<DynamicsTask, CaseError> {
+        let s = &self.simulation;
+        let periodic_forcing = self.forcing.period().is_some();
+        let Some(dd) = &self.damping_design else {
+            return Err(CaseError::invalid(
+                "damping_design",
+                "a damping case needs a damping_design section with targets (s)",
+            ));
+        };
+        // Eq. (35) always designs the step response; a periodic forcing is then applied to each
+        // designed structure (the paper's Fig. 11).
+        if !(self.forcing == Forcing::Step || periodic_forcing) {
+            return Err(CaseError::invalid("forcing.type", "eq. (35) designs the step response: use \"step\", or a periodic force to simulate each design under afterwards"));
+        }
+        if dd.targets.is_empty() {
+            return Err(CaseError::invalid("damping_design.targets", "give at least one target rise time (s)"));
+        }
+        if dd.targets.len() > MAX_TARGETS {
+            return Err(CaseError::invalid(
+                "damping_design.targets",
+                format!("at most {MAX_TARGETS} targets (one eq. (35) solve each), got {}", dd.targets.len()),
+            ));
+        }
+        for (i, t) in dd.targets.iter().enumerate() {
+            let field = format!("damping_design.targets[{i}]");
+            positive(&field, *t, "s")?;
+            if *t > MAX_T_END / 3.0 {
+                let message = format!("at most {} s (each design simulates 3 T_d), got {t}", MAX_T_END / 3.0);
                 return Err(CaseError::invalid(field, message));
             }
         }
-        check_fraction("simulation.rise_fraction", s.rise_fraction)?;
-        positive("simulation.settle_tolerance", s.settle_tolerance, "")?;
-        if s.samples < 2 {
-            return Err(CaseError::invalid("simulation.samples", format!("must be at least 2, got {}", s.samples)));
+        positive("damping_design.damping_min", dd.damping_min, "N·m·s/rad")?;
+        if !(dd.damping_max.is_finite() && dd.damping_max > dd.damping_min) {
+            return Err(CaseError::invalid(
+                "damping_design.damping_max",
+                format!("must be finite and > damping_min = {}, got {}", dd.damping_min, dd.damping_max),
+            ));
         }
-        check_integrator("simulation.integrator", &s.integrator)?;
-        s.continuation.validate().map_err(|e| e.under("simulation.continuation"))?;
-        check_periodic("periodic", &self.periodic)?;
-
-        let periodic_forcing = self.forcing.period().is_some();
-        let task = match kind {
-            "simulate" => {
-                if self.forcing == Forcing::Off {
-                    return Err(CaseError::invalid(
-                        "forcing.type",
-                        "a simulation needs a force: \"step\", \"pulse_train\" or \"sinusoid\"",
-                    ));
-                }
-                if periodic_forcing {
-                    let default = spine_dynamics::StepSettings::default();
-                    for (field, differs) in [
-                        ("simulation.t_end", s.t_end != default.t_end),
-                        ("simulation.samples", s.samples != default.samples),
-                        ("simulation", *s != default),
-                    ] {
-                        if differs {
-                            return Err(CaseError::invalid(
-                                field,
-                                "a periodic forcing is simulated period by period until two agree: set periodic.max_periods, periodic.samples_per_period and periodic.integrator instead (the simulation section sets up step responses)",
-                            ));
-                        }
-                    }
-                }
-                DynamicsTask::Simulate
-            }
-            "damping" => {
-                let Some(dd) = &self.damping_design else {
-                    return Err(CaseError::invalid(
-                        "damping_design",
-                        "a damping case needs a damping_design section with targets (s)",
-                    ));
-                };
-                // Eq. (35) always designs the step response; a periodic forcing is then applied to each
-                // designed structure (the paper's Fig. 11).
-                if !(self.forcing == Forcing::Step || periodic_forcing) {
-                    return Err(CaseError::invalid("forcing.type", "eq. (35) designs the step response: use \"step\", or a periodic force to simulate each design under afterwards"));
-                }
-                if dd.targets.is_empty() {
-                    return Err(CaseError::invalid("damping_design.targets", "give at least one target rise time (s)"));
-                }
-                if dd.targets.len() > MAX_TARGETS {
-                    return Err(CaseError::invalid(
-                        "damping_design.targets",
-                        format!("at most {MAX_TARGETS} targets (one eq. (35) solve each), got {}", dd.targets.len()),
-                    ));
-                }
-                for (i, t) in dd.targets.iter().enumerate() {
-                    let field = format!("damping_design.targets[{i}]");
-                    positive(&field, *t, "s")?;
-                    if *t > MAX_T_END / 3.0 {
-                        let message = format!("at most {} s (each design simulates 3 T_d), got {t}", MAX_T_END / 3.0);
-                        return Err(CaseError::invalid(field, message));
-                    }
-                }
-                positive("damping_design.damping_min", dd.damping_min, "N·m·s/rad")?;
-                if !(dd.damping_max.is_finite() && dd.damping_max > dd.damping_min) {
-                    return Err(CaseError::invalid(
-                        "damping_design.damping_max",
-                        format!("must be finite and > damping_min = {}, got {}", dd.damping_min, dd.damping_max),
-                    ));
-                }
-                if !(MIN_TOLERANCE..=1.0).contains(&dd.tolerance) {
-                    return Err(CaseError::invalid(
-                        "damping_design.tolerance",
-                        format!("Ipopt's tolerance: between {MIN_TOLERANCE:e} and 1, got {}", dd.tolerance),
-                    ));
-                }
-                if !(1..=MAX_ITERATIONS).contains(&dd.max_iterations) {
-                    return Err(CaseError::invalid(
-                        "damping_design.max_iterations",
-                        format!("must be between 1 and {MAX_ITERATIONS}, got {}", dd.max_iterations),
-                    ));
-                }
-                DynamicsTask::Damping {
-                    targets: dd.targets.clone(),
-                    settings: DampingSettings {
-                        damping_min: dd.damping_min,
-                        damping_max: dd.damping_max,
-                        tolerance: dd.tolerance,
-                        max_iterations: dd.max_iterations,
-                        step: s.clone(),
-                    },
-                }
-            }
-            "periodic" => {
-                let Some(pd) = &self.periodic_design else {
-                    return Err(CaseError::invalid(
-                        "periodic_design",
-                        "a periodic case needs a periodic_design section (delta_d, method)",
-                    ));
-                };
-                if !periodic_forcing {
-                    return Err(CaseError::invalid(
-                        "forcing.type",
-                        "eq. (37) needs a periodic force: \"pulse_train\" or \"sinusoid\"",
-                    ));
-                }
-                if !(pd.delta_d.is_finite() && pd.delta_d != 0.0) {
-                    return Err(CaseError::invalid(
-                        "periodic_design.delta_d",
-                        format!("must be a finite, nonzero displacement (m), got {}", pd.delta_d),
-                    ));
-                }
-                let st = &pd.settings;
-                positive("periodic_design.settings.stiffness_min", st.stiffness_min, "N·m/rad")?;
-                if !(st.stiffness_max.is_finite() && st.stiffness_max > st.stiffness_min) {
-                    return Err(CaseError::invalid(
-                        "periodic_design.settings.stiffness_max",
-                        format!("must be finite and > stiffness_min = {}, got {}", st.stiffness_min, st.stiffness_max),
-                    ));
-                }
-                positive("periodic_design.settings.tolerance", st.tolerance, "")?;
-                st.ga.validate().map_err(|e| e.under("periodic_design.settings.ga"))?;
-                st.pattern.validate().map_err(|e| e.under("periodic_design.settings.pattern"))?;
-                if st.tolerance > 1.0 {
-                    return Err(CaseError::invalid(
-                        "periodic_design.settings.tolerance",
-                        format!("a relative band on |δ_d|: at most 1, got {}", st.tolerance),
-                    ));
-                }
-                check_periodic("periodic_design.settings.response", &st.response)?;
-                DynamicsTask::Periodic { delta_d: pd.delta_d, method: pd.method, settings: st.clone() }
-            }
-            other => return Err(CaseError::invalid("kind", format!("not a dynamic kind: {other:?}"))),
-        };
-        Ok(ValidDynamics {
-            chain,
-            design,
-            damping,
-            passive,
-            actuation,
-            forcing: self.forcing.clone(),
-            step: s.clone(),
-            periodic: self.periodic.clone(),
-            task,
+        if !(MIN_TOLERANCE..=1.0).contains(&dd.tolerance) {
+            return Err(CaseError::invalid(
+                "damping_design.tolerance",
+                format!("Ipopt's tolerance: between {MIN_TOLERANCE:e} and 1, got {}", dd.tolerance),
+            ));
+        }
+        if !(1..=MAX_ITERATIONS).contains(&dd.max_iterations) {
+            return Err(CaseError::invalid(
+                "damping_design.max_iterations",
+                format!("must be between 1 and {MAX_ITERATIONS}, got {}", dd.max_iterations),
+            ));
+        }
+        Ok(DynamicsTask::Damping {
+            targets: dd.targets.clone(),
+            settings: DampingSettings {
+                damping_min: dd.damping_min,
+                damping_max: dd.damping_max,
+                tolerance: dd.tolerance,
+                max_iterations: dd.max_iterations,
+                step: s.clone(),
+            },
         })
+    }
+
+    /// Kind `periodic`: the eq. (37) section, checked.
+    fn periodic_task(&self) -> Result<DynamicsTask, CaseError> {
+        let periodic_forcing = self.forcing.period().is_some();
+        let Some(pd) = &self.periodic_design else {
+            return Err(CaseError::invalid(
+                "periodic_design",
+                "a periodic case needs a periodic_design section (delta_d, method)",
+            ));
+        };
+        if !periodic_forcing {
+            return Err(CaseError::invalid(
+                "forcing.type",
+                "eq. (37) needs a periodic force: \"pulse_train\" or \"sinusoid\"",
+            ));
+        }
+        if !(pd.delta_d.is_finite() && pd.delta_d != 0.0) {
+            return Err(CaseError::invalid(
+                "periodic_design.delta_d",
+                format!("must be a finite, nonzero displacement (m), got {}", pd.delta_d),
+            ));
+        }
+        let st = &pd.settings;
+        positive("periodic_design.settings.stiffness_min", st.stiffness_min, "N·m/rad")?;
+        if !(st.stiffness_max.is_finite() && st.stiffness_max > st.stiffness_min) {
+            return Err(CaseError::invalid(
+                "periodic_design.settings.stiffness_max",
+                format!("must be finite and > stiffness_min = {}, got {}", st.stiffness_min, st.stiffness_max),
+            ));
+        }
+        positive("periodic_design.settings.tolerance", st.tolerance, "")?;
+        st.ga.validate().map_err(|e| e.under("periodic_design.settings.ga"))?;
+        st.pattern.validate().map_err(|e| e.under("periodic_design.settings.pattern"))?;
+        if st.tolerance > 1.0 {
+            return Err(CaseError::invalid(
+                "periodic_design.settings.tolerance",
+                format!("a relative band on |δ_d|: at most 1, got {}", st.tolerance),
+            ));
+        }
+        check_periodic("periodic_design.settings.response", &st.response)?;
+        Ok(DynamicsTask::Periodic { delta_d: pd.delta_d, method: pd.method, settings: st.clone() })
     }
 }

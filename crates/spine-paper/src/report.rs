@@ -203,48 +203,6 @@ fn escape(text: &str) -> String {
     out
 }
 
-/// A Markdown table cell as HTML: escaped, with `code` spans and `**bold**`.
-fn inline_markdown(text: &str) -> String {
-    let escaped = escape(text.trim());
-    let mut out = String::new();
-    for (k, part) in escaped.split('`').enumerate() {
-        if k % 2 == 1 {
-            let _ = write!(out, "<code>{part}</code>");
-        } else {
-            for (j, piece) in part.split("**").enumerate() {
-                if j % 2 == 1 {
-                    let _ = write!(out, "<strong>{piece}</strong>");
-                } else {
-                    out.push_str(piece);
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The cells of a Markdown table row (`| a | b \| c |`: `\|` is a literal bar).
-fn markdown_cells(line: &str) -> Vec<String> {
-    let line = line.trim();
-    let inner = line.strip_prefix('|').unwrap_or(line);
-    let inner = if inner.ends_with("\\|") { inner } else { inner.strip_suffix('|').unwrap_or(inner) };
-    let mut cells = Vec::new();
-    let mut cell = String::new();
-    let mut chars = inner.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '\\' if chars.peek() == Some(&'|') => {
-                cell.push('|');
-                chars.next();
-            }
-            '|' => cells.push(std::mem::take(&mut cell)),
-            c => cell.push(c),
-        }
-    }
-    cells.push(cell);
-    cells
-}
-
 const STYLE: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
 table{border-collapse:collapse;margin:1em 0;font-size:0.9em}th,td{border:1px solid #bbb;padding:4px 6px;vertical-align:top;text-align:left}\
 th{background:#eee}td.pass{background:#c8eac8;font-weight:bold}td.fail{background:#f4c2c2;font-weight:bold}\
@@ -335,36 +293,29 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
             escape(&r.name)
         );
     }
-    h.push_str("<h2>Errata</h2>\n<p>The slips found in the paper (<code>docs/errata.md</code>), each with the test that proves it.</p>\n<table id=\"errata\">\n");
-    for (k, line) in errata_table(errata).into_iter().enumerate() {
-        if k == 1 {
-            continue; // the |---| separator
-        }
-        let tag = if k == 0 { "th" } else { "td" };
-        let cells: String =
-            markdown_cells(line).iter().map(|c| format!("<{tag}>{}</{tag}>", inline_markdown(c))).collect();
-        let _ = writeln!(h, "<tr>{cells}</tr>");
-    }
-    h.push_str("</table>\n</body>\n</html>\n");
+    h.push_str("<h2>Errata</h2>\n<p>The slips found in the paper (<code>docs/errata.md</code>), each with the test that proves it.</p>\n");
+    h.push_str(&markdown_table_html(&errata_table(errata).join("\n")).replacen("<table>", "<table id=\"errata\">", 1));
+    h.push_str("</body>\n</html>\n");
     h
+}
+
+/// A Markdown table (GitHub's syntax: `code`, **bold**, `\|` for a literal bar) as HTML, by
+/// pulldown-cmark; raw HTML in the text is escaped, not passed through.
+fn markdown_table_html(table: &str) -> String {
+    use pulldown_cmark::{Event, Options, Parser};
+    let events = Parser::new_ext(table, Options::ENABLE_TABLES).map(|e| match e {
+        Event::Html(t) | Event::InlineHtml(t) => Event::Text(t),
+        e => e,
+    });
+    let mut html = String::new();
+    pulldown_cmark::html::push_html(&mut html, events);
+    html
 }
 
 /// Standard Base64 (RFC 4648, with padding) of `bytes`.
 fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let b = [chunk[0], chunk.get(1).copied().unwrap_or(0), chunk.get(2).copied().unwrap_or(0)];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
+    use base64::Engine as _;
+    base64::engine::general_purpose::STANDARD.encode(bytes)
 }
 
 #[cfg(test)]
@@ -419,7 +370,7 @@ mod tests {
         assert!(html.contains("<figure><svg width=\"10\"") && !html.contains("<?xml"));
         assert!(html.contains("src=\"data:image/gif;base64,R0lGODlh\""));
         // Errata: one header row, one body row, code spans and an escaped bar kept in its cell.
-        assert!(html.contains("<tr><th>#</th><th>Where</th></tr>"));
+        assert!(html.contains("<table id=\"errata\"><thead><tr><th>#</th><th>Where</th></tr></thead>"), "{html}");
         assert!(
             html.contains("<td>E1</td><td>eq. (3) <code>a &lt; b</code> | c <strong>d</strong></td></tr>"),
             "{html}"

@@ -24,6 +24,7 @@ pub mod animation;
 pub mod claims;
 mod design;
 mod dynamics;
+mod dynamics_summary;
 mod equilibrium;
 mod error;
 mod figure;

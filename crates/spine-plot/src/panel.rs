@@ -1,0 +1,79 @@
+//! A panel: axes with their labels and scales, and the series drawn on them.
+
+use crate::series::Series;
+
+/// How an axis maps and labels its values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear, labels with the decimals the axis span needs (never "-0").
+    #[default]
+    Linear,
+    /// Linear, counting things (nodes, links, joints): labels only at whole numbers.
+    Integer,
+    /// Base-10 logarithmic with decade labels `10^k` (quantities spanning decades: stiffness,
+    /// damping); values ≤ 0 cannot be drawn and are left out.
+    Log10,
+}
+
+/// One chart: a caption, axis labels with units, and its series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Same scale on both axes (structure shapes).
+    pub equal_aspect: bool,
+    /// Fixed axis ranges; `None`: fitted to the data with a 5 % margin.
+    pub x_range: Option<(f64, f64)>,
+    pub y_range: Option<(f64, f64)>,
+    pub x_scale: Scale,
+    pub y_scale: Scale,
+}
+
+impl Panel {
+    pub fn new(title: impl Into<String>, x_label: impl Into<String>, y_label: impl Into<String>) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: Vec::new(),
+            equal_aspect: false,
+            x_range: None,
+            y_range: None,
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+        }
+    }
+    /// The x axis counts things: labels at whole numbers only.
+    pub fn x_integer(mut self) -> Self {
+        self.x_scale = Scale::Integer;
+        self
+    }
+    /// A logarithmic x axis with decade labels.
+    pub fn x_log(mut self) -> Self {
+        self.x_scale = Scale::Log10;
+        self
+    }
+    /// A logarithmic y axis with decade labels.
+    pub fn y_log(mut self) -> Self {
+        self.y_scale = Scale::Log10;
+        self
+    }
+    pub fn with(mut self, series: Series) -> Self {
+        self.series.push(series);
+        self
+    }
+    pub fn equal_aspect(mut self) -> Self {
+        self.equal_aspect = true;
+        self
+    }
+    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
+        self.x_range = Some((lo, hi));
+        self
+    }
+    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
+        self.y_range = Some((lo, hi));
+        self
+    }
+}
