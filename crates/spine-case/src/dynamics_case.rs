@@ -257,18 +257,14 @@ impl DynamicsCase {
     fn design_source(&self, chain: &spine_model::Chain) -> Result<DesignSource, CaseError> {
         match (&self.design, &self.static_design) {
             (DesignSpec::Given(d), None) => Ok(DesignSource::Given(d.validate(chain)?)),
-            (DesignSpec::Given(_), Some(_)) => {
-                return Err(CaseError::invalid(
-                    "static_design",
-                    "only with \"design\": \"optimise\"; remove it or optimise the design",
-                ))
-            }
-            (DesignSpec::ToBeOptimised, None) => {
-                return Err(CaseError::invalid(
-                    "static_design",
-                    "\"design\": \"optimise\" needs a static_design section (delta_d, start, …)",
-                ))
-            }
+            (DesignSpec::Given(_), Some(_)) => Err(CaseError::invalid(
+                "static_design",
+                "only with \"design\": \"optimise\"; remove it or optimise the design",
+            )),
+            (DesignSpec::ToBeOptimised, None) => Err(CaseError::invalid(
+                "static_design",
+                "\"design\": \"optimise\" needs a static_design section (delta_d, start, …)",
+            )),
             (DesignSpec::ToBeOptimised, Some(s)) => {
                 let as_design = DesignCase {
                     title: self.title.clone(),
