@@ -1,79 +1,17 @@
 //! `"kind": "simulate" | "damping" | "periodic"`: the dynamics of Sec. 5.2 — a step or periodic
 //! response, the damping design of eq. (35), the periodic-load design of eq. (37).
 
-use crate::design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign};
+pub use crate::dynamics_specs::{DampingDesignSpec, PeriodicDesignSpec, StaticDesignSpec};
+
+use crate::design_case::{DesignCase, MultiStartSpec, ValidDesign};
 use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
-use spine_design::{Formulation, SolverSettings};
 use spine_dynamics::{DampingSettings, Forcing, PeriodicDesignSettings, PeriodicSettings, SearchMethod, StepSettings};
 use spine_model::{Chain, Design, NodalLoads};
 
-/// Eq. (33) settings for a dynamic case whose design is `"optimise"` (chain and loads are the case's).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct StaticDesignSpec {
-    pub delta_d: f64,
-    #[serde(default = "crate::design_case::one")]
-    pub stiffness_scale: f64,
-    #[serde(default)]
-    pub bounds: BoundsSpec,
-    pub start: StartSpec,
-    #[serde(default = "crate::design_case::full")]
-    pub formulation: Formulation,
-    #[serde(default)]
-    pub solver: SolverSettings,
-}
-
 fn step() -> Forcing {
     Forcing::Step
-}
-
-/// Eq. (35): one design per target rise time.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct DampingDesignSpec {
-    /// Target rise times `T_d`, s (each > 0; each design simulates at least `3 T_d`, more if `simulation.t_end` is longer).
-    pub targets: Vec<f64>,
-    /// Damper bounds, N·m·s/rad (default 1 and 10³, the paper's).
-    #[serde(default = "c_min")]
-    pub damping_min: f64,
-    #[serde(default = "c_max")]
-    pub damping_max: f64,
-    #[serde(default = "tol")]
-    pub tolerance: f64,
-    #[serde(default = "iters")]
-    pub max_iterations: usize,
-}
-
-fn c_min() -> f64 {
-    1.0
-}
-fn c_max() -> f64 {
-    1e3
-}
-fn tol() -> f64 {
-    1e-7
-}
-fn iters() -> usize {
-    200
-}
-
-/// Eq. (37).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct PeriodicDesignSpec {
-    /// Desired `min_t (X_{N+1}(t) − L_x)`, m (≠ 0).
-    pub delta_d: f64,
-    /// `"ga"` (default) or `"pattern"`; `spine periodic --method` overrides it.
-    #[serde(default = "ga")]
-    pub method: SearchMethod,
-    #[serde(default)]
-    pub settings: PeriodicDesignSettings,
-}
-
-fn ga() -> SearchMethod {
-    SearchMethod::Ga
 }
 
 /// A dynamic case (kinds `simulate`, `damping`, `periodic`).

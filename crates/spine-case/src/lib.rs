@@ -19,6 +19,7 @@
 mod case;
 mod design_case;
 mod dynamics_case;
+mod dynamics_specs;
 mod equilibrium_case;
 mod error;
 mod figure_case;

@@ -19,109 +19,13 @@
 //! the Jacobian and the Hessian of the Lagrangian both have O(N) entries.
 
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
+pub use crate::layout::{Layout, LoadState};
+
 use crate::problem::DesignProblem;
 use spine_model::chain::spring_links;
 use spine_model::local::{Difference, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
 use spine_model::residual::slot;
 use spine_model::{Design, LinkLoads, State};
-
-/// Index map of the full-space variables and constraints.
-#[derive(Clone, Copy, Debug)]
-pub struct Layout {
-    pub n: usize,
-}
-
-/// The two load states.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LoadState {
-    Passive,
-    Loaded,
-}
-
-impl Layout {
-    pub fn theta0(&self, i: usize) -> usize {
-        i
-    }
-    pub fn stiffness(&self, j: usize) -> usize {
-        self.n + j
-    }
-    pub fn theta(&self, s: LoadState, i: usize) -> usize {
-        match s {
-            LoadState::Passive => 2 * self.n + 1 + i,
-            LoadState::Loaded => 3 * self.n + 2 + i,
-        }
-    }
-    pub fn lambda(&self, s: LoadState) -> usize {
-        self.theta(s, self.n)
-    }
-    /// Interior node `j = 1..N−1` (0-based node index; node 0 is the base, node N the end).
-    pub fn height(&self, j: usize) -> Option<usize> {
-        (j >= 1 && j < self.n).then(|| 4 * self.n + 2 + j)
-    }
-    pub fn num_variables(&self) -> usize {
-        5 * self.n + 2
-    }
-
-    pub fn equilibrium_row(&self, s: LoadState, i: usize) -> usize {
-        match s {
-            LoadState::Passive => i,
-            LoadState::Loaded => self.n + 1 + i,
-        }
-    }
-    pub fn constraint_row(&self, s: LoadState) -> usize {
-        self.equilibrium_row(s, self.n)
-    }
-    pub fn height_row(&self, j: usize) -> usize {
-        2 * self.n + 2 + j
-    }
-    pub fn end_row(&self) -> usize {
-        3 * self.n + 2
-    }
-    pub fn relative_row(&self, i: usize) -> usize {
-        3 * self.n + 3 + i
-    }
-    pub fn num_constraints(&self) -> usize {
-        4 * self.n + 2
-    }
-
-    /// Packs a design, both states and the node heights into a variable vector.
-    pub fn pack(
-        &self,
-        design: &Design,
-        stiffness_scale: f64,
-        passive: &State,
-        loaded: &State,
-        heights: &[f64],
-    ) -> Vec<f64> {
-        let mut x = vec![0.0; self.num_variables()];
-        for i in 0..self.n {
-            x[self.theta0(i)] = design.theta0[i];
-            x[self.theta(LoadState::Passive, i)] = passive.theta[i];
-            x[self.theta(LoadState::Loaded, i)] = loaded.theta[i];
-        }
-        for j in 0..=self.n {
-            x[self.stiffness(j)] = design.stiffness[j] / stiffness_scale;
-        }
-        x[self.lambda(LoadState::Passive)] = passive.lambda;
-        x[self.lambda(LoadState::Loaded)] = loaded.lambda;
-        for j in 1..self.n {
-            x[self.height(j).unwrap()] = heights[j];
-        }
-        x
-    }
-
-    /// The design in physical units (`K = C_K k`).
-    pub fn design(&self, x: &[f64], stiffness_scale: f64) -> Design {
-        Design {
-            theta0: x[..self.n].to_vec(),
-            stiffness: (0..=self.n).map(|j| x[self.stiffness(j)] * stiffness_scale).collect(),
-        }
-    }
-
-    pub fn state(&self, x: &[f64], s: LoadState) -> State {
-        State { theta: (0..self.n).map(|i| x[self.theta(s, i)]).collect(), lambda: x[self.lambda(s)] }
-    }
-}
 
 /// Builds the elements of eq. (33) in the full space.
 pub fn assemble(problem: &DesignProblem) -> Assembled {

@@ -30,6 +30,7 @@ pub mod assembly;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod full_space;
+mod layout;
 pub mod multistart;
 pub mod problem;
 pub mod reduced_space;
@@ -37,6 +38,8 @@ pub mod refine;
 pub mod result;
 pub mod settings;
 pub mod solve;
+mod solver_report;
+mod warnings;
 
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;

@@ -1,0 +1,114 @@
+//! Ipopt's account of a design run: status, iterations, infeasibilities, counts, times, and the
+//! levels of a mesh-sequenced run.
+
+use crate::refine::{Ladder, LevelStart, WarmStart};
+use serde::{Deserialize, Serialize};
+use spine_ipopt::{EvaluationCounts, Solution};
+
+/// Ipopt's account of the run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SolverReport {
+    /// The Ipopt the program is built against ([`spine_ipopt::IPOPT_VERSION`]).
+    pub ipopt_version: String,
+    /// Every option passed to Ipopt (the cold solve's; warm levels add `refinement.warm_start`).
+    pub ipopt_options: std::collections::BTreeMap<String, String>,
+    /// Ipopt's return status (serialised as its snake_case name).
+    pub status: spine_ipopt::Status,
+    /// Converged to the requested tolerances.
+    pub optimal: bool,
+    /// Converged to the requested or the acceptable tolerances.
+    pub converged: bool,
+    /// Ipopt concluded the constraints cannot be met.
+    pub infeasible: bool,
+    pub iterations: usize,
+    /// Primal and dual infeasibility at the last iteration (Ipopt's scaled measures).
+    pub final_primal_infeasibility: f64,
+    pub final_dual_infeasibility: f64,
+    /// Wall time inside Ipopt, s, and the part spent in our function evaluations, s (last level
+    /// of a refined run).
+    pub ipopt_seconds: f64,
+    pub evaluation_seconds: f64,
+    /// Start equilibria by continuation before Ipopt (cold full space), the final check of the
+    /// design (equilibria, stability, load path), and the whole run with every level, s.
+    pub start_seconds: f64,
+    pub check_seconds: f64,
+    pub total_seconds: f64,
+    #[serde(serialize_with = "serialize_counts", deserialize_with = "deserialize_counts")]
+    pub evaluations: EvaluationCounts,
+    /// Reduced space: distinct designs at which both equilibria were solved.
+    pub equilibrium_solves: usize,
+}
+
+fn deserialize_counts<'de, D: serde::Deserializer<'de>>(d: D) -> Result<EvaluationCounts, D::Error> {
+    #[derive(Deserialize)]
+    struct Counts {
+        objective: usize,
+        gradient: usize,
+        constraints: usize,
+        jacobian: usize,
+        hessian: usize,
+    }
+    let Counts { objective, gradient, constraints, jacobian, hessian } = Counts::deserialize(d)?;
+    Ok(EvaluationCounts { objective, gradient, constraints, jacobian, hessian })
+}
+
+fn serialize_counts<S: serde::Serializer>(c: &EvaluationCounts, s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let mut st = s.serialize_struct("EvaluationCounts", 5)?;
+    st.serialize_field("objective", &c.objective)?;
+    st.serialize_field("gradient", &c.gradient)?;
+    st.serialize_field("constraints", &c.constraints)?;
+    st.serialize_field("jacobian", &c.jacobian)?;
+    st.serialize_field("hessian", &c.hessian)?;
+    st.end()
+}
+
+impl SolverReport {
+    pub fn from_ipopt(solution: &Solution, equilibrium_solves: usize) -> Self {
+        SolverReport {
+            ipopt_version: spine_ipopt::IPOPT_VERSION.to_string(),
+            ipopt_options: Default::default(),
+            status: solution.status,
+            optimal: solution.status.is_optimal(),
+            converged: solution.status.is_converged(),
+            infeasible: solution.status.is_infeasible(),
+            iterations: solution.iterations,
+            final_primal_infeasibility: solution.last_iteration.primal_infeasibility,
+            final_dual_infeasibility: solution.last_iteration.dual_infeasibility,
+            ipopt_seconds: solution.wall_time.as_secs_f64(),
+            evaluation_seconds: solution.callback_time.as_secs_f64(),
+            start_seconds: 0.0,
+            check_seconds: 0.0,
+            total_seconds: 0.0,
+            evaluations: solution.evaluations,
+            equilibrium_solves,
+        }
+    }
+}
+
+/// One level of a mesh-sequenced run ([`crate::refine`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LevelReport {
+    /// Links of this level's chain.
+    pub links: usize,
+    pub start: LevelStart,
+    /// Ipopt's status at this level; `optimal`: `solve_succeeded`.
+    pub status: spine_ipopt::Status,
+    pub optimal: bool,
+    pub iterations: usize,
+    /// `J` of this level's (coarse) problem, J.
+    pub objective: f64,
+    /// Preparing the start (prolongation and equilibria), and the whole level, s.
+    pub start_seconds: f64,
+    pub wall_seconds: f64,
+}
+
+/// How a mesh-sequenced run went.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RefinementReport {
+    pub ladder: Ladder,
+    pub warm_start: WarmStart,
+    /// A coarse level did not converge and the chain itself was solved cold.
+    pub fell_back_to_cold: bool,
+    pub levels: Vec<LevelReport>,
+}
