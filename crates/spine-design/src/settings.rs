@@ -50,6 +50,17 @@ pub enum ExtraOption {
     Str(String),
 }
 
+impl std::fmt::Display for ExtraOption {
+    /// As the case file writes it: `3`, `1e-8`, `"yes"`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Int(i) => write!(f, "{i}"),
+            Self::Num(x) => write!(f, "{x:e}"),
+            Self::Str(s) => write!(f, "{s:?}"),
+        }
+    }
+}
+
 /// Solver settings of a design run (case file field `solver`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
@@ -226,7 +237,7 @@ impl SolverSettings {
                     Allowed::Integer => "an integer within ±2147483647".to_string(),
                     Allowed::OneOf(values) => format!("one of {values:?}"),
                 };
-                return Err(FieldError::new(name.clone(), format!("must be {expected}, got {value:?}")));
+                return Err(FieldError::new(name.clone(), format!("must be {expected}, got {value}")));
             }
         }
         Ok(())
