@@ -139,50 +139,8 @@ impl DesignCase {
         }
         positive("stiffness_scale", self.stiffness_scale, "(C_K)")?;
 
-        let b = &self.bounds;
-        if !(b.theta0_max > 0.0 && b.theta0_max < FRAC_PI_2) {
-            return Err(CaseError::invalid(
-                "bounds.theta0_max",
-                format!("must be in (0, π/2) rad, got {}", b.theta0_max),
-            ));
-        }
-        positive("bounds.relative_angle_max", b.relative_angle_max, "rad")?;
-        let stiffness_min = b.stiffness_min.expand("bounds.stiffness_min", n + 1, "one per spring, N + 1")?;
-        let stiffness_max = b.stiffness_max.expand("bounds.stiffness_max", n + 1, "one per spring, N + 1")?;
-        non_negative("bounds.stiffness_min", &stiffness_min, "N·m/rad")?;
-        check_finite("bounds.stiffness_max", &stiffness_max)?;
-        if let Some(j) = (0..=n).find(|&j| stiffness_max[j] < stiffness_min[j]) {
-            return Err(CaseError::invalid(
-                format!("bounds.stiffness_max[{j}]"),
-                format!("must be ≥ stiffness_min[{j}] = {}, got {}", stiffness_min[j], stiffness_max[j]),
-            ));
-        }
-        let height_max = b.height_max.unwrap_or(0.25 * chain.length_x());
-        if !b.height_min.is_finite() {
-            return Err(CaseError::invalid("bounds.height_min", "must be a finite height (m)"));
-        }
-        if !(height_max.is_finite() && height_max > b.height_min) {
-            return Err(CaseError::invalid(
-                "bounds.height_max",
-                format!("must be a finite height (m) > height_min = {}, got {height_max}", b.height_min),
-            ));
-        }
-
-        if self.start.theta0.len() != n {
-            return Err(CaseError::invalid(
-                "start.theta0",
-                format!("expected {n} entries (one per link), got {}", self.start.theta0.len()),
-            ));
-        }
-        check_finite("start.theta0", &self.start.theta0)?;
-        if let Some(i) = self.start.theta0.iter().position(|t| t.abs() >= FRAC_PI_2) {
-            return Err(CaseError::invalid(
-                format!("start.theta0[{i}]"),
-                format!("must satisfy |θ0| < π/2 rad, got {}", self.start.theta0[i]),
-            ));
-        }
-        let stiffness = self.start.stiffness.expand("start.stiffness", n + 1, "one per spring, N + 1")?;
-        non_negative("start.stiffness", &stiffness, "N·m/rad")?;
+        let bounds = self.bounds.validate(n, chain.length_x())?;
+        let start = self.start.validate(n)?;
 
         if self.multistart.starts > MAX_STARTS {
             return Err(CaseError::invalid(
@@ -202,20 +160,78 @@ impl DesignCase {
             problem: DesignProblem {
                 structure: Structure { chain, passive, actuation },
                 delta_d: self.delta_d,
-                bounds: DesignBounds {
-                    theta0_max: b.theta0_max,
-                    relative_angle_max: b.relative_angle_max,
-                    stiffness_min,
-                    stiffness_max,
-                    height_min: b.height_min,
-                    height_max,
-                },
+                bounds,
                 stiffness_scale: self.stiffness_scale,
             },
-            start: Design { theta0: self.start.theta0.clone(), stiffness },
+            start,
             formulation: self.formulation,
             multistart: self.multistart.clone(),
             settings: self.solver.clone(),
         })
+    }
+}
+
+impl BoundsSpec {
+    /// The bounds of eq. (33) for `n` links over `length_x` (m), checked; errors name
+    /// `bounds.FIELD`.
+    pub fn validate(&self, n: usize, length_x: f64) -> Result<DesignBounds, CaseError> {
+        let b = self;
+        if !(b.theta0_max > 0.0 && b.theta0_max < FRAC_PI_2) {
+            return Err(CaseError::invalid(
+                "bounds.theta0_max",
+                format!("must be in (0, π/2) rad, got {}", b.theta0_max),
+            ));
+        }
+        positive("bounds.relative_angle_max", b.relative_angle_max, "rad")?;
+        let stiffness_min = b.stiffness_min.expand("bounds.stiffness_min", n + 1, "one per spring, N + 1")?;
+        let stiffness_max = b.stiffness_max.expand("bounds.stiffness_max", n + 1, "one per spring, N + 1")?;
+        non_negative("bounds.stiffness_min", &stiffness_min, "N·m/rad")?;
+        check_finite("bounds.stiffness_max", &stiffness_max)?;
+        if let Some(j) = (0..=n).find(|&j| stiffness_max[j] < stiffness_min[j]) {
+            return Err(CaseError::invalid(
+                format!("bounds.stiffness_max[{j}]"),
+                format!("must be ≥ stiffness_min[{j}] = {}, got {}", stiffness_min[j], stiffness_max[j]),
+            ));
+        }
+        let height_max = b.height_max.unwrap_or(0.25 * length_x);
+        if !b.height_min.is_finite() {
+            return Err(CaseError::invalid("bounds.height_min", "must be a finite height (m)"));
+        }
+        if !(height_max.is_finite() && height_max > b.height_min) {
+            return Err(CaseError::invalid(
+                "bounds.height_max",
+                format!("must be a finite height (m) > height_min = {}, got {height_max}", b.height_min),
+            ));
+        }
+        Ok(DesignBounds {
+            theta0_max: b.theta0_max,
+            relative_angle_max: b.relative_angle_max,
+            stiffness_min,
+            stiffness_max,
+            height_min: b.height_min,
+            height_max,
+        })
+    }
+}
+
+impl StartSpec {
+    /// The start design for `n` links, checked; errors name `start.FIELD`.
+    pub fn validate(&self, n: usize) -> Result<Design, CaseError> {
+        if self.theta0.len() != n {
+            return Err(CaseError::invalid(
+                "start.theta0",
+                format!("expected {n} entries (one per link), got {}", self.theta0.len()),
+            ));
+        }
+        check_finite("start.theta0", &self.theta0)?;
+        if let Some(i) = self.theta0.iter().position(|t| t.abs() >= FRAC_PI_2) {
+            return Err(CaseError::invalid(
+                format!("start.theta0[{i}]"),
+                format!("must satisfy |θ0| < π/2 rad, got {}", self.theta0[i]),
+            ));
+        }
+        let stiffness = self.stiffness.expand("start.stiffness", n + 1, "one per spring, N + 1")?;
+        non_negative("start.stiffness", &stiffness, "N·m/rad")?;
+        Ok(Design { theta0: self.theta0.clone(), stiffness })
     }
 }
