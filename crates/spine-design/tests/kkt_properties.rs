@@ -15,15 +15,11 @@ use spine_model::State;
 /// A variable or constraint is active when within this of its bound (relative to `max(1, |bound|)`).
 const ACTIVE: f64 = 1e-5;
 
-struct Kkt {
-    /// `‖∇f + Σ μ_a ∇c_a‖∞` over the largest term of that sum (`‖∇f‖∞`, `|μ_a| ‖∇c_a‖∞`, 1):
-    /// the sum's cancellation relative to its parts, as Ipopt scales its dual infeasibility.
-    stationarity: f64,
-    /// Most negative sign-adjusted multiplier of an active inequality, over the largest multiplier.
-    wrong_sign: f64,
-}
-
-fn kkt_at(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> Kkt {
+/// `‖∇f + Σ μ_a ∇c_a‖∞` at `x` over the largest term of that sum (`‖∇f‖∞`, `|μ_a| ‖∇c_a‖∞`, 1),
+/// as Ipopt scales its dual infeasibility, with multipliers of the right sign (within 1e-4 of the
+/// largest) on every inequality kept in the active set: the sign conditions hold by construction,
+/// and stationarity on that set is what can fail.
+fn stationarity_at(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> f64 {
     let (n, m) = (nlp.num_variables(), nlp.num_constraints());
     // Unset bounds are infinite, as spine_ipopt::solve hands them to Ipopt.
     let (mut xl, mut xu) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
@@ -72,13 +68,13 @@ fn kkt_at(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> Kkt {
     let (mu, residual) = loop {
         let a = DMatrix::from_columns(&columns.iter().map(|(c, _)| c.clone()).collect::<Vec<_>>());
         let mu = a.clone().svd(true, true).solve(&rhs, 1e-12).expect("SVD solve");
+        let largest = mu.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
         let worst = columns
             .iter()
             .zip(mu.iter())
             .enumerate()
             .map(|(k, ((_, s), m))| (k, -s * m))
             .fold((0, 0.0), |best, (k, w)| if w > best.1 { (k, w) } else { best });
-        let largest = mu.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
         if worst.1 > 1e-4 * largest {
             columns.remove(worst.0);
             continue;
@@ -88,9 +84,7 @@ fn kkt_at(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> Kkt {
     };
     let terms = columns.iter().zip(mu.iter()).map(|((c, _), m)| m.abs() * c.amax());
     let scale = grad.iter().map(|v| v.abs()).chain(terms).fold(1.0f64, f64::max);
-    let largest = mu.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
-    let wrong_sign = columns.iter().zip(mu.iter()).map(|((_, s), m)| (-s * m).max(0.0)).fold(0.0, f64::max) / largest;
-    Kkt { stationarity: residual.amax() / scale, wrong_sign }
+    residual.amax() / scale
 }
 
 proptest! {
@@ -114,8 +108,7 @@ proptest! {
         let (passive, loaded) = (state(&result.passive), state(&result.loaded));
         let mut nlp = FullSpaceNlp::new(&problem, &result.design, &passive, &loaded);
         let x = nlp.start.clone();
-        let kkt = kkt_at(&mut nlp, &x);
-        prop_assert!(kkt.stationarity < 1e-5, "N = {n}: ‖∇L‖∞ = {:.3e} relative", kkt.stationarity);
-        prop_assert!(kkt.wrong_sign < 1e-4, "N = {n}: an active bound's multiplier has the wrong sign ({:.3e})", kkt.wrong_sign);
+        let stationarity = stationarity_at(&mut nlp, &x);
+        prop_assert!(stationarity < 1e-5, "N = {n}: ‖∇L‖∞ = {stationarity:.3e} relative");
     }
 }
