@@ -52,15 +52,10 @@ impl CaseError {
         )
     }
 
-    /// The field error itself.
-    pub fn field_error(&self) -> &FieldError {
-        match self {
-            Self::Parse(e) | Self::Invalid(e) => e,
-        }
-    }
-
     /// The field the error is about.
     pub fn field(&self) -> &str {
-        &self.field_error().field
+        match self {
+            Self::Parse(e) | Self::Invalid(e) => &e.field,
+        }
     }
 }

@@ -175,3 +175,15 @@ pub fn design_periodic(
         time_seconds: clock.elapsed().as_secs_f64(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::SearchMethod;
+
+    #[test]
+    fn the_printed_search_method_is_its_case_file_name() {
+        for m in [SearchMethod::Ga, SearchMethod::Pattern] {
+            assert_eq!(serde_json::to_value(m).unwrap(), m.to_string().as_str());
+        }
+    }
+}

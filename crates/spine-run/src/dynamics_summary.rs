@@ -58,7 +58,7 @@ fn write_step(f: &mut std::fmt::Formatter<'_>, r: &StepResponse, rise_fraction: 
         "Δ∞ = {:.6e} m; T_{:.0} = {} ; τ = ln(10)/T_90 = {}",
         r.delta_inf,
         100.0 * rise_fraction,
-        r.rise_time.map_or("not reached".into(), |t| format!("{t:.6} s")),
+        quantity(r.rise_time, 6, "s", "not reached"),
         r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.4} 1/s"))
     )?;
     writeln!(

@@ -41,6 +41,11 @@ pub struct NamedRun<'a> {
 }
 
 impl NamedRun<'_> {
+    /// A recipe's refusal of this run, named `runs.NAME`.
+    pub fn error(&self, message: impl Into<String>) -> FieldError {
+        FieldError::new(format!("runs.{}", self.name), message)
+    }
+
     /// The label, or the name when the case gives none.
     pub fn title(&self) -> &str {
         if self.label.is_empty() {

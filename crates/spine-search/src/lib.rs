@@ -106,9 +106,8 @@ pub struct Progress {
     pub best: Evaluation,
 }
 
-/// How a search ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// How a search ended. Serialised as its [`SearchStatus::name`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SearchStatus {
     /// Pattern search: the mesh fell below its tolerance (a mesh-local minimum).
     MeshConverged,
@@ -140,6 +139,12 @@ impl SearchStatus {
     /// The search ran to one of its own ends (not stopped from outside or by the clock).
     pub fn finished(self) -> bool {
         !matches!(self, Self::TimeLimit | Self::Interrupted)
+    }
+}
+
+impl Serialize for SearchStatus {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
     }
 }
 

@@ -115,3 +115,15 @@ pub fn solution_parts(nlp: &FullSpaceNlp<'_>, x: &[f64]) -> (Design, (State, Sta
         (layout.state(x, LoadState::Passive), layout.state(x, LoadState::Loaded)),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::LevelStart;
+
+    #[test]
+    fn the_printed_level_start_is_its_serialised_name() {
+        for s in [LevelStart::Cold, LevelStart::Newton, LevelStart::Continuation, LevelStart::Interpolated] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.to_string().as_str());
+        }
+    }
+}

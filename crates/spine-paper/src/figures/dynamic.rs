@@ -21,7 +21,7 @@ fn damping_designs<'a>(
 ) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), FieldError> {
     match expect_dynamics(run)? {
         (used, DynamicOutput::Damping { designs, periodic }) => Ok((used, designs, periodic)),
-        _ => Err(FieldError::new(format!("runs.{}", run.name), "this figure needs a \"damping\" run (eq. (35))")),
+        _ => Err(run.error("this figure needs a \"damping\" run (eq. (35))")),
     }
 }
 
@@ -119,7 +119,7 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
     let (mut responses, mut dampers, mut shapes, mut tracks) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, run) in runs.iter().enumerate() {
         let (used, designs, _) = damping_designs(run)?;
-        let d = designs.first().ok_or_else(|| FieldError::new(format!("runs.{}", run.name), "no damping design"))?;
+        let d = designs.first().ok_or_else(|| run.error("no damping design"))?;
         let r = &d.response;
         responses.push(response_panel(
             &format!("({}) {}: end-point response", letter(k), run.title()),
@@ -210,7 +210,7 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
         gap <= PAPER_TIME_TOLERANCE,
         format!(
             "{what} = {} (paper {paper} s; gap {})",
-            measured.map_or("not reached".into(), |t| format!("{t:.4} s")),
+            quantity(measured, 4, "s", "not reached"),
             if gap.is_finite() { format!("{:.0} %", 100.0 * gap) } else { "—".into() }
         ),
     )
@@ -220,7 +220,7 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
 pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let [run] = runs else { return Err(FieldError::new("runs", "fig10 needs one periodic design run")) };
     let (used, DynamicOutput::PeriodicDesign { design: p }) = expect_dynamics(run)? else {
-        return Err(FieldError::new(format!("runs.{}", run.name), "fig10 needs a \"periodic\" run (eq. (37))"));
+        return Err(run.error("fig10 needs a \"periodic\" run (eq. (37))"));
     };
     let r = &p.response;
     let mut out = FigureOutput::default();
@@ -313,10 +313,7 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
     };
     let (used, designs, periodic) = damping_designs(run)?;
     let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {
-        return Err(FieldError::new(
-            format!("runs.{}", run.name),
-            "fig11 needs a damping design and a periodic forcing to simulate it under",
-        ));
+        return Err(run.error("fig11 needs a damping design and a periodic forcing to simulate it under"));
     };
     let mut out = FigureOutput::default();
     let swing = r.ends.loaded_displacement - r.ends.passive_displacement;

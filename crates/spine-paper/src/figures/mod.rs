@@ -41,14 +41,14 @@ pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<Figure
 fn expect_design<'a>(run: &NamedRun<'a>) -> Result<&'a StaticDesign, FieldError> {
     match run.output {
         RunOutput::Design(s) => Ok(s),
-        _ => Err(FieldError::new(format!("runs.{}", run.name), "this figure needs a \"design\" run")),
+        _ => Err(run.error("this figure needs a \"design\" run")),
     }
 }
 
 fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a DynamicOutput), FieldError> {
     match run.output {
         RunOutput::Dynamics { used, output } => Ok((used, output)),
-        _ => Err(FieldError::new(format!("runs.{}", run.name), "this figure needs a dynamic run")),
+        _ => Err(run.error("this figure needs a dynamic run")),
     }
 }
 

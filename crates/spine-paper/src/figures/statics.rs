@@ -99,8 +99,7 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
     for (k, run) in runs.iter().enumerate() {
         let s = expect_design(run)?;
         designs.push(s);
-        let shapes = Shapes::of_static(s)
-            .ok_or_else(|| FieldError::new(format!("runs.{}", run.name), "the design has no equilibria to draw"))?;
+        let shapes = Shapes::of_static(s).ok_or_else(|| run.error("the design has no equilibria to draw"))?;
         fig = fig.with(shapes.panel(&format!("({}) {}: shapes", letter(2 * k), run.title()))).with(stiffness_panel(
             &format!("({}) {}: nodal stiffness", letter(2 * k + 1), run.title()),
             vec![Series::bars("", points(&s.result.design.stiffness, 1)).colour(k)],
@@ -130,10 +129,7 @@ fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Re
     // Loaded nodes: where the localized run's transverse load is larger in magnitude.
     let loaded: Vec<usize> = (0..pl.len()).filter(|&j| pl[j].abs() > pu[j].abs() + 1e-12).collect();
     if loaded.is_empty() || loaded.len() == pl.len() {
-        return Err(FieldError::new(
-            format!("runs.{}", runs[0].name),
-            format!("must load some nodes more than {:?}, not all", runs[1].name),
-        ));
+        return Err(runs[0].error(format!("must load some nodes more than {:?}, not all", runs[1].name)));
     }
     let n = local.result.design.theta0.len();
     let mean_at = |k: &[f64], idx: &[usize]| idx.iter().map(|&j| k[j]).sum::<f64>() / idx.len() as f64;

@@ -10,7 +10,7 @@ const ORDER_MARGIN: f64 = 0.1;
 pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let [run] = runs else { return Err(FieldError::new("runs", "twolink needs one twolink run")) };
     let RunOutput::Twolink { study, stiffness } = run.output else {
-        return Err(FieldError::new(format!("runs.{}", run.name), "needs a \"twolink\" run"));
+        return Err(run.error("needs a \"twolink\" run"));
     };
     let mut out = FigureOutput::default();
     let rows: Vec<_> = study.rows.iter().filter(|r| r.theta0_exact.is_some()).collect();
