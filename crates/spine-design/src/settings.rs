@@ -198,7 +198,7 @@ const CASE_IPOPT_OPTIONS: &[(&str, Allowed)] = &[
     ("warm_start_slack_bound_push", Allowed::Number),
     ("warm_start_slack_bound_frac", Allowed::Number),
     ("warm_start_mult_bound_push", Allowed::Number),
-    ("linear_solver", Allowed::OneOf(&["mumps"])),
+    ("linear_solver", Allowed::OneOf(&["spine", "mumps"])),
     ("mumps_pivot_order", Allowed::Integer),
     ("mumps_mem_percent", Allowed::Integer),
     ("mumps_scaling", Allowed::Integer),

@@ -18,8 +18,10 @@
 //! stopped at its next iteration, and the panic resumes after Ipopt has returned, so no Rust panic
 //! ever unwinds through C frames.
 //!
-//! Debian's Ipopt 3.11.9 uses MUMPS, which is not thread-safe: [`solve`] holds a process-wide lock
-//! so two solves never run at the same time.
+//! Ipopt factorises its KKT matrices with the workspace's own sparse `LDLᵀ` (`spine-kkt`, option
+//! `linear_solver = "spine"`, the default), which Ipopt reaches through its Pardiso interface, or
+//! with the MUMPS it ships (`"mumps"`). MUMPS is not thread-safe (Debian's Ipopt 3.11.9 aborts when
+//! two MUMPS solves overlap): [`solve`] holds a process-wide lock for MUMPS solves only.
 //!
 //! ```
 //! use spine_ipopt::{solve, Options, Problem};
@@ -193,17 +195,46 @@ pub enum SetupError {
     /// Ipopt refused an option (unknown name or wrong type).
     #[error("Ipopt rejected the option {0}")]
     InvalidOption(String),
+    /// The workspace's linear solver could not be loaded into Ipopt.
+    #[error("the linear solver could not be loaded: {0}")]
+    LinearSolver(String),
     /// `CreateIpoptProblem` refused the sizes (for example no variable, or constraints without
     /// Jacobian entries).
     #[error("Ipopt could not create the problem ({0})")]
     CreateFailed(String),
 }
 
+/// The sparse symmetric indefinite solver Ipopt factorises its KKT matrices with (the option
+/// `linear_solver`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LinearSolver {
+    /// The workspace's own frontal `LDLᵀ` with exact inertia (`spine-kkt`), reached through Ipopt's
+    /// Pardiso interface (Ipopt is told `linear_solver pardiso`): the default.
+    Spine,
+    /// MUMPS, as the Ipopt library ships it (not thread-safe: one solve at a time).
+    Mumps,
+}
+
+impl LinearSolver {
+    /// The option value: `"spine"` or `"mumps"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Spine => "spine",
+            Self::Mumps => "mumps",
+        }
+    }
+
+    /// The solver of an option value, if it is one of the two.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::Spine, Self::Mumps].into_iter().find(|s| s.name() == name)
+    }
+}
+
 /// The version of the Ipopt this crate was built against (read from its headers), e.g. "3.11.9".
 pub const IPOPT_VERSION: &str = env!("SPINE_IPOPT_VERSION");
 
-/// MUMPS is not thread-safe (Ipopt 3.11 aborts when two solves overlap): one solve at a time per
-/// process.
+/// MUMPS is not thread-safe (Ipopt 3.11 aborts when two solves overlap): one MUMPS solve at a time
+/// per process.
 static SOLVE_LOCK: Mutex<()> = Mutex::new(());
 
 /// Solves `problem` with Ipopt.
@@ -223,11 +254,24 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
     let hessian = problem.hessian_structure();
     check_sizes(n, m, &jacobian, hessian.as_deref())?;
 
-    let mut all_options = Options::new().string("sb", "yes").integer("print_level", 0).string("option_file_name", "");
+    let mut all_options = Options::new()
+        .string("sb", "yes")
+        .integer("print_level", 0)
+        .string("option_file_name", "")
+        .string("linear_solver", LinearSolver::Spine.name());
     if hessian.is_none() {
         all_options = all_options.string("hessian_approximation", "limited-memory");
     }
     all_options.extend(options);
+    let linear_solver = match all_options.get("linear_solver") {
+        Some(OptionValue::Str(name)) => LinearSolver::from_name(name),
+        _ => None,
+    }
+    .ok_or_else(|| SetupError::InvalidOption("linear_solver (allowed: spine, mumps)".into()))?;
+    if linear_solver == LinearSolver::Spine {
+        spine_kkt::install().map_err(|e| SetupError::LinearSolver(e.to_string()))?;
+        all_options.set("linear_solver", OptionValue::Str("pardiso".into()));
+    }
 
     let mut start = ffi::Start {
         x_lower: vec![f64::NEG_INFINITY; n],
@@ -255,7 +299,9 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         start.z_upper.fill(0.0);
     }
 
-    let _guard = SOLVE_LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    // MUMPS needs the lock; the workspace's solver keeps its state in Ipopt's handle, so solves
+    // with it run concurrently.
+    let _guard = (linear_solver == LinearSolver::Mumps).then(|| SOLVE_LOCK.lock().unwrap_or_else(|p| p.into_inner()));
     let mut context = ffi::Context {
         problem,
         jacobian,

@@ -1,6 +1,6 @@
 //! The binding on textbook problems with known solutions.
 
-use spine_ipopt::{solve, IterationInfo, Options, Problem, SetupError, Status};
+use spine_ipopt::{solve, IterationInfo, LinearSolver, Options, Problem, SetupError, Status};
 
 /// Hock–Schittkowski problem 71:
 /// min x1 x4 (x1 + x2 + x3) + x3  s.t.  x1 x2 x3 x4 ≥ 25,  Σ xi² = 40,  1 ≤ xi ≤ 5.
@@ -131,21 +131,47 @@ fn hs071_exact_hessian_reaches_the_known_optimum() {
 
 /// Debian's Ipopt 3.11 with MUMPS aborts (and exits 0) when two solves overlap in one process;
 /// the binding serialises them. Four threads solve at once: every solve reaches the optimum.
+/// MUMPS solves from several threads are serialised by the wrapper's lock; the workspace's own
+/// linear solver keeps its state in Ipopt's handle, so four solves run at once. Both give the
+/// optimum from every thread.
 #[test]
-fn solves_from_several_threads_are_serialised_and_all_succeed() {
-    let threads: Vec<_> = (0..4)
-        .map(|_| {
-            std::thread::spawn(|| {
-                let solution = solve(&mut Hs071::new(), &tight()).unwrap();
-                (solution.status, solution.objective)
+fn solves_from_several_threads_all_succeed_with_either_linear_solver() {
+    for linear_solver in [LinearSolver::Mumps, LinearSolver::Spine] {
+        let threads: Vec<_> = (0..4)
+            .map(|_| {
+                std::thread::spawn(move || {
+                    let options = tight().string("linear_solver", linear_solver.name());
+                    let solution = solve(&mut Hs071::new(), &options).unwrap();
+                    (solution.status, solution.objective)
+                })
             })
-        })
-        .collect();
-    for t in threads {
-        let (status, objective) = t.join().unwrap();
-        assert_eq!(status, Status::SolveSucceeded);
-        assert!((objective - F_STAR).abs() < 1e-7);
+            .collect();
+        for t in threads {
+            let (status, objective) = t.join().unwrap();
+            assert_eq!(status, Status::SolveSucceeded, "{linear_solver:?}");
+            assert!((objective - F_STAR).abs() < 1e-7, "{linear_solver:?}");
+        }
     }
+}
+
+/// The default linear solver is the workspace's own (its counters move), it reaches the optimum
+/// MUMPS reaches, and an unknown linear solver is a setup error.
+#[test]
+fn the_default_linear_solver_is_the_workspaces_own_and_agrees_with_mumps() {
+    let before = spine_kkt::pardiso::counters();
+    let ours = solve(&mut Hs071::new(), &tight()).unwrap();
+    let after = spine_kkt::pardiso::counters();
+    assert!(after.factorizations > before.factorizations && after.solves > before.solves);
+    let mumps = solve(&mut Hs071::new(), &tight().string("linear_solver", "mumps")).unwrap();
+    assert_eq!(ours.status, Status::SolveSucceeded);
+    assert_eq!(mumps.status, Status::SolveSucceeded);
+    for (a, b) in ours.x.iter().zip(&mumps.x) {
+        assert!((a - b).abs() < 1e-8, "{:?} against {:?}", ours.x, mumps.x);
+    }
+    assert!(matches!(
+        solve(&mut Hs071::new(), &tight().string("linear_solver", "ma27")),
+        Err(SetupError::InvalidOption(_))
+    ));
 }
 
 #[test]

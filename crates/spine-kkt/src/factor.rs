@@ -1,0 +1,313 @@
+//! The numerical factorisation `P S A S Pᵀ = L D Lᵀ` by a frontal sweep (Pardiso's phase 22), and
+//! solves with it.
+//!
+//! `S` is a diagonal equilibration (a few passes of Ruiz's scaling, so that every row of `S A S`
+//! has largest entry about 1), `P` the order of [`Analysis`]. The sweep brings the variables into a
+//! dense front one at a time, in that order; a variable whose row is complete (fully summed) may be
+//! eliminated. Pivots are chosen by the Bunch–Kaufman rule among the fully summed variables, a 1×1
+//! pivot `p` being taken when `|a_pp| ≥ α max_{i≠p} |a_ip|` (α = (1 + √17)/8) or else a 2×2 pivot
+//! with the row `r` of that largest entry; when `r` is not fully summed yet, `p` is taken alone if
+//! `|a_pp| ≥ u max_i |a_ip|` (threshold `u` = [`THRESHOLD`]) and otherwise delayed: it stays in the
+//! front until its partner is summed. The growth of the factors is thus bounded as in dense
+//! Bunch–Kaufman, no pivot is perturbed, and the inertia of `D` is the inertia of `A` (Sylvester).
+//! A fully summed column whose entries have all fallen below [`SINGULAR`] (in the scaled matrix)
+//! makes the matrix singular.
+
+use crate::analysis::Analysis;
+use crate::front::{Front, ABSENT};
+use crate::KktError;
+
+/// Bunch and Kaufman's α = (1 + √17)/8, which minimises the bound on element growth.
+const ALPHA: f64 = 0.640_388_203_202_207_6;
+/// The threshold `u` for a 1×1 pivot whose Bunch–Kaufman partner is not yet fully summed.
+pub const THRESHOLD: f64 = 0.01;
+/// A fully summed column of the scaled matrix with no entry above this is a zero column: the
+/// matrix is singular (to working precision).
+pub const SINGULAR: f64 = 1e-14;
+/// Passes of Ruiz's equilibration.
+const SCALING_PASSES: usize = 3;
+
+/// The numbers of positive, negative and zero eigenvalues.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Inertia {
+    pub positive: usize,
+    pub negative: usize,
+    pub zero: usize,
+}
+
+/// One pivot of `D`, with the range `start..end` of its rows in the factor's `index` and the
+/// position `lower` of its first entry of `L`.
+#[derive(Clone, Copy, Debug)]
+enum Pivot {
+    /// A 1×1 pivot on variable `p` (new numbering): `inverse = 1/d`.
+    One { p: usize, inverse: f64, start: usize, end: usize, lower: usize },
+    /// A 2×2 pivot on `p, r`: the inverse of the block, `[[i11, i12], [i12, i22]]`.
+    Two { p: usize, r: usize, inverse: [[f64; 2]; 2], start: usize, end: usize, lower: usize },
+}
+
+/// Statistics of one factorisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FactorStats {
+    /// The widest front met.
+    pub largest_front: usize,
+    /// 2×2 pivots.
+    pub two_by_two: usize,
+    /// Times a fully summed variable had to wait for a later step.
+    pub delayed: usize,
+    /// Off-diagonal entries of `L`.
+    pub factor_entries: usize,
+}
+
+/// `L`, `D`, the scaling and the order: everything a solve needs.
+#[derive(Clone, Debug)]
+pub struct Factor {
+    order: Vec<usize>,
+    /// `S` in the new numbering.
+    scale: Vec<f64>,
+    pivots: Vec<Pivot>,
+    /// Row (new numbering) of each stored entry of `L`.
+    index: Vec<usize>,
+    /// Entries of `L`: one per index for a 1×1 pivot, two (columns p and r) for a 2×2 one.
+    lower: Vec<f64>,
+    inertia: Inertia,
+    stats: FactorStats,
+}
+
+/// Ruiz's equilibration of the symmetric matrix: `s` (original numbering) with the largest entry of
+/// every nonzero row of `S A S` close to 1.
+fn equilibrate(analysis: &Analysis, values: &[f64]) -> Vec<f64> {
+    let n = analysis.order();
+    let mut s = vec![1.0; n];
+    let mut largest = vec![0.0f64; n];
+    for _ in 0..SCALING_PASSES {
+        largest.fill(0.0);
+        for (r, c, e) in analysis.structure.entries() {
+            let v = (values[e] * s[r] * s[c]).abs();
+            largest[r] = largest[r].max(v);
+            largest[c] = largest[c].max(v);
+        }
+        for (si, &m) in s.iter_mut().zip(&largest) {
+            if m > 0.0 && m.is_finite() {
+                *si /= m.sqrt();
+            }
+        }
+    }
+    s
+}
+
+impl Factor {
+    /// Factorises the matrix with these values (in the order of the analysed structure).
+    pub fn new(analysis: &Analysis, values: &[f64]) -> Result<Self, KktError> {
+        let n = analysis.order();
+        if values.len() != analysis.structure.stored() {
+            return Err(KktError::Input(format!(
+                "{} values for a structure of {} entries",
+                values.len(),
+                analysis.structure.stored()
+            )));
+        }
+        if let Some(e) = values.iter().position(|v| !v.is_finite()) {
+            return Err(KktError::Input(format!("value {e} is not finite")));
+        }
+        let s = equilibrate(analysis, values);
+        let order = analysis.ordering.order.clone();
+        let scale: Vec<f64> = order.iter().map(|&v| s[v]).collect();
+        let mut factor = Factor {
+            order,
+            scale,
+            pivots: Vec::with_capacity(n),
+            index: Vec::new(),
+            lower: Vec::new(),
+            inertia: Inertia::default(),
+            stats: FactorStats::default(),
+        };
+        let mut front = Front::new(n, analysis.predicted_front + 4);
+        let mut summed = vec![false; n];
+        let mut candidates: Vec<usize> = Vec::new();
+        for k in 0..n {
+            let slot_k = front.push(k);
+            for &(j, e) in &analysis.enter[analysis.enter_start[k]..analysis.enter_start[k + 1]] {
+                let slot_j = front.slot_of[j];
+                debug_assert_ne!(slot_j, ABSENT, "an entering entry's partner is still in the front");
+                front.add(slot_k, slot_j, values[e] * factor.scale[j] * factor.scale[k]);
+            }
+            for &v in &analysis.summed[analysis.summed_start[k]..analysis.summed_start[k + 1]] {
+                summed[v] = true;
+                candidates.push(v);
+            }
+            factor.stats.largest_front = factor.stats.largest_front.max(front.len());
+            factor.eliminate_candidates(&mut front, &mut candidates, &summed)?;
+            factor.stats.delayed += candidates.len();
+        }
+        debug_assert_eq!(front.len(), 0);
+        factor.stats.factor_entries = factor.index.len();
+        Ok(factor)
+    }
+
+    /// Eliminates fully summed variables while one passes the pivot tests.
+    fn eliminate_candidates(
+        &mut self,
+        front: &mut Front,
+        candidates: &mut Vec<usize>,
+        summed: &[bool],
+    ) -> Result<(), KktError> {
+        'search: loop {
+            for c in 0..candidates.len() {
+                match choose(front, front.slot_of[candidates[c]], summed)? {
+                    Choice::Delay => continue,
+                    Choice::One(slot) => {
+                        let v = front.var[slot];
+                        self.pivot_one(front, slot);
+                        candidates.retain(|&u| u != v);
+                    }
+                    Choice::Two(sp, sr) => {
+                        let (p, r) = (front.var[sp], front.var[sr]);
+                        self.pivot_two(front, sp, sr);
+                        candidates.retain(|&u| u != p && u != r);
+                    }
+                }
+                continue 'search;
+            }
+            return Ok(());
+        }
+    }
+
+    fn pivot_one(&mut self, front: &mut Front, slot: usize) {
+        let d = front.at(slot, slot);
+        let p = front.var[slot];
+        if d > 0.0 {
+            self.inertia.positive += 1;
+        } else {
+            self.inertia.negative += 1;
+        }
+        let (start, first) = (self.index.len(), self.lower.len());
+        let (index, lower) = (&mut self.index, &mut self.lower);
+        front.eliminate([slot], [[1.0 / d]], |v, [l]| {
+            index.push(v);
+            lower.push(l);
+        });
+        self.pivots.push(Pivot::One { p, inverse: 1.0 / d, start, end: self.index.len(), lower: first });
+    }
+
+    fn pivot_two(&mut self, front: &mut Front, sp: usize, sr: usize) {
+        let (a, b, c) = (front.at(sp, sp), front.at(sr, sp), front.at(sr, sr));
+        let det = a * c - b * b;
+        if det < 0.0 {
+            self.inertia.positive += 1;
+            self.inertia.negative += 1;
+        } else if a + c > 0.0 {
+            self.inertia.positive += 2;
+        } else {
+            self.inertia.negative += 2;
+        }
+        let inverse = [[c / det, -b / det], [-b / det, a / det]];
+        let (p, r) = (front.var[sp], front.var[sr]);
+        let (start, first) = (self.index.len(), self.lower.len());
+        let (index, lower) = (&mut self.index, &mut self.lower);
+        front.eliminate([sp, sr], inverse, |v, [l1, l2]| {
+            index.push(v);
+            lower.push(l1);
+            lower.push(l2);
+        });
+        self.stats.two_by_two += 1;
+        self.pivots.push(Pivot::Two { p, r, inverse, start, end: self.index.len(), lower: first });
+    }
+
+    /// The inertia of the matrix.
+    pub fn inertia(&self) -> Inertia {
+        self.inertia
+    }
+
+    /// Front sizes, pivots and fill.
+    pub fn stats(&self) -> FactorStats {
+        self.stats
+    }
+
+    /// Overwrites `b` (original numbering) with `A⁻¹ b`; `work` is scratch of any length.
+    pub fn solve_in_place(&self, b: &mut [f64], work: &mut Vec<f64>) {
+        let n = self.order.len();
+        work.clear();
+        work.extend(self.order.iter().zip(&self.scale).map(|(&v, &s)| b[v] * s));
+        let y = &mut work[..n];
+        for pivot in &self.pivots {
+            match *pivot {
+                Pivot::One { p, start, end, lower, .. } => {
+                    let yp = y[p];
+                    for (&i, &l) in self.index[start..end].iter().zip(&self.lower[lower..]) {
+                        y[i] -= l * yp;
+                    }
+                }
+                Pivot::Two { p, r, start, end, lower, .. } => {
+                    let (yp, yr) = (y[p], y[r]);
+                    for (e, &i) in self.index[start..end].iter().enumerate() {
+                        let at = lower + 2 * e;
+                        y[i] -= self.lower[at] * yp + self.lower[at + 1] * yr;
+                    }
+                }
+            }
+        }
+        for pivot in &self.pivots {
+            match *pivot {
+                Pivot::One { p, inverse, .. } => y[p] *= inverse,
+                Pivot::Two { p, r, inverse, .. } => {
+                    let (yp, yr) = (y[p], y[r]);
+                    y[p] = inverse[0][0] * yp + inverse[0][1] * yr;
+                    y[r] = inverse[1][0] * yp + inverse[1][1] * yr;
+                }
+            }
+        }
+        for pivot in self.pivots.iter().rev() {
+            match *pivot {
+                Pivot::One { p, start, end, lower, .. } => {
+                    let sum: f64 =
+                        self.index[start..end].iter().zip(&self.lower[lower..]).map(|(&i, &l)| l * y[i]).sum();
+                    y[p] -= sum;
+                }
+                Pivot::Two { p, r, start, end, lower, .. } => {
+                    let (mut sp, mut sr) = (0.0, 0.0);
+                    for (e, &i) in self.index[start..end].iter().enumerate() {
+                        let at = lower + 2 * e;
+                        sp += self.lower[at] * y[i];
+                        sr += self.lower[at + 1] * y[i];
+                    }
+                    y[p] -= sp;
+                    y[r] -= sr;
+                }
+            }
+        }
+        for ((&v, &s), &yk) in self.order.iter().zip(&self.scale).zip(y.iter()) {
+            b[v] = yk * s;
+        }
+    }
+}
+
+/// The outcome of the pivot test on one fully summed variable.
+enum Choice {
+    One(usize),
+    Two(usize, usize),
+    Delay,
+}
+
+/// The Bunch–Kaufman rule on the fully summed variable in slot `p`, restricted to fully summed
+/// partners (see the module docs).
+fn choose(front: &Front, p: usize, summed: &[bool]) -> Result<Choice, KktError> {
+    let a_pp = front.at(p, p).abs();
+    let (gamma_p, r) = front.column_max(p);
+    let Some(r) = r.filter(|_| gamma_p > SINGULAR) else {
+        return if a_pp > SINGULAR { Ok(Choice::One(p)) } else { Err(KktError::Singular { pivot: front.var[p] }) };
+    };
+    if a_pp >= ALPHA * gamma_p {
+        return Ok(Choice::One(p));
+    }
+    if !summed[front.var[r]] {
+        return Ok(if a_pp >= THRESHOLD * gamma_p { Choice::One(p) } else { Choice::Delay });
+    }
+    let (gamma_r, _) = front.column_max(r);
+    if a_pp * gamma_r >= ALPHA * gamma_p * gamma_p {
+        Ok(Choice::One(p))
+    } else if front.at(r, r).abs() >= ALPHA * gamma_r {
+        Ok(Choice::One(r))
+    } else {
+        Ok(Choice::Two(p, r))
+    }
+}

@@ -1,0 +1,64 @@
+//! A sparse symmetric indefinite `LDLᵀ` factorisation with exact inertia, built for the KKT
+//! matrices Ipopt factorises at every iteration of eq. (33), and served to Ipopt through Pardiso's
+//! interface.
+//!
+//! * [`Structure`]: a symmetric matrix by one triangle in compressed rows.
+//! * [`SymmetricSolver`]: the analysis (dense rows first, then reverse Cuthill–McKee, which finds
+//!   the band of a chain), the factorisation (a frontal sweep with Bunch–Kaufman pivoting among
+//!   the fully summed variables, delayed pivots, Ruiz scaling, no pivot perturbation, so the
+//!   inertia is exact) and solves with iterative refinement to round-off.
+//! * [`install`]: makes this solver the `libpardiso.so` of the process, so that Debian's Ipopt
+//!   3.11 (or a 3.14) uses it with `linear_solver pardiso`; `spine-ipopt` does this for its
+//!   default linear solver `"spine"`.
+//!
+//! All `unsafe` code of the crate is in the `abi` module (the C entry points and the loading of the
+//! shim); everything else is safe Rust.
+//!
+//! ```
+//! use spine_kkt::{Structure, SymmetricSolver};
+//!
+//! // The saddle-point matrix [[2, 1], [1, 0]] (upper triangle by rows): one positive and one
+//! // negative eigenvalue.
+//! let structure = Structure::new(2, vec![0, 2, 2], vec![0, 1]).unwrap();
+//! let mut solver = SymmetricSolver::new(structure);
+//! let inertia = solver.factorize(&[2.0, 1.0]).unwrap();
+//! assert_eq!((inertia.positive, inertia.negative), (1, 1));
+//! let mut b = vec![3.0, 1.0]; // A [1, 1] = [3, 1]
+//! solver.solve(&mut b).unwrap();
+//! assert!((b[0] - 1.0).abs() < 1e-15 && (b[1] - 1.0).abs() < 1e-15);
+//! ```
+#![deny(unsafe_code)]
+
+#[allow(unsafe_code)]
+mod abi;
+mod analysis;
+mod factor;
+mod front;
+mod install;
+pub mod ordering;
+pub mod pardiso;
+mod solver;
+mod symmetric;
+
+pub use analysis::Analysis;
+pub use factor::{Factor, FactorStats, Inertia, SINGULAR, THRESHOLD};
+pub use install::install;
+pub use solver::{SolveReport, SymmetricSolver, BACKWARD_ERROR, MAX_REFINEMENT};
+pub use symmetric::Structure;
+
+/// Why a factorisation or solve could not be done.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum KktError {
+    /// The arrays handed in do not describe a matrix (lengths, indices, non-finite values).
+    #[error("invalid input: {0}")]
+    Input(String),
+    /// A fully summed column vanished: the matrix is singular to working precision.
+    #[error("the matrix is singular (zero pivot at variable {pivot} of the elimination order)")]
+    Singular { pivot: usize },
+    /// A solve before any successful factorisation.
+    #[error("solve without a factorisation")]
+    NotFactorized,
+    /// The shim library could not be written or loaded.
+    #[error("cannot load the Pardiso shim: {0}")]
+    Load(String),
+}

@@ -1,0 +1,226 @@
+//! The frontal LDLᵀ against dense references (faer's symmetric eigenvalues for the inertia, the
+//! residual for the solution) on random KKT-like matrices of many shapes and scales, singular
+//! matrices, and Pardiso's calling convention.
+
+use faer::{Mat, Side};
+use spine_kkt::pardiso::{self, error, Call, State, PARAMETERS};
+use spine_kkt::{KktError, Structure, SymmetricSolver};
+
+/// SplitMix64, for reproducible random matrices.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn uniform(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn symmetric(&mut self) -> f64 {
+        2.0 * self.uniform() - 1.0
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+/// A symmetric matrix as a map of upper-triangle entries.
+#[derive(Clone, Default)]
+struct Upper {
+    n: usize,
+    entries: std::collections::BTreeMap<(usize, usize), f64>,
+}
+
+impl Upper {
+    fn add(&mut self, i: usize, j: usize, v: f64) {
+        *self.entries.entry((i.min(j), i.max(j))).or_insert(0.0) += v;
+    }
+    fn structure(&self) -> (Structure, Vec<f64>) {
+        let list: Vec<(usize, usize)> = self.entries.keys().copied().collect();
+        let (structure, position) = Structure::from_entries(self.n, &list).unwrap();
+        let mut values = vec![0.0; list.len()];
+        for (e, v) in self.entries.values().enumerate() {
+            values[position[e]] = *v;
+        }
+        (structure, values)
+    }
+    fn dense(&self) -> Mat<f64> {
+        Mat::from_fn(self.n, self.n, |i, j| self.entries.get(&(i.min(j), i.max(j))).copied().unwrap_or(0.0))
+    }
+    /// The same matrix with its rows and columns renumbered by `label`.
+    fn permuted(&self, label: &[usize]) -> Upper {
+        let mut out = Upper { n: self.n, ..Default::default() };
+        for (&(i, j), &v) in &self.entries {
+            out.add(label[i], label[j], v);
+        }
+        out
+    }
+}
+
+/// An Ipopt-like KKT matrix of a chain: `links` blocks of `width` variables coupled to their
+/// neighbours, `H` indefinite plus a barrier diagonal spanning `scales` decades, constraint rows
+/// with zero diagonal each touching a few variables, and `dense` rows touching every block.
+fn chain_kkt(rng: &mut Rng, links: usize, width: usize, dense: usize, scales: f64) -> Upper {
+    let nv = links * width;
+    let nc = links;
+    let n = nv + nc + dense;
+    let mut a = Upper { n, ..Default::default() };
+    for i in 0..nv {
+        a.add(i, i, rng.symmetric() + 10f64.powf(scales * (rng.uniform() - 0.5)));
+        for j in i + 1..(i + 2 * width).min(nv) {
+            if rng.uniform() < 0.5 {
+                a.add(i, j, rng.symmetric());
+            }
+        }
+    }
+    for c in 0..nc {
+        let row = nv + c;
+        a.add(row, row, 0.0);
+        for k in 0..width + 1 {
+            let v = (c * width + k).min(nv - 1);
+            a.add(row, v, rng.symmetric() + 2.0);
+        }
+    }
+    for d in 0..dense {
+        let row = nv + nc + d;
+        a.add(row, row, 0.0);
+        for c in 0..links {
+            a.add(row, c * width + rng.below(width), 1.0 + rng.uniform());
+        }
+    }
+    a
+}
+
+fn inertia_reference(a: &Upper) -> (usize, usize, usize) {
+    let eig = a.dense().self_adjoint_eigenvalues(Side::Lower).unwrap();
+    let scale = eig.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let tol = scale * 1e-12;
+    let pos = eig.iter().filter(|&&v| v > tol).count();
+    let neg = eig.iter().filter(|&&v| v < -tol).count();
+    (pos, neg, eig.len() - pos - neg)
+}
+
+fn check_solves(a: &Upper, rng: &mut Rng) -> SymmetricSolver {
+    let (structure, values) = a.structure();
+    let mut solver = SymmetricSolver::new(structure.clone());
+    let inertia = solver.factorize(&values).unwrap();
+    let (pos, neg, zero) = inertia_reference(a);
+    assert_eq!(zero, 0, "the test matrix should be nonsingular");
+    assert_eq!((inertia.positive, inertia.negative), (pos, neg), "inertia of a matrix of order {}", a.n);
+    let x_true: Vec<f64> = (0..a.n).map(|_| rng.symmetric()).collect();
+    let mut b = vec![0.0; a.n];
+    structure.multiply(&values, &x_true, &mut b);
+    let report = solver.solve(&mut b).unwrap();
+    assert!(report.backward_error < 1e-14, "backward error {:e}", report.backward_error);
+    solver
+}
+
+#[test]
+fn inertia_and_solutions_match_dense_references_on_chain_kkt_matrices() {
+    let mut rng = Rng(7);
+    for (links, width, dense, scales) in
+        [(1, 2, 0, 0.0), (3, 3, 1, 2.0), (10, 4, 3, 4.0), (40, 5, 4, 8.0), (120, 4, 5, 12.0)]
+    {
+        let a = chain_kkt(&mut rng, links, width, dense, scales);
+        let solver = check_solves(&a, &mut rng);
+        // Shuffled numbering: the ordering must find the band again.
+        let mut label: Vec<usize> = (0..a.n).collect();
+        for i in (1..a.n).rev() {
+            label.swap(i, rng.below(i + 1));
+        }
+        let shuffled = check_solves(&a.permuted(&label), &mut rng);
+        let (front, again) = (solver.analysis().predicted_front(), shuffled.analysis().predicted_front());
+        assert!(again <= 2 * front + 4, "shuffled front {again} against {front} (links {links})");
+    }
+}
+
+#[test]
+fn fronts_stay_narrow_on_long_chains() {
+    let mut rng = Rng(11);
+    let a = chain_kkt(&mut rng, 2000, 4, 5, 6.0);
+    let (structure, values) = a.structure();
+    let mut solver = SymmetricSolver::new(structure);
+    solver.factorize(&values).unwrap();
+    let stats = solver.stats().unwrap();
+    assert_eq!(solver.analysis().dense_rows(), 5);
+    assert!(stats.largest_front < 40, "front {} for a chain of 2000 links", stats.largest_front);
+}
+
+#[test]
+fn random_sparse_symmetric_matrices() {
+    let mut rng = Rng(3);
+    for n in [1, 2, 5, 17, 60] {
+        for _ in 0..20 {
+            let mut a = Upper { n, ..Default::default() };
+            for i in 0..n {
+                a.add(i, i, if rng.uniform() < 0.3 { 0.0 } else { rng.symmetric() });
+                for _ in 0..2 {
+                    let j = rng.below(n);
+                    a.add(i, j, rng.symmetric());
+                }
+            }
+            let (_, _, zero) = inertia_reference(&a);
+            let cond_ok = {
+                let eig = a.dense().self_adjoint_eigenvalues(Side::Lower).unwrap();
+                let big = eig.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let small = eig.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
+                small > 1e-8 * big
+            };
+            if zero == 0 && cond_ok {
+                check_solves(&a, &mut rng);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_rank_deficient_constraint_block_is_singular() {
+    // [[I, Jᵀ], [J, 0]] with two equal rows of J.
+    let mut a = Upper { n: 5, ..Default::default() };
+    for i in 0..3 {
+        a.add(i, i, 1.0);
+    }
+    for (row, coefficients) in [(3, [1.0, 2.0, 0.0]), (4, [1.0, 2.0, 0.0])] {
+        a.add(row, row, 0.0);
+        for (j, c) in coefficients.iter().enumerate() {
+            if *c != 0.0 {
+                a.add(row, j, *c);
+            }
+        }
+    }
+    let (structure, values) = a.structure();
+    let mut solver = SymmetricSolver::new(structure);
+    assert!(matches!(solver.factorize(&values), Err(KktError::Singular { .. })));
+    assert_eq!(solver.solve(&mut [0.0; 5]), Err(KktError::NotFactorized));
+}
+
+#[test]
+fn pardiso_phases_analyse_factorise_solve_and_release() {
+    // The 3×3 KKT matrix [[4, 1, 1], [1, 3, 0], [1, 0, 0]] (upper triangle, 1-based rows).
+    let ia = [1, 4, 5, 5];
+    let ja = [1, 2, 3, 2];
+    let a = [4.0, 1.0, 1.0, 3.0];
+    let (mut iparm, mut dparm) = ([0i32; PARAMETERS], [0.0; PARAMETERS]);
+    assert_eq!(pardiso::init(-2, &mut iparm, &mut dparm), error::NONE);
+    assert_eq!(pardiso::init(11, &mut iparm, &mut dparm), error::INPUT);
+    iparm[5] = 1;
+    let mut state = State::default();
+    let mut call = |state: &mut State, phase, b: &mut [f64], iparm: &mut [i32; PARAMETERS]| {
+        let mut x = vec![0.0; b.len()];
+        state.call(Call { phase, mtype: -2, n: 3, nrhs: 1, a: &a, ia: &ia, ja: &ja, iparm, b, x: &mut x, msglvl: 0 })
+    };
+    let mut b = [6.0, 4.0, 1.0]; // A [1, 1, 1]
+    assert_eq!(call(&mut state, 22, &mut b, &mut iparm), error::INPUT, "a factorisation before the analysis");
+    assert_eq!(call(&mut state, 11, &mut b, &mut iparm), error::NONE);
+    assert_eq!(call(&mut state, 22, &mut b, &mut iparm), error::NONE);
+    assert_eq!((iparm[21], iparm[22], iparm[13]), (2, 1, 0));
+    assert_eq!(call(&mut state, 33, &mut b, &mut iparm), error::NONE);
+    for v in b {
+        assert!((v - 1.0).abs() < 1e-15);
+    }
+    assert_eq!(call(&mut state, -1, &mut b, &mut iparm), error::NONE);
+    assert_eq!(call(&mut state, 33, &mut b, &mut iparm), error::INPUT, "a solve after release");
+}
