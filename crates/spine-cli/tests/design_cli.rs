@@ -78,7 +78,7 @@ fn design_output_is_deterministic_and_multistart_counts_optima() {
 fn multistart_reports_the_best_clean_optimum_with_every_optimum_in_full() {
     let mut case: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/design10.json")).unwrap()).unwrap();
-    case["delta_d"] = serde_json::json!(-0.03);
+    case["delta_d"] = serde_json::json!(-0.05);
     let dir = tmpdir("best-clean");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("case.json");

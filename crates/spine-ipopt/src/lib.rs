@@ -18,9 +18,9 @@
 //! stopped at its next iteration, and the panic resumes after Ipopt has returned, so no Rust panic
 //! ever unwinds through C frames.
 //!
-//! Ipopt factorises its KKT matrices with the workspace's own sparse `LDLᵀ` (`spine-kkt`, option
-//! `linear_solver = "spine"`, the default), which Ipopt reaches through its Pardiso interface, or
-//! with the MUMPS it ships (`"mumps"`). MUMPS is not thread-safe (Debian's Ipopt 3.11.9 aborts when
+//! Ipopt factorises its KKT matrices with the MUMPS it ships (option `linear_solver = "mumps"`,
+//! the default) or with the workspace's own sparse `LDLᵀ` (`spine-kkt`, `"spine"`, experimental),
+//! which Ipopt reaches through its Pardiso interface. MUMPS is not thread-safe (Debian's Ipopt 3.11.9 aborts when
 //! two MUMPS solves overlap): [`solve`] holds a process-wide lock for MUMPS solves only.
 //!
 //! ```
@@ -209,9 +209,10 @@ pub enum SetupError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LinearSolver {
     /// The workspace's own frontal `LDLᵀ` with exact inertia (`spine-kkt`), reached through Ipopt's
-    /// Pardiso interface (Ipopt is told `linear_solver pardiso`): the default.
+    /// Pardiso interface (Ipopt is told `linear_solver pardiso`). Experimental: correct, and
+    /// thread-safe, but not yet faster than MUMPS on eq. (33) from 50 links on (docs/design.md).
     Spine,
-    /// MUMPS, as the Ipopt library ships it (not thread-safe: one solve at a time).
+    /// MUMPS, as the Ipopt library ships it (not thread-safe: one solve at a time): the default.
     Mumps,
 }
 
@@ -258,7 +259,7 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         .string("sb", "yes")
         .integer("print_level", 0)
         .string("option_file_name", "")
-        .string("linear_solver", LinearSolver::Spine.name());
+        .string("linear_solver", LinearSolver::Mumps.name());
     if hessian.is_none() {
         all_options = all_options.string("hessian_approximation", "limited-memory");
     }

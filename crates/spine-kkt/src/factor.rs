@@ -4,14 +4,25 @@
 //! `S` is a diagonal equilibration (a few passes of Ruiz's scaling, so that every row of `S A S`
 //! has largest entry about 1), `P` the order of [`Analysis`]. The sweep brings the variables into a
 //! dense front one at a time, in that order; a variable whose row is complete (fully summed) may be
-//! eliminated. Pivots are chosen by the Bunch–Kaufman rule among the fully summed variables, a 1×1
-//! pivot `p` being taken when `|a_pp| ≥ α max_{i≠p} |a_ip|` (α = (1 + √17)/8) or else a 2×2 pivot
-//! with the row `r` of that largest entry; when `r` is not fully summed yet, `p` is taken alone if
-//! `|a_pp| ≥ u max_i |a_ip|` (threshold `u` = [`THRESHOLD`]) and otherwise delayed: it stays in the
-//! front until its partner is summed. The growth of the factors is thus bounded as in dense
-//! Bunch–Kaufman, no pivot is perturbed, and the inertia of `D` is the inertia of `A` (Sylvester).
-//! A fully summed column whose entries have all fallen below [`SINGULAR`] (in the scaled matrix)
-//! makes the matrix singular.
+//! eliminated. Pivots are chosen among the fully summed variables by the Bunch–Kaufman rule: a
+//! 1×1 pivot `p` when `|a_pp| ≥ α max_{i≠p} |a_ip|` (α = (1 + √17)/8), else a 2×2 pivot with the
+//! row `r` of that largest entry. When `r` is not fully summed yet, `p` is taken alone if
+//! `|a_pp| ≥ u max_i |a_ip|`, or with the fully summed partner of largest coupling if that 2×2
+//! block passes Duff and Reid's test with `u`; otherwise it waits (a delayed pivot).
+//!
+//! * `u` is [`THRESHOLD`] (0.01) at first, [`RELAXED_THRESHOLD`] once the variable has waited
+//!   [`PATIENCE`] steps and [`LAST_RESORT_THRESHOLD`] after four times as many: waiting widens the
+//!   front, and a front as wide as the chain costs `O(N³)`.
+//! * The dense rows (numbered first, fully summed only at the last step) take no part in the
+//!   Bunch–Kaufman tests before the last step; a pivot must be at least [`BORDER_THRESHOLD`] of its
+//!   entries in those rows until it has waited [`PATIENCE`] steps. Otherwise every variable whose
+//!   largest entry lies in a dense row (in eq. (33): every angle, coupled to the slider row) would
+//!   wait until the end.
+//!
+//! No pivot is perturbed, so the inertia of `D` is the inertia of `A` (Sylvester's law). A fully
+//! summed column whose entries have all fallen below [`SINGULAR`] (in the scaled matrix) makes the
+//! matrix singular. The relaxed thresholds allow growth; the solver's iterative refinement and, where
+//! that stalls, one GMRES correction ([`crate::SymmetricSolver::solve`]) repair the solution.
 
 use crate::analysis::Analysis;
 use crate::front::{Front, ABSENT};
@@ -24,6 +35,25 @@ pub const THRESHOLD: f64 = 0.01;
 /// A fully summed column of the scaled matrix with no entry above this is a zero column: the
 /// matrix is singular (to working precision).
 pub const SINGULAR: f64 = 1e-14;
+/// The threshold of a pivot against the dense rows, which stay out of the Bunch–Kaufman tests
+/// until the last step.
+pub const BORDER_THRESHOLD: f64 = 1e-6;
+/// A variable that has waited this many steps is tested with [`RELAXED_THRESHOLD`], and after
+/// four times as many with [`LAST_RESORT_THRESHOLD`].
+pub const PATIENCE: usize = 4;
+/// The threshold for a variable that has waited [`PATIENCE`] steps; the dense rows no longer
+/// take part in its test.
+pub const RELAXED_THRESHOLD: f64 = 1e-4;
+/// The threshold for a variable that has waited `4 PATIENCE` steps (the default of Ipopt's MA27
+/// and MA57 pivot tolerance).
+pub const LAST_RESORT_THRESHOLD: f64 = 1e-8;
+
+/// The thresholds of one pivot test.
+#[derive(Clone, Copy, Debug)]
+struct Thresholds {
+    sparse: f64,
+    border: f64,
+}
 /// Passes of Ruiz's equilibration.
 const SCALING_PASSES: usize = 3;
 
@@ -123,6 +153,7 @@ impl Factor {
         };
         let mut front = Front::new(n, analysis.predicted_front + 4);
         let mut summed = vec![false; n];
+        let mut since = vec![0usize; n];
         let mut candidates: Vec<usize> = Vec::new();
         for k in 0..n {
             let slot_k = front.push(k);
@@ -133,10 +164,16 @@ impl Factor {
             }
             for &v in &analysis.summed[analysis.summed_start[k]..analysis.summed_start[k + 1]] {
                 summed[v] = true;
+                since[v] = k;
                 candidates.push(v);
             }
             factor.stats.largest_front = factor.stats.largest_front.max(front.len());
-            factor.eliminate_candidates(&mut front, &mut candidates, &summed)?;
+            // Until the last step the dense rows (numbered first) stay out of the pivot tests: they
+            // are summed only at the end, and a variable whose largest entry is in a dense row
+            // would otherwise wait for it. The last step tests against every row.
+            let border = if k + 1 == n { 0 } else { analysis.ordering.dense };
+            let waited = |v: usize| (k - since[v]) / PATIENCE;
+            factor.eliminate_candidates(&mut front, &mut candidates, &summed, border, waited, k + 1 == n)?;
             factor.stats.delayed += candidates.len();
         }
         debug_assert_eq!(front.len(), 0);
@@ -150,25 +187,50 @@ impl Factor {
         front: &mut Front,
         candidates: &mut Vec<usize>,
         summed: &[bool],
+        border: usize,
+        waited: impl Fn(usize) -> usize,
+        last: bool,
     ) -> Result<(), KktError> {
-        'search: loop {
+        // One pass over the candidates per step; at the last step, passes until all are gone (a
+        // pivot changes the front, so a variable that waited may pass on the next pass).
+        let mut gone = vec![false; 0];
+        loop {
+            let mut progress = false;
+            gone.clear();
+            gone.resize(candidates.len(), false);
             for c in 0..candidates.len() {
-                match choose(front, front.slot_of[candidates[c]], summed)? {
+                if gone[c] {
+                    continue;
+                }
+                let v = candidates[c];
+                let limits = match waited(v) {
+                    0 => Thresholds { sparse: THRESHOLD, border: BORDER_THRESHOLD },
+                    1..=3 => Thresholds { sparse: RELAXED_THRESHOLD, border: 0.0 },
+                    _ => Thresholds { sparse: LAST_RESORT_THRESHOLD, border: 0.0 },
+                };
+                let eliminated = match choose(front, front.slot_of[v], summed, border, limits)? {
                     Choice::Delay => continue,
                     Choice::One(slot) => {
-                        let v = front.var[slot];
+                        let p = front.var[slot];
                         self.pivot_one(front, slot);
-                        candidates.retain(|&u| u != v);
+                        [Some(p), None]
                     }
                     Choice::Two(sp, sr) => {
                         let (p, r) = (front.var[sp], front.var[sr]);
                         self.pivot_two(front, sp, sr);
-                        candidates.retain(|&u| u != p && u != r);
+                        [Some(p), Some(r)]
                     }
+                };
+                for (flag, &u) in gone.iter_mut().zip(candidates.iter()) {
+                    *flag |= eliminated.contains(&Some(u));
                 }
-                continue 'search;
+                progress = true;
             }
-            return Ok(());
+            let mut keep = gone.iter().map(|g| !g);
+            candidates.retain(|_| keep.next().unwrap_or(true));
+            if !progress || !last {
+                return Ok(());
+            }
         }
     }
 
@@ -288,21 +350,51 @@ enum Choice {
     Delay,
 }
 
+/// [`choose_sparse`], with the pivot it finds tested against the dense rows too: their entries
+/// in the pivot's column(s) may exceed the pivot by at most `1/BORDER_THRESHOLD`; otherwise the
+/// variable waits.
+fn choose(front: &Front, p: usize, summed: &[bool], border: usize, limits: Thresholds) -> Result<Choice, KktError> {
+    let choice = choose_sparse(front, p, summed, border, limits.sparse)?;
+    if border == 0 {
+        return Ok(choice);
+    }
+    let dense_max = |col: usize| front.border_max(col, border);
+    let ok = match choice {
+        Choice::One(q) => front.at(q, q).abs() >= limits.border * dense_max(q),
+        Choice::Two(a, b) => {
+            let det = (front.at(a, a) * front.at(b, b) - front.at(a, b) * front.at(a, b)).abs();
+            let size = front.at(a, a).abs().max(front.at(b, b).abs()).max(front.at(a, b).abs());
+            det / size >= limits.border * dense_max(a).max(dense_max(b))
+        }
+        Choice::Delay => true,
+    };
+    Ok(if ok { choice } else { Choice::Delay })
+}
+
 /// The Bunch–Kaufman rule on the fully summed variable in slot `p`, restricted to fully summed
 /// partners (see the module docs).
-fn choose(front: &Front, p: usize, summed: &[bool]) -> Result<Choice, KktError> {
+fn choose_sparse(front: &Front, p: usize, summed: &[bool], border: usize, u: f64) -> Result<Choice, KktError> {
     let a_pp = front.at(p, p).abs();
-    let (gamma_p, r) = front.column_max(p);
+    let (gamma_p, r) = front.column_max(p, border);
     let Some(r) = r.filter(|_| gamma_p > SINGULAR) else {
-        return if a_pp > SINGULAR { Ok(Choice::One(p)) } else { Err(KktError::Singular { pivot: front.var[p] }) };
+        return if a_pp > SINGULAR {
+            Ok(Choice::One(p))
+        } else if border > 0 && front.column_max(p, 0).0 > SINGULAR {
+            Ok(Choice::Delay)
+        } else {
+            Err(KktError::Singular { pivot: front.var[p] })
+        };
     };
     if a_pp >= ALPHA * gamma_p {
         return Ok(Choice::One(p));
     }
     if !summed[front.var[r]] {
-        return Ok(if a_pp >= THRESHOLD * gamma_p { Choice::One(p) } else { Choice::Delay });
+        if a_pp >= u * gamma_p {
+            return Ok(Choice::One(p));
+        }
+        return Ok(summed_partner(front, p, summed, border, u).map_or(Choice::Delay, |q| Choice::Two(p, q)));
     }
-    let (gamma_r, _) = front.column_max(r);
+    let (gamma_r, _) = front.column_max(r, border);
     if a_pp * gamma_r >= ALPHA * gamma_p * gamma_p {
         Ok(Choice::One(p))
     } else if front.at(r, r).abs() >= ALPHA * gamma_r {
@@ -310,4 +402,37 @@ fn choose(front: &Front, p: usize, summed: &[bool]) -> Result<Choice, KktError> 
     } else {
         Ok(Choice::Two(p, r))
     }
+}
+
+/// A 2×2 pivot of `p` with the fully summed row `q` of largest `|a_qp|`, if the block passes Duff
+/// and Reid's threshold test: `|B⁻¹| (γ_p, γ_q)ᵀ ≤ (1/u, 1/u)`, with `γ` the largest entries of the
+/// two columns outside the block.
+fn summed_partner(front: &Front, p: usize, summed: &[bool], border: usize, u: f64) -> Option<usize> {
+    let q = front
+        .row(p)
+        .iter()
+        .zip(&front.var)
+        .enumerate()
+        .filter(|&(i, (_, &var))| i != p && summed[var] && var >= border)
+        .max_by(|(_, (x, _)), (_, (y, _))| x.abs().total_cmp(&y.abs()))
+        .map(|(i, _)| i)?;
+    let (a, b, c) = (front.at(p, p), front.at(q, p), front.at(q, q));
+    let det = a * c - b * b;
+    if det.abs() <= SINGULAR * SINGULAR || det == 0.0 {
+        return None;
+    }
+    let outside = |col: usize| {
+        front.row(col).iter().zip(&front.var).enumerate().fold(0.0f64, |m, (i, (v, &var))| {
+            if i != p && i != q && var >= border {
+                m.max(v.abs())
+            } else {
+                m
+            }
+        })
+    };
+    let (gp, gq) = (outside(p), outside(q));
+    let bound = 1.0 / u;
+    let first = (c.abs() * gp + b.abs() * gq) / det.abs();
+    let second = (b.abs() * gp + a.abs() * gq) / det.abs();
+    (first <= bound && second <= bound).then_some(q)
 }

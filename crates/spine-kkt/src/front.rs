@@ -80,16 +80,23 @@ impl Front {
         }
     }
 
-    /// The largest `|a_ic|` over rows `i ≠ c` of column `c`, and its row (`None` for an empty column).
-    pub fn column_max(&self, c: usize) -> (f64, Option<usize>) {
+    /// The largest `|a_ic|` over rows `i ≠ c` of column `c` whose variable is not below `border`
+    /// (the dense rows, numbered first), and its row (`None` for an empty column). The front is
+    /// stored whole, so column `c` is read as row `c`.
+    pub fn column_max(&self, c: usize, border: usize) -> (f64, Option<usize>) {
         let mut best = (0.0, None);
-        for i in 0..self.len() {
-            let v = self.at(i, c).abs();
-            if i != c && v > best.0 {
+        for (i, (&v, &var)) in self.row(c).iter().zip(&self.var).enumerate() {
+            let v = v.abs();
+            if v > best.0 && i != c && var >= border {
                 best = (v, Some(i));
             }
         }
         best
+    }
+
+    /// The largest `|a_ic|` over the rows of the dense variables (below `border`).
+    pub fn border_max(&self, c: usize, border: usize) -> f64 {
+        self.row(c).iter().zip(&self.var).filter(|&(_, &var)| var < border).fold(0.0f64, |m, (v, _)| m.max(v.abs()))
     }
 
     /// `a_ij −= Σ_k l_ik · row_k[j]` for every `i` outside `pivots`, where `l_i = a_i,pivots ·

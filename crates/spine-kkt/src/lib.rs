@@ -41,9 +41,12 @@ mod solver;
 mod symmetric;
 
 pub use analysis::Analysis;
-pub use factor::{Factor, FactorStats, Inertia, SINGULAR, THRESHOLD};
+pub use factor::{
+    Factor, FactorStats, Inertia, BORDER_THRESHOLD, LAST_RESORT_THRESHOLD, PATIENCE, RELAXED_THRESHOLD, SINGULAR,
+    THRESHOLD,
+};
 pub use install::install;
-pub use solver::{SolveReport, SymmetricSolver, BACKWARD_ERROR, MAX_REFINEMENT};
+pub use solver::{SolveReport, SymmetricSolver, BACKWARD_ERROR, GMRES_ITERATIONS, KRYLOV_AFTER, MAX_REFINEMENT};
 pub use symmetric::Structure;
 
 /// Why a factorisation or solve could not be done.

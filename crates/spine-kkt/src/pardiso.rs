@@ -52,6 +52,13 @@ pub fn counters() -> Counters {
     }
 }
 
+/// Whether `SPINE_KKT_TRACE` is set: then every factorisation prints its statistics to stderr,
+/// as Ipopt's option `pardiso_msglvl > 0` does.
+fn trace() -> bool {
+    static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *TRACE.get_or_init(|| std::env::var_os("SPINE_KKT_TRACE").is_some())
+}
+
 /// `pardisoinit`: default parameters. Only matrix types −2 (symmetric indefinite) and 2 (symmetric
 /// positive definite) are served.
 pub fn init(mtype: i32, iparm: &mut [i32; PARAMETERS], dparm: &mut [f64; PARAMETERS]) -> i32 {
@@ -148,11 +155,22 @@ impl State {
             call.iparm[13] = 0;
             call.iparm[21] = inertia.positive as i32;
             call.iparm[22] = inertia.negative as i32;
+            // Diagnostics: `SPINE_KKT_DUMP=FILE` writes the first matrix whose sweep delayed pivots so
+            // front grew past twice the predicted width (order, ia, ja, a; read by
+            // `examples/kkt_dump.rs`).
+            if let (Some(stats), Some(path)) = (solver.stats(), std::env::var_os("SPINE_KKT_DUMP")) {
+                let wide = stats.largest_front > 2 * solver.analysis().predicted_front() + 8;
+                if wide && !std::path::Path::new(&path).exists() {
+                    let text = format!("{}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a);
+                    let _ = std::fs::write(&path, text);
+                }
+            }
             if let Some(stats) = solver.stats() {
                 call.iparm[17] = (stats.factor_entries + call.n) as i32;
-                if call.msglvl > 0 {
+                if call.msglvl > 0 || trace() {
                     eprintln!(
-                        "spine-kkt: order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L",
+                        "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L",
+                        clock.elapsed().as_secs_f64() * 1e3,
                         call.n,
                         inertia.positive,
                         inertia.negative,
@@ -168,19 +186,35 @@ impl State {
         }
         if end == 3 {
             let n = call.n;
-            let mut steps = 0;
+            let (mut steps, mut worst, mut krylov) = (0, 0.0f64, false);
             // The solution goes to `x`, and over `b` too when `iparm[5]` asks for it (Ipopt does).
             let overwrite = call.iparm[5] != 0;
+            let rhs_copy = call.b[..n].to_vec();
             for k in 0..call.nrhs {
                 let column = &mut call.x[k * n..(k + 1) * n];
                 column.copy_from_slice(&call.b[k * n..(k + 1) * n]);
                 let report = solver.solve(column)?;
                 steps = steps.max(report.refinement_steps);
+                worst = worst.max(report.normwise_error);
+                krylov |= report.krylov;
                 if overwrite {
                     call.b[k * n..(k + 1) * n].copy_from_slice(column);
                 }
             }
             SOLVES.fetch_add(call.nrhs as u64, Ordering::Relaxed);
+            // Diagnostics: `SPINE_KKT_DUMP_BAD=FILE` writes the first system (matrix and
+            // right-hand side) whose solve ends with a normwise backward error above 1e-8.
+            if let Some(path) = std::env::var_os("SPINE_KKT_DUMP_BAD") {
+                if worst > 1e-8 && !std::path::Path::new(&path).exists() {
+                    let text = format!("{}\n{:?}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a, rhs_copy);
+                    let _ = std::fs::write(&path, text);
+                }
+            }
+            if trace() {
+                eprintln!(
+                    "spine-kkt: solve, GMRES {krylov}, {steps} refinement steps, normwise backward error {worst:.1e}"
+                );
+            }
             call.iparm[6] = steps as i32;
         }
         Ok(())
