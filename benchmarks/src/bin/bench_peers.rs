@@ -57,7 +57,15 @@ fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
 
 /// Ours on the case, cold (`refine` off) or with the bench ladder.
 fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<SolverRun> {
+    ours_with(valid, n, refined, None)
+}
+
+/// [`ours`], with `linear_solver` set to `linear_solver` when given.
+fn ours_with(valid: &spine_case::ValidDesign, n: usize, refined: bool, linear_solver: Option<&str>) -> Option<SolverRun> {
     let mut settings = valid.settings.clone();
+    if let Some(name) = linear_solver {
+        settings.ipopt_options.insert("linear_solver".into(), ExtraOption::Str(name.into()));
+    }
     if refined {
         settings.refine = Refine::Ladder(peers::bench_ladder(n)?);
     } else {
@@ -68,8 +76,9 @@ fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<Solv
         solve_design(&valid.problem, &valid.start, Formulation::Full, &settings, &mut |_| true).expect("valid problem");
     let run = run_of(&r, clock.elapsed().as_secs_f64());
     eprintln!(
-        "N = {n}: ours {} ({}) {} in {:.3} s ({} iterations{}), J = {:.9e}",
+        "N = {n}: ours {}{} ({}) {} in {:.3} s ({} iterations{}), J = {:.9e}",
         if refined { "refined" } else { "cold" },
+        linear_solver.map_or(String::new(), |s| format!(", linear_solver {s}")),
         run.ipopt_version,
         run.status,
         run.wall_seconds,
@@ -207,6 +216,7 @@ fn main() {
 
         let cold = ours(&valid, n, false).expect("a cold run");
         let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
+        let ours_spine = ours_with(&valid, n, false, Some("spine"));
         let ours = cold;
 
         let out_path = dir.join(format!("casadi-{n}.json"));
@@ -236,6 +246,7 @@ fn main() {
             ipopt314: None,
             ipopt314_refined: None,
             casadi_refined: None,
+            ours_spine,
         });
     }
     write_rows(results, &rows);
