@@ -70,6 +70,7 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
         ipopt314: None,
         ipopt314_refined: None,
         casadi_refined: None,
+        ours_spine: None,
     };
     let same = row(run(1.0, 0.5, true), Some(run(1.0 + 1e-8, 2.0, true)), None);
     assert_eq!(same.verdict(), "same optimum");
@@ -91,9 +92,14 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
     best.ipopt314_refined = Some(run(1.0, 0.1, false));
     assert_eq!(best.best().map(|(name, _)| name), Some("refined 3.11"));
     assert_eq!(best.best_ratio(), Some(0.1));
+    best.ours_spine = Some(run(1.0, 0.3, true));
     let md = table(&[same, missing, best]);
     assert_eq!(md.lines().count(), 5);
-    assert!(md.contains("| 100 | ✓ 40 it, 0.500 s | – | – | – | ✓ 40 it, 2.000 s | – | 0.25 (cold 3.11) |"), "{md}");
+    assert!(
+        md.contains("| 100 | ✓ 40 it, 0.500 s | – | – | – | – | ✓ 40 it, 2.000 s | – | 0.25 (cold 3.11) |"),
+        "{md}"
+    );
+    assert!(md.contains("| 100 | ✓ 40 it, 0.500 s | ✓ 40 it, 0.200 s | ✓ 40 it, 0.300 s |"), "{md}");
     assert!(md.contains("Maximum_Iterations_Exceeded 40 it, 0.100 s"), "{md}");
 }
 

@@ -61,7 +61,12 @@ fn ours(valid: &spine_case::ValidDesign, n: usize, refined: bool) -> Option<Solv
 }
 
 /// [`ours`], with `linear_solver` set to `linear_solver` when given.
-fn ours_with(valid: &spine_case::ValidDesign, n: usize, refined: bool, linear_solver: Option<&str>) -> Option<SolverRun> {
+fn ours_with(
+    valid: &spine_case::ValidDesign,
+    n: usize,
+    refined: bool,
+    linear_solver: Option<&str>,
+) -> Option<SolverRun> {
     let mut settings = valid.settings.clone();
     if let Some(name) = linear_solver {
         settings.ipopt_options.insert("linear_solver".into(), ExtraOption::Str(name.into()));
