@@ -109,10 +109,7 @@ extern "C" fn pardisoinit(
         }
     }))
     .unwrap_or(error::INTERNAL);
-    if !error.is_null() {
-        // SAFETY: a non-null pointer to one integer.
-        unsafe { error.write(code) };
-    }
+    report(error, code);
 }
 
 /// `pardiso(pt, maxfct, mnum, mtype, phase, n, a, ia, ja, perm, nrhs, iparm, msglvl, b, x, error,
@@ -142,8 +139,13 @@ extern "C" fn pardiso(
         unsafe { call(pt, mnum, mtype, phase, n, a, ia, ja, nrhs, iparm, msglvl, b, x) }
     }))
     .unwrap_or(error::INTERNAL);
+    report(error, code);
+}
+
+/// Writes Pardiso's error code where the caller asked for it (nowhere for a null pointer).
+fn report(error: *mut c_int, code: i32) {
     if !error.is_null() {
-        // SAFETY: a non-null pointer to one integer.
+        // SAFETY: a non-null pointer to one integer (Pardiso's interface).
         unsafe { error.write(code) };
     }
 }

@@ -59,6 +59,17 @@ fn trace() -> bool {
     *TRACE.get_or_init(|| std::env::var_os("SPINE_KKT_TRACE").is_some())
 }
 
+/// The file named by a diagnostic environment variable, read once per process (not at every
+/// factorisation or solve).
+fn dump_path(
+    variable: &'static str,
+    cell: &'static std::sync::OnceLock<Option<std::ffi::OsString>>,
+) -> Option<&'static std::ffi::OsString> {
+    cell.get_or_init(|| std::env::var_os(variable)).as_ref()
+}
+static DUMP: std::sync::OnceLock<Option<std::ffi::OsString>> = std::sync::OnceLock::new();
+static DUMP_BAD: std::sync::OnceLock<Option<std::ffi::OsString>> = std::sync::OnceLock::new();
+
 /// `pardisoinit`: default parameters. Only matrix types −2 (symmetric indefinite) and 2 (symmetric
 /// positive definite) are served.
 pub fn init(mtype: i32, iparm: &mut [i32; PARAMETERS], dparm: &mut [f64; PARAMETERS]) -> i32 {
@@ -158,11 +169,11 @@ impl State {
             // Diagnostics: `SPINE_KKT_DUMP=FILE` writes the first matrix whose sweep delayed pivots so
             // front grew past twice the predicted width (order, ia, ja, a; read by
             // `examples/kkt_dump.rs`).
-            if let (Some(stats), Some(path)) = (solver.stats(), std::env::var_os("SPINE_KKT_DUMP")) {
+            if let (Some(stats), Some(path)) = (solver.stats(), dump_path("SPINE_KKT_DUMP", &DUMP)) {
                 let wide = stats.largest_front > 2 * solver.analysis().predicted_front() + 8;
                 if wide && !std::path::Path::new(&path).exists() {
                     let text = format!("{}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a);
-                    let _ = std::fs::write(&path, text);
+                    let _ = std::fs::write(path, text);
                 }
             }
             if let Some(stats) = solver.stats() {
@@ -189,7 +200,8 @@ impl State {
             let (mut steps, mut worst, mut krylov) = (0, 0.0f64, false);
             // The solution goes to `x`, and over `b` too when `iparm[5]` asks for it (Ipopt does).
             let overwrite = call.iparm[5] != 0;
-            let rhs_copy = call.b[..n].to_vec();
+            let dump_bad = dump_path("SPINE_KKT_DUMP_BAD", &DUMP_BAD);
+            let rhs_copy = if dump_bad.is_some() { call.b[..n].to_vec() } else { Vec::new() };
             for k in 0..call.nrhs {
                 let column = &mut call.x[k * n..(k + 1) * n];
                 column.copy_from_slice(&call.b[k * n..(k + 1) * n]);
@@ -204,10 +216,10 @@ impl State {
             SOLVES.fetch_add(call.nrhs as u64, Ordering::Relaxed);
             // Diagnostics: `SPINE_KKT_DUMP_BAD=FILE` writes the first system (matrix and
             // right-hand side) whose solve ends with a normwise backward error above 1e-8.
-            if let Some(path) = std::env::var_os("SPINE_KKT_DUMP_BAD") {
+            if let Some(path) = dump_bad {
                 if worst > 1e-8 && !std::path::Path::new(&path).exists() {
                     let text = format!("{}\n{:?}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a, rhs_copy);
-                    let _ = std::fs::write(&path, text);
+                    let _ = std::fs::write(path, text);
                 }
             }
             if trace() {

@@ -64,10 +64,6 @@ impl SymmetricSolver {
     /// [`BACKWARD_ERROR`]), then corrected once by GMRES when it is still above
     /// [`KRYLOV_AFTER`].
     pub fn solve(&self, b: &mut [f64]) -> Result<SolveReport, KktError> {
-        self.solve_with_factor(b)
-    }
-
-    fn solve_with_factor(&self, b: &mut [f64]) -> Result<SolveReport, KktError> {
         let factor = self.factor.as_ref().ok_or(KktError::NotFactorized)?;
         let n = self.analysis.order();
         if b.len() != n {
