@@ -173,88 +173,99 @@ fn main() {
     std::fs::create_dir_all(&dir).expect("target/bench-peers");
     let results = Path::new("benchmarks/peers/results.json");
     if casadi_ladder {
-        let mut rows = read_rows(results);
-        for n in sizes {
-            let Some(row) = rows.iter_mut().find(|r| r.n == n) else { continue };
-            match casadi_refined(&python, n, &dir) {
-                Ok(run) => {
-                    eprintln!(
-                        "N = {n}: CasADi refined {} in {:.3} s; levels {}",
-                        run.status,
-                        run.wall_seconds,
-                        run.ladder()
-                    );
-                    row.casadi_refined = Some(run);
-                }
-                Err(e) => eprintln!("N = {n}: CasADi refined: {e}"),
-            }
-        }
+        add_casadi_refined(&python, &sizes, &dir, results);
+    } else if spine_ipopt::IPOPT_VERSION.starts_with("3.14") {
+        add_ipopt314(&sizes, results);
+    } else {
+        let rows: Vec<PeerRow> = sizes.iter().map(|&n| measure(&python, n, &dir)).collect();
         write_rows(results, &rows);
-        return;
     }
-    if spine_ipopt::IPOPT_VERSION.starts_with("3.14") {
-        let mut rows = read_rows(results);
-        for n in sizes {
-            let Some(row) = rows.iter_mut().find(|r| r.n == n) else {
-                eprintln!("N = {n}: no row from the default backend; skipped");
-                continue;
-            };
-            let valid = scaled_case(n);
-            row.ipopt314 = ours(&valid, n, false);
-            row.ipopt314_refined = ours(&valid, n, true).or_else(|| row.ipopt314.clone());
-        }
-        write_rows(results, &rows);
-        return;
-    }
-    let mut rows = Vec::new();
-    for n in sizes {
-        let case_path = dir.join(format!("scaled-{n}.json"));
-        let case_value = peers::scaled_family_case(n);
-        write(&case_path, &case_value);
-        let valid = scaled_case(n);
-        let (problem, settings) = (&valid.problem, &valid.settings);
+}
 
-        // The exact start point of our full space, handed to the peer.
-        let start = FullSpaceStart::new(problem, &valid.start, &settings.continuation);
-        let start_path = dir.join(format!("start-{n}.json"));
-        write(&start_path, &serde_json::to_value(&start).expect("JSON"));
-
-        let cold = ours(&valid, n, false).expect("a cold run");
-        let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
-        let ours_spine = ours_with(&valid, n, false, Some("spine"));
-        let ours = cold;
-
-        let out_path = dir.join(format!("casadi-{n}.json"));
-        let (casadi_run, casadi_error, cross_check) = match casadi(&python, &case_path, &start_path, &out_path) {
-            Ok((run, passive, loaded)) => {
+/// `--casadi-refined`: CasADi through our ladder, added to the rows in `results`.
+fn add_casadi_refined(python: &str, sizes: &[usize], dir: &Path, results: &Path) {
+    let mut rows = read_rows(results);
+    for &n in sizes {
+        let Some(row) = rows.iter_mut().find(|r| r.n == n) else { continue };
+        match casadi_refined(python, n, dir) {
+            Ok(run) => {
                 eprintln!(
-                    "N = {n}: CasADi {} in {:.3} s ({} iterations), J = {:.9e}",
-                    run.status, run.wall_seconds, run.iterations, run.objective
+                    "N = {n}: CasADi refined {} in {:.3} s; levels {}",
+                    run.status,
+                    run.wall_seconds,
+                    run.ladder()
                 );
-                let differs = (run.objective - ours.objective).abs() > peers::SAME_OPTIMUM * run.objective.abs();
-                let check = (differs && run.converged).then(|| cross_check(problem, settings, &run, &passive, &loaded));
-                (Some(run), None, check)
+                row.casadi_refined = Some(run);
             }
-            Err(e) => {
-                eprintln!("N = {n}: CasADi: {e}");
-                (None, Some(e), None)
-            }
-        };
-        rows.push(PeerRow {
-            n,
-            case: case_path.display().to_string(),
-            ours,
-            casadi: casadi_run,
-            casadi_error,
-            cross_check,
-            ours_refined,
-            ipopt314: None,
-            ipopt314_refined: None,
-            casadi_refined: None,
-            ours_spine,
-        });
+            Err(e) => eprintln!("N = {n}: CasADi refined: {e}"),
+        }
     }
     write_rows(results, &rows);
+}
+
+/// Built against Ipopt 3.14: our cold and refined runs, added to the rows in `results`.
+fn add_ipopt314(sizes: &[usize], results: &Path) {
+    let mut rows = read_rows(results);
+    for &n in sizes {
+        let Some(row) = rows.iter_mut().find(|r| r.n == n) else {
+            eprintln!("N = {n}: no row from the default backend; skipped");
+            continue;
+        };
+        let valid = scaled_case(n);
+        row.ipopt314 = ours(&valid, n, false);
+        row.ipopt314_refined = ours(&valid, n, true).or_else(|| row.ipopt314.clone());
+    }
+    write_rows(results, &rows);
+}
+
+/// One row on the default backend: ours cold, refined and with our factorisation, and CasADi cold
+/// from the same case file and start point.
+fn measure(python: &str, n: usize, dir: &Path) -> PeerRow {
+    let case_path = dir.join(format!("scaled-{n}.json"));
+    let case_value = peers::scaled_family_case(n);
+    write(&case_path, &case_value);
+    let valid = scaled_case(n);
+    let (problem, settings) = (&valid.problem, &valid.settings);
+
+    // The exact start point of our full space, handed to the peer.
+    let start = FullSpaceStart::new(problem, &valid.start, &settings.continuation);
+    let start_path = dir.join(format!("start-{n}.json"));
+    write(&start_path, &serde_json::to_value(&start).expect("JSON"));
+
+    let cold = ours(&valid, n, false).expect("a cold run");
+    let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
+    let ours_spine = ours_with(&valid, n, false, Some("spine"));
+    let ours = cold;
+
+    let out_path = dir.join(format!("casadi-{n}.json"));
+    let (casadi_run, casadi_error, cross_check) = match casadi(python, &case_path, &start_path, &out_path) {
+        Ok((run, passive, loaded)) => {
+            eprintln!(
+                "N = {n}: CasADi {} in {:.3} s ({} iterations), J = {:.9e}",
+                run.status, run.wall_seconds, run.iterations, run.objective
+            );
+            let differs = (run.objective - ours.objective).abs() > peers::SAME_OPTIMUM * run.objective.abs();
+            let check = (differs && run.converged).then(|| cross_check(problem, settings, &run, &passive, &loaded));
+            (Some(run), None, check)
+        }
+        Err(e) => {
+            eprintln!("N = {n}: CasADi: {e}");
+            (None, Some(e), None)
+        }
+    };
+    PeerRow {
+        n,
+        case: case_path.display().to_string(),
+        ours,
+        casadi: casadi_run,
+        casadi_error,
+        cross_check,
+        ours_refined,
+        ipopt314: None,
+        ipopt314_refined: None,
+        casadi_refined: None,
+        ours_spine,
+    }
 }
 
 /// Our solver from CasADi's optimum (see the module docs).

@@ -279,6 +279,13 @@ fn report(results: &[Size], budget: f64) -> String {
          (`OPENBLAS_NUM_THREADS=1`); errors against the workspace at rtol {REFERENCE_RTOL:e}. scipy runs \
          stop after {budget} s.\n"
     );
+    matched_section(&mut s, results);
+    every_run_section(&mut s, results, budget);
+    s
+}
+
+/// The table at matched accuracy and the cost exponents.
+fn matched_section(s: &mut String, results: &[Size]) {
     let _ = writeln!(
         s,
         "## At matched accuracy (cheapest run with error ≤ {MATCHED:e}: max(|T_90 error| in s, |Δ(1 s) error|/Δ∞))\n"
@@ -330,6 +337,10 @@ fn report(results: &[Size], budget: f64) -> String {
             let _ = writeln!(s, "\nOurs at rtol {rtol:e}: time per simulated second ∝ N^{p:.2} (N ≥ 10).");
         }
     }
+}
+
+/// Every run of both programs.
+fn every_run_section(s: &mut String, results: &[Size], budget: f64) {
     let _ = writeln!(s, "\n## Every run\n");
     let _ =
         writeln!(s, "| N | method | rtol | time (s) | T_90 error (s) | Δ(1 s) error / Δ∞ | steps | f evaluations |");
@@ -360,7 +371,6 @@ fn report(results: &[Size], budget: f64) -> String {
             );
         }
     }
-    s
 }
 
 fn figure(results: &[Size]) -> Figure {

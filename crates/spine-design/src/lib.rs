@@ -39,6 +39,7 @@ pub mod result;
 pub mod settings;
 pub mod solve;
 mod solver_report;
+mod violations;
 mod warnings;
 
 pub use problem::{DesignBounds, DesignProblem};

@@ -61,34 +61,111 @@ fn stationarity_at(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> f64 {
             columns.push((e, -1.0));
         }
     }
-    // Least squares over the candidate set; a candidate inequality whose multiplier comes out
-    // with the wrong sign is dropped (the most wrong first) and the rest solved again: an active
-    // set on which a sign-correct multiplier makes the gradient vanish is a KKT point.
+    // Sign-constrained least squares over the candidate set: an active set on which multipliers
+    // of the right signs make the gradient vanish is a KKT point. (Where the active constraints
+    // are linearly dependent, the multipliers are not unique and the unconstrained least-squares
+    // solution may have wrong signs although correct ones exist: hence Lawson and Hanson's
+    // non-negative least squares, with the equality multipliers free.)
+    let a =
+        DMatrix::from_columns(&columns.iter().map(|(c, s)| c * if *s == 0.0 { 1.0 } else { *s }).collect::<Vec<_>>());
+    let free: Vec<bool> = columns.iter().map(|(_, s)| *s == 0.0).collect();
     let rhs = -DVector::from_vec(grad.clone());
-    let (mu, residual) = loop {
-        let a = DMatrix::from_columns(&columns.iter().map(|(c, _)| c.clone()).collect::<Vec<_>>());
-        let mu = a.clone().svd(true, true).solve(&rhs, 1e-12).expect("SVD solve");
-        let largest = mu.iter().fold(1e-300f64, |s, v| s.max(v.abs()));
-        let worst = columns
-            .iter()
-            .zip(mu.iter())
-            .enumerate()
-            .map(|(k, ((_, s), m))| (k, -s * m))
-            .fold((0, 0.0), |best, (k, w)| if w > best.1 { (k, w) } else { best });
-        if worst.1 > 1e-4 * largest {
-            columns.remove(worst.0);
-            continue;
-        }
-        let residual = &a * &mu - &rhs;
-        break (mu, residual);
-    };
+    let nu = signed_least_squares(&a, &rhs, &free);
+    let residual = &a * &nu - &rhs;
+    let mu = nu;
     let terms = columns.iter().zip(mu.iter()).map(|((c, _), m)| m.abs() * c.amax());
     let scale = grad.iter().map(|v| v.abs()).chain(terms).fold(1.0f64, f64::max);
     residual.amax() / scale
 }
 
+/// The clean optimum that random sampling found where the plain least-squares test failed
+/// (‖∇L‖∞ 1.3e-5 relative): two θ0 bounds, two relative-angle bounds and the end-height row meet
+/// on five angles, the active gradients are dependent, and the minimum-norm multipliers had a
+/// wrong sign where sign-correct ones exist.
+#[test]
+fn a_degenerate_active_set_still_has_sign_correct_multipliers() {
+    let (n, p_y, p_x, delta_d) = (5, -4.837701883212651, -295.0527510032976, -0.015420921331445358);
+    let problem = paper_problem(n, p_y, p_x, delta_d, 100.0);
+    let settings = SolverSettings::default();
+    let result = solve_design(&problem, &arch_start(n, 0.3, 1000.0), Formulation::Full, &settings, &mut |_| true)
+        .expect("eq. (33) starts");
+    assert!(result.is_clean(), "{:?}", result.warnings);
+    let state = |s: &Option<spine_design::result::StateReport>| {
+        let s = s.as_ref().expect("a clean result has both equilibria");
+        State { theta: s.theta.clone(), lambda: s.lambda }
+    };
+    let mut nlp = FullSpaceNlp::new(&problem, &result.design, &state(&result.passive), &state(&result.loaded));
+    let x = nlp.start.clone();
+    let stationarity = stationarity_at(&mut nlp, &x);
+    assert!(stationarity < 1e-5, "‖∇L‖∞ = {stationarity:.3e} relative");
+}
+
+/// The sign constraints bind: `ν ≥ 0` cannot reach `b = −a`, a free multiplier can.
+#[test]
+fn signed_least_squares_keeps_the_signs() {
+    let a = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 1.0]);
+    let b = DVector::from_vec(vec![-1.0, 2.0]);
+    let nu = signed_least_squares(&a, &b, &[false, false]);
+    assert_eq!(nu[0], 0.0);
+    assert!((nu[1] - 2.0).abs() < 1e-12);
+    let nu = signed_least_squares(&a, &b, &[true, false]);
+    assert!((nu[0] + 1.0).abs() < 1e-12 && (nu[1] - 2.0).abs() < 1e-12);
+}
+
+/// `min ‖A ν − b‖` subject to `ν_j ≥ 0` where `free[j]` is false (Lawson and Hanson's active-set
+/// method, with the free columns always in the passive set).
+fn signed_least_squares(a: &DMatrix<f64>, b: &DVector<f64>, free: &[bool]) -> DVector<f64> {
+    let k = a.ncols();
+    let solve_on = |passive: &[bool]| -> DVector<f64> {
+        let cols: Vec<usize> = (0..k).filter(|&j| passive[j]).collect();
+        let mut z = DVector::zeros(k);
+        if cols.is_empty() {
+            return z;
+        }
+        let sub = DMatrix::from_fn(a.nrows(), cols.len(), |r, c| a[(r, cols[c])]);
+        let sol = sub.svd(true, true).solve(b, 1e-12).expect("SVD solve");
+        for (c, &j) in cols.iter().enumerate() {
+            z[j] = sol[c];
+        }
+        z
+    };
+    let mut passive: Vec<bool> = free.to_vec();
+    let mut x = solve_on(&passive);
+    let scale = a.amax().max(1e-300) * b.amax().max(1e-300);
+    for _ in 0..10 * k + 10 {
+        let w = a.transpose() * (b - a * &x);
+        let entering =
+            (0..k).filter(|&j| !passive[j]).max_by(|&i, &j| w[i].total_cmp(&w[j])).filter(|&j| w[j] > 1e-12 * scale);
+        let Some(j) = entering else { break };
+        passive[j] = true;
+        loop {
+            let z = solve_on(&passive);
+            let blocking: Vec<usize> = (0..k).filter(|&q| passive[q] && !free[q] && z[q] <= 0.0).collect();
+            if blocking.is_empty() {
+                x = z;
+                break;
+            }
+            let alpha = blocking.iter().map(|&q| x[q] / (x[q] - z[q])).fold(1.0f64, f64::min);
+            x = &x + (z - &x) * alpha;
+            for q in 0..k {
+                if passive[q] && !free[q] && x[q] <= 1e-15 * x.amax().max(1.0) {
+                    passive[q] = false;
+                    x[q] = 0.0;
+                }
+            }
+        }
+    }
+    x
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 10, ..ProptestConfig::default() })]
+    // A fixed seed: the same ten configurations in every run (a failure is reproducible and CI does
+    // not depend on luck); change the seed to explore others.
+    #![proptest_config(ProptestConfig {
+        cases: 10,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(33),
+        ..ProptestConfig::default()
+    })]
     #[test]
     fn every_clean_optimum_satisfies_the_kkt_conditions(
         n in 3usize..7,

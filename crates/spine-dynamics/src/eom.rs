@@ -13,6 +13,7 @@
 //! (the sensitivities of the damping design, eq. (35)).
 
 use crate::articulated::{ArticulatedChain, ChainNumber};
+use crate::cholesky::{chol_solve, cholesky};
 use crate::forcing::Forcing;
 use spine_model::kinematics::link_lengths;
 use spine_model::{Chain, Design, LinkLoads, NodalLoads, Scalar};
@@ -370,50 +371,4 @@ pub fn joint_moments<D: ChainNumber>(coefficients: &[D], x: &[D]) -> Vec<D> {
             coefficients[i as usize] * (at(i) - at(i - 1)) - coefficients[i as usize + 1] * (at(i + 1) - at(i))
         })
         .collect()
-}
-
-/// Lower Cholesky factor of a symmetric positive definite matrix (row-major), or `None`.
-fn cholesky<D: Scalar>(mut a: Vec<Vec<D>>) -> Option<Vec<Vec<D>>> {
-    let n = a.len();
-    for j in 0..n {
-        let mut d = a[j][j];
-        for k in 0..j {
-            d -= a[j][k] * a[j][k];
-        }
-        // Not positive, or NaN.
-        if d.re().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return None;
-        }
-        let d = d.sqrt();
-        a[j][j] = d;
-        for i in j + 1..n {
-            let mut s = a[i][j];
-            for k in 0..j {
-                s -= a[i][k] * a[j][k];
-            }
-            a[i][j] = s / d;
-        }
-    }
-    Some(a)
-}
-
-/// Solves `L Lᵀ x = b`.
-fn chol_solve<D: Scalar>(l: &[Vec<D>], b: &[D]) -> Vec<D> {
-    let n = b.len();
-    let mut x = b.to_vec();
-    for i in 0..n {
-        for k in 0..i {
-            let v = l[i][k] * x[k];
-            x[i] -= v;
-        }
-        x[i] /= l[i][i];
-    }
-    for i in (0..n).rev() {
-        for k in i + 1..n {
-            let v = l[k][i] * x[k];
-            x[i] -= v;
-        }
-        x[i] /= l[i][i];
-    }
-    x
 }

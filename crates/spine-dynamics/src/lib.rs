@@ -25,6 +25,7 @@
 #![forbid(unsafe_code)]
 
 pub mod articulated;
+mod cholesky;
 pub mod eom;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;

@@ -156,10 +156,7 @@ pub fn simulate_periodic(
         }
         y = traj.end().to_vec();
         if let Some(prev) = &previous {
-            let swing = trace.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-                - trace.iter().cloned().fold(f64::INFINITY, f64::min);
-            let diff = trace.iter().zip(prev).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            period_change = diff / swing.max(1e-300);
+            period_change = relative_change(&trace, prev);
             if period_change <= settings.settle_tolerance {
                 settled = true;
                 last = Some(traj);
@@ -170,26 +167,8 @@ pub fn simulate_periodic(
         last = Some(traj);
     }
     let traj = last.expect("at least one period");
-    let (t_start, t_stop) = traj.span();
-    // Extremes over the step points and the dense samples of the last period.
-    let mut min = (f64::INFINITY, t_start);
-    let mut max = f64::NEG_INFINITY;
-    let dense = settings.samples_per_period * 4;
-    for k in 0..=dense {
-        let t = t_start + (t_stop - t_start) * k as f64 / dense as f64;
-        let x = x_of(&traj.value(t));
-        if x < min.0 {
-            min = (x, t);
-        }
-        max = max.max(x);
-    }
-    for (t, y) in traj.points() {
-        let x = x_of(y);
-        if x < min.0 {
-            min = (x, t);
-        }
-        max = max.max(x);
-    }
+    let (t_start, _) = traj.span();
+    let (min, max) = extremes(&traj, &x_of, settings.samples_per_period * 4);
     let (onset, release) = (t_start + onset, t_start + release);
     let x_onset = x_of(&traj.value(onset));
     let f = settings.reach_fraction;
@@ -218,4 +197,33 @@ pub fn simulate_periodic(
         time_seconds: clock.elapsed().as_secs_f64(),
         samples,
     }
+}
+
+/// The largest difference of two periods' end-displacement traces, as a fraction of the swing of
+/// `trace`.
+fn relative_change(trace: &[f64], previous: &[f64]) -> f64 {
+    let swing =
+        trace.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - trace.iter().cloned().fold(f64::INFINITY, f64::min);
+    let diff = trace.iter().zip(previous).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    diff / swing.max(1e-300)
+}
+
+/// The minimum of `x` (with its time) and the maximum over a trajectory's step points and `dense`
+/// equal intervals of its span.
+fn extremes(traj: &Trajectory, x_of: &dyn Fn(&[f64]) -> f64, dense: usize) -> ((f64, f64), f64) {
+    let (t_start, t_stop) = traj.span();
+    let mut min = (f64::INFINITY, t_start);
+    let mut max = f64::NEG_INFINITY;
+    let dense_points = (0..=dense).map(|k| {
+        let t = t_start + (t_stop - t_start) * k as f64 / dense as f64;
+        (t, x_of(&traj.value(t)))
+    });
+    let step_points: Vec<(f64, f64)> = traj.points().map(|(t, y)| (t, x_of(y))).collect();
+    for (t, x) in dense_points.chain(step_points) {
+        if x < min.0 {
+            min = (x, t);
+        }
+        max = max.max(x);
+    }
+    (min, max)
 }

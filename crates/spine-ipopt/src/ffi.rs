@@ -1,15 +1,14 @@
 //! Ipopt's standard C interface (`IpStdCInterface.h`), declared by hand, and the callbacks that
-//! connect it to a [`Problem`]. Every `unsafe` block of the workspace is in this file.
+//! connect it to a [`crate::Problem`] through a [`Context`]. Every `unsafe` block of this crate is in
+//! this file.
 //!
 //! The interface is the same in Ipopt 3.11 and 3.14 except for `Bool` (C `int` up to 3.13, C99
 //! `bool` from 3.14); `build.rs` reads the header of the library it links and sets
 //! `cfg(ipopt_c99_bool)` accordingly, so the declarations always match the library.
 
-use crate::{EvaluationCounts, IterationInfo, OptionValue, Problem, SetupError};
-use std::any::Any;
+pub(crate) use crate::context::{Context, Finish, Start};
+use crate::{IterationInfo, OptionValue, SetupError};
 use std::ffi::{c_char, c_int, c_void, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::time::{Duration, Instant};
 
 #[cfg(ipopt_c99_bool)]
 type Bool = bool;
@@ -96,61 +95,6 @@ extern "C" {
         mult_x_u: *mut f64,
         user_data: UserData,
     ) -> c_int;
-}
-
-/// Everything a callback needs, behind the `user_data` pointer.
-pub(crate) struct Context<'a> {
-    pub problem: &'a mut dyn Problem,
-    pub jacobian: Vec<(usize, usize)>,
-    pub hessian: Option<Vec<(usize, usize)>>,
-    pub panic: Option<Box<dyn Any + Send>>,
-    pub last: IterationInfo,
-    pub evaluations: EvaluationCounts,
-    pub callback_time: Duration,
-    /// Set when [`spine_stop::check`] stopped the run at an iteration.
-    pub stopped: Option<spine_stop::StopReason>,
-}
-
-impl Context<'_> {
-    /// Runs `f` with panics caught and time recorded; a panic is stored and reported as failure.
-    fn guarded(&mut self, f: impl FnOnce(&mut Self) -> bool) -> Bool {
-        if self.panic.is_some() {
-            return to_c(false);
-        }
-        let start = Instant::now();
-        let outcome = catch_unwind(AssertUnwindSafe(|| f(self)));
-        self.callback_time += start.elapsed();
-        match outcome {
-            Ok(ok) => to_c(ok),
-            Err(payload) => {
-                self.panic = Some(payload);
-                to_c(false)
-            }
-        }
-    }
-}
-
-/// The start of a solve: bounds, point and (optionally) multipliers, all of the right lengths.
-pub(crate) struct Start {
-    pub x_lower: Vec<f64>,
-    pub x_upper: Vec<f64>,
-    pub g_lower: Vec<f64>,
-    pub g_upper: Vec<f64>,
-    pub x: Vec<f64>,
-    pub mult_g: Vec<f64>,
-    pub z_lower: Vec<f64>,
-    pub z_upper: Vec<f64>,
-}
-
-/// What `IpoptSolve` wrote back.
-pub(crate) struct Finish {
-    pub status: i32,
-    pub x: Vec<f64>,
-    pub g: Vec<f64>,
-    pub objective: f64,
-    pub mult_g: Vec<f64>,
-    pub z_lower: Vec<f64>,
-    pub z_upper: Vec<f64>,
 }
 
 /// Owns an `IpoptProblem` and frees it on drop.
@@ -314,7 +258,7 @@ unsafe fn write_structure(entries: &[(usize, usize)], rows: *mut Index, cols: *m
 extern "C" fn eval_f(n: Index, x: *mut f64, new_x: Bool, obj: *mut f64, user_data: UserData) -> Bool {
     // SAFETY: `user_data` comes from `run`; `x` holds n values and `obj` is a valid scalar.
     let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
+    to_c(ctx.guarded(|ctx| unsafe {
         ctx.evaluations.objective += 1;
         match ctx.problem.objective(in_slice(x, n), from_c(new_x)) {
             Some(value) => {
@@ -323,25 +267,25 @@ extern "C" fn eval_f(n: Index, x: *mut f64, new_x: Bool, obj: *mut f64, user_dat
             }
             None => false,
         }
-    })
+    }))
 }
 
 extern "C" fn eval_grad_f(n: Index, x: *mut f64, new_x: Bool, grad: *mut f64, user_data: UserData) -> Bool {
     // SAFETY: `user_data` comes from `run`; `x` and `grad` hold n values.
     let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
+    to_c(ctx.guarded(|ctx| unsafe {
         ctx.evaluations.gradient += 1;
         ctx.problem.objective_gradient(in_slice(x, n), from_c(new_x), out_slice(grad, n))
-    })
+    }))
 }
 
 extern "C" fn eval_g(n: Index, x: *mut f64, new_x: Bool, m: Index, g: *mut f64, user_data: UserData) -> Bool {
     // SAFETY: `user_data` comes from `run`; `x` holds n values and `g` m values.
     let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
+    to_c(ctx.guarded(|ctx| unsafe {
         ctx.evaluations.constraints += 1;
         ctx.problem.constraints(in_slice(x, n), from_c(new_x), out_slice(g, m))
-    })
+    }))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -358,13 +302,13 @@ extern "C" fn eval_jac_g(
 ) -> Bool {
     // SAFETY: `user_data` comes from `run`; Ipopt's buffers hold n and nnz values.
     let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
+    to_c(ctx.guarded(|ctx| unsafe {
         if values.is_null() {
             return write_structure(&ctx.jacobian, rows, cols);
         }
         ctx.evaluations.jacobian += 1;
         ctx.problem.jacobian_values(in_slice(x, n), from_c(new_x), out_slice(values, nnz))
-    })
+    }))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -384,7 +328,7 @@ extern "C" fn eval_h(
 ) -> Bool {
     // SAFETY: `user_data` comes from `run`; Ipopt's buffers hold n, m and nnz values.
     let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| unsafe {
+    to_c(ctx.guarded(|ctx| unsafe {
         let Some(structure) = ctx.hessian.as_ref() else {
             // Limited-memory mode: Ipopt never asks, and must not get a Hessian if it does.
             return false;
@@ -401,7 +345,7 @@ extern "C" fn eval_h(
             from_c(new_lambda),
             out_slice(values, nnz),
         )
-    })
+    }))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -421,7 +365,7 @@ extern "C" fn intermediate(
 ) -> Bool {
     // SAFETY: `user_data` comes from `run`.
     let ctx = unsafe { context(user_data) };
-    ctx.guarded(|ctx| {
+    to_c(ctx.guarded(|ctx| {
         ctx.last = IterationInfo {
             iteration: iteration.max(0) as usize,
             restoration: mode == 1,
@@ -441,5 +385,5 @@ extern "C" fn intermediate(
             return false;
         }
         ctx.problem.intermediate(&info)
-    })
+    }))
 }

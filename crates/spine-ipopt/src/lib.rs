@@ -58,6 +58,7 @@
 //! ```
 #![deny(unsafe_code)]
 
+mod context;
 #[allow(unsafe_code)]
 mod ffi;
 mod options;

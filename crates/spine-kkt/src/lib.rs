@@ -37,6 +37,7 @@ mod front;
 mod install;
 pub mod ordering;
 pub mod pardiso;
+mod pivot;
 mod solver;
 mod symmetric;
 

@@ -133,7 +133,7 @@ impl State {
         }
     }
 
-    fn run(&mut self, call: Call<'_>) -> Result<(), KktError> {
+    fn run(&mut self, mut call: Call<'_>) -> Result<(), KktError> {
         let phase = call.phase;
         if phase == -1 {
             self.solver = None;
@@ -159,76 +159,88 @@ impl State {
             )));
         }
         if start <= 2 && end >= 2 {
-            let clock = Instant::now();
-            let inertia = solver.factorize(call.a)?;
-            FACTORIZATIONS.fetch_add(1, Ordering::Relaxed);
-            FACTOR_NANOS.fetch_add(clock.elapsed().as_nanos() as u64, Ordering::Relaxed);
-            call.iparm[13] = 0;
-            call.iparm[21] = inertia.positive as i32;
-            call.iparm[22] = inertia.negative as i32;
-            // Diagnostics: `SPINE_KKT_DUMP=FILE` writes the first matrix whose sweep delayed pivots so
-            // front grew past twice the predicted width (order, ia, ja, a; read by
-            // `examples/kkt_dump.rs`).
-            if let (Some(stats), Some(path)) = (solver.stats(), dump_path("SPINE_KKT_DUMP", &DUMP)) {
-                let wide = stats.largest_front > 2 * solver.analysis().predicted_front() + 8;
-                if wide && !std::path::Path::new(&path).exists() {
-                    let text = format!("{}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a);
-                    let _ = std::fs::write(path, text);
-                }
-            }
-            if let Some(stats) = solver.stats() {
-                call.iparm[17] = (stats.factor_entries + call.n) as i32;
-                if call.msglvl > 0 || trace() {
-                    eprintln!(
-                        "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L",
-                        clock.elapsed().as_secs_f64() * 1e3,
-                        call.n,
-                        inertia.positive,
-                        inertia.negative,
-                        stats.largest_front,
-                        solver.analysis().predicted_front(),
-                        solver.analysis().dense_rows(),
-                        stats.two_by_two,
-                        stats.delayed,
-                        stats.factor_entries
-                    );
-                }
-            }
+            factorize(solver, &mut call)?;
         }
         if end == 3 {
-            let n = call.n;
-            let (mut steps, mut worst, mut krylov) = (0, 0.0f64, false);
-            // The solution goes to `x`, and over `b` too when `iparm[5]` asks for it (Ipopt does).
-            let overwrite = call.iparm[5] != 0;
-            let dump_bad = dump_path("SPINE_KKT_DUMP_BAD", &DUMP_BAD);
-            let rhs_copy = if dump_bad.is_some() { call.b[..n].to_vec() } else { Vec::new() };
-            for k in 0..call.nrhs {
-                let column = &mut call.x[k * n..(k + 1) * n];
-                column.copy_from_slice(&call.b[k * n..(k + 1) * n]);
-                let report = solver.solve(column)?;
-                steps = steps.max(report.refinement_steps);
-                worst = worst.max(report.normwise_error);
-                krylov |= report.krylov;
-                if overwrite {
-                    call.b[k * n..(k + 1) * n].copy_from_slice(column);
-                }
-            }
-            SOLVES.fetch_add(call.nrhs as u64, Ordering::Relaxed);
-            // Diagnostics: `SPINE_KKT_DUMP_BAD=FILE` writes the first system (matrix and
-            // right-hand side) whose solve ends with a normwise backward error above 1e-8.
-            if let Some(path) = dump_bad {
-                if worst > 1e-8 && !std::path::Path::new(&path).exists() {
-                    let text = format!("{}\n{:?}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a, rhs_copy);
-                    let _ = std::fs::write(path, text);
-                }
-            }
-            if trace() {
-                eprintln!(
-                    "spine-kkt: solve, GMRES {krylov}, {steps} refinement steps, normwise backward error {worst:.1e}"
-                );
-            }
-            call.iparm[6] = steps as i32;
+            solve(solver, &mut call)?;
         }
         Ok(())
     }
+}
+
+/// Phase 22: factorises `call.a`; the inertia goes to `iparm[21]`, `iparm[22]` (no perturbed
+/// pivots: `iparm[13] = 0`), the factor's size to `iparm[17]`.
+fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), KktError> {
+    let clock = Instant::now();
+    let inertia = solver.factorize(call.a)?;
+    FACTORIZATIONS.fetch_add(1, Ordering::Relaxed);
+    FACTOR_NANOS.fetch_add(clock.elapsed().as_nanos() as u64, Ordering::Relaxed);
+    call.iparm[13] = 0;
+    call.iparm[21] = inertia.positive as i32;
+    call.iparm[22] = inertia.negative as i32;
+    // Diagnostics: `SPINE_KKT_DUMP=FILE` writes the first matrix whose sweep delayed pivots so
+    // front grew past twice the predicted width (order, ia, ja, a; read by
+    // `examples/kkt_dump.rs`).
+    if let (Some(stats), Some(path)) = (solver.stats(), dump_path("SPINE_KKT_DUMP", &DUMP)) {
+        let wide = stats.largest_front > 2 * solver.analysis().predicted_front() + 8;
+        if wide && !std::path::Path::new(&path).exists() {
+            let text = format!("{}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a);
+            let _ = std::fs::write(path, text);
+        }
+    }
+    if let Some(stats) = solver.stats() {
+        call.iparm[17] = (stats.factor_entries + call.n) as i32;
+        if call.msglvl > 0 || trace() {
+            eprintln!(
+                    "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L",
+                    clock.elapsed().as_secs_f64() * 1e3,
+                    call.n,
+                    inertia.positive,
+                    inertia.negative,
+                    stats.largest_front,
+                    solver.analysis().predicted_front(),
+                    solver.analysis().dense_rows(),
+                    stats.two_by_two,
+                    stats.delayed,
+                    stats.factor_entries
+                );
+        }
+    }
+    Ok(())
+}
+
+/// Phase 33: solves for the `nrhs` right-hand sides in `b` into `x` (and over `b` when `iparm[5]`
+/// asks for it); the refinement steps go to `iparm[6]`.
+fn solve(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), KktError> {
+    let n = call.n;
+    let (mut steps, mut worst, mut krylov) = (0, 0.0f64, false);
+    // The solution goes to `x`, and over `b` too when `iparm[5]` asks for it (Ipopt does).
+    let overwrite = call.iparm[5] != 0;
+    let dump_bad = dump_path("SPINE_KKT_DUMP_BAD", &DUMP_BAD);
+    let rhs_copy = if dump_bad.is_some() { call.b[..n].to_vec() } else { Vec::new() };
+    for k in 0..call.nrhs {
+        let column = &mut call.x[k * n..(k + 1) * n];
+        column.copy_from_slice(&call.b[k * n..(k + 1) * n]);
+        let report = solver.solve(column)?;
+        steps = steps.max(report.refinement_steps);
+        worst = worst.max(report.normwise_error);
+        krylov |= report.krylov;
+        if overwrite {
+            call.b[k * n..(k + 1) * n].copy_from_slice(column);
+        }
+    }
+    SOLVES.fetch_add(call.nrhs as u64, Ordering::Relaxed);
+    // Diagnostics: `SPINE_KKT_DUMP_BAD=FILE` writes the first system (matrix and
+    // right-hand side) whose solve ends with a normwise backward error above 1e-8.
+    if let Some(path) = dump_bad {
+        if worst > 1e-8 && !std::path::Path::new(&path).exists() {
+            let text = format!("{}\n{:?}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a, rhs_copy);
+            let _ = std::fs::write(path, text);
+        }
+    }
+    if trace() {
+        eprintln!("spine-kkt: solve, GMRES {krylov}, {steps} refinement steps, normwise backward error {worst:.1e}");
+    }
+    call.iparm[6] = steps as i32;
+    Ok(())
 }

@@ -136,60 +136,8 @@ pub fn genetic_algorithm(
             break;
         }
         generation += 1;
-        // Elites first, by repeated selection of the best remaining.
-        let mut order: Vec<usize> = (0..pop_size).collect();
-        order.sort_by(|&a, &b| {
-            if values[a].better_than(&values[b]) {
-                std::cmp::Ordering::Less
-            } else if values[b].better_than(&values[a]) {
-                std::cmp::Ordering::Greater
-            } else {
-                a.cmp(&b)
-            }
-        });
-        let mut next: Vec<Vec<f64>> =
-            order.iter().take(settings.elites.min(pop_size)).map(|&k| population[k].clone()).collect();
-        let mut next_values: Vec<Evaluation> = order.iter().take(next.len()).map(|&k| values[k]).collect();
-        let tournament = |rng: &mut StdRng| {
-            let (a, b) = (rng.random_range(0..pop_size), rng.random_range(0..pop_size));
-            if values[b].better_than(&values[a]) {
-                b
-            } else {
-                a
-            }
-        };
-        let mut children = Vec::new();
-        while next.len() + children.len() < pop_size {
-            let (pa, pb) = (tournament(&mut rng), tournament(&mut rng));
-            let (mut c1, mut c2) = (population[pa].clone(), population[pb].clone());
-            if rng.random::<f64>() < settings.crossover_probability {
-                for i in 0..n {
-                    if rng.random::<f64>() < 0.5 {
-                        let (a, b) =
-                            sbx(c1[i], c2[i], bounds.lower[i], bounds.upper[i], settings.crossover_eta, &mut rng);
-                        c1[i] = a;
-                        c2[i] = b;
-                    }
-                }
-            }
-            for c in [&mut c1, &mut c2] {
-                for i in 0..n {
-                    if rng.random::<f64>() < p_mut {
-                        c[i] = polynomial_mutation(
-                            c[i],
-                            bounds.lower[i],
-                            bounds.upper[i],
-                            settings.mutation_eta,
-                            &mut rng,
-                        );
-                    }
-                }
-            }
-            children.push(c1);
-            if next.len() + children.len() < pop_size {
-                children.push(c2);
-            }
-        }
+        let (mut next, mut next_values) = elites(&population, &values, settings.elites.min(pop_size));
+        let children = offspring(&population, &values, pop_size - next.len(), bounds, settings, p_mut, &mut rng);
         next_values.extend(evaluate_all(f, &children));
         evaluations += children.len();
         next.extend(children);
@@ -211,6 +159,68 @@ pub fn genetic_algorithm(
         status = SearchStatus::Stalled;
     }
     Ok(SearchResult { status, x: best_x, best: best_value, evaluations, iterations: generation, history })
+}
+
+/// The `count` best members with their values, best first (ties by position).
+fn elites(population: &[Vec<f64>], values: &[Evaluation], count: usize) -> (Vec<Vec<f64>>, Vec<Evaluation>) {
+    let mut order: Vec<usize> = (0..population.len()).collect();
+    order.sort_by(|&a, &b| {
+        if values[a].better_than(&values[b]) {
+            std::cmp::Ordering::Less
+        } else if values[b].better_than(&values[a]) {
+            std::cmp::Ordering::Greater
+        } else {
+            a.cmp(&b)
+        }
+    });
+    order.iter().take(count).map(|&k| (population[k].clone(), values[k])).unzip()
+}
+
+/// `count` children: parents by binary tournaments, recombined by SBX with probability
+/// `crossover_probability` (each gene with probability 1/2), then mutated gene by gene with
+/// probability `p_mut`.
+fn offspring(
+    population: &[Vec<f64>],
+    values: &[Evaluation],
+    count: usize,
+    bounds: &Bounds,
+    settings: &GaSettings,
+    p_mut: f64,
+    rng: &mut StdRng,
+) -> Vec<Vec<f64>> {
+    let (n, pop_size) = (bounds.dim(), population.len());
+    let tournament = |rng: &mut StdRng| {
+        let (a, b) = (rng.random_range(0..pop_size), rng.random_range(0..pop_size));
+        if values[b].better_than(&values[a]) {
+            b
+        } else {
+            a
+        }
+    };
+    let mut children = Vec::new();
+    while children.len() < count {
+        let (pa, pb) = (tournament(rng), tournament(rng));
+        let (mut c1, mut c2) = (population[pa].clone(), population[pb].clone());
+        if rng.random::<f64>() < settings.crossover_probability {
+            for i in 0..n {
+                if rng.random::<f64>() < 0.5 {
+                    (c1[i], c2[i]) = sbx(c1[i], c2[i], bounds.lower[i], bounds.upper[i], settings.crossover_eta, rng);
+                }
+            }
+        }
+        for c in [&mut c1, &mut c2] {
+            for i in 0..n {
+                if rng.random::<f64>() < p_mut {
+                    c[i] = polynomial_mutation(c[i], bounds.lower[i], bounds.upper[i], settings.mutation_eta, rng);
+                }
+            }
+        }
+        children.push(c1);
+        if children.len() < count {
+            children.push(c2);
+        }
+    }
+    children
 }
 
 /// Simulated binary crossover of one gene within `[lo, hi]` (Deb & Agrawal 1995, bounded form).

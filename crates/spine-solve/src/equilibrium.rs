@@ -25,7 +25,7 @@ use crate::corrector::{
 use crate::options::ContinuationOptions;
 use crate::problem::StaticProblem;
 use crate::solution::{EquilibriumSolution, EquilibriumStatus, SolveStats};
-use crate::stability::{self, Stability};
+use crate::stability;
 use serde::Serialize;
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::end_x;
@@ -61,7 +61,7 @@ fn predict(path: &LoadPath<'_>, cur: &Converged, ds: f64, stats: &mut SolveStats
 pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> EquilibriumSolution {
     let clock = Instant::now();
     let mut stats = SolveStats::default();
-    let finish = |cur: &Converged, s: f64, status: EquilibriumStatus, stability: Stability, mut stats: SolveStats| {
+    let finish = |cur: &Converged, s: f64, status: EquilibriumStatus, mut stats: SolveStats| {
         let n = cur.state.theta.len();
         stats.time_seconds = clock.elapsed().as_secs_f64();
         let loads = LinkLoads::lerp(&path.from, &path.to, s);
@@ -72,130 +72,145 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
             residual_norm: max_abs(&cur.residual[..n]),
             constraint_violation: cur.residual[n].abs(),
             tolerance_used,
-            stability,
+            stability: stability::certify(&cur.jac),
             status,
             stats,
         }
     };
 
-    let Some(mut cur) = newton(path, &path.from, path.start.clone(), opts, &mut stats) else {
+    let Some(cur) = newton(path, &path.from, path.start.clone(), opts, &mut stats) else {
         let (residual, jac) = residual_and_state_jacobian(path.spans, path.design, &path.from, &path.start);
         let start = Converged { state: path.start.clone(), residual, jac, iterations: 0 };
-        let stability = stability::certify(&start.jac);
-        return finish(&start, 0.0, EquilibriumStatus::NewtonFailed { load_factor: 0.0 }, stability, stats);
+        return finish(&start, 0.0, EquilibriumStatus::NewtonFailed { load_factor: 0.0 }, stats);
     };
-    let start_stability = stability::certify(&cur.jac);
-    let mut critical = (start_stability.negative_directions > 0).then_some(0.0);
-    let mut negative = start_stability.negative_directions;
-    let mut s = 0.0;
-    let mut ds = opts.initial_step.clamp(opts.min_step, 1.0);
-
-    while s < 1.0 {
+    let mut walk = Walk::new(cur, opts);
+    while walk.s < 1.0 {
+        let s = walk.s;
         if stats.continuation_steps >= opts.max_steps {
-            let st = stability::certify(&cur.jac);
-            return finish(&cur, s, EquilibriumStatus::StepLimit { load_factor: s }, st, stats);
+            return finish(&walk.cur, s, EquilibriumStatus::StepLimit { load_factor: s }, stats);
         }
         if let Some(reason) = spine_stop::check() {
-            let st = stability::certify(&cur.jac);
-            let status = match reason {
-                spine_stop::StopReason::TimeLimit => EquilibriumStatus::TimeLimit { load_factor: s },
-                spine_stop::StopReason::Interrupted => EquilibriumStatus::Interrupted { load_factor: s },
-            };
-            return finish(&cur, s, status, st, stats);
+            return finish(&walk.cur, s, stopped(reason, s), stats);
         }
-        let s_new = (s + ds).min(1.0);
+        if walk.step(path, opts, &mut stats) {
+            continue;
+        }
+        // Load control stalls: a fold, or only a hard stretch of the path. Follow it in
+        // arclength to tell which.
+        match arclength::trace(path, walk.cur.clone(), s, opts, &mut stats) {
+            Trace::Fold { last, s: s_last, fold } => {
+                return finish(&last, s_last, EquilibriumStatus::LimitPoint { load_factor: fold }, stats);
+            }
+            Trace::Full { point, inertia_grew } => {
+                walk.critical = walk.critical.or(inertia_grew);
+                walk.cur = point;
+                walk.s = 1.0;
+            }
+            Trace::Stuck => {
+                let status = match spine_stop::check() {
+                    Some(reason) => stopped(reason, s),
+                    None if stats.continuation_steps >= opts.max_steps => {
+                        EquilibriumStatus::StepLimit { load_factor: s }
+                    }
+                    None => EquilibriumStatus::NewtonFailed { load_factor: s },
+                };
+                return finish(&walk.cur, s, status, stats);
+            }
+        }
+    }
+    let status = match (walk.critical, stability::certify(&walk.cur.jac).stable) {
+        (None, true) => EquilibriumStatus::Stable,
+        (Some(c), _) => EquilibriumStatus::Unstable { critical_load_factor: c },
+        (None, false) => EquilibriumStatus::Unstable { critical_load_factor: 1.0 },
+    };
+    finish(&walk.cur, 1.0, status, stats)
+}
+
+/// The status of a run stopped at load factor `s`.
+fn stopped(reason: spine_stop::StopReason, s: f64) -> EquilibriumStatus {
+    match reason {
+        spine_stop::StopReason::TimeLimit => EquilibriumStatus::TimeLimit { load_factor: s },
+        spine_stop::StopReason::Interrupted => EquilibriumStatus::Interrupted { load_factor: s },
+    }
+}
+
+/// Load control along the path: where it is and what it has seen.
+struct Walk {
+    /// The last accepted equilibrium, at load factor `s`.
+    cur: Converged,
+    s: f64,
+    /// The next step in `s`.
+    ds: f64,
+    /// Where stability was lost, when it was.
+    critical: Option<f64>,
+    /// Negative directions of the projected Hessian at `cur`.
+    negative: usize,
+    /// The smallest projected eigenvalue at the start.
+    start_eigenvalue: Option<f64>,
+}
+
+impl Walk {
+    fn new(cur: Converged, opts: &ContinuationOptions) -> Self {
+        let start = stability::certify(&cur.jac);
+        Self {
+            cur,
+            s: 0.0,
+            ds: opts.initial_step.clamp(opts.min_step, 1.0),
+            critical: (start.negative_directions > 0).then_some(0.0),
+            negative: start.negative_directions,
+            start_eigenvalue: start.min_eigenvalue,
+        }
+    }
+
+    /// One predictor–corrector step of `ds`, accepted only when it stays on the path (module
+    /// docs), or halved. `false` when the step has fallen below `min_step`.
+    fn step(&mut self, path: &LoadPath<'_>, opts: &ContinuationOptions, stats: &mut SolveStats) -> bool {
+        let (s, cur) = (self.s, &self.cur);
+        let s_new = (s + self.ds).min(1.0);
         let loads = LinkLoads::lerp(&path.from, &path.to, s_new);
-        let guess = predict(path, &cur, s_new - s, &mut stats);
+        let guess = predict(path, cur, s_new - s, stats);
         // Steps this small are no longer suspected of jumping branches.
-        let tiny = ds <= TINY_STEPS * opts.min_step;
-        let accepted = newton(path, &loads, guess.clone(), opts, &mut stats).and_then(|next| {
+        let tiny = self.ds <= TINY_STEPS * opts.min_step;
+        let accepted = newton(path, &loads, guess.clone(), opts, stats).and_then(|next| {
             let next_negative = stability::negative_directions(&next.jac);
             // A bifurcation or a fold changes the inertia by one; more in one step is a jump to
             // another branch (unless the step is already tiny).
-            let inertia_ok = next_negative.abs_diff(negative) <= 1 || tiny;
+            let inertia_ok = next_negative.abs_diff(self.negative) <= 1 || tiny;
             let ok = angle_change(&next.state, &cur.state) <= opts.max_angle_step
                 && on_branch(&cur.state, &guess, &next.state)
                 && inertia_ok;
             ok.then_some((next, next_negative))
         });
-        match accepted {
-            Some((next, next_negative)) => {
-                if critical.is_none() && next_negative > 0 {
-                    let (at, eigenvalue) = locate_critical(path, &cur, s, s_new, opts, &mut stats);
-                    let scale = [start_stability.min_eigenvalue, stability::certify(&cur.jac).min_eigenvalue]
-                        .into_iter()
-                        .flatten()
-                        .fold(0.0, f64::max);
-                    if eigenvalue.is_some_and(|e| e > CROSSING_EIGENVALUE * scale) && !tiny {
-                        // The path was still clearly stable next to the "crossing": the step
-                        // jumped to an unstable equilibrium of another branch.
-                        stats.rejected_steps += 1;
-                        ds *= 0.5;
-                        continue;
-                    }
-                    critical = Some(at);
-                }
-                let easy = next.iterations <= 3;
-                cur = next;
-                negative = next_negative;
-                s = s_new;
-                stats.continuation_steps += 1;
-                if easy {
-                    ds = (2.0 * ds).min(1.0);
-                }
-            }
-            None => {
+        let Some((next, next_negative)) = accepted else {
+            stats.rejected_steps += 1;
+            self.ds *= 0.5;
+            return self.ds >= opts.min_step;
+        };
+        if self.critical.is_none() && next_negative > 0 {
+            let (at, eigenvalue) = locate_critical(path, cur, s, s_new, opts, stats);
+            let scale = [self.start_eigenvalue, stability::certify(&cur.jac).min_eigenvalue]
+                .into_iter()
+                .flatten()
+                .fold(0.0, f64::max);
+            if eigenvalue.is_some_and(|e| e > CROSSING_EIGENVALUE * scale) && !tiny {
+                // The path was still clearly stable next to the "crossing": the step jumped to an
+                // unstable equilibrium of another branch.
                 stats.rejected_steps += 1;
-                ds *= 0.5;
-                if ds < opts.min_step {
-                    // Load control stalls: a fold, or only a hard stretch of the path. Follow it
-                    // in arclength to tell which.
-                    match arclength::trace(path, cur.clone(), s, opts, &mut stats) {
-                        Trace::Fold { last, s: s_last, fold } => {
-                            let st = stability::certify(&last.jac);
-                            return finish(
-                                &last,
-                                s_last,
-                                EquilibriumStatus::LimitPoint { load_factor: fold },
-                                st,
-                                stats,
-                            );
-                        }
-                        Trace::Full { point, inertia_grew } => {
-                            if critical.is_none() {
-                                critical = inertia_grew;
-                            }
-                            cur = point;
-                            s = 1.0;
-                        }
-                        Trace::Stuck => {
-                            let st = stability::certify(&cur.jac);
-                            let status = match spine_stop::check() {
-                                Some(spine_stop::StopReason::TimeLimit) => {
-                                    EquilibriumStatus::TimeLimit { load_factor: s }
-                                }
-                                Some(spine_stop::StopReason::Interrupted) => {
-                                    EquilibriumStatus::Interrupted { load_factor: s }
-                                }
-                                None if stats.continuation_steps >= opts.max_steps => {
-                                    EquilibriumStatus::StepLimit { load_factor: s }
-                                }
-                                None => EquilibriumStatus::NewtonFailed { load_factor: s },
-                            };
-                            return finish(&cur, s, status, st, stats);
-                        }
-                    }
-                }
+                self.ds *= 0.5;
+                return true;
             }
+            self.critical = Some(at);
         }
+        let easy = next.iterations <= 3;
+        self.cur = next;
+        self.negative = next_negative;
+        self.s = s_new;
+        stats.continuation_steps += 1;
+        if easy {
+            self.ds = (2.0 * self.ds).min(1.0);
+        }
+        true
     }
-    let st = stability::certify(&cur.jac);
-    let status = match (critical, st.stable) {
-        (None, true) => EquilibriumStatus::Stable,
-        (Some(c), _) => EquilibriumStatus::Unstable { critical_load_factor: c },
-        (None, false) => EquilibriumStatus::Unstable { critical_load_factor: 1.0 },
-    };
-    finish(&cur, 1.0, status, st, stats)
 }
 
 /// Bisection on the load factor between the stable point `stable` at `lo` and an unstable one at

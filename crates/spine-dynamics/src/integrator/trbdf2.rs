@@ -9,7 +9,7 @@
 use super::dense::{Interval, Trajectory};
 use super::options::{Options, Outcome, Stats};
 use super::{weighted_rms, Course, Extras};
-use crate::linearization::ShiftedSolve;
+use crate::linearization::{Linearization, ShiftedSolve};
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 
@@ -141,6 +141,12 @@ fn step_sensitivities(
     s1
 }
 
+/// The Newton matrix may use a linearisation from an earlier step (simplified Newton); it is
+/// refreshed when Newton slows down (more than `SLOW_NEWTON` iterations in a step), fails, or
+/// after `JACOBIAN_AGE` steps.
+const JACOBIAN_AGE: usize = 20;
+const SLOW_NEWTON: usize = 6;
+
 /// The TR-BDF2 driver: step-size control (exponent 1/3), Jacobian reuse, breakpoints, projection.
 pub(super) fn integrate(
     sys: &dyn OdeSystem,
@@ -154,31 +160,14 @@ pub(super) fn integrate(
     let mut stats = Stats::default();
     let mut intervals = Vec::new();
     let mut course = Course::new(sys, t0, t_end, steps, opts);
-    let mut t = t0;
-    let mut y = y0.to_vec();
-    sys.project(&mut y);
-    let y_start = y.clone();
-    let mut s = sensitivities;
-    let mut piece = course.piece(t);
-    let evaluate = |t: f64, piece: f64, y: &[f64], s: &Option<DMatrix<f64>>, stats: &mut Stats| {
-        let f = sys.rhs(t, piece, y);
-        let jac = sys.linearize(t, piece, y);
-        stats.rhs_evaluations += 1;
-        stats.jacobian_evaluations += 1;
-        let s_dot = s.as_ref().map(|s| super::sensitivity_rate(sys, t, piece, y, s));
-        (f, jac, s_dot)
-    };
-    // The Newton matrix may use a linearisation from an earlier step (simplified Newton); it is
-    // refreshed when Newton slows down, fails, or after `JACOBIAN_AGE` steps.
-    const JACOBIAN_AGE: usize = 20;
-    const SLOW_NEWTON: usize = 6;
-    let mut jac_age = 0usize;
-    let (mut f, mut jac, mut s_dot) = evaluate(t, piece, &y, &s, &mut stats);
+    let mut point = Point::start(sys, &course, t0, y0, sensitivities, &mut stats);
+    let y_start = point.y.clone();
     let mut h = course.initial_step(opts);
     let h_max = opts.max_step.unwrap_or(f64::INFINITY);
     let mut outcome = Outcome::Completed;
 
-    while t < t_end {
+    while point.t < t_end {
+        let t = point.t;
         if let Some(o) = course.must_stop(t, &stats) {
             outcome = o;
             break;
@@ -193,17 +182,18 @@ pub(super) fn integrate(
         let (t1, fixed) = (next.t1, next.fixed);
         let h_step = t1 - t;
         stats.factorizations += 1;
-        let Some(matrix) = jac.factor_real(1.0 / (h_step * D)) else {
+        let Some(matrix) = point.jac.factor_real(1.0 / (h_step * D)) else {
             outcome = Outcome::StepTooSmall { t };
             break;
         };
         let iterations_before = stats.newton_iterations;
-        let Some(step) = attempt(sys, t, piece, h_step, &y, &f, matrix.as_ref(), opts, &mut stats) else {
+        let Some(step) = attempt(sys, t, point.piece, h_step, &point.y, &point.f, matrix.as_ref(), opts, &mut stats)
+        else {
             stats.newton_failures += 1;
-            if jac_age > 0 {
-                jac = sys.linearize(t, piece, &y);
+            if point.jac_age > 0 {
+                point.jac = sys.linearize(t, point.piece, &point.y);
                 stats.jacobian_evaluations += 1;
-                jac_age = 0;
+                point.jac_age = 0;
                 continue;
             }
             if fixed {
@@ -218,50 +208,109 @@ pub(super) fn integrate(
             h = h_step * (0.9 * step.err.powf(-1.0 / 3.0)).clamp(0.2, 0.9);
             continue;
         }
-
-        // Accepted.
-        let mut y1 = step.y1.clone();
-        let start_sens = s.clone().zip(s_dot.clone());
-        if let (Some(s0), Some(sd0)) = (s.as_mut(), s_dot.as_ref()) {
-            *s0 = step_sensitivities(sys, (t, t1), piece, &step, &y1, s0, sd0, &mut stats);
-        }
-        course.project(&mut y1, s.as_mut(), &mut stats);
         let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
-        let (f1, jac1, s_dot1) = if slow || jac_age + 1 >= JACOBIAN_AGE {
-            jac_age = 0;
-            let (f1, j1, sd1) = evaluate(t1, piece, &y1, &s, &mut stats);
-            (f1, Some(j1), sd1)
-        } else {
-            jac_age += 1;
-            stats.rhs_evaluations += 1;
-            let sd1 = s.as_ref().map(|s| super::sensitivity_rate(sys, t1, piece, &y1, s));
-            (sys.rhs(t1, piece, &y1), None, sd1)
-        };
-        let end_sens = s.clone().zip(s_dot1.clone());
-        intervals.push(Interval::accepted((t, &y, &f), (t1, &y1, &f1), (start_sens, end_sens), None));
-        stats.accepted_steps += 1;
-        t = t1;
-        y = y1;
-        f = f1;
-        if let Some(j1) = jac1 {
-            jac = j1;
-        }
-        s_dot = s_dot1;
+        intervals.push(point.accept(sys, &course, &step, t1, slow, &mut stats));
         if !fixed {
             h = h_step * (0.9 * step.err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
         }
-        if stop.is_some_and(|f| f(t, &y)) {
-            outcome = Outcome::Stopped { t };
+        if stop.is_some_and(|f| f(point.t, &point.y)) {
+            outcome = Outcome::Stopped { t: point.t };
             break;
         }
-        if course.passed_break(t) {
-            piece = course.piece(t);
-            let (fa, ja, sa) = evaluate(t, piece, &y, &s, &mut stats);
-            f = fa;
-            jac = ja;
-            s_dot = sa;
-            jac_age = 0;
+        if course.passed_break(point.t) {
+            point.piece = course.piece(point.t);
+            point.evaluate(sys, &mut stats);
         }
     }
     Trajectory { start: (t0, y_start), intervals, outcome, stats }
+}
+
+/// The driver's state at its current point.
+struct Point {
+    t: f64,
+    /// A time inside the current smooth piece of `f` ([`Course::piece`]).
+    piece: f64,
+    y: Vec<f64>,
+    /// `f(t, y)`.
+    f: Vec<f64>,
+    /// `J̃` of the Newton matrix, taken `jac_age` accepted steps ago.
+    jac: Box<dyn Linearization>,
+    jac_age: usize,
+    /// `S = ∂y/∂p` and `Ṡ`, when sensitivities are asked for.
+    s: Option<DMatrix<f64>>,
+    s_dot: Option<DMatrix<f64>>,
+}
+
+impl Point {
+    fn start(
+        sys: &dyn OdeSystem,
+        course: &Course<'_>,
+        t0: f64,
+        y0: &[f64],
+        s: Option<DMatrix<f64>>,
+        stats: &mut Stats,
+    ) -> Self {
+        let mut y = y0.to_vec();
+        sys.project(&mut y);
+        let piece = course.piece(t0);
+        let (f, jac, s_dot) = evaluate(sys, t0, piece, &y, &s, stats);
+        Self { t: t0, piece, y, f, jac, jac_age: 0, s, s_dot }
+    }
+
+    /// `f`, a fresh `J̃` and `Ṡ` at the current point.
+    fn evaluate(&mut self, sys: &dyn OdeSystem, stats: &mut Stats) {
+        (self.f, self.jac, self.s_dot) = evaluate(sys, self.t, self.piece, &self.y, &self.s, stats);
+        self.jac_age = 0;
+    }
+
+    /// Moves to the accepted step's end `t1`: its sensitivities, the projection, `f` (with a fresh
+    /// `J̃` when Newton was slow or the Jacobian old). Returns the step's dense-output interval.
+    fn accept(
+        &mut self,
+        sys: &dyn OdeSystem,
+        course: &Course<'_>,
+        step: &Attempt,
+        t1: f64,
+        slow: bool,
+        stats: &mut Stats,
+    ) -> Interval {
+        let mut y1 = step.y1.clone();
+        let start_sens = self.s.clone().zip(self.s_dot.clone());
+        if let (Some(s0), Some(sd0)) = (self.s.as_mut(), self.s_dot.as_ref()) {
+            *s0 = step_sensitivities(sys, (self.t, t1), self.piece, step, &y1, s0, sd0, stats);
+        }
+        course.project(&mut y1, self.s.as_mut(), stats);
+        let t0 = std::mem::replace(&mut self.t, t1);
+        let y0 = std::mem::replace(&mut self.y, y1);
+        let f0 = if slow || self.jac_age + 1 >= JACOBIAN_AGE {
+            let f0 = self.f.clone();
+            self.evaluate(sys, stats);
+            f0
+        } else {
+            self.jac_age += 1;
+            stats.rhs_evaluations += 1;
+            self.s_dot = self.s.as_ref().map(|s| super::sensitivity_rate(sys, t1, self.piece, &self.y, s));
+            std::mem::replace(&mut self.f, sys.rhs(t1, self.piece, &self.y))
+        };
+        let end_sens = self.s.clone().zip(self.s_dot.clone());
+        stats.accepted_steps += 1;
+        Interval::accepted((t0, &y0, &f0), (t1, &self.y, &self.f), (start_sens, end_sens), None)
+    }
+}
+
+/// `f`, `J̃` and `Ṡ = J S + ∂f/∂p` at `(t, y)`.
+fn evaluate(
+    sys: &dyn OdeSystem,
+    t: f64,
+    piece: f64,
+    y: &[f64],
+    s: &Option<DMatrix<f64>>,
+    stats: &mut Stats,
+) -> (Vec<f64>, Box<dyn Linearization>, Option<DMatrix<f64>>) {
+    let f = sys.rhs(t, piece, y);
+    let jac = sys.linearize(t, piece, y);
+    stats.rhs_evaluations += 1;
+    stats.jacobian_evaluations += 1;
+    let s_dot = s.as_ref().map(|s| super::sensitivity_rate(sys, t, piece, y, s));
+    (f, jac, s_dot)
 }

@@ -1,0 +1,53 @@
+//! Forward sensitivities of an accepted Radau IIA step by internal differentiation: the stage
+//! sensitivities solve the linear collocation system `dZ_i = h Σ_j a_ij (J(Y_j) (S₀ + dZ_j) +
+//! ∂f/∂p(Y_j))` at the converged stage points `Y_j` by the stages' own transformed iteration.
+
+use super::super::options::Stats;
+use super::stages::{collocation, Factors, Stages, C};
+use crate::ode::OdeSystem;
+use nalgebra::DMatrix;
+
+/// The stage sensitivities of an accepted step: `S₁ = S₀ + dZ₃` (before the projection).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn step_sensitivities(
+    sys: &dyn OdeSystem,
+    t: f64,
+    piece: f64,
+    y: &[f64],
+    z: &Stages,
+    factors: &Factors,
+    s0: &DMatrix<f64>,
+    sd0: &DMatrix<f64>,
+    stats: &mut Stats,
+) -> DMatrix<f64> {
+    let n = y.len();
+    let h = factors.h;
+    let points: Vec<(f64, Vec<f64>)> =
+        (0..3).map(|i| (t + C[i] * h, (0..n).map(|j| y[j] + z[i][j]).collect())).collect();
+    let params: Vec<DMatrix<f64>> = points.iter().map(|(ti, yi)| sys.rhs_params(*ti, piece, yi)).collect();
+    let mut s1 = s0.clone();
+    for k in 0..s0.ncols() {
+        let s0k: Vec<f64> = s0.column(k).iter().copied().collect();
+        let mut stage = |i: usize, dz: &[f64]| -> Vec<f64> {
+            let v: Vec<f64> = (0..n).map(|j| s0k[j] + dz[j]).collect();
+            let (ti, yi) = &points[i];
+            stats.rhs_evaluations += 1;
+            let mut jv = sys.jacobian_times(*ti, piece, yi, &v);
+            jv.iter_mut().enumerate().for_each(|(j, x)| *x += params[i][(j, k)]);
+            jv
+        };
+        // The linear iteration contracts like the stages' Newton iteration; it runs to round-off
+        // relative to the size of the sensitivities.
+        let scale =
+            1.0 + s0k.iter().map(|v| v.abs()).chain(sd0.column(k).iter().map(|v| (v * h).abs())).fold(0.0, f64::max);
+        let norm = |dw: &Stages| dw.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs())) / scale;
+        let guess: Stages = std::array::from_fn(|i| (0..n).map(|j| C[i] * h * sd0[(j, k)]).collect());
+        // When the linear iteration does not converge (not seen in the tests: the stages' own
+        // iteration converged with the same matrices), the first-order guess `c_i h Ṡ₀` stands.
+        let dz = collocation(&mut stage, guess.clone(), factors, &norm, 1e-13, 60).map_or(guess, |c| c.z);
+        for j in 0..n {
+            s1[(j, k)] += dz[2][j];
+        }
+    }
+    s1
+}
