@@ -238,6 +238,84 @@ fn damper_sensitivities_equal_finite_differences_of_the_discrete_solution() {
     }
 }
 
+/// `y' = −(A + q₀ B) y` with `A` a stiff tridiagonal chain and `B` diagonal, and `params`
+/// parameters of which only `q₀` enters `f` (the rest are dummies).
+struct StiffChain {
+    q0: f64,
+    params: usize,
+}
+
+impl StiffChain {
+    const N: usize = 6;
+    fn a(i: usize, j: usize) -> f64 {
+        match i.abs_diff(j) {
+            0 => 200.0 * (i + 1) as f64,
+            1 => -50.0,
+            _ => 0.0,
+        }
+    }
+    fn b(i: usize) -> f64 {
+        1.0 + i as f64
+    }
+}
+
+impl OdeSystem for StiffChain {
+    fn dim(&self) -> usize {
+        Self::N
+    }
+    fn rhs(&self, _: f64, _: f64, y: &[f64]) -> Vec<f64> {
+        (0..Self::N)
+            .map(|i| -(0..Self::N).map(|j| Self::a(i, j) * y[j]).sum::<f64>() - self.q0 * Self::b(i) * y[i])
+            .collect()
+    }
+    fn jacobian(&self, _: f64, _: f64, _: &[f64]) -> DMatrix<f64> {
+        DMatrix::from_fn(Self::N, Self::N, |i, j| -Self::a(i, j) - if i == j { self.q0 * Self::b(i) } else { 0.0 })
+    }
+    fn n_params(&self) -> usize {
+        self.params
+    }
+    fn rhs_params(&self, _: f64, _: f64, y: &[f64]) -> DMatrix<f64> {
+        DMatrix::from_fn(Self::N, self.params, |i, k| if k == 0 { -Self::b(i) * y[i] } else { 0.0 })
+    }
+}
+
+/// Radau IIA's step sensitivities take `J(Y_i) v` from directional products (one parameter:
+/// `n > 4 p`) or from the dense stage Jacobians (two: `n ≤ 4 p`); both give the same `∂y/∂q₀`, equal
+/// to central differences of the discrete solution.
+#[test]
+fn dense_and_directional_stage_products_give_the_same_sensitivities() {
+    let opts = Options { rtol: 1e-8, atol: 1e-10, ..Default::default() };
+    let y0: Vec<f64> = (0..StiffChain::N).map(|i| 1.0 - 0.1 * i as f64).collect();
+    let run = |params: usize, q0: f64, steps: Option<&[f64]>| {
+        let sys = StiffChain { q0, params };
+        let extras = Extras {
+            sensitivities: (params > 0).then(|| DMatrix::zeros(StiffChain::N, params)),
+            steps,
+            ..Default::default()
+        };
+        integrate(&sys, 0.0, &y0, 0.05, &opts, extras)
+    };
+    let (one, two) = (run(1, 3.0, None), run(2, 3.0, None));
+    let steps: Vec<f64> = one.points().map(|(t, _)| t).collect();
+    let t_probe = 0.031;
+    let s1 = one.intervals.iter().find(|iv| iv.t1 >= t_probe).unwrap().sensitivity(t_probe).unwrap();
+    let s2 = two.intervals.iter().find(|iv| iv.t1 >= t_probe).unwrap().sensitivity(t_probe).unwrap();
+    let eps = 1e-5;
+    let (plus, minus) =
+        (run(0, 3.0 + eps, Some(&steps)).value(t_probe), run(0, 3.0 - eps, Some(&steps)).value(t_probe));
+    for i in 0..StiffChain::N {
+        let fd = (plus[i] - minus[i]) / (2.0 * eps);
+        assert!(
+            (s1[(i, 0)] - s2[(i, 0)]).abs() <= 1e-12 * (1.0 + s1[(i, 0)].abs()),
+            "{} vs {}",
+            s1[(i, 0)],
+            s2[(i, 0)]
+        );
+        assert!((fd - s1[(i, 0)]).abs() < 1e-7 * (1.0 + fd.abs()), "∂y{i}/∂q0: AD {} vs FD {fd}", s1[(i, 0)]);
+        assert_eq!(s2[(i, 1)], 0.0);
+    }
+}
+
 /// The two methods cross-check each other on the spine: the same step response to 1e-8 s in `T_90`
 /// (TR-BDF2 at a tight tolerance, Radau IIA at its default), through 10 links and a pulse train's
 /// switches.

@@ -7,6 +7,11 @@ use super::stages::{collocation, Factors, Stages, C};
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 
+/// The linear iteration takes about this many passes per column and stage point (its iterations):
+/// dense stage Jacobians pay when the state has at most this many times as many components as
+/// there are parameters.
+const DENSE_AFTER: usize = 4;
+
 /// The stage sensitivities of an accepted step: `S₁ = S₀ + dZ₃` (before the projection).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn step_sensitivities(
@@ -25,14 +30,26 @@ pub(super) fn step_sensitivities(
     let points: Vec<(f64, Vec<f64>)> =
         (0..3).map(|i| (t + C[i] * h, (0..n).map(|j| y[j] + z[i][j]).collect())).collect();
     let params: Vec<DMatrix<f64>> = points.iter().map(|(ti, yi)| sys.rhs_params(*ti, piece, yi)).collect();
+    // `J(Y_i) v` for every column and iteration: directional passes, or products with the dense
+    // Jacobians of the three stage points when those cost fewer passes (`n` each, against about
+    // `DENSE_AFTER` passes per column).
+    let dense: Option<Vec<DMatrix<f64>>> = (n <= DENSE_AFTER * s0.ncols()).then(|| {
+        stats.jacobian_evaluations += 3;
+        points.iter().map(|(ti, yi)| sys.jacobian(*ti, piece, yi)).collect()
+    });
     let mut s1 = s0.clone();
     for k in 0..s0.ncols() {
         let s0k: Vec<f64> = s0.column(k).iter().copied().collect();
         let mut stage = |i: usize, dz: &[f64]| -> Vec<f64> {
             let v: Vec<f64> = (0..n).map(|j| s0k[j] + dz[j]).collect();
-            let (ti, yi) = &points[i];
-            stats.rhs_evaluations += 1;
-            let mut jv = sys.jacobian_times(*ti, piece, yi, &v);
+            let mut jv = match &dense {
+                Some(jac) => (&jac[i] * nalgebra::DVector::from_vec(v)).data.into(),
+                None => {
+                    let (ti, yi) = &points[i];
+                    stats.rhs_evaluations += 1;
+                    sys.jacobian_times(*ti, piece, yi, &v)
+                }
+            };
             jv.iter_mut().enumerate().for_each(|(j, x)| *x += params[i][(j, k)]);
             jv
         };
