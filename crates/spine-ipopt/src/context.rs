@@ -51,6 +51,39 @@ pub(crate) struct Start {
     pub z_upper: Vec<f64>,
 }
 
+impl Start {
+    /// The problem's bounds (infinities clamped to Ipopt's ±1e20), start point and, when it gives
+    /// them, start multipliers (zeros otherwise).
+    pub(crate) fn from_problem(problem: &mut dyn Problem, n: usize, m: usize) -> Self {
+        let mut start = Start {
+            x_lower: vec![f64::NEG_INFINITY; n],
+            x_upper: vec![f64::INFINITY; n],
+            g_lower: vec![f64::NEG_INFINITY; m],
+            g_upper: vec![f64::INFINITY; m],
+            x: vec![0.0; n],
+            mult_g: vec![0.0; m],
+            z_lower: vec![0.0; n],
+            z_upper: vec![0.0; n],
+        };
+        problem.variable_bounds(&mut start.x_lower, &mut start.x_upper);
+        problem.constraint_bounds(&mut start.g_lower, &mut start.g_upper);
+        // Ipopt reads ±1e19 as infinite; Rust's infinities map onto that.
+        for value in [&mut start.x_lower, &mut start.x_upper, &mut start.g_lower, &mut start.g_upper]
+            .into_iter()
+            .flat_map(|v| v.iter_mut())
+        {
+            *value = value.clamp(-1e20, 1e20);
+        }
+        problem.initial_point(&mut start.x);
+        if !problem.initial_multipliers(&mut start.z_lower, &mut start.z_upper, &mut start.mult_g) {
+            start.mult_g.fill(0.0);
+            start.z_lower.fill(0.0);
+            start.z_upper.fill(0.0);
+        }
+        start
+    }
+}
+
 /// What `IpoptSolve` wrote back.
 pub(crate) struct Finish {
     pub status: i32,

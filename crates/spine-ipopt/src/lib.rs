@@ -256,50 +256,8 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
     let hessian = problem.hessian_structure();
     check_sizes(n, m, &jacobian, hessian.as_deref())?;
 
-    let mut all_options = Options::new()
-        .string("sb", "yes")
-        .integer("print_level", 0)
-        .string("option_file_name", "")
-        .string("linear_solver", LinearSolver::Mumps.name());
-    if hessian.is_none() {
-        all_options = all_options.string("hessian_approximation", "limited-memory");
-    }
-    all_options.extend(options);
-    let linear_solver = match all_options.get("linear_solver") {
-        Some(OptionValue::Str(name)) => LinearSolver::from_name(name),
-        _ => None,
-    }
-    .ok_or_else(|| SetupError::InvalidOption("linear_solver (allowed: spine, mumps)".into()))?;
-    if linear_solver == LinearSolver::Spine {
-        spine_kkt::install().map_err(|e| SetupError::LinearSolver(e.to_string()))?;
-        all_options.set("linear_solver", OptionValue::Str("pardiso".into()));
-    }
-
-    let mut start = ffi::Start {
-        x_lower: vec![f64::NEG_INFINITY; n],
-        x_upper: vec![f64::INFINITY; n],
-        g_lower: vec![f64::NEG_INFINITY; m],
-        g_upper: vec![f64::INFINITY; m],
-        x: vec![0.0; n],
-        mult_g: vec![0.0; m],
-        z_lower: vec![0.0; n],
-        z_upper: vec![0.0; n],
-    };
-    problem.variable_bounds(&mut start.x_lower, &mut start.x_upper);
-    problem.constraint_bounds(&mut start.g_lower, &mut start.g_upper);
-    // Ipopt reads ±1e19 as infinite; Rust's infinities map onto that.
-    for value in [&mut start.x_lower, &mut start.x_upper, &mut start.g_lower, &mut start.g_upper]
-        .into_iter()
-        .flat_map(|v| v.iter_mut())
-    {
-        *value = value.clamp(-1e20, 1e20);
-    }
-    problem.initial_point(&mut start.x);
-    if !problem.initial_multipliers(&mut start.z_lower, &mut start.z_upper, &mut start.mult_g) {
-        start.mult_g.fill(0.0);
-        start.z_lower.fill(0.0);
-        start.z_upper.fill(0.0);
-    }
+    let (all_options, linear_solver) = session_options(options, hessian.is_some())?;
+    let start = ffi::Start::from_problem(problem, n, m);
 
     // MUMPS needs the lock; the workspace's solver keeps its state in Ipopt's handle, so solves
     // with it run concurrently.
@@ -338,6 +296,30 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         wall_time,
         callback_time: context.callback_time,
     })
+}
+
+/// Our defaults (see [`solve`]), then `options`; the linear solver they name, installed when it is
+/// the workspace's own.
+fn session_options(options: &Options, has_hessian: bool) -> Result<(Options, LinearSolver), SetupError> {
+    let mut all_options = Options::new()
+        .string("sb", "yes")
+        .integer("print_level", 0)
+        .string("option_file_name", "")
+        .string("linear_solver", LinearSolver::Mumps.name());
+    if !has_hessian {
+        all_options = all_options.string("hessian_approximation", "limited-memory");
+    }
+    all_options.extend(options);
+    let linear_solver = match all_options.get("linear_solver") {
+        Some(OptionValue::Str(name)) => LinearSolver::from_name(name),
+        _ => None,
+    }
+    .ok_or_else(|| SetupError::InvalidOption("linear_solver (allowed: spine, mumps)".into()))?;
+    if linear_solver == LinearSolver::Spine {
+        spine_kkt::install().map_err(|e| SetupError::LinearSolver(e.to_string()))?;
+        all_options.set("linear_solver", OptionValue::Str("pardiso".into()));
+    }
+    Ok((all_options, linear_solver))
 }
 
 fn check_sizes(

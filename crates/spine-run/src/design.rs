@@ -177,40 +177,48 @@ impl DesignCaseResult {
     }
 }
 
+impl DesignCaseResult {
+    /// The multi-start's census: its optima and which one is reported.
+    fn fmt_multistart(&self, summary: &MultiStartSummary, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "multi-start: {} runs (the case's start and {} seeded starts, seed {}), {} converged, {} distinct optima",
+            summary.starts,
+            summary.starts - 1,
+            summary.seed,
+            summary.converged,
+            summary.optima.len()
+        )?;
+        for (k, o) in summary.optima.iter().enumerate() {
+            writeln!(
+                f,
+                "  optimum {k}: J = {:.10e} J, reached by {} run(s), first from start {}{}{}",
+                o.objective(),
+                o.count,
+                o.starts[0],
+                o.mirror_of.map_or(String::new(), |m| format!(" (mirror image of optimum {m})")),
+                if o.clean { "" } else { " (not clean: see its warnings in result.json)" }
+            )?;
+        }
+        match summary.best_clean() {
+            Some(_) if self.reported_start == 0 => {
+                writeln!(f, "reported below: the best clean optimum, reached from the case's own start")?
+            }
+            Some(_) => writeln!(
+                f,
+                "reported below: the best clean optimum, reached first from seeded start {}",
+                self.reported_start
+            )?,
+            None => writeln!(f, "no start reached a clean optimum; reported below: the case's own start")?,
+        }
+        Ok(())
+    }
+}
+
 impl std::fmt::Display for DesignCaseResult {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         if let Some(summary) = &self.multistart {
-            writeln!(
-                f,
-                "multi-start: {} runs (the case's start and {} seeded starts, seed {}), {} converged, {} distinct optima",
-                summary.starts,
-                summary.starts - 1,
-                summary.seed,
-                summary.converged,
-                summary.optima.len()
-            )?;
-            for (k, o) in summary.optima.iter().enumerate() {
-                writeln!(
-                    f,
-                    "  optimum {k}: J = {:.10e} J, reached by {} run(s), first from start {}{}{}",
-                    o.objective(),
-                    o.count,
-                    o.starts[0],
-                    o.mirror_of.map_or(String::new(), |m| format!(" (mirror image of optimum {m})")),
-                    if o.clean { "" } else { " (not clean: see its warnings in result.json)" }
-                )?;
-            }
-            match summary.best_clean() {
-                Some(_) if self.reported_start == 0 => {
-                    writeln!(f, "reported below: the best clean optimum, reached from the case's own start")?
-                }
-                Some(_) => writeln!(
-                    f,
-                    "reported below: the best clean optimum, reached first from seeded start {}",
-                    self.reported_start
-                )?,
-                None => writeln!(f, "no start reached a clean optimum; reported below: the case's own start")?,
-            }
+            self.fmt_multistart(summary, f)?;
         }
         let r = &self.result;
         writeln!(
