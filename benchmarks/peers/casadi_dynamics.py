@@ -34,29 +34,10 @@ import time
 
 import casadi as ca
 import numpy as np
+from chain_model import Budget, model
 
 A_B, B_B = 10.0, 10.0
 OUTPUT_STEP = 1e-3
-
-
-class Budget(Exception):
-    pass
-
-
-def model(path):
-    with open(path) as f:
-        m = json.load(f)
-    L = np.array(m["lengths"])
-    mass = np.array(m["masses"])
-    n = len(L)
-    beyond = np.concatenate([np.cumsum(mass[::-1])[::-1][1:], [0.0]])
-    coupling = 0.5 * mass + beyond
-    diag = L**2 * (mass / 3.0 + beyond)
-    idx = np.arange(n)
-    mu = coupling[np.maximum.outer(idx, idx)]
-    C = L[:, None] * L[None, :] * mu
-    np.fill_diagonal(C, 0.0)
-    return m, n, L, diag, C
 
 
 def joint_moments(c, x, n):
@@ -190,9 +171,12 @@ def main():
         begin = time.perf_counter()
         construction = None
         try:
-            z0, xdot0 = consistent_start(m, n, L, diag, C, y0)
+            if plugin == "idas":
+                z0, xdot0 = consistent_start(m, n, L, diag, C, y0)
+                start_of = {"x0": y0, "z0": z0}
+            else:
+                xdot0, start_of = None, {"x0": y0}
             full = build(plugin, m, n, L, diag, C, rtol, tout, xdot0)
-            start_of = {"x0": y0, "z0": z0} if plugin == "idas" else {"x0": y0}
             construction = time.perf_counter() - begin
             start = time.perf_counter()
             out = full(**start_of)

@@ -28,27 +28,8 @@ import sys
 import time
 
 import numpy as np
+from chain_model import Budget, model
 from scipy.integrate import solve_ivp
-
-
-class Budget(Exception):
-    pass
-
-
-def model(path):
-    with open(path) as f:
-        m = json.load(f)
-    L = np.array(m["lengths"])
-    mass = np.array(m["masses"])
-    n = len(L)
-    beyond = np.concatenate([np.cumsum(mass[::-1])[::-1][1:], [0.0]])
-    coupling = 0.5 * mass + beyond
-    diag = L**2 * (mass / 3.0 + beyond)
-    idx = np.arange(n)
-    mu = coupling[np.maximum.outer(idx, idx)]
-    C = L[:, None] * L[None, :] * mu
-    np.fill_diagonal(C, 0.0)
-    return m, n, L, diag, C
 
 
 def joint_moments(c, x):

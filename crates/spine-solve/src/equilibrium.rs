@@ -25,7 +25,7 @@ use crate::corrector::{
 use crate::options::ContinuationOptions;
 use crate::problem::StaticProblem;
 use crate::solution::{EquilibriumSolution, EquilibriumStatus, SolveStats};
-use crate::stability;
+use crate::stability::{self, Stability};
 use serde::Serialize;
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::end_x;
@@ -61,19 +61,21 @@ fn predict(path: &LoadPath<'_>, cur: &Converged, ds: f64, stats: &mut SolveStats
 pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> EquilibriumSolution {
     let clock = Instant::now();
     let mut stats = SolveStats::default();
-    let finish = |cur: &Converged, s: f64, status: EquilibriumStatus, mut stats: SolveStats| {
+    // The status may depend on the final point's stability (certified once, here).
+    let finish = |cur: &Converged, s: f64, status: &dyn Fn(&Stability) -> EquilibriumStatus, mut stats: SolveStats| {
         let n = cur.state.theta.len();
         stats.time_seconds = clock.elapsed().as_secs_f64();
         let loads = LinkLoads::lerp(&path.from, &path.to, s);
         let tolerance_used = opts.residual_tolerance.max(rounding_floor(path, &loads, &cur.state));
+        let stability = stability::certify(&cur.jac);
         EquilibriumSolution {
             state: cur.state.clone(),
             load_factor: s,
             residual_norm: max_abs(&cur.residual[..n]),
             constraint_violation: cur.residual[n].abs(),
             tolerance_used,
-            stability: stability::certify(&cur.jac),
-            status,
+            status: status(&stability),
+            stability,
             stats,
         }
     };
@@ -81,16 +83,16 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
     let Some(cur) = newton(path, &path.from, path.start.clone(), opts, &mut stats) else {
         let (residual, jac) = residual_and_state_jacobian(path.spans, path.design, &path.from, &path.start);
         let start = Converged { state: path.start.clone(), residual, jac, iterations: 0 };
-        return finish(&start, 0.0, EquilibriumStatus::NewtonFailed { load_factor: 0.0 }, stats);
+        return finish(&start, 0.0, &|_| EquilibriumStatus::NewtonFailed { load_factor: 0.0 }, stats);
     };
     let mut walk = Walk::new(cur, opts);
     while walk.s < 1.0 {
         let s = walk.s;
         if stats.continuation_steps >= opts.max_steps {
-            return finish(&walk.cur, s, EquilibriumStatus::StepLimit { load_factor: s }, stats);
+            return finish(&walk.cur, s, &|_| EquilibriumStatus::StepLimit { load_factor: s }, stats);
         }
         if let Some(reason) = spine_stop::check() {
-            return finish(&walk.cur, s, stopped(reason, s), stats);
+            return finish(&walk.cur, s, &|_| stopped(reason, s), stats);
         }
         if walk.step(path, opts, &mut stats) {
             continue;
@@ -99,7 +101,7 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
         // arclength to tell which.
         match arclength::trace(path, walk.cur.clone(), s, opts, &mut stats) {
             Trace::Fold { last, s: s_last, fold } => {
-                return finish(&last, s_last, EquilibriumStatus::LimitPoint { load_factor: fold }, stats);
+                return finish(&last, s_last, &|_| EquilibriumStatus::LimitPoint { load_factor: fold }, stats);
             }
             Trace::Full { point, inertia_grew } => {
                 walk.critical = walk.critical.or(inertia_grew);
@@ -114,16 +116,17 @@ pub fn solve_path(path: &LoadPath<'_>, opts: &ContinuationOptions) -> Equilibriu
                     }
                     None => EquilibriumStatus::NewtonFailed { load_factor: s },
                 };
-                return finish(&walk.cur, s, status, stats);
+                return finish(&walk.cur, s, &|_| status, stats);
             }
         }
     }
-    let status = match (walk.critical, stability::certify(&walk.cur.jac).stable) {
+    let critical = walk.critical;
+    let status = |st: &Stability| match (critical, st.stable) {
         (None, true) => EquilibriumStatus::Stable,
         (Some(c), _) => EquilibriumStatus::Unstable { critical_load_factor: c },
         (None, false) => EquilibriumStatus::Unstable { critical_load_factor: 1.0 },
     };
-    finish(&walk.cur, 1.0, status, stats)
+    finish(&walk.cur, 1.0, &status, stats)
 }
 
 /// The status of a run stopped at load factor `s`.

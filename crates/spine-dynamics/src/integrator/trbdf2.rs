@@ -283,7 +283,7 @@ impl Point {
         let t0 = std::mem::replace(&mut self.t, t1);
         let y0 = std::mem::replace(&mut self.y, y1);
         let f0 = if slow || self.jac_age + 1 >= JACOBIAN_AGE {
-            let f0 = self.f.clone();
+            let f0 = std::mem::take(&mut self.f);
             self.evaluate(sys, stats);
             f0
         } else {
