@@ -16,6 +16,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use spine_benchmarks::{scaled_arch, DesignFixture, HessianFixture, StateFixture};
+use spine_design::full_space::StateForm;
 use spine_design::{solve_design, Formulation, SolverSettings};
 use spine_solve::{solve_static, ContinuationOptions};
 use std::hint::black_box;
@@ -83,7 +84,7 @@ fn design(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("hessian");
     for n in sizes(usize::MAX) {
-        let f = HessianFixture::new(&DesignFixture::new(n));
+        let f = HessianFixture::new(&DesignFixture::new(n), StateForm::Absolute);
         let mut values = vec![0.0; f.assembled.patterns.hessian.len()];
         g.bench_with_input(BenchmarkId::from_parameter(n), &f, |b, f| b.iter(|| black_box(f).hessian(&mut values)));
     }

@@ -19,7 +19,7 @@ pub mod report;
 use spine_design::adjoint::{self, ReducedGradients};
 use spine_design::assembly::Assembled;
 use spine_design::fixtures::{arch_start, scaled_family};
-use spine_design::full_space::{self, Layout};
+use spine_design::full_space::{self, Layout, StateForm};
 use spine_design::DesignProblem;
 use spine_model::finite_difference::{self, CENTRAL_STEP};
 use spine_model::fixtures::{arch, uniform_loads};
@@ -151,9 +151,9 @@ impl DesignFixture {
             .expect("Newton converges next to the fixture")
     }
 
-    /// The full-space point of the fixture (design, both equilibria, node heights).
-    pub fn full_space_point(&self) -> Vec<f64> {
-        let layout = Layout { n: self.problem.n_links() };
+    /// The full-space point of the fixture (design, both equilibria in `states`' form, node heights).
+    pub fn full_space_point(&self, states: StateForm) -> Vec<f64> {
+        let layout = Layout { n: self.problem.n_links(), states };
         let heights = self.problem.node_heights(&self.design.theta0);
         layout.pack(&self.design, self.problem.stiffness_scale, &self.passive, &self.loaded, &heights)
     }
@@ -169,13 +169,14 @@ pub struct HessianFixture {
 }
 
 impl HessianFixture {
-    pub fn new(design: &DesignFixture) -> Self {
-        let layout = Layout { n: design.problem.n_links() };
+    /// With the states in `states`' form.
+    pub fn new(design: &DesignFixture, states: StateForm) -> Self {
+        let layout = Layout { n: design.problem.n_links(), states };
         let mut rng = SplitMix64::new(17);
         let lambda = (0..layout.num_constraints()).map(|_| rng.uniform(-1.0, 1.0)).collect();
         HessianFixture {
-            assembled: full_space::assemble(&design.problem),
-            x: design.full_space_point(),
+            assembled: full_space::assemble(&design.problem, states),
+            x: design.full_space_point(states),
             sigma: 1.0,
             lambda,
         }

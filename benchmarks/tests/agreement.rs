@@ -3,6 +3,7 @@
 
 use spine_benchmarks::{DesignFixture, HessianFixture, StateFixture};
 use spine_design::adjoint::ReducedGradients;
+use spine_design::full_space::StateForm;
 use spine_model::sparse::BorderedTridiagonal;
 
 fn entries(j: &BorderedTridiagonal) -> Vec<f64> {
@@ -103,8 +104,10 @@ fn design_gradients_by_ad_adjoint_hand_adjoint_forward_ad_and_central_difference
 
 #[test]
 fn lagrangian_hessian_by_second_order_ad_equals_central_differences_of_the_gradient() {
-    for n in [5, 50] {
-        let f = HessianFixture::new(&DesignFixture::new(n));
+    for (n, states) in
+        [(5, StateForm::Absolute), (50, StateForm::Absolute), (5, StateForm::Deflection), (50, StateForm::Deflection)]
+    {
+        let f = HessianFixture::new(&DesignFixture::new(n), states);
         let pattern = &f.assembled.patterns.hessian;
         let mut values = vec![0.0; pattern.len()];
         f.hessian(&mut values);
@@ -127,7 +130,7 @@ fn lagrangian_hessian_by_second_order_ad_equals_central_differences_of_the_gradi
                 let fd = (gp[r] - gm[r]) / (2.0 * h);
                 assert!(
                     (fd - dense[r][k]).abs() <= 1e-6 * scale.max(1.0),
-                    "N = {n} ∂²L/∂x{r}∂x{k}: AD {} FD {fd}",
+                    "N = {n} ({states:?}) ∂²L/∂x{r}∂x{k}: AD {} FD {fd}",
                     dense[r][k]
                 );
             }

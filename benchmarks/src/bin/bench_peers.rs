@@ -281,7 +281,8 @@ fn cross_check(
     for (k, v) in [("mu_init", 1e-9), ("bound_push", 1e-10), ("bound_frac", 1e-10)] {
         warm.ipopt_options.insert(k.into(), ExtraOption::Num(v));
     }
-    let mut nlp = FullSpaceNlp::new(problem, &design, passive, loaded);
+    let states = settings.state_variables.resolve(problem, settings);
+    let mut nlp = FullSpaceNlp::new(problem, states, &design, passive, loaded);
     let solution = spine_ipopt::solve(&mut nlp, &warm.ipopt()).expect("valid options");
     CrossCheck {
         status: solution.status.to_string(),

@@ -217,7 +217,8 @@ fn end_partials_ad(spans: &[f64], design: &Design, state: &State) -> (Vec<f64>, 
     let n = state.theta.len();
     let (mut by_state, mut by_design) = (vec![0.0; n], vec![0.0; 2 * n + 1]);
     for i in 0..n {
-        let (_, g) = local::gradient(&LinkRun { span: spans[i] }, &[state.theta[i], design.theta0[i]]);
+        let (_, g) =
+            local::gradient(&LinkRun { span: spans[i], deflection: false }, &[state.theta[i], design.theta0[i]]);
         by_state[i] = g[0];
         by_design[i] = g[1];
     }

@@ -7,8 +7,8 @@
 //! |---|---|---|
 //! | `0..N` | `θ0` | rad |
 //! | `N..2N+1` | `k = K / C_K` (eq. (34)) | N·m/rad ÷ C_K |
-//! | `2N+1..3N+1`, `3N+1` | `θ1`, `λ1` (passive equilibrium) | rad, N |
-//! | `3N+2..4N+2`, `4N+2` | `θ2`, `λ2` (passive + actuation) | rad, N |
+//! | `2N+1..3N+1`, `3N+1` | `θ1` or `u1 = θ1 − θ0`, `λ1` (passive equilibrium) | rad, N |
+//! | `3N+2..4N+2`, `4N+2` | `θ2` or `u2 = θ2 − θ0`, `λ2` (passive + actuation) | rad, N |
 //! | `4N+3..5N+2` | unloaded interior node heights `Y0_2..Y0_N` | m |
 //!
 //! Constraints (`m = 4N + 2`): the `N + 1` equilibrium equations at `θ1`, the same at `θ2`, the
@@ -17,49 +17,47 @@
 //! angles `|θ0_i − θ0_{i+1}| ≤ π/6`. The node heights are lifted into variables so that every
 //! row has O(1) entries except the three sums `Φ(θ1)`, `Φ(θ2)`, `X_{N+1}(θ2)`, which have O(N):
 //! the Jacobian and the Hessian of the Lagrangian both have O(N) entries.
+//!
+//! The states are absolute angles or deflections from the unloaded shape ([`StateForm`]). The
+//! springs act on `θ − θ0`, which formed from two angles of about 0.5 rad carries a round-off of
+//! about 1e-16 rad; with `K` near 1e8 N·m/rad (the scaled family at N = 1000) that is 1e-8 N·m in
+//! every joint residual and in the objective's gradient, and Ipopt could not go below it. With
+//! deflections as variables it converges (docs/design.md, "Deflections as variables").
 
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
-pub use crate::layout::{Layout, LoadState};
+pub use crate::layout::{Layout, LoadState, StateForm};
 
 use crate::problem::DesignProblem;
 use spine_model::chain::spring_links;
-use spine_model::local::{Difference, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
+use spine_model::local::{
+    joint_slot, DeflectionJointResidual, DeflectionSpringEnergy, Difference, HeightStep, JointResidual, LinkRise,
+    LinkRun, SpringEnergy,
+};
 use spine_model::residual::slot;
 use spine_model::{Design, LinkLoads, State};
 
-/// Builds the elements of eq. (33) in the full space.
-pub fn assemble(problem: &DesignProblem) -> Assembled {
+/// Builds the elements of eq. (33) in the full space, with the states in `states`' form.
+pub fn assemble(problem: &DesignProblem, states: StateForm) -> Assembled {
     let n = problem.n_links();
-    let layout = Layout { n };
+    let layout = Layout { n, states };
     let spans = &problem.structure.chain.spans;
-    let ck = problem.stiffness_scale;
-    let mut joints = Vec::with_capacity(2 * n);
-    let mut rises = Vec::with_capacity(2 * n);
-    let mut runs = Vec::with_capacity(n);
-    for (state, loads) in [(LoadState::Passive, problem.passive_loads()), (LoadState::Loaded, problem.total_loads())] {
-        push_equilibrium(&layout, state, &loads, spans, ck, &mut joints, &mut rises);
-    }
-    for i in 0..n {
-        runs.push(Placed {
-            element: LinkRun { span: spans[i] },
-            vars: [Some(layout.theta(LoadState::Loaded, i)), Some(layout.theta0(i))],
+    let deflection = states == StateForm::Deflection;
+    let load_states = [(LoadState::Passive, problem.passive_loads()), (LoadState::Loaded, problem.total_loads())];
+    let rises = load_states
+        .iter()
+        .flat_map(|(state, _)| {
+            (0..n).map(move |i| Placed {
+                element: LinkRise { span: spans[i], deflection },
+                vars: [Some(layout.state_angle(*state, i)), Some(layout.theta0(i))],
+                row: Row::Constraint(layout.constraint_row(*state)),
+            })
+        })
+        .collect();
+    let runs = (0..n)
+        .map(|i| Placed {
+            element: LinkRun { span: spans[i], deflection },
+            vars: [Some(layout.state_angle(LoadState::Loaded, i)), Some(layout.theta0(i))],
             row: Row::Constraint(layout.end_row()),
-        });
-    }
-    let springs = (0..=n)
-        .map(|j| {
-            let (prev, this) = spring_links(n, j);
-            Placed {
-                element: SpringEnergy { stiffness_scale: ck },
-                vars: [
-                    prev.map(|i| layout.theta(LoadState::Passive, i)),
-                    prev.map(|i| layout.theta0(i)),
-                    this.map(|i| layout.theta(LoadState::Passive, i)),
-                    this.map(|i| layout.theta0(i)),
-                    Some(layout.stiffness(j)),
-                ],
-                row: Row::Objective,
-            }
         })
         .collect();
     let heights = (0..n)
@@ -77,56 +75,108 @@ pub fn assemble(problem: &DesignProblem) -> Assembled {
         })
         .collect();
     let groups: Vec<Box<dyn AnyGroup + Send>> = vec![
-        Box::new(Group::new(joints)),
+        joints(&layout, problem, &load_states),
         Box::new(Group::new(rises)),
         Box::new(Group::new(runs)),
-        Box::new(Group::new(springs)),
+        springs(&layout, problem.stiffness_scale),
         Box::new(Group::new(heights)),
         Box::new(Group::new(relatives)),
     ];
     Assembled::new(groups)
 }
 
-/// The `N + 1` equilibrium rows of one load state: a joint residual per link and the end
-/// constraint `Φ(θ) = Σ L_i sin θ_i`.
-fn push_equilibrium(
+/// The joint rows of both load states (`N` per state): eq. (5)'s residual on absolute angles or
+/// on deflections.
+fn joints(
     layout: &Layout,
-    state: LoadState,
-    loads: &LinkLoads,
-    spans: &[f64],
-    stiffness_scale: f64,
-    joints: &mut Vec<Placed<JointResidual, { slot::COUNT }>>,
-    rises: &mut Vec<Placed<LinkRise, 2>>,
-) {
+    problem: &DesignProblem,
+    load_states: &[(LoadState, LinkLoads)],
+) -> Box<dyn AnyGroup + Send> {
     let n = layout.n;
-    for i in 0..n {
-        let prev = (i > 0).then(|| i - 1);
-        let next = (i + 1 < n).then_some(i + 1);
-        let mut vars = [None; slot::COUNT];
-        vars[slot::THETA_PREV] = prev.map(|p| layout.theta(state, p));
-        vars[slot::THETA] = Some(layout.theta(state, i));
-        vars[slot::THETA_NEXT] = next.map(|q| layout.theta(state, q));
-        vars[slot::LAMBDA] = Some(layout.lambda(state));
-        vars[slot::THETA0_PREV] = prev.map(|p| layout.theta0(p));
-        vars[slot::THETA0] = Some(layout.theta0(i));
-        vars[slot::THETA0_NEXT] = next.map(|q| layout.theta0(q));
-        vars[slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
-        vars[slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
-        joints.push(Placed {
-            element: JointResidual {
-                span: spans[i],
-                vertical: loads.vertical[i],
-                axial: loads.axial[i],
-                stiffness_scale,
-            },
-            vars,
-            row: Row::Constraint(layout.equilibrium_row(state, i)),
-        });
-        rises.push(Placed {
-            element: LinkRise { span: spans[i] },
-            vars: [Some(layout.theta(state, i)), Some(layout.theta0(i))],
-            row: Row::Constraint(layout.constraint_row(state)),
-        });
+    let spans = &problem.structure.chain.spans;
+    let stiffness_scale = problem.stiffness_scale;
+    let rows = || load_states.iter().flat_map(|(state, loads)| (0..n).map(move |i| (*state, loads, i)));
+    let neighbours = |i: usize| ((i > 0).then(|| i - 1), (i + 1 < n).then_some(i + 1));
+    match layout.states {
+        StateForm::Absolute => Box::new(Group::new(
+            rows()
+                .map(|(state, loads, i)| {
+                    let (prev, next) = neighbours(i);
+                    let mut vars = [None; slot::COUNT];
+                    vars[slot::THETA_PREV] = prev.map(|p| layout.state_angle(state, p));
+                    vars[slot::THETA] = Some(layout.state_angle(state, i));
+                    vars[slot::THETA_NEXT] = next.map(|q| layout.state_angle(state, q));
+                    vars[slot::LAMBDA] = Some(layout.lambda(state));
+                    vars[slot::THETA0_PREV] = prev.map(|p| layout.theta0(p));
+                    vars[slot::THETA0] = Some(layout.theta0(i));
+                    vars[slot::THETA0_NEXT] = next.map(|q| layout.theta0(q));
+                    vars[slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
+                    vars[slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
+                    let element = JointResidual {
+                        span: spans[i],
+                        vertical: loads.vertical[i],
+                        axial: loads.axial[i],
+                        stiffness_scale,
+                    };
+                    Placed { element, vars, row: Row::Constraint(layout.equilibrium_row(state, i)) }
+                })
+                .collect(),
+        )),
+        StateForm::Deflection => Box::new(Group::new(
+            rows()
+                .map(|(state, loads, i)| {
+                    let (prev, next) = neighbours(i);
+                    let mut vars = [None; joint_slot::COUNT];
+                    vars[joint_slot::U_PREV] = prev.map(|p| layout.state_angle(state, p));
+                    vars[joint_slot::U] = Some(layout.state_angle(state, i));
+                    vars[joint_slot::U_NEXT] = next.map(|q| layout.state_angle(state, q));
+                    vars[joint_slot::LAMBDA] = Some(layout.lambda(state));
+                    vars[joint_slot::THETA0] = Some(layout.theta0(i));
+                    vars[joint_slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
+                    vars[joint_slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
+                    let element = DeflectionJointResidual {
+                        span: spans[i],
+                        vertical: loads.vertical[i],
+                        axial: loads.axial[i],
+                        stiffness_scale,
+                    };
+                    Placed { element, vars, row: Row::Constraint(layout.equilibrium_row(state, i)) }
+                })
+                .collect(),
+        )),
+    }
+}
+
+/// The objective: the `N + 1` springs' strain energies in the passive state.
+fn springs(layout: &Layout, stiffness_scale: f64) -> Box<dyn AnyGroup + Send> {
+    let n = layout.n;
+    let passive = |i: usize| layout.state_angle(LoadState::Passive, i);
+    let links = (0..=n).map(|j| (j, spring_links(n, j)));
+    match layout.states {
+        StateForm::Absolute => Box::new(Group::new(
+            links
+                .map(|(j, (prev, this))| Placed {
+                    element: SpringEnergy { stiffness_scale },
+                    vars: [
+                        prev.map(passive),
+                        prev.map(|i| layout.theta0(i)),
+                        this.map(passive),
+                        this.map(|i| layout.theta0(i)),
+                        Some(layout.stiffness(j)),
+                    ],
+                    row: Row::Objective,
+                })
+                .collect(),
+        )),
+        StateForm::Deflection => Box::new(Group::new(
+            links
+                .map(|(j, (prev, this))| Placed {
+                    element: DeflectionSpringEnergy { stiffness_scale },
+                    vars: [prev.map(passive), this.map(passive), Some(layout.stiffness(j))],
+                    row: Row::Objective,
+                })
+                .collect(),
+        )),
     }
 }
 
@@ -196,14 +246,14 @@ pub struct FullSpaceNlp<'a> {
 impl<'a> FullSpaceNlp<'a> {
     /// The NLP from a start design and start states (for example equilibria solved at the start
     /// design); node heights start at the design's own heights.
-    pub fn new(problem: &'a DesignProblem, start: &Design, passive: &State, loaded: &State) -> Self {
-        let layout = Layout { n: problem.n_links() };
+    pub fn new(problem: &'a DesignProblem, states: StateForm, start: &Design, passive: &State, loaded: &State) -> Self {
+        let layout = Layout { n: problem.n_links(), states };
         let heights = problem.node_heights(&start.theta0);
         let start = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
         FullSpaceNlp {
             problem,
             layout,
-            assembled: assemble(problem),
+            assembled: assemble(problem, states),
             start,
             on_iteration: None,
             multipliers: None,
@@ -334,8 +384,9 @@ impl FullSpaceStart {
     /// From a design and given start states (a warm start: a prolongated coarser optimum).
     pub fn from_states(problem: &DesignProblem, design: &Design, passive: &State, loaded: &State) -> Self {
         let n = problem.n_links();
-        let x0 = FullSpaceNlp::new(problem, design, passive, loaded).start;
-        let layout = Layout { n };
+        // The peer is handed absolute angles; the design part and the heights are the same in both forms.
+        let x0 = FullSpaceNlp::new(problem, StateForm::Absolute, design, passive, loaded).start;
+        let layout = Layout { n, states: StateForm::Absolute };
         Self {
             theta0: x0[..n].to_vec(),
             k: x0[n..2 * n + 1].to_vec(),

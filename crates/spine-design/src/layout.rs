@@ -7,6 +7,20 @@ use spine_model::{Design, State};
 #[derive(Clone, Copy, Debug)]
 pub struct Layout {
     pub n: usize,
+    /// How the two states are Ipopt's variables.
+    pub states: StateForm,
+}
+
+/// How the states `θ1`, `θ2` are variables of the full space (case field
+/// `solver.state_variables`, resolved by [`crate::settings::StateVariables::resolve`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StateForm {
+    /// The absolute link angles `θ` (rad), as the paper writes eq. (33).
+    Absolute,
+    /// The deflections `u = θ − θ0` from the unloaded shape (rad): the springs' moments
+    /// `K (u_i − u_{i−1})` are then computed to round-off of themselves, not of `K θ`.
+    Deflection,
 }
 
 /// The two load states.
@@ -23,14 +37,16 @@ impl Layout {
     pub fn stiffness(&self, j: usize) -> usize {
         self.n + j
     }
-    pub fn theta(&self, s: LoadState, i: usize) -> usize {
+    /// Link `i`'s state variable in state `s`: `θ_i`, or its deflection `u_i = θ_i − θ0_i` (rad)
+    /// ([`StateForm`]).
+    pub fn state_angle(&self, s: LoadState, i: usize) -> usize {
         match s {
             LoadState::Passive => 2 * self.n + 1 + i,
             LoadState::Loaded => 3 * self.n + 2 + i,
         }
     }
     pub fn lambda(&self, s: LoadState) -> usize {
-        self.theta(s, self.n)
+        self.state_angle(s, self.n)
     }
     /// Interior node `j = 1..N−1` (0-based node index; node 0 is the base, node N the end).
     pub fn height(&self, j: usize) -> Option<usize> {
@@ -62,7 +78,7 @@ impl Layout {
         4 * self.n + 2
     }
 
-    /// Packs a design, both states and the node heights into a variable vector.
+    /// Packs a design, both states (in [`StateForm`]) and the node heights into a variable vector.
     pub fn pack(
         &self,
         design: &Design,
@@ -74,8 +90,9 @@ impl Layout {
         let mut x = vec![0.0; self.num_variables()];
         for i in 0..self.n {
             x[self.theta0(i)] = design.theta0[i];
-            x[self.theta(LoadState::Passive, i)] = passive.theta[i];
-            x[self.theta(LoadState::Loaded, i)] = loaded.theta[i];
+            let offset = self.offset(design.theta0[i]);
+            x[self.state_angle(LoadState::Passive, i)] = passive.theta[i] - offset;
+            x[self.state_angle(LoadState::Loaded, i)] = loaded.theta[i] - offset;
         }
         for j in 0..=self.n {
             x[self.stiffness(j)] = design.stiffness[j] / stiffness_scale;
@@ -96,7 +113,17 @@ impl Layout {
         }
     }
 
+    /// State `s` in absolute angles (`θ_i = θ0_i + u_i` for deflections).
     pub fn state(&self, x: &[f64], s: LoadState) -> State {
-        State { theta: (0..self.n).map(|i| x[self.theta(s, i)]).collect(), lambda: x[self.lambda(s)] }
+        let theta = (0..self.n).map(|i| self.offset(x[self.theta0(i)]) + x[self.state_angle(s, i)]).collect();
+        State { theta, lambda: x[self.lambda(s)] }
+    }
+
+    /// What a state variable is measured from: `θ0_i` for deflections, 0 for absolute angles.
+    fn offset(&self, theta0: f64) -> f64 {
+        match self.states {
+            StateForm::Absolute => 0.0,
+            StateForm::Deflection => theta0,
+        }
     }
 }

@@ -1,6 +1,8 @@
 //! The settings of a design run (case file field `solver`): formulation, Ipopt's options, the
 //! continuation of the equilibrium solves, mesh sequencing.
 
+use crate::full_space::StateForm;
+use crate::problem::DesignProblem;
 use crate::reduced_space::ReducedHessian;
 use crate::refine::{Refine, WarmStart};
 use serde::{Deserialize, Serialize};
@@ -39,6 +41,48 @@ pub enum ScalingMethod {
     GradientBased,
     /// No scaling: the problem as written, so the effect of `C_K` is seen in its pure form.
     None,
+}
+
+/// How the full space's states are Ipopt's variables (case field `solver.state_variables`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum StateVariables {
+    /// Deflections where absolute angles cannot resolve the tolerance, else absolute angles:
+    /// see [`StateVariables::resolve`].
+    #[default]
+    Auto,
+    /// The absolute link angles `θ1`, `θ2`, as the paper writes eq. (33).
+    Absolute,
+    /// The deflections `θ1 − θ0`, `θ2 − θ0`.
+    Deflection,
+}
+
+/// Round-off of absolute angles, in units of `K_max θ0_max ε` (N·m), above which
+/// [`StateVariables::Auto`] takes deflections once it exceeds the tolerance: measured 2.6 at the
+/// scaled family's N = 1000 (a floor of 3e-8 N·m with `K_max` = 1e8 N·m/rad); 8 leaves a margin.
+pub const ABSOLUTE_ANGLE_FLOOR_FACTOR: f64 = 8.0;
+
+impl StateVariables {
+    /// The form of this run. `Auto` takes deflections when the round-off of a spring moment formed
+    /// from absolute angles, `8 K_max θ0_max ε` (N·m; `ε` the machine epsilon), exceeds the smaller
+    /// of `tolerance` and `constraint_tolerance`: the paper's cases (`K ≤ 1e4` N·m/rad) stay on
+    /// absolute angles, the scaled family from N = 500 on (`K_max = 100 N²` N·m/rad) moves to
+    /// deflections.
+    pub fn resolve(self, problem: &DesignProblem, settings: &SolverSettings) -> StateForm {
+        match self {
+            Self::Absolute => StateForm::Absolute,
+            Self::Deflection => StateForm::Deflection,
+            Self::Auto => {
+                let k_max = problem.bounds.stiffness_max.iter().fold(0.0f64, |m, &k| m.max(k));
+                let floor = ABSOLUTE_ANGLE_FLOOR_FACTOR * k_max * problem.bounds.theta0_max * f64::EPSILON;
+                if floor > settings.tolerance.min(settings.constraint_tolerance) {
+                    StateForm::Deflection
+                } else {
+                    StateForm::Absolute
+                }
+            }
+        }
+    }
 }
 
 /// One extra Ipopt option from a case file: a number, an integer or a string.
@@ -88,6 +132,9 @@ pub struct SolverSettings {
     pub refine: Refine,
     /// Ipopt options of the warm levels of `refine`.
     pub warm_start: WarmStart,
+    /// Full space only: the states as absolute angles or as deflections from the unloaded shape
+    /// (`"auto"`, `"absolute"`, `"deflection"`).
+    pub state_variables: StateVariables,
 }
 
 impl Default for SolverSettings {
@@ -103,9 +150,13 @@ impl Default for SolverSettings {
             ipopt_options: BTreeMap::new(),
             refine: Refine::default(),
             warm_start: WarmStart::default(),
+            state_variables: StateVariables::Auto,
         }
     }
 }
+
+/// `acceptable_obj_change_tol` of every design solve (see [`SolverSettings::ipopt`]).
+pub const ACCEPTABLE_OBJ_CHANGE: f64 = 1e-10;
 
 impl SolverSettings {
     /// The Ipopt options of these settings.
@@ -123,6 +174,13 @@ impl SolverSettings {
             // Report the design Ipopt converged to, not one moved back onto the original bounds
             // afterwards (3.11's default): the equilibria of a moved design are not satisfied.
             .string("honor_original_bounds", "no")
+            // Stop at the acceptable level only once the objective has stopped moving (change
+            // below 1e-10 relative to max(1, |J|) between iterations): with Ipopt's default (no
+            // such test) a run that creeps along a nearly flat valley of `K` with a constant dual
+            // infeasibility between `tol` and `acceptable_tol` stopped after 15 such iterations
+            // short of the optimum (scaled family, N = 10: J 0.7 % high; it converges to 6e-15
+            // 18 iterations later).
+            .number("acceptable_obj_change_tol", ACCEPTABLE_OBJ_CHANGE)
             // A fixed fill-reducing ordering: the automatic choice of MUMPS 5.5 picks SCOTCH on
             // large systems and runs of the same input then differ.
             .integer("mumps_pivot_order", MUMPS_PIVOT_ORDER);

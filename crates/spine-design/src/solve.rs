@@ -90,7 +90,8 @@ pub fn run_solver(
                 None => {
                     let (passive, loaded) = start_states(problem, &start, &settings.continuation, &mut notes);
                     start_seconds = clock.elapsed().as_secs_f64();
-                    let mut nlp = FullSpaceNlp::new(problem, &start, &passive, &loaded);
+                    let states = settings.state_variables.resolve(problem, settings);
+                    let mut nlp = FullSpaceNlp::new(problem, states, &start, &passive, &loaded);
                     nlp.on_iteration = Some(observer);
                     let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
                     let (design, states) = refine::solution_parts(&nlp, &solution.x);
@@ -110,6 +111,9 @@ pub fn run_solver(
         }
     };
     let mut report = SolverReport::from_ipopt(&solution, equilibrium_evaluations);
+    if formulation == Formulation::Full {
+        report.state_variables = Some(settings.state_variables.resolve(problem, settings));
+    }
     report.start_seconds = start_seconds;
     report.ipopt_options = options
         .iter()
@@ -147,7 +151,8 @@ fn solve_refined(
         let setup = refine::prepare_level(problem, m, previous_level, start, &settings.continuation, notes);
         let (level, how, design, states) = (setup.problem(problem), setup.start, &setup.design, &setup.states);
         let start_seconds = clock.elapsed().as_secs_f64();
-        let mut nlp = FullSpaceNlp::new(level, design, &states.0, &states.1);
+        let form = settings.state_variables.resolve(level, settings);
+        let mut nlp = FullSpaceNlp::new(level, form, design, &states.0, &states.1);
         nlp.on_iteration = Some(&mut *observer);
         if let (Some((coarser, _, _, multipliers)), true) = (&previous, warm.multipliers) {
             let size = nlp.layout.num_variables();

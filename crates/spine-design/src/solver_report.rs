@@ -37,6 +37,9 @@ pub struct SolverReport {
     pub evaluations: EvaluationCounts,
     /// Reduced space: distinct designs at which both equilibria were solved.
     pub equilibrium_solves: usize,
+    /// Full space: how the states were Ipopt's variables in the last level (`solver.state_variables`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_variables: Option<crate::full_space::StateForm>,
 }
 
 fn deserialize_counts<'de, D: serde::Deserializer<'de>>(d: D) -> Result<EvaluationCounts, D::Error> {
@@ -82,6 +85,7 @@ impl SolverReport {
             total_seconds: 0.0,
             evaluations: solution.evaluations,
             equilibrium_solves,
+            state_variables: None,
         }
     }
 }

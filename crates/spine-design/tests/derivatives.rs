@@ -4,7 +4,7 @@
 
 use spine_design::adjoint::{adjoint_ad, adjoint_hand, forward_ad};
 use spine_design::fixtures::{arch_start, paper_problem, scaled_family};
-use spine_design::full_space::{FullSpaceNlp, Layout};
+use spine_design::full_space::{FullSpaceNlp, Layout, StateForm};
 use spine_design::DesignProblem;
 use spine_ipopt::Problem;
 use spine_model::rng::SplitMix64;
@@ -15,7 +15,7 @@ use spine_solve::{solve_static, ContinuationOptions};
 /// is exercised.
 fn random_point(problem: &DesignProblem, seed: u64) -> Vec<f64> {
     let n = problem.n_links();
-    let layout = Layout { n };
+    let layout = Layout { n, states: StateForm::Absolute };
     let mut rng = SplitMix64::new(seed);
     let mut x = vec![0.0; layout.num_variables()];
     for (k, v) in x.iter_mut().enumerate() {
@@ -46,11 +46,11 @@ fn nlp_parts(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>)
 
 #[test]
 fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is_exact() {
-    for n in [1, 2, 3, 6, 15] {
+    for (n, form) in [1, 2, 3, 6, 15].into_iter().flat_map(|n| [(n, StateForm::Absolute), (n, StateForm::Deflection)]) {
         let problem = problem_with_mass(n);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
-        let mut nlp = FullSpaceNlp::new(&problem, &start, &unloaded, &unloaded);
+        let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
         let structure = nlp.jacobian_structure();
         let mut seen = std::collections::HashSet::new();
         for &entry in &structure {
@@ -76,13 +76,13 @@ fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is
                 let fd = (fp - fm) / (2.0 * h);
                 assert!(
                     (fd - grad[k]).abs() <= 1e-6 * grad[k].abs().max(1.0),
-                    "N={n} ∂f/∂x{k}: AD {} FD {fd}",
+                    "N={n} {form:?} ∂f/∂x{k}: AD {} FD {fd}",
                     grad[k]
                 );
                 for r in 0..m {
                     let fd = (gp[r] - gm[r]) / (2.0 * h);
                     let ad = dense[r][k];
-                    assert!((fd - ad).abs() <= 1e-6 * ad.abs().max(1.0), "N={n} ∂g{r}/∂x{k}: AD {ad} FD {fd}");
+                    assert!((fd - ad).abs() <= 1e-6 * ad.abs().max(1.0), "N={n} {form:?} ∂g{r}/∂x{k}: AD {ad} FD {fd}");
                 }
             }
             // Every declared entry is nonzero at a random point: the pattern is exact.
@@ -95,11 +95,11 @@ fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is
 
 #[test]
 fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
-    for n in [1, 2, 3, 6, 15] {
+    for (n, form) in [1, 2, 3, 6, 15].into_iter().flat_map(|n| [(n, StateForm::Absolute), (n, StateForm::Deflection)]) {
         let problem = problem_with_mass(n);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
-        let mut nlp = FullSpaceNlp::new(&problem, &start, &unloaded, &unloaded);
+        let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
         let structure = nlp.hessian_structure().unwrap();
         let jac_structure = nlp.jacobian_structure();
         let m = nlp.num_constraints();
@@ -139,7 +139,7 @@ fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
             for r in 0..x.len() {
                 let fd = (gp[r] - gm[r]) / (2.0 * h);
                 let ad = dense[r][k];
-                assert!((fd - ad).abs() <= 1e-6 * ad.abs().max(1.0), "N={n} ∂²L/∂x{r}∂x{k}: AD {ad} FD {fd}");
+                assert!((fd - ad).abs() <= 1e-6 * ad.abs().max(1.0), "N={n} {form:?} ∂²L/∂x{r}∂x{k}: AD {ad} FD {fd}");
             }
         }
     }
@@ -147,11 +147,11 @@ fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
 
 #[test]
 fn full_space_derivative_counts_are_linear_in_n() {
-    for n in [10, 100, 1000] {
+    for (n, form) in [10, 100, 1000].into_iter().flat_map(|n| [(n, StateForm::Absolute), (n, StateForm::Deflection)]) {
         let problem = scaled_family(n);
         let start = arch_start(n, 0.3, 1e3);
         let unloaded = State::unloaded(&start);
-        let nlp = FullSpaceNlp::new(&problem, &start, &unloaded, &unloaded);
+        let nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
         let (jac, hess) = (nlp.jacobian_structure().len(), nlp.hessian_structure().unwrap().len());
         // Per link: two joint rows of 9, two rises and a run of 2, a height step of ≤ 3, a
         // relative angle of 2 → at most 30 Jacobian entries; Hessian entries per link are bounded too.

@@ -94,7 +94,8 @@ fn a_degenerate_active_set_still_has_sign_correct_multipliers() {
         let s = s.as_ref().expect("a clean result has both equilibria");
         State { theta: s.theta.clone(), lambda: s.lambda }
     };
-    let mut nlp = FullSpaceNlp::new(&problem, &result.design, &state(&result.passive), &state(&result.loaded));
+    let form = result.solver.state_variables.expect("a full-space run says how its states were variables");
+    let mut nlp = FullSpaceNlp::new(&problem, form, &result.design, &state(&result.passive), &state(&result.loaded));
     let x = nlp.start.clone();
     let stationarity = stationarity_at(&mut nlp, &x);
     assert!(stationarity < 1e-5, "‖∇L‖∞ = {stationarity:.3e} relative");
@@ -183,7 +184,8 @@ proptest! {
             State { theta: s.theta.clone(), lambda: s.lambda }
         };
         let (passive, loaded) = (state(&result.passive), state(&result.loaded));
-        let mut nlp = FullSpaceNlp::new(&problem, &result.design, &passive, &loaded);
+        let form = result.solver.state_variables.expect("a full-space run says how its states were variables");
+        let mut nlp = FullSpaceNlp::new(&problem, form, &result.design, &passive, &loaded);
         let x = nlp.start.clone();
         let stationarity = stationarity_at(&mut nlp, &x);
         prop_assert!(stationarity < 1e-5, "N = {n}: ‖∇L‖∞ = {stationarity:.3e} relative");

@@ -5,9 +5,16 @@
 //! touches nine variables ([`crate::residual::slot`]), a link's rise or run two, a spring's energy
 //! five. Evaluating elements one by one with `DualSVec64<M>` (gradient) or `Dual2SVec64<M>`
 //! (Hessian) costs O(M²) per element and O(N) in total, with no allocation.
+//!
+//! The states enter either as absolute angles `θ` ([`JointResidual`], [`SpringEnergy`], the link
+//! elements with `deflection: false`) or as deflections `u = θ − θ0` from the unloaded shape
+//! ([`DeflectionJointResidual`], [`DeflectionSpringEnergy`], `deflection: true`). The springs act
+//! on the deflections; formed as `θ − θ0` from two angles of about 0.5 rad a deflection carries a
+//! round-off of about 1e-16 rad, which a stiff spring turns into a residual above the solver's
+//! tolerance ([`crate::residual::Joint::residual`]). Geometry uses `θ = θ0 + u`.
 
 use crate::kinematics::{link_length, link_rise};
-use crate::residual::{slot, JointStencil};
+use crate::residual::{slot, Joint, JointStencil};
 use crate::Scalar;
 use nalgebra::{Const, U1};
 use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};
@@ -97,42 +104,8 @@ impl Element<{ slot::COUNT }> for JointResidual {
     /// angles) the bilinear block. About a third of the work of [`full_hessian`].
     fn hessian(&self, x: &[f64; slot::COUNT]) -> [[f64; slot::COUNT]; slot::COUNT] {
         use slot::*;
-        const CORE: [usize; 3] = [THETA, LAMBDA, THETA0];
-        const FACTORS: [usize; 2] = [STIFFNESS_LEFT, STIFFNESS_RIGHT];
-        const ANGLES: [usize; 6] = [THETA_PREV, THETA, THETA_NEXT, THETA0_PREV, THETA0, THETA0_NEXT];
-        let mut h = [[0.0; slot::COUNT]; slot::COUNT];
-
-        let core: [Dual2SVec64<3>; slot::COUNT] = std::array::from_fn(|k| {
-            let d = Dual2SVec64::from_re(x[k]);
-            CORE.iter().position(|&c| c == k).map_or(d, |p| d.derivative(p))
-        });
-        let r = self.eval(&core);
-        let v2 = r.v2.unwrap_generic(Const::<3>, Const::<3>);
-        for (a, &sa) in CORE.iter().enumerate() {
-            for (b, &sb) in CORE.iter().enumerate() {
-                h[sa][sb] = v2[(a, b)];
-            }
-        }
-
-        let mixed: [HyperDualSVec64<2, 6>; slot::COUNT] = std::array::from_fn(|k| {
-            let mut d = HyperDualSVec64::from_re(x[k]);
-            if let Some(p) = FACTORS.iter().position(|&f| f == k) {
-                d = d.derivative1(p);
-            }
-            if let Some(q) = ANGLES.iter().position(|&a| a == k) {
-                d = d.derivative2(q);
-            }
-            d
-        });
-        let r = self.eval(&mixed);
-        let e12 = r.eps1eps2.unwrap_generic(Const::<2>, Const::<6>);
-        for (a, &sa) in FACTORS.iter().enumerate() {
-            for (b, &sb) in ANGLES.iter().enumerate() {
-                h[sa][sb] = e12[(a, b)];
-                h[sb][sa] = e12[(a, b)];
-            }
-        }
-        h
+        let angles = [THETA_PREV, THETA, THETA_NEXT, THETA0_PREV, THETA0, THETA0_NEXT];
+        bilinear_hessian(self, x, [THETA, LAMBDA, THETA0], [STIFFNESS_LEFT, STIFFNESS_RIGHT], angles)
     }
 
     fn eval<D: Scalar>(&self, x: &[D; slot::COUNT]) -> D {
@@ -143,31 +116,140 @@ impl Element<{ slot::COUNT }> for JointResidual {
     }
 }
 
-/// A link's rise `L_i sin θ_i = a_i sin θ_i / cos θ0_i`, m; local variables `[θ_i, θ0_i]`.
-/// Summed over the links it is `Φ(θ)` (the end constraint).
+/// The local variables of a [`DeflectionJointResidual`] (link `i`): the deflections `u = θ − θ0` of links
+/// `i − 1`, `i`, `i + 1` (rad; a missing neighbour holds zero), the slider reaction `λ` (N), the
+/// link's unloaded angle `θ0_i` (rad) and the scaled springs `k_i`, `k_{i+1}` on either side.
+pub mod joint_slot {
+    pub const U_PREV: usize = 0;
+    pub const U: usize = 1;
+    pub const U_NEXT: usize = 2;
+    pub const LAMBDA: usize = 3;
+    pub const THETA0: usize = 4;
+    pub const STIFFNESS_LEFT: usize = 5;
+    pub const STIFFNESS_RIGHT: usize = 6;
+    /// Number of slots.
+    pub const COUNT: usize = 7;
+}
+
+/// [`JointResidual`] on deflections: joint row `i` of eq. (5), N·m, with the states entering as
+/// `u = θ − θ0` and the stiffness slots holding `k = K / C_K` (eq. (34)); slots as in [`joint_slot`].
+#[derive(Clone, Copy, Debug)]
+pub struct DeflectionJointResidual {
+    /// Horizontal span `a_i`, m.
+    pub span: f64,
+    /// Vertical and axial load resultants on link `i` (eq. (48)), N.
+    pub vertical: f64,
+    pub axial: f64,
+    /// `C_K` of eq. (34), N·m/rad per unit of the stiffness variable.
+    pub stiffness_scale: f64,
+}
+
+impl Element<{ joint_slot::COUNT }> for DeflectionJointResidual {
+    const HESSIAN_PAIRS: &'static [(usize, usize)] = &[
+        (joint_slot::STIFFNESS_LEFT, joint_slot::U_PREV),
+        (joint_slot::STIFFNESS_LEFT, joint_slot::U),
+        (joint_slot::STIFFNESS_RIGHT, joint_slot::U),
+        (joint_slot::STIFFNESS_RIGHT, joint_slot::U_NEXT),
+        (joint_slot::U, joint_slot::U),
+        (joint_slot::LAMBDA, joint_slot::U),
+        (joint_slot::THETA0, joint_slot::U),
+        (joint_slot::THETA0, joint_slot::LAMBDA),
+        (joint_slot::THETA0, joint_slot::THETA0),
+    ];
+
+    /// The residual is linear in `u_{i±1}`, `k_i`, `k_{i+1}` and `λ`, and its only products of
+    /// these are `k × u`: as [`JointResidual`]'s, with the three deflections as the angles.
+    fn hessian(&self, x: &[f64; joint_slot::COUNT]) -> [[f64; joint_slot::COUNT]; joint_slot::COUNT] {
+        use joint_slot::*;
+        bilinear_hessian(self, x, [U, LAMBDA, THETA0], [STIFFNESS_LEFT, STIFFNESS_RIGHT], [U_PREV, U, U_NEXT])
+    }
+
+    fn eval<D: Scalar>(&self, x: &[D; joint_slot::COUNT]) -> D {
+        use joint_slot::*;
+        let joint = Joint { span: self.span, vertical: self.vertical, axial: self.axial };
+        let stiffness = [x[STIFFNESS_LEFT] * self.stiffness_scale, x[STIFFNESS_RIGHT] * self.stiffness_scale];
+        joint.residual([x[U_PREV], x[U], x[U_NEXT]], stiffness, x[THETA0] + x[U], x[THETA0], x[LAMBDA])
+    }
+}
+
+/// The local Hessian of an element whose only nonlinearity outside the `core` slots is bilinear,
+/// `factor × angle`: second-order duals over `core` give the nonlinear block, one hyper-dual pass
+/// (`ε₁` over `factors`, `ε₂` over `angles`) the bilinear block. Still AD of [`Element::eval`].
+fn bilinear_hessian<const M: usize, const C: usize, const F: usize, const A: usize, E: Element<M>>(
+    element: &E,
+    x: &[f64; M],
+    core: [usize; C],
+    factors: [usize; F],
+    angles: [usize; A],
+) -> [[f64; M]; M] {
+    let mut h = [[0.0; M]; M];
+    let seeded: [Dual2SVec64<C>; M] = std::array::from_fn(|k| {
+        let d = Dual2SVec64::from_re(x[k]);
+        core.iter().position(|&c| c == k).map_or(d, |p| d.derivative(p))
+    });
+    let v2 = element.eval(&seeded).v2.unwrap_generic(Const::<C>, Const::<C>);
+    for (a, &sa) in core.iter().enumerate() {
+        for (b, &sb) in core.iter().enumerate() {
+            h[sa][sb] = v2[(a, b)];
+        }
+    }
+    let mixed: [HyperDualSVec64<F, A>; M] = std::array::from_fn(|k| {
+        let mut d = HyperDualSVec64::from_re(x[k]);
+        if let Some(p) = factors.iter().position(|&f| f == k) {
+            d = d.derivative1(p);
+        }
+        if let Some(q) = angles.iter().position(|&a| a == k) {
+            d = d.derivative2(q);
+        }
+        d
+    });
+    let e12 = element.eval(&mixed).eps1eps2.unwrap_generic(Const::<F>, Const::<A>);
+    for (a, &sa) in factors.iter().enumerate() {
+        for (b, &sb) in angles.iter().enumerate() {
+            h[sa][sb] = e12[(a, b)];
+            h[sb][sa] = e12[(a, b)];
+        }
+    }
+    h
+}
+
+/// A link's rise `L_i sin θ_i = a_i sin θ_i / cos θ0_i`, m; local variables `[θ_i, θ0_i]`, or
+/// `[u_i, θ0_i]` with `θ_i = θ0_i + u_i` when `deflection`. Summed over the links it is `Φ(θ)`
+/// (the end constraint).
 #[derive(Clone, Copy, Debug)]
 pub struct LinkRise {
     pub span: f64,
+    pub deflection: bool,
+}
+
+/// `θ_i` from a link element's first local variable (`θ_i` itself, or `u_i` with `θ0_i` second).
+fn link_angle<D: Scalar>(x: &[D; 2], deflection: bool) -> D {
+    if deflection {
+        x[1] + x[0]
+    } else {
+        x[0]
+    }
 }
 
 impl Element<2> for LinkRise {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(0, 0), (1, 0), (1, 1)];
     fn eval<D: Scalar>(&self, x: &[D; 2]) -> D {
-        link_rise(self.span, x[1], x[0])
+        link_rise(self.span, x[1], link_angle(x, self.deflection))
     }
 }
 
-/// A link's run `L_i cos θ_i = a_i cos θ_i / cos θ0_i`, m; local variables `[θ_i, θ0_i]`.
+/// A link's run `L_i cos θ_i = a_i cos θ_i / cos θ0_i`, m; local variables as [`LinkRise`]'s.
 /// Summed over the links it is `X_{N+1}(θ)`.
 #[derive(Clone, Copy, Debug)]
 pub struct LinkRun {
     pub span: f64,
+    pub deflection: bool,
 }
 
 impl Element<2> for LinkRun {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(0, 0), (1, 0), (1, 1)];
     fn eval<D: Scalar>(&self, x: &[D; 2]) -> D {
-        link_length(self.span, x[1]) * x[0].cos()
+        link_length(self.span, x[1]) * link_angle(x, self.deflection).cos()
     }
 }
 
@@ -213,6 +295,21 @@ impl Element<5> for SpringEnergy {
     fn eval<D: Scalar>(&self, x: &[D; 5]) -> D {
         let rel = (x[2] - x[3]) - (x[0] - x[1]);
         x[4] * self.stiffness_scale * rel * rel * 0.5
+    }
+}
+
+/// [`SpringEnergy`] on deflections: `½ K_j (u_j − u_{j−1})²`, J, with `K_j = C_K k_j` and the
+/// deflections `u = θ − θ0`; local variables `[u_{j−1}, u_j, k_j]` (a missing neighbour holds zero).
+#[derive(Clone, Copy, Debug)]
+pub struct DeflectionSpringEnergy {
+    pub stiffness_scale: f64,
+}
+
+impl Element<3> for DeflectionSpringEnergy {
+    const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(0, 0), (1, 0), (1, 1), (2, 0), (2, 1)];
+    fn eval<D: Scalar>(&self, x: &[D; 3]) -> D {
+        let rel = x[1] - x[0];
+        x[2] * self.stiffness_scale * rel * rel * 0.5
     }
 }
 

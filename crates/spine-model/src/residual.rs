@@ -68,20 +68,43 @@ impl<D: Scalar> JointStencil<D> {
         Self { values, has_prev, has_next }
     }
 
-    /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)):
-    /// `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i) − L_i (cos θ_i V_i − sin θ_i A_i) − λ L_i cos θ_i`
-    /// with `L_i = a_i / cos θ0_i`, `V_i`, `A_i` the link's load resultants.
+    /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)), from absolute angles: see
+    /// [`joint_residual`].
     pub fn residual(&self, span: f64, vertical: f64, axial: f64) -> D {
         use slot::*;
         let v = &self.values;
-        let d_prev = v[THETA_PREV] - v[THETA0_PREV];
-        let d_self = v[THETA] - v[THETA0];
-        let d_next = v[THETA_NEXT] - v[THETA0_NEXT];
-        let spring = v[STIFFNESS_LEFT] * (d_self - d_prev) - v[STIFFNESS_RIGHT] * (d_next - d_self);
-        let length = link_length(span, v[THETA0]);
-        let (s, c) = v[THETA].sin_cos();
-        let load = length * (c * vertical - s * axial);
-        spring - load - v[LAMBDA] * length * c
+        let deflections = [v[THETA_PREV] - v[THETA0_PREV], v[THETA] - v[THETA0], v[THETA_NEXT] - v[THETA0_NEXT]];
+        let joint = Joint { span, vertical, axial };
+        joint.residual(deflections, [v[STIFFNESS_LEFT], v[STIFFNESS_RIGHT]], v[THETA], v[THETA0], v[LAMBDA])
+    }
+}
+
+/// Link `i`'s data in its joint residual: span `a_i` (m) and load resultants `V_i`, `A_i` (N,
+/// eq. (48)).
+#[derive(Clone, Copy, Debug)]
+pub struct Joint {
+    pub span: f64,
+    pub vertical: f64,
+    pub axial: f64,
+}
+
+impl Joint {
+    /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)):
+    /// `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i) − L_i (cos θ_i V_i − sin θ_i A_i) − λ L_i cos θ_i`
+    /// with `L_i = a_i / cos θ0_i`. `deflections` are `[Δθ_{i−1}, Δθ_i, Δθ_{i+1}]` (rad,
+    /// `Δθ = θ − θ0`, zero for a missing neighbour), `stiffness` `[K_i, K_{i+1}]` (N·m/rad).
+    ///
+    /// The spring term takes the deflections themselves: formed as `θ − θ0` from angles of about
+    /// 0.5 rad, a deflection carries a round-off of about 1e-16 rad, which a stiffness of 1e8
+    /// N·m/rad turns into 1e-8 N·m (the floor that kept eq. (33) at N = 1000 from converging while its
+    /// variables were absolute angles; docs/design.md).
+    pub fn residual<D: Scalar>(&self, deflections: [D; 3], stiffness: [D; 2], theta: D, theta0: D, lambda: D) -> D {
+        let [d_prev, d_self, d_next] = deflections;
+        let spring = stiffness[0] * (d_self - d_prev) - stiffness[1] * (d_next - d_self);
+        let length = link_length(self.span, theta0);
+        let (s, c) = theta.sin_cos();
+        let load = length * (c * self.vertical - s * self.axial);
+        spring - load - lambda * length * c
     }
 }
 

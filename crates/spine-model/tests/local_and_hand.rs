@@ -7,7 +7,10 @@ use spine_model::fixtures::random_problem;
 use spine_model::hand;
 use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::kinematics::end_x;
-use spine_model::local::{self, Difference, Element, HeightStep, JointResidual, LinkRise, LinkRun, SpringEnergy};
+use spine_model::local::{
+    self, joint_slot, DeflectionJointResidual, DeflectionSpringEnergy, Difference, Element, HeightStep, JointResidual,
+    LinkRise, LinkRun, SpringEnergy,
+};
 use spine_model::residual::{equilibrium_residual, slot};
 use spine_model::rng::SplitMix64;
 use spine_model::State;
@@ -83,10 +86,19 @@ fn elements_match_central_differences_and_their_declared_hessian_pattern() {
     scale[slot::STIFFNESS_LEFT] = 100.0;
     scale[slot::STIFFNESS_RIGHT] = 100.0;
     check_element(&joint, "joint residual", scale);
-    check_element(&LinkRise { span: 0.2 }, "link rise", [1.0; 2]);
-    check_element(&LinkRun { span: 0.2 }, "link run", [1.0; 2]);
+    let deflection_joint = DeflectionJointResidual { span: 0.1, vertical: -30.0, axial: 250.0, stiffness_scale: 10.0 };
+    let mut scale = [1.0; joint_slot::COUNT];
+    scale[joint_slot::LAMBDA] = 40.0;
+    scale[joint_slot::STIFFNESS_LEFT] = 100.0;
+    scale[joint_slot::STIFFNESS_RIGHT] = 100.0;
+    check_element(&deflection_joint, "joint residual on deflections", scale);
+    for deflection in [false, true] {
+        check_element(&LinkRise { span: 0.2, deflection }, "link rise", [1.0; 2]);
+        check_element(&LinkRun { span: 0.2, deflection }, "link run", [1.0; 2]);
+    }
     check_element(&HeightStep { span: 0.2 }, "height step", [0.1, 0.1, 1.0]);
     check_element(&SpringEnergy { stiffness_scale: 25.0 }, "spring energy", [1.0, 1.0, 1.0, 1.0, 40.0]);
+    check_element(&DeflectionSpringEnergy { stiffness_scale: 25.0 }, "spring energy on deflections", [1.0, 1.0, 40.0]);
     check_element(&Difference, "difference", [1.0; 2]);
 }
 
@@ -101,8 +113,12 @@ fn every_declared_hessian_pair_is_nonzero_somewhere() {
         }
     }
     check(&JointResidual { span: 0.1, vertical: -30.0, axial: 250.0, stiffness_scale: 10.0 }, "joint");
-    check(&LinkRise { span: 0.2 }, "rise");
-    check(&LinkRun { span: 0.2 }, "run");
+    check(&DeflectionJointResidual { span: 0.1, vertical: -30.0, axial: 250.0, stiffness_scale: 10.0 }, "joint (u)");
+    for deflection in [false, true] {
+        check(&LinkRise { span: 0.2, deflection }, "rise");
+        check(&LinkRun { span: 0.2, deflection }, "run");
+    }
+    check(&DeflectionSpringEnergy { stiffness_scale: 2.0 }, "spring (u)");
     check(&HeightStep { span: 0.2 }, "height");
     check(&SpringEnergy { stiffness_scale: 2.0 }, "spring");
 }
@@ -135,6 +151,19 @@ fn joint_element_is_the_model_residual() {
             };
             let v = local::value(&e, &x);
             assert!((v - r[i]).abs() <= 1e-12 * r[i].abs().max(1.0), "row {i}: {v} vs {}", r[i]);
+            let u = |k: usize| state.theta[k] - design.theta0[k];
+            let mut xu = [0.0; joint_slot::COUNT];
+            xu[joint_slot::U_PREV] = if i > 0 { u(i - 1) } else { 0.0 };
+            xu[joint_slot::U] = u(i);
+            xu[joint_slot::U_NEXT] = if i + 1 < n { u(i + 1) } else { 0.0 };
+            xu[joint_slot::LAMBDA] = state.lambda;
+            xu[joint_slot::THETA0] = design.theta0[i];
+            xu[joint_slot::STIFFNESS_LEFT] = x[slot::STIFFNESS_LEFT];
+            xu[joint_slot::STIFFNESS_RIGHT] = x[slot::STIFFNESS_RIGHT];
+            let e =
+                DeflectionJointResidual { span: e.span, vertical: e.vertical, axial: e.axial, stiffness_scale: 4.0 };
+            let vu = local::value(&e, &xu);
+            assert!((vu - r[i]).abs() <= 1e-12 * r[i].abs().max(1.0), "row {i} on deflections: {vu} vs {}", r[i]);
         }
         let energy = (0..=n)
             .map(|j| {
@@ -147,14 +176,24 @@ fn joint_element_is_the_model_residual() {
                     get(&design.theta0, jj),
                     design.stiffness[j],
                 ];
-                local::value(&SpringEnergy { stiffness_scale: 1.0 }, &x)
+                let absolute = local::value(&SpringEnergy { stiffness_scale: 1.0 }, &x);
+                let u = [x[0] - x[1], x[2] - x[3], x[4]];
+                let on_deflections = local::value(&DeflectionSpringEnergy { stiffness_scale: 1.0 }, &u);
+                assert!((absolute - on_deflections).abs() <= 1e-12 * absolute.max(1e-300));
+                absolute
             })
             .sum::<f64>();
         let expected = strain_energy(&state.theta, &design.theta0, &design.stiffness);
         assert!((energy - expected).abs() <= 1e-12 * expected.max(1.0));
-        let run: f64 =
-            (0..n).map(|i| local::value(&LinkRun { span: chain.spans[i] }, &[state.theta[i], design.theta0[i]])).sum();
-        assert!((run - end_x(&chain.spans, &design.theta0, &state.theta)).abs() < 1e-14);
+        for deflection in [false, true] {
+            let run: f64 = (0..n)
+                .map(|i| {
+                    let angle = if deflection { state.theta[i] - design.theta0[i] } else { state.theta[i] };
+                    local::value(&LinkRun { span: chain.spans[i], deflection }, &[angle, design.theta0[i]])
+                })
+                .sum();
+            assert!((run - end_x(&chain.spans, &design.theta0, &state.theta)).abs() < 1e-14);
+        }
     }
 }
 
@@ -235,4 +274,31 @@ fn constraint_row_of_the_state_jacobian_equals_the_ad_of_phi() {
             );
         }
     }
+}
+
+#[test]
+fn deflections_keep_stiff_spring_moments_to_round_off_of_themselves() {
+    // Link i deflected by u from θ0 = 0.5 rad between two springs of K = 1e8 N·m/rad, no loads:
+    // r_i = K u − K (0 − u) = 2 K u exactly in real arithmetic.
+    let (k, theta0, u) = (1e8, 0.5, 1.234567e-9);
+    let exact = 2.0 * k * u;
+    let on_deflections = DeflectionJointResidual { span: 0.1, vertical: 0.0, axial: 0.0, stiffness_scale: 1.0 };
+    let mut x = [0.0; joint_slot::COUNT];
+    x[joint_slot::U] = u;
+    x[joint_slot::THETA0] = theta0;
+    x[joint_slot::STIFFNESS_LEFT] = k;
+    x[joint_slot::STIFFNESS_RIGHT] = k;
+    let r = local::value(&on_deflections, &x);
+    assert!((r - exact).abs() <= 4.0 * f64::EPSILON * exact, "on deflections: {r} vs {exact}");
+    // The same row on absolute angles: θ = θ0 + u is rounded to the spacing of doubles near 0.5
+    // (1.1e-16 rad), and K turns that into about 1e-9 N·m, far above u's own round-off. This is the
+    // floor that stopped eq. (33) at N = 1000 short of its tolerance (docs/design.md).
+    let absolute = JointResidual { span: 0.1, vertical: 0.0, axial: 0.0, stiffness_scale: 1.0 };
+    let mut x = [0.0; slot::COUNT];
+    x[slot::THETA] = theta0 + u;
+    x[slot::THETA0] = theta0;
+    x[slot::STIFFNESS_LEFT] = k;
+    x[slot::STIFFNESS_RIGHT] = k;
+    let r = local::value(&absolute, &x);
+    assert!((r - exact).abs() > 1e-10, "absolute angles lost nothing: {r} vs {exact}");
 }

@@ -1,7 +1,7 @@
 //! Multipliers of a coarse optimum carried to the fine chain.
 
 use super::mesh::{interpolate, midpoints, node_x};
-use crate::full_space::{Layout, LoadState, Multipliers};
+use crate::full_space::{Layout, LoadState, Multipliers, StateForm};
 use crate::problem::DesignProblem;
 
 /// The multipliers of a coarse solution carried to the fine chain, for Ipopt's warm start.
@@ -22,7 +22,8 @@ pub fn prolong_multipliers(
     upper: &[f64],
 ) -> Multipliers {
     let (mc, nf) = (coarse.n_links(), fine.n_links());
-    let (cl, fl) = (Layout { n: mc }, Layout { n: nf });
+    // Row and bound indices only, which do not depend on how the states are variables.
+    let (cl, fl) = (Layout { n: mc, states: StateForm::Absolute }, Layout { n: nf, states: StateForm::Absolute });
     let ratio = mc as f64 / nf as f64;
     let (cmid, fmid) = (midpoints(&coarse.structure.chain.spans), midpoints(&fine.structure.chain.spans));
     let (cx, fx) = (node_x(&coarse.structure.chain.spans), node_x(&fine.structure.chain.spans));
