@@ -147,10 +147,10 @@ pub struct PeerRow {
     /// previous optimum, solved by CasADi with the same warm-start options (`--casadi-refined`).
     #[serde(default)]
     pub casadi_refined: Option<SolverRun>,
-    /// Ours cold on Debian's Ipopt with the workspace's own factorisation (`linear_solver =
-    /// "spine"`, `crates/spine-kkt`) instead of MUMPS.
+    /// Ours cold on Debian's Ipopt with the MUMPS it ships (`linear_solver = "mumps"`) instead of
+    /// the default, the workspace's own factorisation (`crates/spine-kkt`).
     #[serde(default)]
-    pub ours_spine: Option<SolverRun>,
+    pub ours_mumps: Option<SolverRun>,
 }
 
 impl PeerRow {
@@ -235,7 +235,7 @@ impl PeerRow {
 pub fn table(rows: &[PeerRow]) -> String {
     let mut md = String::new();
     let cell = |r: Option<&SolverRun>| r.map_or("–".to_string(), SolverRun::cell);
-    let _ = writeln!(md, "| N | ours cold (3.11) | ours refined (3.11) | ours cold (3.11, spine LDLᵀ) | ours cold (3.14) | ours refined (3.14) | CasADi cold | CasADi refined | best ours / CasADi cold | J ours cold (J) | J CasADi (J) | cold vs cold |");
+    let _ = writeln!(md, "| N | ours cold (3.11) | ours refined (3.11) | ours cold (3.11, MUMPS) | ours cold (3.14) | ours refined (3.14) | CasADi cold | CasADi refined | best ours / CasADi cold | J ours cold (J) | J CasADi (J) | cold vs cold |");
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         let c = r.casadi.as_ref();
@@ -245,7 +245,7 @@ pub fn table(rows: &[PeerRow]) -> String {
             r.n,
             r.ours.cell(),
             cell(r.ours_refined.as_ref()),
-            cell(r.ours_spine.as_ref()),
+            cell(r.ours_mumps.as_ref()),
             cell(r.ipopt314.as_ref()),
             cell(r.ipopt314_refined.as_ref()),
             cell(c),

@@ -70,7 +70,7 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
         ipopt314: None,
         ipopt314_refined: None,
         casadi_refined: None,
-        ours_spine: None,
+        ours_mumps: None,
     };
     let same = row(run(1.0, 0.5, true), Some(run(1.0 + 1e-8, 2.0, true)), None);
     assert_eq!(same.verdict(), "same optimum");
@@ -92,7 +92,7 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
     best.ipopt314_refined = Some(run(1.0, 0.1, false));
     assert_eq!(best.best().map(|(name, _)| name), Some("refined 3.11"));
     assert_eq!(best.best_ratio(), Some(0.1));
-    best.ours_spine = Some(run(1.0, 0.3, true));
+    best.ours_mumps = Some(run(1.0, 0.3, true));
     let md = table(&[same, missing, best]);
     assert_eq!(md.lines().count(), 5);
     assert!(

@@ -234,7 +234,7 @@ fn measure(python: &str, n: usize, dir: &Path) -> PeerRow {
 
     let cold = ours(&valid, n, false).expect("a cold run");
     let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
-    let ours_spine = ours_with(&valid, n, false, Some("spine"));
+    let ours_mumps = ours_with(&valid, n, false, Some("mumps"));
     let ours = cold;
 
     let out_path = dir.join(format!("casadi-{n}.json"));
@@ -264,7 +264,7 @@ fn measure(python: &str, n: usize, dir: &Path) -> PeerRow {
         ipopt314: None,
         ipopt314_refined: None,
         casadi_refined: None,
-        ours_spine,
+        ours_mumps,
     }
 }
 

@@ -19,8 +19,8 @@
 //! ever unwinds through C frames.
 //!
 //! Ipopt factorises its KKT matrices with the MUMPS it ships (option `linear_solver = "mumps"`,
-//! the default) or with the workspace's own sparse `LDLᵀ` (`spine-kkt`, `"spine"`, experimental),
-//! which Ipopt reaches through its Pardiso interface. MUMPS is not thread-safe (Debian's Ipopt 3.11.9 aborts when
+//! this crate's default) or with the workspace's own sparse `LDLᵀ` (`spine-kkt`, `"spine"`, the
+//! default of eq. (33)'s design solves), which Ipopt reaches through its Pardiso interface. MUMPS is not thread-safe (Debian's Ipopt 3.11.9 aborts when
 //! two MUMPS solves overlap): [`solve`] holds a process-wide lock for MUMPS solves only.
 //!
 //! ```
@@ -210,10 +210,11 @@ pub enum SetupError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LinearSolver {
     /// The workspace's own frontal `LDLᵀ` with exact inertia (`spine-kkt`), reached through Ipopt's
-    /// Pardiso interface (Ipopt is told `linear_solver pardiso`). Experimental: correct, and
-    /// thread-safe, but not yet faster than MUMPS on eq. (33) from 50 links on (docs/design.md).
+    /// Pardiso interface (Ipopt is told `linear_solver pardiso`). Thread-safe; the default of
+    /// eq. (33)'s design solves (`spine_design::settings::DEFAULT_LINEAR_SOLVER`, docs/design.md).
     Spine,
-    /// MUMPS, as the Ipopt library ships it (not thread-safe: one solve at a time): the default.
+    /// MUMPS, as the Ipopt library ships it (not thread-safe: one solve at a time): this crate's
+    /// default.
     Mumps,
 }
 
