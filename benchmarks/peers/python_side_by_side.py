@@ -72,7 +72,7 @@ with tempfile.TemporaryDirectory() as tmp:
         rows.append((name, r["objective"], cli_j, peer.get("objective"), py_wall, ipopt, cli_wall,
                      peer.get("wall_seconds"), casadi_wall, peer.get("status")))
 
-print(f"median of {repeats} runs; Debian Ipopt 3.11.9 + MUMPS for flexspine and the CLI, CasADi's Ipopt 3.14.19 + MUMPS 5.8.2")
+print(f"median of {repeats} runs; Debian Ipopt 3.11.9 with the workspace's LDLᵀ (the default) for flexspine and the CLI, CasADi's Ipopt 3.14.19 + MUMPS 5.8.2")
 print()
 print("| case | J flexspine (J) | J CLI | J CasADi | flexspine call (s) | of it Ipopt (s) | CLI process (s) | CasADi solver call (s) | CasADi process (s) | CasADi status |")
 print("|---|---|---|---|---|---|---|---|---|---|")

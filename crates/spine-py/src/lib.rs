@@ -30,10 +30,24 @@ const MAX_TIME_LIMIT: f64 = 1e6;
 /// stops it at its next check and is raised once it has stopped.
 pub(crate) fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
     std::thread::scope(|scope| {
-        let worker = scope.spawn(work);
-        let mut interrupted = None;
-        while !worker.is_finished() {
-            py.detach(|| std::thread::sleep(Duration::from_millis(10)));
+        // The worker says when it is done, so the wait ends at once instead of at the next poll
+        // (a 10 ms sleep between polls cost 5 ms per call on average, a quarter of a 5-link design).
+        let (done, finished) = std::sync::mpsc::channel::<()>();
+        let worker = scope.spawn(move || {
+            let value = work();
+            let _ = done.send(());
+            value
+        });
+        let (mut interrupted, mut finished) = (None, finished);
+        loop {
+            // The receiver is not `Sync`: it goes into the GIL-free wait and comes back.
+            let (outcome, back) = py.detach(move || (finished.recv_timeout(Duration::from_millis(10)), finished));
+            finished = back;
+            // A panicking worker drops its sender: `Disconnected` ends the wait too.
+            match outcome {
+                Ok(()) | Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+            }
             if interrupted.is_none() {
                 if let Err(e) = py.check_signals() {
                     spine_stop::request_interrupt();
