@@ -21,9 +21,10 @@
 use serde_json::json;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
 use spine_case::{Case, ValidCase};
-use spine_design::full_space::{FullSpaceNlp, FullSpaceStart};
+use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
 use spine_design::settings::ExtraOption;
+use spine_design::start_point::FullSpaceStart;
 use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
 use spine_model::{Design, State};
 use std::path::{Path, PathBuf};

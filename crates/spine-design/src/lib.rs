@@ -39,6 +39,7 @@ pub mod result;
 pub mod settings;
 pub mod solve;
 mod solver_report;
+pub mod start_point;
 mod violations;
 mod warnings;
 

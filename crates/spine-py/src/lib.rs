@@ -270,7 +270,7 @@ fn design_start<'py>(py: Python<'py>, case: &Bound<'_, PyAny>) -> PyResult<Bound
     };
     let valid = c.validate().map_err(|e| PyValueError::new_err(e.to_string()))?;
     let start =
-        spine_design::full_space::FullSpaceStart::new(&valid.problem, &valid.start, &valid.settings.continuation);
+        spine_design::start_point::FullSpaceStart::new(&valid.problem, &valid.start, &valid.settings.continuation);
     let out = PyDict::new(py);
     for (name, values) in [
         ("theta0", start.theta0),
