@@ -85,8 +85,19 @@ pub fn assemble(problem: &DesignProblem, states: StateForm) -> Assembled {
     Assembled::new(groups)
 }
 
+/// Joint row `i` of one load state: what both forms of its element need.
+struct JointRow {
+    state: LoadState,
+    i: usize,
+    prev: Option<usize>,
+    next: Option<usize>,
+    span: f64,
+    vertical: f64,
+    axial: f64,
+}
+
 /// The joint rows of both load states (`N` per state): eq. (5)'s residual on absolute angles or
-/// on deflections.
+/// on deflections. The two forms differ only in their element and its slots.
 fn joints(
     layout: &Layout,
     problem: &DesignProblem,
@@ -95,56 +106,56 @@ fn joints(
     let n = layout.n;
     let spans = &problem.structure.chain.spans;
     let stiffness_scale = problem.stiffness_scale;
-    let rows = || load_states.iter().flat_map(|(state, loads)| (0..n).map(move |i| (*state, loads, i)));
-    let neighbours = |i: usize| ((i > 0).then(|| i - 1), (i + 1 < n).then_some(i + 1));
+    let rows = load_states.iter().flat_map(|(state, loads)| {
+        (0..n).map(move |i| JointRow {
+            state: *state,
+            i,
+            prev: (i > 0).then(|| i - 1),
+            next: (i + 1 < n).then_some(i + 1),
+            span: spans[i],
+            vertical: loads.vertical[i],
+            axial: loads.axial[i],
+        })
+    });
+    let angle = |r: &JointRow, link: Option<usize>| link.map(|k| layout.state_angle(r.state, k));
+    let place = |r: &JointRow| Row::Constraint(layout.equilibrium_row(r.state, r.i));
     match layout.states {
-        StateForm::Absolute => Box::new(Group::new(
-            rows()
-                .map(|(state, loads, i)| {
-                    let (prev, next) = neighbours(i);
-                    let mut vars = [None; slot::COUNT];
-                    vars[slot::THETA_PREV] = prev.map(|p| layout.state_angle(state, p));
-                    vars[slot::THETA] = Some(layout.state_angle(state, i));
-                    vars[slot::THETA_NEXT] = next.map(|q| layout.state_angle(state, q));
-                    vars[slot::LAMBDA] = Some(layout.lambda(state));
-                    vars[slot::THETA0_PREV] = prev.map(|p| layout.theta0(p));
-                    vars[slot::THETA0] = Some(layout.theta0(i));
-                    vars[slot::THETA0_NEXT] = next.map(|q| layout.theta0(q));
-                    vars[slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
-                    vars[slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
-                    let element = JointResidual {
-                        span: spans[i],
-                        vertical: loads.vertical[i],
-                        axial: loads.axial[i],
-                        stiffness_scale,
-                    };
-                    Placed { element, vars, row: Row::Constraint(layout.equilibrium_row(state, i)) }
-                })
-                .collect(),
-        )),
-        StateForm::Deflection => Box::new(Group::new(
-            rows()
-                .map(|(state, loads, i)| {
-                    let (prev, next) = neighbours(i);
-                    let mut vars = [None; joint_slot::COUNT];
-                    vars[joint_slot::U_PREV] = prev.map(|p| layout.state_angle(state, p));
-                    vars[joint_slot::U] = Some(layout.state_angle(state, i));
-                    vars[joint_slot::U_NEXT] = next.map(|q| layout.state_angle(state, q));
-                    vars[joint_slot::LAMBDA] = Some(layout.lambda(state));
-                    vars[joint_slot::THETA0] = Some(layout.theta0(i));
-                    vars[joint_slot::STIFFNESS_LEFT] = Some(layout.stiffness(i));
-                    vars[joint_slot::STIFFNESS_RIGHT] = Some(layout.stiffness(i + 1));
-                    let element = DeflectionJointResidual {
-                        span: spans[i],
-                        vertical: loads.vertical[i],
-                        axial: loads.axial[i],
-                        stiffness_scale,
-                    };
-                    Placed { element, vars, row: Row::Constraint(layout.equilibrium_row(state, i)) }
-                })
-                .collect(),
-        )),
+        StateForm::Absolute => group(rows.map(|r| {
+            let mut vars = [None; slot::COUNT];
+            vars[slot::THETA_PREV] = angle(&r, r.prev);
+            vars[slot::THETA] = angle(&r, Some(r.i));
+            vars[slot::THETA_NEXT] = angle(&r, r.next);
+            vars[slot::LAMBDA] = Some(layout.lambda(r.state));
+            vars[slot::THETA0_PREV] = r.prev.map(|p| layout.theta0(p));
+            vars[slot::THETA0] = Some(layout.theta0(r.i));
+            vars[slot::THETA0_NEXT] = r.next.map(|q| layout.theta0(q));
+            vars[slot::STIFFNESS_LEFT] = Some(layout.stiffness(r.i));
+            vars[slot::STIFFNESS_RIGHT] = Some(layout.stiffness(r.i + 1));
+            let element = JointResidual { span: r.span, vertical: r.vertical, axial: r.axial, stiffness_scale };
+            Placed { element, vars, row: place(&r) }
+        })),
+        StateForm::Deflection => group(rows.map(|r| {
+            let mut vars = [None; joint_slot::COUNT];
+            vars[joint_slot::U_PREV] = angle(&r, r.prev);
+            vars[joint_slot::U] = angle(&r, Some(r.i));
+            vars[joint_slot::U_NEXT] = angle(&r, r.next);
+            vars[joint_slot::LAMBDA] = Some(layout.lambda(r.state));
+            vars[joint_slot::THETA0] = Some(layout.theta0(r.i));
+            vars[joint_slot::STIFFNESS_LEFT] = Some(layout.stiffness(r.i));
+            vars[joint_slot::STIFFNESS_RIGHT] = Some(layout.stiffness(r.i + 1));
+            let element =
+                DeflectionJointResidual { span: r.span, vertical: r.vertical, axial: r.axial, stiffness_scale };
+            Placed { element, vars, row: place(&r) }
+        })),
     }
+}
+
+/// A group of placed elements of one kind, boxed for [`Assembled::new`].
+fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send>
+where
+    E: spine_model::local::Element<M> + Send + 'static,
+{
+    Box::new(Group::new(items.collect()))
 }
 
 /// The objective: the `N + 1` springs' strain energies in the passive state.
@@ -153,30 +164,22 @@ fn springs(layout: &Layout, stiffness_scale: f64) -> Box<dyn AnyGroup + Send> {
     let passive = |i: usize| layout.state_angle(LoadState::Passive, i);
     let links = (0..=n).map(|j| (j, spring_links(n, j)));
     match layout.states {
-        StateForm::Absolute => Box::new(Group::new(
-            links
-                .map(|(j, (prev, this))| Placed {
-                    element: SpringEnergy { stiffness_scale },
-                    vars: [
-                        prev.map(passive),
-                        prev.map(|i| layout.theta0(i)),
-                        this.map(passive),
-                        this.map(|i| layout.theta0(i)),
-                        Some(layout.stiffness(j)),
-                    ],
-                    row: Row::Objective,
-                })
-                .collect(),
-        )),
-        StateForm::Deflection => Box::new(Group::new(
-            links
-                .map(|(j, (prev, this))| Placed {
-                    element: DeflectionSpringEnergy { stiffness_scale },
-                    vars: [prev.map(passive), this.map(passive), Some(layout.stiffness(j))],
-                    row: Row::Objective,
-                })
-                .collect(),
-        )),
+        StateForm::Absolute => group(links.map(|(j, (prev, this))| Placed {
+            element: SpringEnergy { stiffness_scale },
+            vars: [
+                prev.map(passive),
+                prev.map(|i| layout.theta0(i)),
+                this.map(passive),
+                this.map(|i| layout.theta0(i)),
+                Some(layout.stiffness(j)),
+            ],
+            row: Row::Objective,
+        })),
+        StateForm::Deflection => group(links.map(|(j, (prev, this))| Placed {
+            element: DeflectionSpringEnergy { stiffness_scale },
+            vars: [prev.map(passive), this.map(passive), Some(layout.stiffness(j))],
+            row: Row::Objective,
+        })),
     }
 }
 

@@ -77,6 +77,8 @@ pub fn run_solver(
     let options = settings.ipopt();
     let mut refinement = None;
     let mut start_seconds = 0.0;
+    // The full space's form at the problem's own size (a ladder resolves each level's).
+    let state_form = settings.state_variables.resolve(problem, settings);
     let (solution, design, states, equilibrium_evaluations) = match formulation {
         Formulation::Full => {
             let ladder = settings.refine.ladder(problem.n_links());
@@ -90,8 +92,7 @@ pub fn run_solver(
                 None => {
                     let (passive, loaded) = start_states(problem, &start, &settings.continuation, &mut notes);
                     start_seconds = clock.elapsed().as_secs_f64();
-                    let states = settings.state_variables.resolve(problem, settings);
-                    let mut nlp = FullSpaceNlp::new(problem, states, &start, &passive, &loaded);
+                    let mut nlp = FullSpaceNlp::new(problem, state_form, &start, &passive, &loaded);
                     nlp.on_iteration = Some(observer);
                     let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
                     let (design, states) = refine::solution_parts(&nlp, &solution.x);
@@ -111,9 +112,7 @@ pub fn run_solver(
         }
     };
     let mut report = SolverReport::from_ipopt(&solution, equilibrium_evaluations);
-    if formulation == Formulation::Full {
-        report.state_variables = Some(settings.state_variables.resolve(problem, settings));
-    }
+    report.state_variables = (formulation == Formulation::Full).then_some(state_form);
     report.start_seconds = start_seconds;
     report.ipopt_options = options
         .iter()
