@@ -110,9 +110,26 @@ fn design(c: &mut Criterion) {
     g.finish();
 }
 
+/// One factorisation of a recorded eq. (33) KKT matrix by the workspace's `LDLᵀ` (spine-kkt, the
+/// default linear solver) and by MUMPS 5.5 (Debian's, with Ipopt's controls), same values.
+fn kkt(c: &mut Criterion) {
+    let mut g = c.benchmark_group("kkt_factorization");
+    for links in spine_benchmarks::kkt::RECORDED_LINKS {
+        let dump = spine_benchmarks::kkt::recorded(links).expect("recorded matrix");
+        let mut spine = spine_kkt::SymmetricSolver::new(dump.structure().expect("valid structure"));
+        let coordinates = spine_benchmarks::kkt::coordinates(&dump).expect("valid structure");
+        let mut mumps = spine_mumps::Mumps::analyse(dump.n, &coordinates, &dump.a).expect("MUMPS analysis");
+        let negative = spine.factorize(&dump.a).expect("nonsingular").negative;
+        assert_eq!(mumps.factorize(&dump.a).expect("MUMPS factorisation"), negative, "N = {links}: inertia");
+        g.bench_with_input(BenchmarkId::new("spine", links), &dump.a, |b, a| b.iter(|| spine.factorize(a)));
+        g.bench_with_input(BenchmarkId::new("mumps", links), &dump.a, |b, a| b.iter(|| mumps.factorize(a)));
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10).measurement_time(Duration::from_secs(1)).warm_up_time(Duration::from_millis(300));
-    targets = equilibrium, design
+    targets = equilibrium, design, kkt
 }
 criterion_main!(benches);

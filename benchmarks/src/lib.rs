@@ -13,6 +13,7 @@
 //!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
 #![forbid(unsafe_code)]
 
+pub mod kkt;
 pub mod peers;
 pub mod report;
 

@@ -79,6 +79,18 @@ pub struct Factor {
     stats: FactorStats,
 }
 
+/// The bookkeeping of the variables that wait: a waiting variable is tested again only when its
+/// column, a fully summed partner's column or its threshold changed (skipping a test only delays a
+/// pivot, which is always allowed).
+struct Waiting {
+    /// Whether the variable (new numbering) must be tested at its next chance.
+    stale: Vec<bool>,
+    /// The waiting period ([`Thresholds::after_waiting`]) of its last test.
+    period: Vec<usize>,
+    /// Per candidate, whether it was eliminated in this pass (scratch).
+    gone: Vec<bool>,
+}
+
 /// Ruiz's equilibration of the symmetric matrix: `s` (original numbering) with the largest entry of
 /// every nonzero row of `S A S` close to 1.
 fn equilibrate(analysis: &Analysis, values: &[f64]) -> Vec<f64> {
@@ -104,6 +116,13 @@ fn equilibrate(analysis: &Analysis, values: &[f64]) -> Vec<f64> {
 impl Factor {
     /// Factorises the matrix with these values (in the order of the analysed structure).
     pub fn new(analysis: &Analysis, values: &[f64]) -> Result<Self, KktError> {
+        Self::reusing(analysis, values, None)
+    }
+
+    /// [`Factor::new`], writing into the storage of an earlier factorisation (Ipopt factorises
+    /// matrices of one structure hundreds of times; at N = 1000 `L` takes about 2 MB, and fresh
+    /// pages cost a tenth of the factorisation).
+    pub fn reusing(analysis: &Analysis, values: &[f64], old: Option<Factor>) -> Result<Self, KktError> {
         let n = analysis.order();
         if values.len() != analysis.structure.stored() {
             return Err(KktError::Input(format!(
@@ -116,20 +135,32 @@ impl Factor {
             return Err(KktError::Input(format!("value {e} is not finite")));
         }
         let s = equilibrate(analysis, values);
-        let order = analysis.ordering.order.clone();
-        let scale: Vec<f64> = order.iter().map(|&v| s[v]).collect();
-        let mut factor = Factor {
-            order,
-            scale,
-            pivots: Vec::with_capacity(n),
-            index: Vec::new(),
-            lower: Vec::new(),
-            inertia: Inertia::default(),
-            stats: FactorStats::default(),
+        let mut factor = match old {
+            Some(mut old) => {
+                old.order.clear();
+                old.scale.clear();
+                old.pivots.clear();
+                old.index.clear();
+                old.lower.clear();
+                old.inertia = Inertia::default();
+                old.stats = FactorStats::default();
+                old
+            }
+            None => Factor {
+                order: Vec::with_capacity(n),
+                scale: Vec::with_capacity(n),
+                pivots: Vec::with_capacity(n),
+                index: Vec::new(),
+                lower: Vec::new(),
+                inertia: Inertia::default(),
+                stats: FactorStats::default(),
+            },
         };
+        factor.order.extend_from_slice(&analysis.ordering.order);
+        factor.scale.extend(analysis.ordering.order.iter().map(|&v| s[v]));
         let mut front = Front::new(n, analysis.predicted_front + 4);
-        let mut summed = vec![false; n];
         let mut since = vec![0usize; n];
+        let mut waiting = Waiting { stale: vec![true; n], period: vec![0; n], gone: Vec::new() };
         let mut candidates: Vec<usize> = Vec::new();
         for k in 0..n {
             let slot_k = front.push(k);
@@ -137,9 +168,17 @@ impl Factor {
                 let slot_j = front.slot_of[j];
                 debug_assert_ne!(slot_j, ABSENT, "an entering entry's partner is still in the front");
                 front.add(slot_k, slot_j, values[e] * factor.scale[j] * factor.scale[k]);
+                waiting.stale[j] = true;
             }
             for &v in &analysis.summed[analysis.summed_start[k]..analysis.summed_start[k + 1]] {
-                summed[v] = true;
+                let slot_v = front.slot_of[v];
+                front.mark_summed(slot_v);
+                // A new fully summed partner may let a waiting variable pass.
+                for &w in &candidates {
+                    if front.at(front.slot_of[w], slot_v) != 0.0 {
+                        waiting.stale[w] = true;
+                    }
+                }
                 since[v] = k;
                 candidates.push(v);
             }
@@ -149,7 +188,7 @@ impl Factor {
             // would otherwise wait for it. The last step tests against every row.
             let border = if k + 1 == n { 0 } else { analysis.ordering.dense };
             let waited = |v: usize| (k - since[v]) / PATIENCE;
-            factor.eliminate_candidates(&mut front, &mut candidates, &summed, border, waited, k + 1 == n)?;
+            factor.eliminate_candidates(&mut front, &mut candidates, &mut waiting, border, waited, k + 1 == n)?;
             factor.stats.delayed += candidates.len();
         }
         debug_assert_eq!(front.len(), 0);
@@ -162,26 +201,32 @@ impl Factor {
         &mut self,
         front: &mut Front,
         candidates: &mut Vec<usize>,
-        summed: &[bool],
+        waiting: &mut Waiting,
         border: usize,
         waited: impl Fn(usize) -> usize,
         last: bool,
     ) -> Result<(), KktError> {
         // One pass over the candidates per step; at the last step, passes until all are gone (a
         // pivot changes the front, so a variable that waited may pass on the next pass).
-        let mut gone = vec![false; 0];
+        let gone = &mut waiting.gone;
         loop {
             let mut progress = false;
             gone.clear();
             gone.resize(candidates.len(), false);
             for c in 0..candidates.len() {
-                if gone[c] {
+                let v = candidates[c];
+                let period = waited(v);
+                if gone[c] || !(last || waiting.stale[v] || waiting.period[v] != period) {
                     continue;
                 }
-                let v = candidates[c];
-                let limits = Thresholds::after_waiting(waited(v));
-                let eliminated = match choose(front, front.slot_of[v], summed, border, limits)? {
-                    Choice::Delay => continue,
+                let limits = Thresholds::after_waiting(period);
+                let start = self.index.len();
+                let eliminated = match choose(front, front.slot_of[v], border, limits)? {
+                    Choice::Delay => {
+                        waiting.stale[v] = false;
+                        waiting.period[v] = period;
+                        continue;
+                    }
                     Choice::One(slot) => {
                         let p = front.var[slot];
                         self.pivot_one(front, slot);
@@ -195,6 +240,17 @@ impl Factor {
                 };
                 for (flag, &u) in gone.iter_mut().zip(candidates.iter()) {
                     *flag |= eliminated.contains(&Some(u));
+                }
+                // The rows coupled to the pivot changed; so may the tests of the variables
+                // coupled to those of them that are fully summed (their partners).
+                let coupled = &self.index[start..];
+                for (&u, &flag) in candidates.iter().zip(gone.iter()) {
+                    if !flag && !waiting.stale[u] {
+                        let slot_u = front.slot_of[u];
+                        waiting.stale[u] = coupled.iter().any(|&w| {
+                            w == u || (front.is_summed(front.slot_of[w]) && front.at(slot_u, front.slot_of[w]) != 0.0)
+                        });
+                    }
                 }
                 progress = true;
             }

@@ -4,6 +4,19 @@
 /// Marks a variable that is not in the front.
 pub(crate) const ABSENT: usize = usize::MAX;
 
+/// What [`Front::scan`] finds in one column.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ColumnScan {
+    /// The largest off-diagonal magnitude outside the dense rows, and its first row.
+    pub largest: f64,
+    pub row: Option<usize>,
+    /// The largest magnitude among the fully summed rows outside the dense rows, and its last row.
+    pub summed_largest: f64,
+    pub summed_row: Option<usize>,
+    /// The largest magnitude in the dense rows.
+    pub border: f64,
+}
+
 #[derive(Debug)]
 pub(crate) struct Front {
     stride: usize,
@@ -13,6 +26,8 @@ pub(crate) struct Front {
     pub var: Vec<usize>,
     /// The slot of each variable, or [`ABSENT`].
     pub slot_of: Vec<usize>,
+    /// Whether the variable of each slot is fully summed.
+    summed: Vec<bool>,
     /// The pivot rows during an elimination (kept to avoid an allocation per pivot).
     scratch: Vec<f64>,
 }
@@ -24,6 +39,7 @@ impl Front {
             stride,
             a: vec![0.0; stride * stride],
             var: Vec::with_capacity(stride),
+            summed: Vec::with_capacity(stride),
             slot_of: vec![ABSENT; n],
             scratch: Vec::new(),
         }
@@ -55,6 +71,7 @@ impl Front {
             self.a[j * s + slot] = 0.0;
         }
         self.var.push(v);
+        self.summed.push(false);
         self.slot_of[v] = slot;
         slot
     }
@@ -80,23 +97,39 @@ impl Front {
         }
     }
 
-    /// The largest `|a_ic|` over rows `i ≠ c` of column `c` whose variable is not below `border`
-    /// (the dense rows, numbered first), and its row (`None` for an empty column). The front is
-    /// stored whole, so column `c` is read as row `c`.
-    pub fn column_max(&self, c: usize, border: usize) -> (f64, Option<usize>) {
-        let mut best = (0.0, None);
-        for (i, (&v, &var)) in self.row(c).iter().zip(&self.var).enumerate() {
-            let v = v.abs();
-            if v > best.0 && i != c && var >= border {
-                best = (v, Some(i));
+    /// One pass over column `c` (read as row `c`: the front is stored whole) for the pivot tests:
+    /// the largest `|a_ic|` over rows `i ≠ c` whose variable is not below `border` (the dense
+    /// rows, numbered first) and its first row; the last row of largest `|a_ic|` among those whose
+    /// variable is fully summed; and the largest entry in the dense rows. Rows in `skip` are left
+    /// out.
+    pub fn scan(&self, c: usize, skip: usize, border: usize) -> ColumnScan {
+        let mut scan = ColumnScan { largest: 0.0, row: None, summed_largest: 0.0, summed_row: None, border: 0.0 };
+        for (i, ((&x, &var), &summed)) in self.row(c).iter().zip(&self.var).zip(&self.summed).enumerate() {
+            let v = x.abs();
+            if var < border {
+                scan.border = scan.border.max(v);
+            } else if i != c && i != skip {
+                if v > scan.largest {
+                    scan.largest = v;
+                    scan.row = Some(i);
+                }
+                if summed && (scan.summed_row.is_none() || v >= scan.summed_largest) {
+                    scan.summed_largest = v;
+                    scan.summed_row = Some(i);
+                }
             }
         }
-        best
+        scan
     }
 
-    /// The largest `|a_ic|` over the rows of the dense variables (below `border`).
-    pub fn border_max(&self, c: usize, border: usize) -> f64 {
-        self.row(c).iter().zip(&self.var).filter(|&(_, &var)| var < border).fold(0.0f64, |m, (v, _)| m.max(v.abs()))
+    /// Marks the variable in `slot` fully summed.
+    pub fn mark_summed(&mut self, slot: usize) {
+        self.summed[slot] = true;
+    }
+
+    /// Whether the variable in `slot` is fully summed.
+    pub fn is_summed(&self, slot: usize) -> bool {
+        self.summed[slot]
     }
 
     /// `a_ij −= Σ_k l_ik · row_k[j]` for every `i` outside `pivots`, where `l_i = a_i,pivots ·
@@ -153,9 +186,11 @@ impl Front {
                 self.a[i * s + slot] = self.a[i * s + last];
             }
             self.var[slot] = self.var[last];
+            self.summed[slot] = self.summed[last];
             self.slot_of[self.var[slot]] = slot;
         }
         self.var.pop();
+        self.summed.pop();
         self.slot_of[gone] = ABSENT;
     }
 }

@@ -32,6 +32,7 @@
 #[allow(unsafe_code)]
 mod abi;
 mod analysis;
+pub mod dump;
 mod factor;
 mod front;
 mod install;
@@ -42,6 +43,7 @@ mod solver;
 mod symmetric;
 
 pub use analysis::Analysis;
+pub use dump::Dump;
 pub use factor::{
     Factor, FactorStats, Inertia, BORDER_THRESHOLD, LAST_RESORT_THRESHOLD, PATIENCE, RELAXED_THRESHOLD, SINGULAR,
     THRESHOLD,

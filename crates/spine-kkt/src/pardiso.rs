@@ -180,12 +180,11 @@ fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), Kk
     call.iparm[22] = inertia.negative as i32;
     // Diagnostics: `SPINE_KKT_DUMP=FILE` writes the first matrix whose sweep delayed pivots so
     // front grew past twice the predicted width (order, ia, ja, a; read by
-    // `examples/kkt_dump.rs`).
+    // `examples/kkt_dump.rs`, parsed by [`crate::Dump`]).
     if let (Some(stats), Some(path)) = (solver.stats(), dump_path("SPINE_KKT_DUMP", &DUMP)) {
         let wide = stats.largest_front > 2 * solver.analysis().predicted_front() + 8;
         if wide && !std::path::Path::new(&path).exists() {
-            let text = format!("{}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a);
-            let _ = std::fs::write(path, text);
+            let _ = std::fs::write(path, recorded(call, None).format());
         }
     }
     if let Some(stats) = solver.stats() {
@@ -207,6 +206,11 @@ fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), Kk
         }
     }
     Ok(())
+}
+
+/// The system of a call in the text form of [`crate::Dump`].
+fn recorded(call: &Call<'_>, rhs: Option<Vec<f64>>) -> crate::Dump {
+    crate::Dump { n: call.n, ia: call.ia.to_vec(), ja: call.ja.to_vec(), a: call.a.to_vec(), rhs }
 }
 
 /// Phase 33: solves for the `nrhs` right-hand sides in `b` into `x` (and over `b` when `iparm[5]`
@@ -234,8 +238,7 @@ fn solve(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), KktErr
     // right-hand side) whose solve ends with a normwise backward error above 1e-8.
     if let Some(path) = dump_bad {
         if worst > 1e-8 && !std::path::Path::new(&path).exists() {
-            let text = format!("{}\n{:?}\n{:?}\n{:?}\n{:?}\n", call.n, call.ia, call.ja, call.a, rhs_copy);
-            let _ = std::fs::write(path, text);
+            let _ = std::fs::write(path, recorded(call, Some(rhs_copy)).format());
         }
     }
     if trace() {

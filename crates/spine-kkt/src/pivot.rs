@@ -2,7 +2,7 @@
 //! variables, threshold and Duff–Reid tests where the partner is not summed yet, a test against
 //! the dense rows, and the thresholds that relax while a variable waits.
 
-use crate::front::Front;
+use crate::front::{ColumnScan, Front};
 use crate::KktError;
 
 /// Bunch and Kaufman's α = (1 + √17)/8, which minimises the bound on element growth.
@@ -53,24 +53,17 @@ pub(crate) enum Choice {
 /// [`choose_sparse`], with the pivot it finds tested against the dense rows too: their entries
 /// in the pivot's column(s) may exceed the pivot by at most `1/BORDER_THRESHOLD`; otherwise the
 /// variable waits.
-pub(crate) fn choose(
-    front: &Front,
-    p: usize,
-    summed: &[bool],
-    border: usize,
-    limits: Thresholds,
-) -> Result<Choice, KktError> {
-    let choice = choose_sparse(front, p, summed, border, limits.sparse)?;
+pub(crate) fn choose(front: &Front, p: usize, border: usize, limits: Thresholds) -> Result<Choice, KktError> {
+    let (choice, dense_max) = choose_sparse(front, p, border, limits.sparse)?;
     if border == 0 {
         return Ok(choice);
     }
-    let dense_max = |col: usize| front.border_max(col, border);
     let ok = match choice {
-        Choice::One(q) => front.at(q, q).abs() >= limits.border * dense_max(q),
+        Choice::One(q) => front.at(q, q).abs() >= limits.border * dense_max,
         Choice::Two(a, b) => {
             let det = (front.at(a, a) * front.at(b, b) - front.at(a, b) * front.at(a, b)).abs();
             let size = front.at(a, a).abs().max(front.at(b, b).abs()).max(front.at(a, b).abs());
-            det / size >= limits.border * dense_max(a).max(dense_max(b))
+            det / size >= limits.border * dense_max
         }
         Choice::Delay => true,
     };
@@ -78,67 +71,64 @@ pub(crate) fn choose(
 }
 
 /// The Bunch–Kaufman rule on the fully summed variable in slot `p`, restricted to fully summed
-/// partners (see the module docs).
-fn choose_sparse(front: &Front, p: usize, summed: &[bool], border: usize, u: f64) -> Result<Choice, KktError> {
+/// partners (see the module docs), with the largest entry of the pivot's column(s) in the dense
+/// rows.
+fn choose_sparse(front: &Front, p: usize, border: usize, u: f64) -> Result<(Choice, f64), KktError> {
     let a_pp = front.at(p, p).abs();
-    let (gamma_p, r) = front.column_max(p, border);
-    let Some(r) = r.filter(|_| gamma_p > SINGULAR) else {
+    let column = front.scan(p, NONE, border);
+    let gamma_p = column.largest;
+    let Some(r) = column.row.filter(|_| gamma_p > SINGULAR) else {
         return if a_pp > SINGULAR {
-            Ok(Choice::One(p))
-        } else if border > 0 && front.column_max(p, 0).0 > SINGULAR {
-            Ok(Choice::Delay)
+            Ok((Choice::One(p), column.border))
+        } else if border > 0 && gamma_p.max(column.border) > SINGULAR {
+            Ok((Choice::Delay, 0.0))
         } else {
             Err(KktError::Singular { pivot: front.var[p] })
         };
     };
     if a_pp >= ALPHA * gamma_p {
-        return Ok(Choice::One(p));
+        return Ok((Choice::One(p), column.border));
     }
-    if !summed[front.var[r]] {
+    if !front.is_summed(r) {
         if a_pp >= u * gamma_p {
-            return Ok(Choice::One(p));
+            return Ok((Choice::One(p), column.border));
         }
-        return Ok(summed_partner(front, p, summed, border, u).map_or(Choice::Delay, |q| Choice::Two(p, q)));
+        return Ok(match summed_partner(front, p, &column, border, u) {
+            Some((q, dense_q)) => (Choice::Two(p, q), column.border.max(dense_q)),
+            None => (Choice::Delay, 0.0),
+        });
     }
-    let (gamma_r, _) = front.column_max(r, border);
+    let partner = front.scan(r, NONE, border);
+    let gamma_r = partner.largest;
     if a_pp * gamma_r >= ALPHA * gamma_p * gamma_p {
-        Ok(Choice::One(p))
+        Ok((Choice::One(p), column.border))
     } else if front.at(r, r).abs() >= ALPHA * gamma_r {
-        Ok(Choice::One(r))
+        Ok((Choice::One(r), partner.border))
     } else {
-        Ok(Choice::Two(p, r))
+        Ok((Choice::Two(p, r), column.border.max(partner.border)))
     }
 }
 
+/// No row left out of a scan.
+const NONE: usize = usize::MAX;
+
 /// A 2×2 pivot of `p` with the fully summed row `q` of largest `|a_qp|`, if the block passes Duff
 /// and Reid's threshold test: `|B⁻¹| (γ_p, γ_q)ᵀ ≤ (1/u, 1/u)`, with `γ` the largest entries of the
-/// two columns outside the block.
-fn summed_partner(front: &Front, p: usize, summed: &[bool], border: usize, u: f64) -> Option<usize> {
-    let q = front
-        .row(p)
-        .iter()
-        .zip(&front.var)
-        .enumerate()
-        .filter(|&(i, (_, &var))| i != p && summed[var] && var >= border)
-        .max_by(|(_, (x, _)), (_, (y, _))| x.abs().total_cmp(&y.abs()))
-        .map(|(i, _)| i)?;
+/// two columns outside the block; also the largest entry of column `q` in the dense rows.
+///
+/// Called only when the row `r` of `γ_p` is not fully summed, so `r ≠ q` and `γ_p` outside the
+/// block is `column.largest`.
+fn summed_partner(front: &Front, p: usize, column: &ColumnScan, border: usize, u: f64) -> Option<(usize, f64)> {
+    let q = column.summed_row?;
     let (a, b, c) = (front.at(p, p), front.at(q, p), front.at(q, q));
     let det = a * c - b * b;
     if det.abs() <= SINGULAR * SINGULAR || det == 0.0 {
         return None;
     }
-    let outside = |col: usize| {
-        front.row(col).iter().zip(&front.var).enumerate().fold(0.0f64, |m, (i, (v, &var))| {
-            if i != p && i != q && var >= border {
-                m.max(v.abs())
-            } else {
-                m
-            }
-        })
-    };
-    let (gp, gq) = (outside(p), outside(q));
+    let outside_q = front.scan(q, p, border);
+    let (gp, gq) = (column.largest, outside_q.largest);
     let bound = 1.0 / u;
     let first = (c.abs() * gp + b.abs() * gq) / det.abs();
     let second = (b.abs() * gp + a.abs() * gq) / det.abs();
-    (first <= bound && second <= bound).then_some(q)
+    (first <= bound && second <= bound).then_some((q, outside_q.border))
 }

@@ -45,8 +45,7 @@ impl SymmetricSolver {
     /// Factorises the matrix with these values (in the structure's stored order) and returns its
     /// inertia. A singular matrix is an error and leaves no factorisation.
     pub fn factorize(&mut self, values: &[f64]) -> Result<Inertia, KktError> {
-        self.factor = None;
-        let factor = Factor::new(&self.analysis, values)?;
+        let factor = Factor::reusing(&self.analysis, values, self.factor.take())?;
         self.values.clear();
         self.values.extend_from_slice(values);
         let inertia = factor.inertia();
@@ -77,8 +76,7 @@ impl SymmetricSolver {
         let mut residual = vec![0.0; n];
         let mut magnitude = vec![0.0; n];
         let mut measure = |x: &[f64], residual: &mut [f64], report: &mut SolveReport| {
-            structure.multiply(&self.values, x, residual);
-            structure.multiply_abs(&self.values, x, &mut magnitude);
+            structure.multiply_with_magnitude(&self.values, x, residual, &mut magnitude);
             let (mut error, mut largest_residual, mut largest_scale) = (0.0f64, 0.0f64, 0.0f64);
             for i in 0..n {
                 residual[i] = rhs[i] - residual[i];

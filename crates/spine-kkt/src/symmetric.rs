@@ -83,22 +83,40 @@ impl Structure {
     /// `y = A x` for the symmetric matrix with these `values`.
     pub fn multiply(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
-        for (r, c, e) in self.entries() {
-            y[r] += values[e] * x[c];
-            if r != c {
-                y[c] += values[e] * x[r];
+        for r in 0..self.n {
+            // Row `r`'s own terms are added to what the rows above put into `y[r]`, in the order of
+            // the entries, as an entry-by-entry loop would.
+            let (xr, mut sum) = (x[r], y[r]);
+            for e in self.row_start[r]..self.row_start[r + 1] {
+                let c = self.col[e];
+                sum += values[e] * x[c];
+                if r != c {
+                    y[c] += values[e] * xr;
+                }
             }
+            y[r] = sum;
         }
     }
 
-    /// `y = |A| |x|`, the scale of a residual's terms (for the componentwise backward error).
-    pub fn multiply_abs(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+    /// `y = A x` and `magnitude = |A| |x|` (the scale of a residual's terms, for the componentwise
+    /// backward error) in one pass.
+    pub fn multiply_with_magnitude(&self, values: &[f64], x: &[f64], y: &mut [f64], magnitude: &mut [f64]) {
         y.fill(0.0);
-        for (r, c, e) in self.entries() {
-            y[r] += (values[e] * x[c]).abs();
-            if r != c {
-                y[c] += (values[e] * x[r]).abs();
+        magnitude.fill(0.0);
+        for r in 0..self.n {
+            let (xr, mut sum, mut size) = (x[r], y[r], magnitude[r]);
+            for e in self.row_start[r]..self.row_start[r + 1] {
+                let c = self.col[e];
+                let (forward, backward) = (values[e] * x[c], values[e] * xr);
+                sum += forward;
+                size += forward.abs();
+                if r != c {
+                    y[c] += backward;
+                    magnitude[c] += backward.abs();
+                }
             }
+            y[r] = sum;
+            magnitude[r] = size;
         }
     }
 

@@ -4,7 +4,7 @@
 
 use faer::{Mat, Side};
 use spine_kkt::pardiso::{self, error, Call, State, PARAMETERS};
-use spine_kkt::{KktError, Structure, SymmetricSolver};
+use spine_kkt::{Dump, KktError, Structure, SymmetricSolver};
 
 /// SplitMix64, for reproducible random matrices.
 struct Rng(u64);
@@ -228,19 +228,13 @@ fn pardiso_phases_analyse_factorise_solve_and_release() {
 /// Reads a matrix in the format `SPINE_KKT_DUMP` writes: the order, then `ia`, `ja` and `a` as
 /// lists, one per line.
 fn read_dump(text: &str) -> (Upper, Structure, Vec<f64>) {
-    fn list<T: std::str::FromStr>(line: &str) -> Vec<T> {
-        let inner = line.trim().trim_start_matches('[').trim_end_matches(']');
-        inner.split(',').filter(|s| !s.trim().is_empty()).map(|s| s.trim().parse().ok().expect("a number")).collect()
-    }
-    let lines: Vec<&str> = text.lines().collect();
-    let n: usize = lines[0].trim().parse().unwrap();
-    let (ia, ja, a): (Vec<i32>, Vec<i32>, Vec<f64>) = (list(lines[1]), list(lines[2]), list(lines[3]));
-    let structure = Structure::from_one_based(n, &ia, &ja).unwrap();
-    let mut upper = Upper { n, ..Default::default() };
+    let dump = Dump::parse(text).unwrap();
+    let structure = dump.structure().unwrap();
+    let mut upper = Upper { n: dump.n, ..Default::default() };
     for (r, c, e) in structure.entries() {
-        upper.add(r, c, a[e]);
+        upper.add(r, c, dump.a[e]);
     }
-    (upper, structure, a)
+    (upper, structure, dump.a)
 }
 
 /// A KKT matrix Ipopt factorised in a cold solve of the scaled N = 100 case of `bench-peers`
