@@ -24,6 +24,7 @@ mod equilibrium_case;
 mod error;
 mod figure_case;
 pub mod fuzz;
+mod parameter;
 mod parse;
 mod per_item;
 mod specs;
@@ -37,6 +38,7 @@ pub use dynamics_case::{
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
 pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MAX_RUN_NAME};
+pub use parameter::LOAD_SCALE;
 pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;
 pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};

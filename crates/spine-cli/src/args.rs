@@ -163,6 +163,17 @@ pub struct StudyArgs {
 }
 
 #[derive(clap::Args)]
+pub struct SensitivityArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// A parameter: the case file's field path (`delta_d`, `loads.p_x`, `loads.p_y[3]`,
+    /// `stiffness_scale`, `chain.length_x`, `bounds.stiffness_max`, …) or `loads.scale` (a factor on
+    /// the transverse loads); repeat for several; default: all of them.
+    #[arg(long = "param", value_name = "NAME")]
+    pub params: Vec<String>,
+}
+
+#[derive(clap::Args)]
 pub struct ReportArgs {
     /// The results folder: one sub-folder per case with its `result.json`.
     #[arg(long, default_value = "results")]
@@ -197,6 +208,9 @@ pub enum Command {
     Case(DynamicArgs),
     /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
     Study(StudyArgs),
+    /// Eq. (33) on a design case, then the derivatives of its optimum (θ0*, K*, θ1*, θ2*, λ*, J*)
+    /// with respect to the case's parameters, with the conditions they rest on.
+    Sensitivity(SensitivityArgs),
     /// Combines the shards of a multi-start (`spine design … --shard K/N`) into its `result.json`.
     Merge(MergeArgs),
     #[command(hide = true)]

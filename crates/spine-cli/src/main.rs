@@ -38,18 +38,19 @@ fn main() -> ExitCode {
         std::process::exit(130);
     });
     let done = match &cli.command {
-        Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), None),
-        Command::Twolink(a) => run(a, Some("twolink"), Default::default(), None),
+        Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), Mode::Case),
+        Command::Twolink(a) => run(a, Some("twolink"), Default::default(), Mode::Case),
         Command::Design(a) => a.overrides().and_then(|o| match a.shard {
             Some(spec) => shard(&a.run, o, spec),
-            None => run(&a.run, Some("design"), o, None),
+            None => run(&a.run, Some("design"), o, Mode::Case),
         }),
         Command::Merge(a) => merge(a),
-        Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), None),
-        Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), None),
-        Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), None),
-        Command::Case(a) => run(&a.run, None, a.overrides(), None),
-        Command::Study(a) => a.values().and_then(|v| run(&a.run, None, a.overrides()?, Some(v))),
+        Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), Mode::Case),
+        Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), Mode::Case),
+        Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), Mode::Case),
+        Command::Case(a) => run(&a.run, None, a.overrides(), Mode::Case),
+        Command::Study(a) => a.values().and_then(|v| run(&a.run, None, a.overrides()?, Mode::Study(v))),
+        Command::Sensitivity(a) => run(&a.run, Some("design"), Default::default(), Mode::Sensitivity(&a.params)),
         Command::Report(a) => report::run(a),
         Command::Worker(a) => worker(a),
     };
@@ -157,13 +158,23 @@ fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
     Ok(true)
 }
 
-/// Reads and runs one case (of kind `expect` when given; a C_K study when `study` gives its
-/// values), writes its results and prints its summary. `Ok(clean)`.
+/// What [`run`] does with the case.
+enum Mode<'a> {
+    /// Runs it by its kind.
+    Case,
+    /// The C_K study over these values.
+    Study(Vec<f64>),
+    /// The sensitivities of its optimum to these parameters (empty: all).
+    Sensitivity(&'a [String]),
+}
+
+/// Reads and runs one case (of kind `expect` when given) as `mode` says, writes its results and
+/// prints its summary. `Ok(clean)`.
 fn run(
     args: &RunArgs,
     expect: Option<&str>,
     mut overrides: spine_run::Overrides,
-    study: Option<Vec<f64>>,
+    mode: Mode<'_>,
 ) -> Result<bool, Failure> {
     overrides.time_limit = args.time_limit;
     let path = args.case.display().to_string();
@@ -176,9 +187,10 @@ fn run(
         return Err(Failure::Input(msg));
     }
     let mut bars = progress::Bars::default();
-    let result = match &study {
-        Some(values) => spine_run::run_study(&case, &overrides, values, &mut |p| bars.report(p)),
-        None => spine_run::run_case(&case, &overrides, &spine_paper::PaperFigures, &mut |p| bars.report(p)),
+    let result = match &mode {
+        Mode::Study(values) => spine_run::run_study(&case, &overrides, values, &mut |p| bars.report(p)),
+        Mode::Sensitivity(names) => spine_run::run_sensitivity(&case, &overrides, names, &mut |p| bars.report(p)),
+        Mode::Case => spine_run::run_case(&case, &overrides, &spine_paper::PaperFigures, &mut |p| bars.report(p)),
     };
     bars.clear();
     let result = result.map_err(|e| failure(&path, e))?;

@@ -357,7 +357,7 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
 }
 
 /// Multipliers of a full-space solution (Ipopt's sign convention), in the layout's order.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Multipliers {
     pub constraints: Vec<f64>,
     pub z_lower: Vec<f64>,

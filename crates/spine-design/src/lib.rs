@@ -11,6 +11,7 @@
 //!   result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
+//! * [`sensitivity`]: derivatives of an optimum with respect to the problem's parameters.
 //!
 //! ```
 //! use spine_design::fixtures::{paper_five_link_start, paper_problem};
@@ -36,6 +37,7 @@ pub mod problem;
 pub mod reduced_space;
 pub mod refine;
 pub mod result;
+pub mod sensitivity;
 pub mod settings;
 pub mod solve;
 mod solver_report;

@@ -47,6 +47,10 @@ pub struct SolverRun {
     pub solver: SolverReport,
     pub start_notes: Vec<String>,
     pub refinement: Option<RefinementReport>,
+    /// Ipopt's multipliers at the full space's solution (in the layout of
+    /// `solver.state_variables`), for the sensitivities of the optimum ([`crate::sensitivity`]).
+    #[serde(default)]
+    pub multipliers: Option<Multipliers>,
 }
 
 impl SolverRun {
@@ -54,7 +58,7 @@ impl SolverRun {
     /// ([`DesignResult::check`]).
     pub fn check(self, problem: &DesignProblem, settings: &SolverSettings) -> DesignResult {
         let check_clock = Instant::now();
-        let SolverRun { formulation, design, states, solver, start_notes, refinement } = self;
+        let SolverRun { formulation, design, states, solver, start_notes, refinement, .. } = self;
         let solved_seconds = solver.total_seconds;
         let mut result = DesignResult::check(problem, formulation, design, states, solver, start_notes, settings);
         result.solver.check_seconds = check_clock.elapsed().as_secs_f64();
@@ -111,6 +115,11 @@ pub fn run_solver(
             (solution, design, states, nlp.equilibrium_evaluations)
         }
     };
+    let multipliers = (formulation == Formulation::Full).then(|| Multipliers {
+        constraints: solution.lambda.clone(),
+        z_lower: solution.z_lower.clone(),
+        z_upper: solution.z_upper.clone(),
+    });
     let mut report = SolverReport::from_ipopt(&solution, equilibrium_evaluations);
     report.state_variables = (formulation == Formulation::Full).then_some(state_form);
     report.start_seconds = start_seconds;
@@ -119,7 +128,7 @@ pub fn run_solver(
         .map(|(k, v)| (k.to_string(), if let OptionValue::Str(text) = v { text.clone() } else { v.to_string() }))
         .collect();
     report.total_seconds = clock.elapsed().as_secs_f64();
-    Ok(SolverRun { formulation, design, states, solver: report, start_notes: notes, refinement })
+    Ok(SolverRun { formulation, design, states, solver: report, start_notes: notes, refinement, multipliers })
 }
 
 /// Eq. (33) in the full space through the ladder of chain sizes (see [`crate::refine`]). Returns

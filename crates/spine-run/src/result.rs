@@ -7,6 +7,7 @@ use crate::dynamics::DynamicsResult;
 use crate::equilibrium::EquilibriumResult;
 use crate::figure::FigureResult;
 use crate::files::OutputFile;
+use crate::sensitivity::SensitivityResult;
 use crate::study::StudyResult;
 use crate::twolink::TwoLinkResult;
 use serde::Serialize;
@@ -76,6 +77,7 @@ pub enum KindResult {
     Dynamics(DynamicsResult),
     Figure(FigureResult),
     Study(StudyResult),
+    Sensitivity(SensitivityResult),
 }
 
 impl KindResult {
@@ -89,6 +91,7 @@ impl KindResult {
             Self::Dynamics(r) => r.is_clean(),
             Self::Figure(r) => r.is_clean(),
             Self::Study(r) => r.is_clean(),
+            Self::Sensitivity(r) => r.is_clean(),
         }
     }
 
@@ -99,6 +102,7 @@ impl KindResult {
             Self::Dynamics(r) => r.files(),
             Self::Figure(r) => r.files(),
             Self::Study(r) => r.files(),
+            Self::Sensitivity(r) => r.files(),
         }
     }
 }
@@ -113,6 +117,7 @@ impl std::fmt::Display for KindResult {
             Self::Dynamics(r) => r.fmt(f),
             Self::Figure(r) => r.fmt(f),
             Self::Study(r) => r.fmt(f),
+            Self::Sensitivity(r) => r.fmt(f),
         }
     }
 }

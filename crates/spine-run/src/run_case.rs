@@ -129,3 +129,14 @@ pub fn run_study(
         )?))
     })
 }
+
+/// `spine sensitivity`: eq. (33) on a design case (overrides applied, one start, full space) and
+/// the derivatives of its optimum with respect to the case fields `names` (empty: the defaults).
+pub fn run_sensitivity(
+    case: &Case,
+    overrides: &Overrides,
+    names: &[String],
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<CaseResult, RunError> {
+    limited(overrides, || crate::sensitivity::run_sensitivity(case, overrides, names, progress))
+}

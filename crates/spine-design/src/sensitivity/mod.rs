@@ -1,0 +1,269 @@
+//! Sensitivities of an eq. (33) optimum to the problem's parameters: how `θ0*`, `K*`, the states
+//! `θ1*`, `θ2*` (and their `λ`) and `J*` move when a load, `δ_d`, `C_K`, the span or a bound
+//! changes, by the implicit function theorem on the KKT conditions at the solution.
+//!
+//! * The active set is read from the primal-dual solution ([`active_set`]): a bound is active when
+//!   its multiplier exceeds its gap.
+//! * The KKT matrix reduced to the free variables and active rows is factorised once
+//!   ([`system`]); its inertia certifies second-order sufficiency (positive on the free
+//!   variables, one negative eigenvalue per active row, none zero), the smallest singular value of
+//!   the active rows' Jacobian measures LICQ, and the smallest active multiplier against the
+//!   smallest inactive gap measures strict complementarity ([`Conditions`]).
+//! * A parameter's derivatives of the NLP's gradient, constraints and bounds come from the exact
+//!   AD first derivatives of the problem rebuilt at `p ± h` ([`Parameter::problem_at`]): every
+//!   parameter of a case enters eq. (33) affinely except through a few bounds (`K/C_K`), and for an
+//!   affine dependence the central difference is exact to round-off; the report says, for each
+//!   parameter, whether the dependence was affine (second difference at round-off).
+//! * Where a bound is weakly active (strict complementarity fails), the derivative is one-sided:
+//!   for an increase and for a decrease of the parameter, the active set among the weak bounds that
+//!   keeps the linearised KKT conditions feasible (the QP of the degenerate set, by enumeration).
+
+mod active_set;
+mod derivative;
+mod point;
+mod polish;
+mod rates;
+mod system;
+
+pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
+pub use polish::{polish, POLISH_TOLERANCE};
+
+use crate::full_space::{assemble, Layout, Multipliers};
+use crate::DesignProblem;
+use derivative::{derivative, one_sided};
+use point::Evaluation;
+use rates::rates;
+use serde::Serialize;
+use system::ReducedKkt;
+
+/// At most this many weakly active bounds are enumerated for one-sided derivatives (2^k systems).
+pub const MAX_WEAK: usize = 8;
+
+/// A converged full-space optimum: Ipopt's point and multipliers in `layout`'s order.
+pub struct Optimum<'a> {
+    pub problem: &'a DesignProblem,
+    pub layout: Layout,
+    pub x: &'a [f64],
+    pub multipliers: &'a Multipliers,
+}
+
+/// One parameter: its name (the case file's field path), its value, and the problem with the
+/// parameter set to another value.
+pub struct Parameter<'a> {
+    pub name: String,
+    pub value: f64,
+    pub problem_at: Box<dyn Fn(f64) -> Result<DesignProblem, String> + 'a>,
+}
+
+/// Why sensitivities could not be computed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SensitivityError {
+    /// The problem could not be rebuilt with the parameter changed.
+    #[error("parameter `{name}`: {reason}")]
+    Parameter { name: String, reason: String },
+    /// The rebuilt problem has another size (a parameter must not change the number of links).
+    #[error("parameter `{0}` changes the problem's size")]
+    Size(String),
+}
+
+/// The conditions the derivatives rest on, with the numbers that show them.
+#[derive(Clone, Debug, Serialize)]
+pub struct Conditions {
+    /// Variables fixed by an active bound, free variables, active constraint rows.
+    pub active_variable_bounds: usize,
+    pub free_variables: usize,
+    pub active_rows: usize,
+    /// LICQ: the smallest singular value of the active rows' Jacobian on the free variables
+    /// (`None` above 250 000 entries, where only the inertia below speaks for it), and the active
+    /// rows that depend linearly on others (LICQ fails where there are any).
+    pub licq_smallest_singular_value: Option<f64>,
+    pub dependent_rows: Vec<usize>,
+    /// Strict complementarity: the smallest multiplier of an active inequality bound, the smallest
+    /// gap of an inactive one, and the weakly active bounds ([`WEAK_MULTIPLIER`], [`WEAK_GAP`]).
+    pub smallest_active_multiplier: Option<f64>,
+    pub smallest_inactive_gap: Option<f64>,
+    pub weakly_active: Vec<String>,
+    /// The inertia of the reduced KKT matrix (positive, negative, zero) and whether it is that of
+    /// a strict local minimum with independent active rows (second-order sufficiency and LICQ).
+    pub reduced_kkt_inertia: Option<[usize; 3]>,
+    pub second_order_sufficient: bool,
+    /// All of the above: the derivatives are two-sided and exact.
+    pub hold: bool,
+}
+
+/// Derivatives of the optimum with respect to one parameter (per unit of the parameter).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Derivative {
+    /// `dθ0*/dp` (rad), `dK*/dp` (N·m/rad), `dθ1*/dp`, `dθ2*/dp` (rad), `dλ1*/dp`, `dλ2*/dp` (N).
+    pub theta0: Vec<f64>,
+    pub stiffness: Vec<f64>,
+    pub theta1: Vec<f64>,
+    pub theta2: Vec<f64>,
+    pub lambda1: f64,
+    pub lambda2: f64,
+    /// `dJ*/dp` (J) by the envelope theorem (`∂L/∂p` at the solution) and directly
+    /// (`∂f/∂p + ∇f · dx/dp`); the two agree where the conditions hold.
+    pub objective: f64,
+    pub objective_direct: f64,
+}
+
+/// The sensitivity to one parameter.
+#[derive(Clone, Debug, Serialize)]
+pub struct ParameterSensitivity {
+    pub name: String,
+    pub value: f64,
+    /// The step `h` of the differences in `p` of the NLP's functions.
+    pub step: f64,
+    /// Whether the NLP's functions and bounds are affine in `p` (then exact to round-off).
+    pub affine: bool,
+    /// The derivative where the conditions hold.
+    pub derivative: Option<Derivative>,
+    /// Where a bound is weakly active: the one-sided derivatives for an increase and a decrease.
+    pub increase: Option<Derivative>,
+    pub decrease: Option<Derivative>,
+    /// Why no derivative is given, where that is not the conditions above.
+    pub note: Option<String>,
+}
+
+/// Everything `spine sensitivity` reports.
+#[derive(Clone, Debug, Serialize)]
+pub struct SensitivityReport {
+    pub conditions: Conditions,
+    pub parameters: Vec<ParameterSensitivity>,
+}
+
+/// The Hessian of the Lagrangian and the Jacobian at the optimum, with their patterns.
+pub(crate) struct Matrices {
+    pub hessian_pattern: Vec<(usize, usize)>,
+    pub hessian: Vec<f64>,
+    pub jacobian_pattern: Vec<(usize, usize)>,
+    pub jacobian: Vec<f64>,
+}
+
+/// The sensitivities of the optimum to each parameter.
+pub fn sensitivities(
+    optimum: &Optimum<'_>,
+    parameters: &[Parameter<'_>],
+) -> Result<SensitivityReport, SensitivityError> {
+    let (layout, x) = (optimum.layout, optimum.x);
+    let at = Evaluation::at(optimum.problem, layout, x);
+    let assembled = assemble(optimum.problem, layout.states);
+    let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
+    assembled.hessian(x, 1.0, &optimum.multipliers.constraints, &mut hessian);
+    let matrices = Matrices {
+        hessian_pattern: assembled.patterns.hessian.clone(),
+        hessian,
+        jacobian_pattern: assembled.patterns.jacobian.clone(),
+        jacobian: at.jacobian.clone(),
+    };
+    let mut set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
+    let licq = system::licq(
+        layout.num_variables(),
+        &set.variables,
+        &set.rows,
+        (&matrices.jacobian_pattern, &matrices.jacobian),
+    );
+    // Rows that depend on others are left out of the system (their multipliers are not unique);
+    // each derivative is then checked against them.
+    let dependent = licq.as_ref().map(|(_, d)| d.clone()).unwrap_or_default();
+    let all_rows = set.rows.clone();
+    set.rows.retain(|b| !dependent.contains(&b.index));
+    let kkt = factorise(&matrices, layout, &set.variables, &set.rows);
+    let conditions = conditions(&set, kkt.as_ref(), licq.map(|(s, _)| s), &dependent, layout);
+    let mut out = Vec::new();
+    for parameter in parameters {
+        let (step, rates) = rates(optimum, &at, parameter)?;
+        let weak = set.weak_variables.len() + set.weak_rows.len();
+        let mut note = None;
+        let derivative = match (&kkt, weak) {
+            (Some(kkt), 0) if conditions.second_order_sufficient => {
+                let (d, _, _, dg) = derivative(optimum, &matrices, &set.variables, kkt, &rates, &at);
+                let broken = derivative::dependent_rows_broken(optimum, &all_rows, &dependent, &rates, &at, &dg);
+                match broken {
+                    Some(row) => {
+                        note = Some(format!(
+                            "the active rows are dependent (LICQ fails) and constraint row {row} cannot follow the parameter: no two-sided derivative"
+                        ));
+                        None
+                    }
+                    None => Some(d),
+                }
+            }
+            _ => None,
+        };
+        let (increase, decrease) = if weak > 0 && weak <= MAX_WEAK {
+            (
+                one_sided(optimum, &matrices, &set, &rates, &at, 1.0),
+                one_sided(optimum, &matrices, &set, &rates, &at, -1.0),
+            )
+        } else {
+            (None, None)
+        };
+        out.push(ParameterSensitivity {
+            name: parameter.name.clone(),
+            value: parameter.value,
+            step,
+            affine: rates.affine,
+            derivative,
+            increase,
+            decrease,
+            note,
+        });
+    }
+    Ok(SensitivityReport { conditions, parameters: out })
+}
+
+pub(crate) fn factorise(
+    matrices: &Matrices,
+    layout: Layout,
+    variables: &[Bound],
+    rows: &[Bound],
+) -> Option<ReducedKkt> {
+    ReducedKkt::new(
+        layout.num_variables(),
+        layout.num_constraints(),
+        variables,
+        rows,
+        (&matrices.hessian_pattern, &matrices.hessian),
+        (&matrices.jacobian_pattern, &matrices.jacobian),
+    )
+    .ok()
+}
+
+/// LICQ, strict complementarity and second-order sufficiency, with their numbers.
+fn conditions(
+    set: &ActiveSet,
+    kkt: Option<&ReducedKkt>,
+    licq: Option<f64>,
+    dependent: &[usize],
+    layout: Layout,
+) -> Conditions {
+    let weakly_active: Vec<String> = set
+        .weak_variables
+        .iter()
+        .map(|b| {
+            format!("variable {} ({:?} bound): multiplier {:.1e}, gap {:.1e}", b.index, b.side, b.multiplier, b.gap)
+        })
+        .chain(set.weak_rows.iter().map(|b| {
+            format!(
+                "constraint row {} ({:?} bound): multiplier {:.1e}, gap {:.1e}",
+                b.index, b.side, b.multiplier, b.gap
+            )
+        }))
+        .collect();
+    let second_order_sufficient = kkt.is_some_and(ReducedKkt::certifies_minimum);
+    let finite = |v: f64| v.is_finite().then_some(v);
+    Conditions {
+        active_variable_bounds: set.variables.len(),
+        free_variables: layout.num_variables() - set.variables.len(),
+        active_rows: set.rows.len() + dependent.len(),
+        licq_smallest_singular_value: licq,
+        dependent_rows: dependent.to_vec(),
+        smallest_active_multiplier: finite(set.smallest_active_multiplier),
+        smallest_inactive_gap: finite(set.smallest_inactive_gap),
+        reduced_kkt_inertia: kkt.map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]),
+        second_order_sufficient,
+        hold: second_order_sufficient && weakly_active.is_empty() && dependent.is_empty(),
+        weakly_active,
+    }
+}

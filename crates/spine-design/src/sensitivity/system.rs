@@ -1,0 +1,189 @@
+//! The KKT system of eq. (33) at an optimum, reduced to the free variables and the active rows:
+//! `[H_FF J_AFᵀ; J_AF 0]`, factorised once (with its inertia, which certifies second-order
+//! sufficiency and, with no zero eigenvalue, the independence of the active rows), solved for
+//! every parameter.
+
+use super::active_set::{ActiveSet, Bound, Side};
+use spine_kkt::{Inertia, KktError, Structure, SymmetricSolver};
+use std::collections::BTreeMap;
+
+/// The factorised reduced KKT matrix and the index maps behind it.
+pub(crate) struct ReducedKkt {
+    /// Position of each variable among the free ones (`None`: fixed by an active bound).
+    pub free_position: Vec<Option<usize>>,
+    /// The active rows, in order.
+    pub rows: Vec<usize>,
+    pub free: usize,
+    pub inertia: Inertia,
+    solver: SymmetricSolver,
+}
+
+impl ReducedKkt {
+    /// Builds and factorises the system for this active set (the bounds in `variables` fix their
+    /// variables; `rows` are the active rows). `hessian` is the Hessian of the Lagrangian in its
+    /// lower-triangle pattern, `jacobian` the constraint Jacobian in its pattern.
+    pub fn new(
+        n: usize,
+        m: usize,
+        variables: &[Bound],
+        rows: &[Bound],
+        hessian: (&[(usize, usize)], &[f64]),
+        jacobian: (&[(usize, usize)], &[f64]),
+    ) -> Result<Self, KktError> {
+        let mut fixed = vec![false; n];
+        for b in variables {
+            fixed[b.index] = true;
+        }
+        let mut free_position = vec![None; n];
+        let mut free = 0;
+        for (i, slot) in free_position.iter_mut().enumerate() {
+            if !fixed[i] {
+                *slot = Some(free);
+                free += 1;
+            }
+        }
+        let mut row_position = vec![None; m];
+        let active_rows: Vec<usize> = rows.iter().map(|b| b.index).collect();
+        for (k, &r) in active_rows.iter().enumerate() {
+            row_position[r] = Some(k);
+        }
+        let order = free + active_rows.len();
+        let mut entries: BTreeMap<(usize, usize), f64> = (0..order).map(|i| ((i, i), 0.0)).collect();
+        for (&(a, b), &v) in hessian.0.iter().zip(hessian.1) {
+            if let (Some(p), Some(q)) = (free_position[a], free_position[b]) {
+                *entries.entry((p.min(q), p.max(q))).or_insert(0.0) += v;
+            }
+        }
+        for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
+            if let (Some(k), Some(p)) = (row_position[r], free_position[c]) {
+                *entries.entry((p, free + k)).or_insert(0.0) += v;
+            }
+        }
+        let list: Vec<(usize, usize)> = entries.keys().copied().collect();
+        let (structure, position) = Structure::from_entries(order, &list)?;
+        let mut values = vec![0.0; list.len()];
+        for (e, v) in entries.values().enumerate() {
+            values[position[e]] = *v;
+        }
+        let mut solver = SymmetricSolver::new(structure);
+        let inertia = solver.factorize(&values)?;
+        Ok(Self { free_position, rows: active_rows, free, inertia, solver })
+    }
+
+    /// Whether the inertia is that of a strict local minimum with independent active rows:
+    /// `free` positive, one negative per active row, none zero.
+    pub fn certifies_minimum(&self) -> bool {
+        self.inertia.positive == self.free && self.inertia.negative == self.rows.len() && self.inertia.zero == 0
+    }
+
+    /// Solves `[H_FF J_AFᵀ; J_AF 0] (dx_F, dλ_A) = rhs` (free-variable entries first).
+    pub fn solve(&self, rhs: &mut [f64]) -> Result<(), KktError> {
+        self.solver.solve(rhs).map(|_| ())
+    }
+}
+
+/// `y = H v` for the symmetric Hessian given by its lower triangle.
+pub(crate) fn hessian_times(pattern: &[(usize, usize)], values: &[f64], v: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; v.len()];
+    for (&(a, b), &h) in pattern.iter().zip(values) {
+        y[a] += h * v[b];
+        if a != b {
+            y[b] += h * v[a];
+        }
+    }
+    y
+}
+
+/// `y = J v` for the Jacobian in its pattern.
+pub(crate) fn jacobian_times(pattern: &[(usize, usize)], values: &[f64], v: &[f64], m: usize) -> Vec<f64> {
+    let mut y = vec![0.0; m];
+    for (&(r, c), &j) in pattern.iter().zip(values) {
+        y[r] += j * v[c];
+    }
+    y
+}
+
+/// `y = Jᵀ w` for the Jacobian in its pattern.
+pub(crate) fn jacobian_transpose_times(pattern: &[(usize, usize)], values: &[f64], w: &[f64], n: usize) -> Vec<f64> {
+    let mut y = vec![0.0; n];
+    for (&(r, c), &j) in pattern.iter().zip(values) {
+        y[c] += j * w[r];
+    }
+    y
+}
+
+/// The derivative of a bound's value in the parameter, for the side at which it holds.
+pub(crate) fn bound_rate(bound: &Bound, lower_rate: f64, upper_rate: f64) -> f64 {
+    match bound.side {
+        Side::Lower | Side::Both => lower_rate,
+        Side::Upper => upper_rate,
+    }
+}
+
+/// The active set with some weakly active bounds taken as active (the others as inactive).
+pub(crate) fn with_weak(set: &ActiveSet, variables: &[Bound], rows: &[Bound]) -> (Vec<Bound>, Vec<Bound>) {
+    let mut v = set.variables.clone();
+    v.extend_from_slice(variables);
+    let mut r = set.rows.clone();
+    r.extend_from_slice(rows);
+    r.sort_by_key(|b| b.index);
+    (v, r)
+}
+
+/// Most entries of the dense active-row Jacobian for the LICQ measures.
+pub(crate) const MAX_DENSE: usize = 250_000;
+
+/// LICQ at the active set: the smallest singular value of the active rows' Jacobian on the free
+/// variables, and the rows (constraint indices) that depend linearly on earlier ones (modified
+/// Gram–Schmidt, a row whose remainder is below 1e-9 of its norm). `None` above [`MAX_DENSE`].
+pub(crate) fn licq(
+    n: usize,
+    variables: &[Bound],
+    rows: &[Bound],
+    jacobian: (&[(usize, usize)], &[f64]),
+) -> Option<(f64, Vec<usize>)> {
+    let mut free = vec![Some(0usize); n];
+    for b in variables {
+        free[b.index] = None;
+    }
+    let mut count = 0;
+    for slot in free.iter_mut().flatten() {
+        *slot = count;
+        count += 1;
+    }
+    let mut position = std::collections::HashMap::new();
+    for (k, b) in rows.iter().enumerate() {
+        position.insert(b.index, k);
+    }
+    if rows.is_empty() || rows.len() * count > MAX_DENSE {
+        return None;
+    }
+    let mut a = nalgebra::DMatrix::<f64>::zeros(rows.len(), count);
+    for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
+        if let (Some(&k), Some(p)) = (position.get(&r), free[c]) {
+            a[(k, p)] += v;
+        }
+    }
+    let smallest = if rows.len() <= count {
+        a.clone().singular_values().iter().copied().fold(f64::INFINITY, f64::min)
+    } else {
+        0.0
+    };
+    let mut basis: Vec<nalgebra::DVector<f64>> = Vec::new();
+    let mut dependent = Vec::new();
+    for (k, b) in rows.iter().enumerate() {
+        let mut v: nalgebra::DVector<f64> = a.row(k).transpose();
+        let norm = v.norm();
+        for q in &basis {
+            let c = q.dot(&v);
+            v -= q * c;
+        }
+        if v.norm() <= 1e-9 * norm.max(f64::MIN_POSITIVE) {
+            dependent.push(b.index);
+        } else {
+            let unit = v.normalize();
+            basis.push(unit);
+        }
+    }
+    Some((smallest, dependent))
+}

@@ -1,0 +1,209 @@
+//! `spine sensitivity`: an eq. (33) optimum (one start, full space) and its derivatives with
+//! respect to the case's parameters ([`spine_design::sensitivity`]), with a CSV per parameter.
+
+use crate::design::DesignCaseResult;
+use crate::error::RunError;
+use crate::files::OutputFile;
+use crate::progress::Progress;
+use crate::result::KindResult;
+use crate::run_case::Overrides;
+use serde::Serialize;
+use spine_case::{Case, CaseError};
+use spine_design::full_space::{Layout, StateForm};
+use spine_design::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport};
+use spine_design::{run_solver, Formulation};
+use std::fmt::Write;
+
+/// `result.json` of `spine sensitivity`: the optimum and its sensitivities.
+#[derive(Clone, Debug, Serialize)]
+pub struct SensitivityResult {
+    pub kind: &'static str,
+    pub title: String,
+    pub design: DesignCaseResult,
+    /// `None` when the optimum is not clean (the design's status and warnings say why).
+    pub sensitivity: Option<SensitivityReport>,
+    pub files: Vec<String>,
+}
+
+/// Solves the design case once in the full space and differentiates its optimum with respect to
+/// `names` (the case's field paths; empty: [`spine_case::DesignCase::default_parameters`]).
+pub fn run_sensitivity(
+    case: &Case,
+    overrides: &Overrides,
+    names: &[String],
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<KindResult, RunError> {
+    let Case::Design(c) = case else {
+        return Err(RunError::Case(CaseError::invalid(
+            "kind",
+            format!("sensitivities need a \"design\" case, the file is \"{}\"", case.kind()),
+        )));
+    };
+    let mut valid = c.validate()?;
+    overrides.design.apply(&mut valid);
+    let names = if names.is_empty() { c.default_parameters() } else { names.to_vec() };
+    let values = names.iter().map(|name| c.parameter_value(name)).collect::<Result<Vec<f64>, CaseError>>()?;
+    progress(Progress::Done { message: format!("eq. (33) from the case's start, then {} parameters", names.len()) });
+    let problem = &valid.problem;
+    let run = run_solver(problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true)
+        .map_err(RunError::Design)?;
+    if spine_stop::interrupt_requested() {
+        return Err(RunError::Interrupted);
+    }
+    let first = run.check(problem, &valid.settings);
+    // Re-solved tightly from its optimum (see `spine_design::sensitivity::polish`), kept when it
+    // ends clean on the same optimum.
+    let polished = polish(problem, &first.design, &valid.settings).map_err(RunError::Design)?;
+    let (multipliers, design) = {
+        let multipliers = polished.multipliers.clone();
+        let result = polished.check(problem, &valid.settings);
+        // The same optimum: `J` moves by about the first solve's tolerance (1e-7 relative on
+        // design5), another local optimum by much more.
+        let same = (result.objective - first.objective).abs() <= 1e-6 * first.objective.abs().max(1e-12);
+        if result.is_clean() && same {
+            (multipliers, result)
+        } else {
+            (None, first)
+        }
+    };
+    let sensitivity = match (&multipliers, design.is_clean(), &design.passive, &design.loaded) {
+        (Some(multipliers), true, Some(passive), Some(loaded)) => {
+            let layout =
+                Layout { n: problem.n_links(), states: design.solver.state_variables.unwrap_or(StateForm::Absolute) };
+            let passive_state = spine_model::State { theta: passive.theta.clone(), lambda: passive.lambda };
+            let loaded_state = spine_model::State { theta: loaded.theta.clone(), lambda: loaded.lambda };
+            let heights = problem.node_heights(&design.design.theta0);
+            let x = layout.pack(&design.design, problem.stiffness_scale, &passive_state, &loaded_state, &heights);
+            let design_overrides = &overrides.design;
+            let parameters: Vec<Parameter<'_>> = names
+                .iter()
+                .zip(&values)
+                .map(|(name, &value)| Parameter {
+                    name: name.clone(),
+                    value,
+                    problem_at: Box::new(move |v| {
+                        let mut changed =
+                            c.with_parameter(name, v).and_then(|c| c.validate()).map_err(|e| e.to_string())?;
+                        design_overrides.apply(&mut changed);
+                        Ok(changed.problem)
+                    }),
+                })
+                .collect();
+            let optimum = Optimum { problem, layout, x: &x, multipliers };
+            Some(
+                sensitivities(&optimum, &parameters)
+                    .map_err(|e| RunError::Case(CaseError::invalid("--param", e.to_string())))?,
+            )
+        }
+        _ => None,
+    };
+    let files =
+        sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
+    let title = if c.title.is_empty() { "design case".to_string() } else { c.title.clone() };
+    let design =
+        DesignCaseResult { kind: "design", title: title.clone(), reported_start: 0, result: design, multistart: None };
+    Ok(KindResult::Sensitivity(SensitivityResult { kind: "sensitivity", title, design, sensitivity, files }))
+}
+
+/// `sensitivity_<name>.csv`, with the path's punctuation as `_`.
+fn csv_name(name: &str) -> String {
+    let stem: String = name.chars().map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' }).collect();
+    format!("sensitivity_{}.csv", stem.trim_end_matches('_'))
+}
+
+/// One row per link (and the end spring): `i, dθ0, dK, dθ1, dθ2` of the two-sided derivative, or
+/// of the one-sided ones for an increase and a decrease.
+fn csv(derivatives: &[(&str, &Derivative)]) -> String {
+    let mut out = String::from("direction,link,dtheta0_rad,dstiffness_Nm_per_rad,dtheta1_rad,dtheta2_rad\n");
+    for (direction, d) in derivatives {
+        for j in 0..d.stiffness.len() {
+            let angle = |v: &[f64]| v.get(j).map_or(String::new(), |x| format!("{x:e}"));
+            let _ = writeln!(
+                out,
+                "{direction},{},{},{:e},{},{}",
+                j + 1,
+                angle(&d.theta0),
+                d.stiffness[j],
+                angle(&d.theta1),
+                angle(&d.theta2)
+            );
+        }
+    }
+    out
+}
+
+impl SensitivityResult {
+    /// Clean: the optimum is clean and the conditions of the derivatives hold.
+    pub fn is_clean(&self) -> bool {
+        self.design.result.is_clean() && self.sensitivity.as_ref().is_some_and(|s| s.conditions.hold)
+    }
+
+    /// A CSV per parameter.
+    pub fn files(&self) -> Vec<OutputFile> {
+        let Some(report) = &self.sensitivity else { return Vec::new() };
+        report
+            .parameters
+            .iter()
+            .map(|p| {
+                let rows: Vec<(&str, &Derivative)> = match (&p.derivative, &p.increase, &p.decrease) {
+                    (Some(d), _, _) => vec![("both", d)],
+                    (None, up, down) => {
+                        up.iter().map(|d| ("increase", d)).chain(down.iter().map(|d| ("decrease", d))).collect()
+                    }
+                };
+                OutputFile::text(csv_name(&p.name), csv(&rows))
+            })
+            .collect()
+    }
+}
+
+impl std::fmt::Display for SensitivityResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.design)?;
+        let Some(report) = &self.sensitivity else {
+            return writeln!(f, "no sensitivities: the optimum is not clean");
+        };
+        let c = &report.conditions;
+        writeln!(
+            f,
+            "conditions {}: {} free variables, {} at bounds, {} active rows; LICQ σ_min {}; smallest active multiplier {}, smallest inactive gap {}; reduced KKT inertia {:?} ({}){}",
+            if c.hold { "hold" } else { "FAIL" },
+            c.free_variables,
+            c.active_variable_bounds,
+            c.active_rows,
+            c.licq_smallest_singular_value.map_or("not computed".into(), |v| format!("{v:.3e}")),
+            c.smallest_active_multiplier.map_or("none".into(), |v| format!("{v:.3e}")),
+            c.smallest_inactive_gap.map_or("none".into(), |v| format!("{v:.3e}")),
+            c.reduced_kkt_inertia,
+            if c.second_order_sufficient { "second-order sufficient" } else { "NOT second-order sufficient" },
+            if c.weakly_active.is_empty() { String::new() } else { format!("; weakly active: {}", c.weakly_active.join("; ")) }
+        )?;
+        for p in &report.parameters {
+            let summary = |d: &Derivative| {
+                let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                format!(
+                    "dJ*/dp {:.6e} (direct {:.6e}), max |dθ0*/dp| {:.3e}, max |dK*/dp| {:.3e}",
+                    d.objective,
+                    d.objective_direct,
+                    largest(&d.theta0),
+                    largest(&d.stiffness)
+                )
+            };
+            let text = match (&p.derivative, &p.increase, &p.decrease) {
+                (Some(d), _, _) => summary(d),
+                (None, Some(up), Some(down)) => {
+                    format!("one-sided: increase {}; decrease {}", summary(up), summary(down))
+                }
+                _ => "not computed (the conditions fail)".into(),
+            };
+            writeln!(
+                f,
+                "  {} = {}{}: {text}",
+                p.name,
+                p.value,
+                if p.affine { "" } else { " (not affine: central difference)" }
+            )?;
+        }
+        Ok(())
+    }
+}
