@@ -138,5 +138,11 @@ pub fn run_sensitivity(
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    limited(overrides, || crate::sensitivity::run_sensitivity(case, overrides, names, progress))
+    let Case::Design(c) = case else {
+        let message = format!("sensitivities need a \"design\" case, the file is \"{}\"", case.kind());
+        return Err(RunError::Case(spine_case::CaseError::invalid("kind", message)));
+    };
+    limited(overrides, || {
+        Ok(KindResult::Sensitivity(crate::sensitivity::run_design_sensitivity(c, &overrides.design, names, progress)?))
+    })
 }

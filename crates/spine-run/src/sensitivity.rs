@@ -1,14 +1,12 @@
 //! `spine sensitivity`: an eq. (33) optimum (one start, full space) and its derivatives with
 //! respect to the case's parameters ([`spine_design::sensitivity`]), with a CSV per parameter.
 
-use crate::design::DesignCaseResult;
+use crate::design::{DesignCaseResult, DesignOverrides};
 use crate::error::RunError;
 use crate::files::OutputFile;
 use crate::progress::Progress;
-use crate::result::KindResult;
-use crate::run_case::Overrides;
 use serde::Serialize;
-use spine_case::{Case, CaseError};
+use spine_case::{CaseError, DesignCase};
 use spine_design::full_space::{Layout, StateForm};
 use spine_design::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport};
 use spine_design::{run_solver, Formulation};
@@ -27,20 +25,14 @@ pub struct SensitivityResult {
 
 /// Solves the design case once in the full space and differentiates its optimum with respect to
 /// `names` (the case's field paths; empty: [`spine_case::DesignCase::default_parameters`]).
-pub fn run_sensitivity(
-    case: &Case,
-    overrides: &Overrides,
+pub fn run_design_sensitivity(
+    c: &DesignCase,
+    overrides: &DesignOverrides,
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
-) -> Result<KindResult, RunError> {
-    let Case::Design(c) = case else {
-        return Err(RunError::Case(CaseError::invalid(
-            "kind",
-            format!("sensitivities need a \"design\" case, the file is \"{}\"", case.kind()),
-        )));
-    };
+) -> Result<SensitivityResult, RunError> {
     let mut valid = c.validate()?;
-    overrides.design.apply(&mut valid);
+    overrides.apply(&mut valid);
     let names = if names.is_empty() { c.default_parameters() } else { names.to_vec() };
     let values = names.iter().map(|name| c.parameter_value(name)).collect::<Result<Vec<f64>, CaseError>>()?;
     progress(Progress::Done { message: format!("eq. (33) from the case's start, then {} parameters", names.len()) });
@@ -74,7 +66,7 @@ pub fn run_sensitivity(
             let loaded_state = spine_model::State { theta: loaded.theta.clone(), lambda: loaded.lambda };
             let heights = problem.node_heights(&design.design.theta0);
             let x = layout.pack(&design.design, problem.stiffness_scale, &passive_state, &loaded_state, &heights);
-            let design_overrides = &overrides.design;
+            let design_overrides = overrides;
             let parameters: Vec<Parameter<'_>> = names
                 .iter()
                 .zip(&values)
@@ -102,7 +94,7 @@ pub fn run_sensitivity(
     let title = if c.title.is_empty() { "design case".to_string() } else { c.title.clone() };
     let design =
         DesignCaseResult { kind: "design", title: title.clone(), reported_start: 0, result: design, multistart: None };
-    Ok(KindResult::Sensitivity(SensitivityResult { kind: "sensitivity", title, design, sensitivity, files }))
+    Ok(SensitivityResult { kind: "sensitivity", title, design, sensitivity, files })
 }
 
 /// `sensitivity_<name>.csv`, with the path's punctuation as `_`.
