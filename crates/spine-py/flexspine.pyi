@@ -9,7 +9,7 @@ Units: m, rad, N, N·m/rad, N·m·s/rad, kg, s, J.
 """
 
 import os
-from typing import Any, Literal, Mapping, Optional, Union
+from typing import Any, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -61,12 +61,27 @@ def run_case(
     written), RuntimeError (anything else). The GIL is released while the run works.
     """
 
+def sensitivity(
+    case: CaseLike,
+    params: Optional[Sequence[str]] = None,
+    *,
+    out: Optional[Union[str, os.PathLike[str]]] = None,
+    deterministic: bool = False,
+) -> "Result":
+    """Eq. (33) on a design case, then the derivatives of its optimum with respect to `params`
+    (the case file's field paths, e.g. "delta_d", "loads.p_y[2]", "loads.scale",
+    "chain.length_x"; default: all), as `spine sensitivity`. The result's kind is "sensitivity";
+    `result["sensitivity"]["parameters"]` holds, per parameter, `derivative` (or `increase` and
+    `decrease` where a bound is weakly active) with `theta0`, `stiffness`, `theta1`, `theta2`,
+    `lambda1`, `lambda2`, `objective`; `result["sensitivity"]["conditions"]` the numbers of LICQ,
+    strict complementarity and second-order sufficiency. Raises ValueError on a bad case or name."""
+
 class Result:
     """A case's typed result: what `result.json` holds, plus its time series as numpy arrays."""
 
     @property
     def kind(self) -> str:
-        """equilibrium, twolink, design, simulate, damping, periodic, figure or study."""
+        """equilibrium, twolink, design, simulate, damping, periodic, figure, study or sensitivity."""
     @property
     def clean(self) -> bool:
         """Converged, stable, every solver check passed, not stopped early (CLI exit code 0)."""

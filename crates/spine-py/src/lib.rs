@@ -242,6 +242,31 @@ fn run_case(
     Ok(result)
 }
 
+/// Eq. (33) on a design case, then the derivatives of its optimum with respect to `params` (the
+/// case file's field paths; default all), as `spine sensitivity` does: a result of kind
+/// `"sensitivity"` whose `["sensitivity"]` holds the conditions and, per parameter, the
+/// derivatives of θ0*, K*, θ1*, θ2*, λ* and J*.
+#[pyfunction]
+#[pyo3(signature = (case, params = None, *, out = None, deterministic = false))]
+fn sensitivity(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    params: Option<Vec<String>>,
+    out: Option<std::path::PathBuf>,
+    deterministic: bool,
+) -> PyResult<CaseResult> {
+    let case = case_from(py, case)?;
+    let names = params.unwrap_or_default();
+    let overrides = spine_run::Overrides::default();
+    let result = interruptible(py, || spine_run::run_sensitivity(&case, &overrides, &names, &mut spine_run::quiet))?
+        .map_err(run_error)?;
+    let result = CaseResult { inner: result };
+    if let Some(out) = out {
+        result.write(py, out, deterministic)?;
+    }
+    Ok(result)
+}
+
 /// The strain energy `U = ½ Σ K_j (Δθ_j − Δθ0_j)²` of eq. (2), J, of springs `stiffness`
 /// (N·m/rad, `N + 1`) at link angles `theta` from the unloaded angles `theta0` (rad, `N` each).
 #[pyfunction]
@@ -301,6 +326,7 @@ fn flexspine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<CaseResult>()?;
     m.add_class::<structure::Structure>()?;
     m.add_function(wrap_pyfunction!(run_case, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity, m)?)?;
     m.add_function(wrap_pyfunction!(strain_energy, m)?)?;
     m.add_function(wrap_pyfunction!(design_start, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;

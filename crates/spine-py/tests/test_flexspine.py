@@ -250,3 +250,25 @@ def test_kinds_come_from_the_registry_and_each_has_a_paper_case():
     root = pathlib.Path(__file__).resolve().parents[3]
     found = {json.loads(p.read_text())["kind"] for p in (root / "paper-cases").glob("*.json")}
     assert found <= set(kinds)
+
+
+def test_sensitivity_from_python_matches_the_cli_and_re_solves(tmp_path):
+    """flexspine.sensitivity gives the CLI's result, and dJ*/dδ_d matches a central difference of
+    two solves of the case at δ_d ± h (the optimum's vertex does not move for this small h)."""
+    case = json.loads((CASES / "design5.json").read_text())
+    result = flexspine.sensitivity(case, ["delta_d"], out=tmp_path / "py", deterministic=True)
+    assert result.kind == "sensitivity" and result.clean
+    cli = subprocess.run(
+        [SPINE, "sensitivity", str(CASES / "design5.json"), "--param", "delta_d", "--out", str(tmp_path / "cli"), "--deterministic"],
+        capture_output=True,
+    )
+    assert cli.returncode == 0, cli.stderr
+    assert (tmp_path / "py" / "result.json").read_bytes() == (tmp_path / "cli" / "result.json").read_bytes()
+    derivative = result["sensitivity"]["parameters"][0]["derivative"]
+    h = 1e-4
+    objective = []
+    for sign in (1, -1):
+        changed = dict(case, delta_d=case["delta_d"] + sign * h)
+        objective.append(flexspine.run_case(changed)["objective"])
+    assert abs(derivative["objective"] - (objective[0] - objective[1]) / (2 * h)) < 1e-4 * abs(derivative["objective"])
+    assert np.asarray(derivative["stiffness"]).shape == (6,)

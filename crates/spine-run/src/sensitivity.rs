@@ -125,9 +125,14 @@ fn csv(derivatives: &[(&str, &Derivative)]) -> String {
 }
 
 impl SensitivityResult {
-    /// Clean: the optimum is clean and the conditions of the derivatives hold.
+    /// Clean: the optimum is clean and every parameter has its derivative, two-sided or as the
+    /// pair of one-sided ones (where LICQ or strict complementarity fails for some parameters,
+    /// the others' derivatives still hold; `conditions` says which condition failed).
     pub fn is_clean(&self) -> bool {
-        self.design.result.is_clean() && self.sensitivity.as_ref().is_some_and(|s| s.conditions.hold)
+        self.design.result.is_clean()
+            && self.sensitivity.as_ref().is_some_and(|s| {
+                s.parameters.iter().all(|p| p.derivative.is_some() || (p.increase.is_some() && p.decrease.is_some()))
+            })
     }
 
     /// A CSV per parameter.

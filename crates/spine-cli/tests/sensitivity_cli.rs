@@ -1,0 +1,47 @@
+//! `spine sensitivity` end to end: the result, a CSV per parameter, exit codes.
+
+mod common;
+
+use common::{spine, tmpdir, workspace};
+
+#[test]
+fn sensitivity_writes_derivatives_and_a_csv_per_parameter() {
+    let case = workspace().join("paper-cases/design5.json");
+    let out = tmpdir("sensitivity-design5");
+    let args = ["sensitivity", case.to_str().unwrap(), "--param", "delta_d", "--param", "loads.p_y[2]"];
+    let output = spine(&[&args[..], &["--out", out.to_str().unwrap(), "--deterministic"]].concat());
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    assert_eq!(json["kind"], "sensitivity");
+    let conditions = &json["sensitivity"]["conditions"];
+    assert_eq!(conditions["second_order_sufficient"], true);
+    assert!(conditions["dependent_rows"].as_array().is_some_and(|d| !d.is_empty()), "design5's angle vertex");
+    let delta = &json["sensitivity"]["parameters"][0];
+    assert_eq!(delta["name"], "delta_d");
+    assert_eq!(delta["derivative"]["stiffness"].as_array().unwrap().len(), 6);
+    let (envelope, direct) =
+        (delta["derivative"]["objective"].as_f64().unwrap(), delta["derivative"]["objective_direct"].as_f64().unwrap());
+    assert!((envelope - direct).abs() < 1e-9 * envelope.abs(), "{envelope} {direct}");
+    let csv = std::fs::read_to_string(out.join("sensitivity_loads_p_y_2.csv")).unwrap();
+    assert!(csv.starts_with("direction,link,dtheta0_rad"), "{csv}");
+    assert_eq!(csv.lines().count(), 1 + 6, "a header and one row per spring");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("second-order sufficient") && stdout.contains("delta_d = -0.02"), "{stdout}");
+}
+
+#[test]
+fn bad_sensitivity_input_exits_2_names_the_field_and_writes_nothing() {
+    let design = workspace().join("paper-cases/design5.json");
+    let step = workspace().join("paper-cases/step5.json");
+    for (case, param, field) in
+        [(&design, "no.such.field", "--param"), (&design, "loads.p_y[99]", "--param"), (&step, "delta_d", "kind")]
+    {
+        let out = tmpdir("sensitivity-bad");
+        let output = spine(&["sensitivity", case.to_str().unwrap(), "--param", param, "--out", out.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{param}: {stderr}");
+        assert!(stderr.contains(field), "{param}: {stderr}");
+        assert!(!out.join("result.json").exists());
+    }
+}
