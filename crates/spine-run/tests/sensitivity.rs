@@ -49,6 +49,25 @@ fn derivatives_match_central_differences_of_re_solves_on_design5() {
     let s = r.sensitivity.as_ref().expect("a clean optimum");
     assert!(s.conditions.second_order_sufficient, "{:?}", s.conditions);
     assert!(!s.conditions.dependent_rows.is_empty(), "the angle vertex makes the active rows dependent");
+    check_against_re_solves(&case, &r);
+}
+
+/// The 10-link case, where every condition holds (LICQ with σ_min 3e-4), including the angle
+/// bounds, which move the optimum's vertex.
+#[test]
+fn derivatives_match_central_differences_of_re_solves_on_design10() {
+    let Case::Design(case) = Case::from_json(include_str!("../../../paper-cases/design10.json")).unwrap() else {
+        panic!("design10 is a design case")
+    };
+    let r = report(&case, &["delta_d", "loads.p_y[5]", "bounds.theta0_max", "bounds.relative_angle_max"]);
+    let s = r.sensitivity.as_ref().expect("a clean optimum");
+    assert!(s.conditions.hold, "{:?}", s.conditions);
+    check_against_re_solves(&case, &r);
+}
+
+fn check_against_re_solves(case: &DesignCase, r: &spine_run::sensitivity::SensitivityResult) {
+    let s = r.sensitivity.as_ref().expect("a clean optimum");
+    let case = case.clone();
     let start = r.design.result.design.clone();
     for p in &s.parameters {
         let d: &Derivative = p.derivative.as_ref().unwrap_or_else(|| panic!("{}: {:?}", p.name, p.note));
@@ -57,9 +76,10 @@ fn derivatives_match_central_differences_of_re_solves_on_design5() {
         let (t_minus, k_minus, j_minus) = resolve(&case, &p.name, p.value - h, &start);
         let (dt, dk) = (central(&t_plus, &t_minus, h), central(&k_plus, &k_minus, h));
         let dj = (j_plus - j_minus) / (2.0 * h);
-        // Floors: 1e-2 rad and 1 N·m/rad per unit of the parameter (where the exact rate is 0, the
-        // differences of the re-solves are their round-off over 2h).
-        let (et, ek) = (relative(&d.theta0, &dt, 1e-2), relative(&d.stiffness, &dk, 1.0));
+        // Floors, per unit of the parameter: 1e-2 rad and 1 N·m/rad over |p| (where the exact rate
+        // is 0, the differences of the re-solves are their round-off, 1e-12, over 2h).
+        let per_unit = 1.0 / p.value.abs().max(1e-2);
+        let (et, ek) = (relative(&d.theta0, &dt, 1e-2 * per_unit), relative(&d.stiffness, &dk, per_unit));
         let ej = (d.objective - dj).abs() / dj.abs().max(1e-12);
         eprintln!(
             "{}: dθ0 {et:.1e}, dK {ek:.1e}, dJ {ej:.1e} (envelope {:.6e}, differences {dj:.6e})",
