@@ -21,6 +21,11 @@ pub struct SensitivityResult {
     /// `None` when the optimum is not clean (the design's status and warnings say why).
     pub sensitivity: Option<SensitivityReport>,
     pub files: Vec<String>,
+    /// Wall times (under `timings` in `result.json`): the design solve, the polishing re-solve,
+    /// and the sensitivities themselves (active set, one factorisation, a solve per parameter).
+    pub solve_seconds: f64,
+    pub polish_seconds: f64,
+    pub sensitivity_seconds: f64,
 }
 
 /// Solves the design case once in the full space and differentiates its optimum with respect to
@@ -37,6 +42,7 @@ pub fn run_design_sensitivity(
     let values = names.iter().map(|name| c.parameter_value(name)).collect::<Result<Vec<f64>, CaseError>>()?;
     progress(Progress::Done { message: format!("eq. (33) from the case's start, then {} parameters", names.len()) });
     let problem = &valid.problem;
+    let clock = std::time::Instant::now();
     let run = run_solver(problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true)
         .map_err(RunError::Design)?;
     if spine_stop::interrupt_requested() {
@@ -45,6 +51,7 @@ pub fn run_design_sensitivity(
     let first = run.check(problem, &valid.settings);
     // Re-solved tightly from its optimum (see `spine_design::sensitivity::polish`), kept when it
     // ends clean on the same optimum.
+    let solve_seconds = clock.elapsed().as_secs_f64();
     let polished = polish(problem, &first.design, &valid.settings).map_err(RunError::Design)?;
     let (multipliers, design) = {
         let multipliers = polished.multipliers.clone();
@@ -58,6 +65,7 @@ pub fn run_design_sensitivity(
             (None, first)
         }
     };
+    let polish_seconds = clock.elapsed().as_secs_f64() - solve_seconds;
     let sensitivity = match (&multipliers, design.is_clean(), &design.passive, &design.loaded) {
         (Some(multipliers), true, Some(passive), Some(loaded)) => {
             let layout =
@@ -94,7 +102,17 @@ pub fn run_design_sensitivity(
     let title = if c.title.is_empty() { "design case".to_string() } else { c.title.clone() };
     let design =
         DesignCaseResult { kind: "design", title: title.clone(), reported_start: 0, result: design, multistart: None };
-    Ok(SensitivityResult { kind: "sensitivity", title, design, sensitivity, files })
+    let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
+    Ok(SensitivityResult {
+        kind: "sensitivity",
+        title,
+        design,
+        sensitivity,
+        files,
+        solve_seconds,
+        polish_seconds,
+        sensitivity_seconds,
+    })
 }
 
 /// `sensitivity_<name>.csv`, with the path's punctuation as `_`.
@@ -174,6 +192,14 @@ impl std::fmt::Display for SensitivityResult {
             c.reduced_kkt_inertia,
             if c.second_order_sufficient { "second-order sufficient" } else { "NOT second-order sufficient" },
             if c.weakly_active.is_empty() { String::new() } else { format!("; weakly active: {}", c.weakly_active.join("; ")) }
+        )?;
+        writeln!(
+            f,
+            "times: solve {:.3} s, polish {:.3} s, sensitivities of {} parameters {:.3} s",
+            self.solve_seconds,
+            self.polish_seconds,
+            report.parameters.len(),
+            self.sensitivity_seconds
         )?;
         for p in &report.parameters {
             let summary = |d: &Derivative| {
