@@ -109,6 +109,10 @@ pub struct DesignArgs {
     /// write `DIR/shard.json`; `spine merge` combines the N shards into the single run's result.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<spine_run::shard::ShardSpec>,
+    /// Add the derivatives of the reported optimum with respect to the case's parameters
+    /// (`sensitivity` in `result.json`, as `spine sensitivity` computes them).
+    #[arg(long)]
+    pub sensitivity: bool,
 }
 
 #[derive(clap::Args)]
@@ -239,6 +243,7 @@ impl DesignArgs {
             starts: self.starts,
             seed: self.seed,
             refine: self.refine,
+            sensitivity: self.sensitivity,
         };
         spine_run::Overrides { design, ..Default::default() }
     }

@@ -45,3 +45,23 @@ fn bad_sensitivity_input_exits_2_names_the_field_and_writes_nothing() {
         assert!(!out.join("result.json").exists());
     }
 }
+
+#[test]
+fn design_with_sensitivity_adds_the_block_and_without_it_the_result_has_none() {
+    let case = workspace().join("paper-cases/design5.json");
+    let (with, without) = (tmpdir("design-sensitivity"), tmpdir("design-no-sensitivity"));
+    for (out, extra) in [(&with, Some("--sensitivity")), (&without, None)] {
+        let mut args = vec!["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"];
+        args.extend(extra);
+        let output = spine(&args);
+        assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    }
+    let read = |dir: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap()
+    };
+    let (a, b) = (read(&with), read(&without));
+    assert!(b.get("sensitivity").is_none());
+    let parameters = a["sensitivity"]["parameters"].as_array().unwrap();
+    assert!(parameters.iter().any(|p| p["name"] == "delta_d" && p["derivative"]["stiffness"].is_array()));
+    assert_eq!(a["objective"], b["objective"], "the reported optimum is the same");
+}

@@ -64,6 +64,10 @@ pub struct DesignOverrides {
     pub starts: Option<usize>,
     pub seed: Option<u64>,
     pub refine: Option<Refine>,
+    /// `spine design --sensitivity`: the derivatives of the reported optimum with respect to the
+    /// case's parameters ([`crate::sensitivity::differentiate`]) in the result.
+    #[serde(default)]
+    pub sensitivity: bool,
 }
 
 impl DesignOverrides {
@@ -98,6 +102,10 @@ pub struct DesignCaseResult {
     #[serde(flatten)]
     pub result: DesignResult,
     pub multistart: Option<MultiStartSummary>,
+    /// With `--sensitivity`: the derivatives of the reported optimum (re-solved tightly from it)
+    /// with respect to the case's parameters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<spine_design::sensitivity::SensitivityReport>,
 }
 
 /// Eq. (33) from the case's start, then from `valid.multistart.starts` seeded feasible starts (in
@@ -158,7 +166,14 @@ pub fn census(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignRes
     let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
     if valid.multistart.starts == 0 && results.len() == 1 {
         let result = results.remove(0);
-        return DesignCaseResult { kind: "design", title, reported_start: 0, result, multistart: None };
+        return DesignCaseResult {
+            kind: "design",
+            title,
+            reported_start: 0,
+            result,
+            multistart: None,
+            sensitivity: None,
+        };
     }
     let own = results[0].clone();
     let summary = cluster(results, valid.multistart.seed);
@@ -166,7 +181,7 @@ pub fn census(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignRes
         Some(best) => (best.starts[0], best.result.clone()),
         None => (0, own),
     };
-    DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary) }
+    DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary), sensitivity: None }
 }
 
 impl DesignCaseResult {
@@ -272,6 +287,15 @@ impl std::fmt::Display for DesignCaseResult {
         }
         for w in &r.warnings {
             writeln!(f, "WARNING: {w}")?;
+        }
+        if let Some(s) = &self.sensitivity {
+            let given = s.parameters.iter().filter(|p| p.derivative.is_some()).count();
+            writeln!(
+                f,
+                "sensitivity: conditions {}; derivatives for {given} of {} parameters (result.json: sensitivity)",
+                if s.conditions.hold { "hold" } else { "FAIL (see result.json: sensitivity.conditions)" },
+                s.parameters.len()
+            )?;
         }
         Ok(())
     }

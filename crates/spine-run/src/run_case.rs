@@ -93,7 +93,15 @@ pub fn run_case(
             Case::Design(c) => {
                 let mut valid = c.validate()?;
                 overrides.design.apply(&mut valid);
-                KindResult::Design(run_design_case(c, &valid, overrides.workers.as_ref(), progress)?)
+                let mut result = run_design_case(c, &valid, overrides.workers.as_ref(), progress)?;
+                if overrides.design.sensitivity && result.result.is_clean() {
+                    let names = c.default_parameters();
+                    let optimum = result.result.clone();
+                    let (_, report, _) =
+                        crate::sensitivity::differentiate(c, &valid, &overrides.design, &names, optimum)?;
+                    result.sensitivity = report;
+                }
+                KindResult::Design(result)
             }
             Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
                 let mut valid = c.validate(case.kind())?;
@@ -143,6 +151,8 @@ pub fn run_sensitivity(
         return Err(RunError::Case(spine_case::CaseError::invalid("kind", message)));
     };
     limited(overrides, || {
-        Ok(KindResult::Sensitivity(crate::sensitivity::run_design_sensitivity(c, &overrides.design, names, progress)?))
+        let workers = overrides.workers.as_ref();
+        let result = crate::sensitivity::run_design_sensitivity(c, &overrides.design, workers, names, progress)?;
+        Ok(KindResult::Sensitivity(result))
     })
 }

@@ -1,15 +1,16 @@
 //! `spine sensitivity`: an eq. (33) optimum (one start, full space) and its derivatives with
 //! respect to the case's parameters ([`spine_design::sensitivity`]), with a CSV per parameter.
 
-use crate::design::{DesignCaseResult, DesignOverrides};
+use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
 use crate::error::RunError;
 use crate::files::OutputFile;
 use crate::progress::Progress;
+use crate::workers::Workers;
 use serde::Serialize;
-use spine_case::{CaseError, DesignCase};
+use spine_case::{CaseError, DesignCase, ValidDesign};
 use spine_design::full_space::{Layout, StateForm};
 use spine_design::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport};
-use spine_design::{run_solver, Formulation};
+use spine_design::DesignResult;
 use std::fmt::Write;
 
 /// `result.json` of `spine sensitivity`: the optimum and its sensitivities.
@@ -18,7 +19,8 @@ pub struct SensitivityResult {
     pub kind: &'static str,
     pub title: String,
     pub design: DesignCaseResult,
-    /// `None` when the optimum is not clean (the design's status and warnings say why).
+    /// `None` when the reported optimum is not clean (the design's status and warnings say why).
+    /// The derivatives belong to that optimum re-solved tightly from itself (`J` within 1e-6).
     pub sensitivity: Option<SensitivityReport>,
     pub files: Vec<String>,
     /// Wall times (under `timings` in `result.json`): the design solve, the polishing re-solve,
@@ -28,30 +30,62 @@ pub struct SensitivityResult {
     pub sensitivity_seconds: f64,
 }
 
-/// Solves the design case once in the full space and differentiates its optimum with respect to
-/// `names` (the case's field paths; empty: [`spine_case::DesignCase::default_parameters`]).
+/// The design case run as `spine design` runs it (its own start, and a multi-start when the case
+/// or the overrides ask for one, in `workers`), then the derivatives of the reported optimum with
+/// respect to `names` (the case's field paths; empty:
+/// [`spine_case::DesignCase::default_parameters`]).
 pub fn run_design_sensitivity(
     c: &DesignCase,
     overrides: &DesignOverrides,
+    workers: Option<&Workers>,
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<SensitivityResult, RunError> {
     let mut valid = c.validate()?;
     overrides.apply(&mut valid);
     let names = if names.is_empty() { c.default_parameters() } else { names.to_vec() };
+    names.iter().try_for_each(|name| c.parameter_value(name).map(|_| ()))?;
+    let clock = std::time::Instant::now();
+    let mut design = run_design_case(c, &valid, workers, progress)?;
+    let solve_seconds = clock.elapsed().as_secs_f64();
+    progress(Progress::Done { message: format!("the optimum's derivatives for {} parameters", names.len()) });
+    let (sensitivity, polish_seconds) = if design.result.is_clean() {
+        let (_, report, seconds) = differentiate(c, &valid, overrides, &names, design.result.clone())?;
+        (report, seconds)
+    } else {
+        (None, 0.0)
+    };
+    design.sensitivity = None;
+    let files =
+        sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
+    let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
+    Ok(SensitivityResult {
+        kind: "sensitivity",
+        title: design.title.clone(),
+        design,
+        sensitivity,
+        files,
+        solve_seconds,
+        polish_seconds,
+        sensitivity_seconds,
+    })
+}
+
+/// The sensitivities of a design case's optimum `first` (a clean result of `valid`'s problem):
+/// re-solved tightly from it (see `spine_design::sensitivity::polish`; the polished result is kept
+/// when it ends clean on the same optimum), then differentiated with respect to `names`. Returns
+/// the result the sensitivities belong to, the report (`None` when the optimum is not clean) and
+/// the polishing solve's wall time.
+pub fn differentiate(
+    c: &DesignCase,
+    valid: &ValidDesign,
+    overrides: &DesignOverrides,
+    names: &[String],
+    first: DesignResult,
+) -> Result<(DesignResult, Option<SensitivityReport>, f64), RunError> {
     let values = names.iter().map(|name| c.parameter_value(name)).collect::<Result<Vec<f64>, CaseError>>()?;
-    progress(Progress::Done { message: format!("eq. (33) from the case's start, then {} parameters", names.len()) });
     let problem = &valid.problem;
     let clock = std::time::Instant::now();
-    let run = run_solver(problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true)
-        .map_err(RunError::Design)?;
-    if spine_stop::interrupt_requested() {
-        return Err(RunError::Interrupted);
-    }
-    let first = run.check(problem, &valid.settings);
-    // Re-solved tightly from its optimum (see `spine_design::sensitivity::polish`), kept when it
-    // ends clean on the same optimum.
-    let solve_seconds = clock.elapsed().as_secs_f64();
     let polished = polish(problem, &first.design, &valid.settings).map_err(RunError::Design)?;
     let (multipliers, design) = {
         let multipliers = polished.multipliers.clone();
@@ -65,7 +99,7 @@ pub fn run_design_sensitivity(
             (None, first)
         }
     };
-    let polish_seconds = clock.elapsed().as_secs_f64() - solve_seconds;
+    let polish_seconds = clock.elapsed().as_secs_f64();
     let sensitivity = match (&multipliers, design.is_clean(), &design.passive, &design.loaded) {
         (Some(multipliers), true, Some(passive), Some(loaded)) => {
             let layout =
@@ -97,22 +131,7 @@ pub fn run_design_sensitivity(
         }
         _ => None,
     };
-    let files =
-        sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
-    let title = if c.title.is_empty() { "design case".to_string() } else { c.title.clone() };
-    let design =
-        DesignCaseResult { kind: "design", title: title.clone(), reported_start: 0, result: design, multistart: None };
-    let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
-    Ok(SensitivityResult {
-        kind: "sensitivity",
-        title,
-        design,
-        sensitivity,
-        files,
-        solve_seconds,
-        polish_seconds,
-        sensitivity_seconds,
-    })
+    Ok((design, sensitivity, polish_seconds))
 }
 
 /// `sensitivity_<name>.csv`, with the path's punctuation as `_`.
