@@ -175,6 +175,19 @@ pub struct SensitivityArgs {
     /// the transverse loads); repeat for several; default: all of them.
     #[arg(long = "param", value_name = "NAME")]
     pub params: Vec<String>,
+    /// Extra seeded feasible starts before the optimum is differentiated, at most 100000 (0: only
+    /// the case's own start); default: the case file's `multistart.starts`.
+    #[arg(long, value_parser = parse_starts)]
+    pub starts: Option<usize>,
+}
+
+impl SensitivityArgs {
+    /// The overrides: the number of seeded starts.
+    pub fn overrides(&self) -> spine_run::Overrides {
+        let mut overrides = spine_run::Overrides::default();
+        overrides.design.starts = self.starts;
+        overrides
+    }
 }
 
 #[derive(clap::Args)]

@@ -65,3 +65,17 @@ fn design_with_sensitivity_adds_the_block_and_without_it_the_result_has_none() {
     assert!(parameters.iter().any(|p| p["name"] == "delta_d" && p["derivative"]["stiffness"].is_array()));
     assert_eq!(a["objective"], b["objective"], "the reported optimum is the same");
 }
+
+#[test]
+fn starts_zero_differentiates_the_optimum_of_the_case_s_own_start() {
+    let case = workspace().join("paper-cases/design10.json");
+    let out = tmpdir("sensitivity-design10-own-start");
+    let args =
+        ["sensitivity", case.to_str().unwrap(), "--param", "delta_d", "--starts", "0", "--out", out.to_str().unwrap()];
+    let output = spine(&args);
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    assert!(json["design"]["multistart"].is_null(), "no multi-start with --starts 0");
+    assert_eq!(json["sensitivity"]["conditions"]["hold"], true, "{}", json["sensitivity"]["conditions"]);
+}
