@@ -35,6 +35,25 @@ fn split(name: &str) -> Result<(&str, Option<usize>), CaseError> {
     }
 }
 
+/// The number at the field path `name` of the case's JSON (`links`: the case's `N`, for the length
+/// of a per-item field given as one number).
+fn number(json: &Value, name: &str, links: usize) -> Result<f64, CaseError> {
+    let (field, index) = split(name)?;
+    let value = field.split('.').try_fold(json, |v, key| v.get(key)).filter(|v| !v.is_null());
+    let number = match (value, index) {
+        (Some(Value::Number(x)), None) => x.as_f64(),
+        (Some(Value::Number(x)), Some(i)) if entries(field, links).is_some_and(|len| i < len) => x.as_f64(),
+        (Some(Value::Array(items)), Some(i)) => items.get(i).and_then(Value::as_f64),
+        _ => None,
+    };
+    number.ok_or_else(|| {
+        CaseError::invalid(
+            "--param",
+            format!("`{name}` is not a number of this case (a field path such as delta_d, loads.p_y[2], chain.length_x, or {LOAD_SCALE})"),
+        )
+    })
+}
+
 impl DesignCase {
     /// The parameters a sensitivity reports by default: `δ_d`, the loads (`loads.scale`, each
     /// node's `loads.p_y[i]` and `loads.p_x`), `C_K`, `L_x`, the masses where the chain has any,
@@ -65,29 +84,18 @@ impl DesignCase {
         if name == LOAD_SCALE {
             return Ok(1.0);
         }
-        let json = serde_json::to_value(self).map_err(|e| CaseError::invalid("--param", e.to_string()))?;
-        let (field, index) = split(name)?;
-        let value = field.split('.').try_fold(&json, |v, key| v.get(key)).filter(|v| !v.is_null());
-        let number = match (value, index) {
-            (Some(Value::Number(x)), None) => x.as_f64(),
-            (Some(Value::Number(x)), Some(i)) if entries(field, self.chain.links).is_some_and(|len| i < len) => {
-                x.as_f64()
-            }
-            (Some(Value::Array(items)), Some(i)) => items.get(i).and_then(Value::as_f64),
-            _ => None,
-        };
-        number.ok_or_else(|| {
-            CaseError::invalid(
-                "--param",
-                format!("`{name}` is not a number of this case (a field path such as delta_d, loads.p_y[2], chain.length_x, or {LOAD_SCALE})"),
-            )
-        })
+        number(&self.to_json()?, name, self.chain.links)
+    }
+
+    /// The case as JSON, the form its parameters are read and changed in.
+    fn to_json(&self) -> Result<Value, CaseError> {
+        serde_json::to_value(self).map_err(|e| CaseError::invalid("--param", e.to_string()))
     }
 
     /// This case with the parameter set to `value` (a per-item field given as one number is
     /// expanded to one per item first when one entry changes).
     pub fn with_parameter(&self, name: &str, value: f64) -> Result<DesignCase, CaseError> {
-        let mut json = serde_json::to_value(self).map_err(|e| CaseError::invalid("--param", e.to_string()))?;
+        let mut json = self.to_json()?;
         if name == LOAD_SCALE {
             let p_y = &mut json["loads"]["p_y"];
             *p_y = match p_y.take() {
@@ -95,7 +103,7 @@ impl DesignCase {
                 other => Value::from(other.as_f64().unwrap_or(0.0) * value),
             };
         } else {
-            self.parameter_value(name)?;
+            number(&json, name, self.chain.links)?;
             let (field, index) = split(name)?;
             let mut slot = &mut json;
             for key in field.split('.') {

@@ -26,7 +26,8 @@ pub struct StaticDesign {
     pub problem: DesignProblem,
 }
 
-fn states(result: &DesignResult) -> Option<(State, State)> {
+/// The passive and loaded states of a result, where it has both.
+pub(crate) fn states(result: &DesignResult) -> Option<(State, State)> {
     let (p, l) = (result.passive.as_ref()?, result.loaded.as_ref()?);
     Some((State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda }))
 }

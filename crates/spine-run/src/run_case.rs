@@ -96,9 +96,8 @@ pub fn run_case(
                 let mut result = run_design_case(c, &valid, overrides.workers.as_ref(), progress)?;
                 if overrides.design.sensitivity && result.result.is_clean() {
                     let names = c.default_parameters();
-                    let optimum = result.result.clone();
-                    let (_, report, _) =
-                        crate::sensitivity::differentiate(c, &valid, &overrides.design, &names, optimum)?;
+                    let (report, _) =
+                        crate::sensitivity::differentiate(c, &valid, &overrides.design, &names, &result.result)?;
                     result.sensitivity = report;
                 }
                 KindResult::Design(result)

@@ -1,7 +1,7 @@
 //! `spine sensitivity`: an eq. (33) optimum (one start, full space) and its derivatives with
 //! respect to the case's parameters ([`spine_design::sensitivity`]), with a CSV per parameter.
 
-use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
+use crate::design::{run_design_case, states, DesignCaseResult, DesignOverrides};
 use crate::error::RunError;
 use crate::files::OutputFile;
 use crate::progress::Progress;
@@ -46,16 +46,14 @@ pub fn run_design_sensitivity(
     let names = if names.is_empty() { c.default_parameters() } else { names.to_vec() };
     names.iter().try_for_each(|name| c.parameter_value(name).map(|_| ()))?;
     let clock = std::time::Instant::now();
-    let mut design = run_design_case(c, &valid, workers, progress)?;
+    let design = run_design_case(c, &valid, workers, progress)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
     progress(Progress::Done { message: format!("the optimum's derivatives for {} parameters", names.len()) });
     let (sensitivity, polish_seconds) = if design.result.is_clean() {
-        let (_, report, seconds) = differentiate(c, &valid, overrides, &names, design.result.clone())?;
-        (report, seconds)
+        differentiate(c, &valid, overrides, &names, &design.result)?
     } else {
         (None, 0.0)
     };
-    design.sensitivity = None;
     let files =
         sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
     let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
@@ -72,66 +70,50 @@ pub fn run_design_sensitivity(
 }
 
 /// The sensitivities of a design case's optimum `first` (a clean result of `valid`'s problem):
-/// re-solved tightly from it (see `spine_design::sensitivity::polish`; the polished result is kept
-/// when it ends clean on the same optimum), then differentiated with respect to `names`. Returns
-/// the result the sensitivities belong to, the report (`None` when the optimum is not clean) and
-/// the polishing solve's wall time.
+/// re-solved tightly from it (see `spine_design::sensitivity::polish`), then, when that ends clean
+/// on the same optimum, differentiated with respect to `names`. Returns the report (`None`
+/// otherwise) and the polishing solve's wall time.
 pub fn differentiate(
     c: &DesignCase,
     valid: &ValidDesign,
     overrides: &DesignOverrides,
     names: &[String],
-    first: DesignResult,
-) -> Result<(DesignResult, Option<SensitivityReport>, f64), RunError> {
+    first: &DesignResult,
+) -> Result<(Option<SensitivityReport>, f64), RunError> {
     let values = names.iter().map(|name| c.parameter_value(name)).collect::<Result<Vec<f64>, CaseError>>()?;
     let problem = &valid.problem;
     let clock = std::time::Instant::now();
     let polished = polish(problem, &first.design, &valid.settings).map_err(RunError::Design)?;
-    let (multipliers, design) = {
-        let multipliers = polished.multipliers.clone();
-        let result = polished.check(problem, &valid.settings);
-        // The same optimum: `J` moves by about the first solve's tolerance (1e-7 relative on
-        // design5), another local optimum by much more.
-        let same = (result.objective - first.objective).abs() <= 1e-6 * first.objective.abs().max(1e-12);
-        if result.is_clean() && same {
-            (multipliers, result)
-        } else {
-            (None, first)
-        }
-    };
+    let multipliers = polished.multipliers.clone();
+    let design = polished.check(problem, &valid.settings);
     let polish_seconds = clock.elapsed().as_secs_f64();
-    let sensitivity = match (&multipliers, design.is_clean(), &design.passive, &design.loaded) {
-        (Some(multipliers), true, Some(passive), Some(loaded)) => {
-            let layout =
-                Layout { n: problem.n_links(), states: design.solver.state_variables.unwrap_or(StateForm::Absolute) };
-            let passive_state = spine_model::State { theta: passive.theta.clone(), lambda: passive.lambda };
-            let loaded_state = spine_model::State { theta: loaded.theta.clone(), lambda: loaded.lambda };
-            let heights = problem.node_heights(&design.design.theta0);
-            let x = layout.pack(&design.design, problem.stiffness_scale, &passive_state, &loaded_state, &heights);
-            let design_overrides = overrides;
-            let parameters: Vec<Parameter<'_>> = names
-                .iter()
-                .zip(&values)
-                .map(|(name, &value)| Parameter {
-                    name: name.clone(),
-                    value,
-                    problem_at: Box::new(move |v| {
-                        let mut changed =
-                            c.with_parameter(name, v).and_then(|c| c.validate()).map_err(|e| e.to_string())?;
-                        design_overrides.apply(&mut changed);
-                        Ok(changed.problem)
-                    }),
-                })
-                .collect();
-            let optimum = Optimum { problem, layout, x: &x, multipliers };
-            Some(
-                sensitivities(&optimum, &parameters)
-                    .map_err(|e| RunError::Case(CaseError::invalid("--param", e.to_string())))?,
-            )
-        }
-        _ => None,
+    // The same optimum: `J` moves by about the first solve's tolerance (1e-7 relative on design5),
+    // another local optimum by much more.
+    let same = (design.objective - first.objective).abs() <= 1e-6 * first.objective.abs().max(1e-12);
+    let (Some(multipliers), true, Some((passive, loaded))) = (&multipliers, design.is_clean() && same, states(&design))
+    else {
+        return Ok((None, polish_seconds));
     };
-    Ok((design, sensitivity, polish_seconds))
+    let layout = Layout { n: problem.n_links(), states: design.solver.state_variables.unwrap_or(StateForm::Absolute) };
+    let heights = problem.node_heights(&design.design.theta0);
+    let x = layout.pack(&design.design, problem.stiffness_scale, &passive, &loaded, &heights);
+    let parameters: Vec<Parameter<'_>> = names
+        .iter()
+        .zip(&values)
+        .map(|(name, &value)| Parameter {
+            name: name.clone(),
+            value,
+            problem_at: Box::new(move |v| {
+                let mut changed = c.with_parameter(name, v).and_then(|c| c.validate()).map_err(|e| e.to_string())?;
+                overrides.apply(&mut changed);
+                Ok(changed.problem)
+            }),
+        })
+        .collect();
+    let optimum = Optimum { problem, layout, x: &x, multipliers };
+    let report = sensitivities(&optimum, &parameters)
+        .map_err(|e| RunError::Case(CaseError::invalid("--param", e.to_string())))?;
+    Ok((Some(report), polish_seconds))
 }
 
 /// `sensitivity_<name>.csv`, with the path's punctuation as `_`.

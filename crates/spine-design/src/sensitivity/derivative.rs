@@ -5,23 +5,36 @@
 use super::active_set::{ActiveSet, Bound, Side};
 use super::point::Evaluation;
 use super::rates::Rates;
-use super::system::{bound_rate, hessian_times, jacobian_times, jacobian_transpose_times, licq, with_weak, ReducedKkt};
-use super::{factorise, Derivative, Matrices, Optimum};
+use super::system::{
+    bound_rate, hessian_times, jacobian_times, jacobian_transpose_times, with_weak, ActiveSystem, Matrices,
+};
+use super::{Derivative, Optimum};
 use crate::full_space::{LoadState, StateForm};
 
-/// The derivative for one active set, and the full `dx` and the stationarity residual rates
-/// (`dz` of the bound multipliers, `dg` of the rows) the one-sided checks need.
+/// One active set's solution for one parameter: the derivative, the full `dx`, the rates `dz` of
+/// the stationarity residual (the bound multipliers' rates), `dg` of every row's value and `dλ`,
+/// and the first dependent row (left out of the system) whose linearised constraint it breaks.
+pub(crate) struct Solution {
+    pub derivative: Derivative,
+    dx: Vec<f64>,
+    dz: Vec<f64>,
+    dg: Vec<f64>,
+    dlambda: Vec<f64>,
+    pub broken_row: Option<usize>,
+}
+
+/// The derivative for the active set of `system`, whose factorisation is `Some`.
 pub(crate) fn derivative(
     optimum: &Optimum<'_>,
     matrices: &Matrices,
-    variables: &[Bound],
-    kkt: &ReducedKkt,
+    system: &ActiveSystem,
     rates: &Rates,
     at: &Evaluation,
-) -> (Derivative, Vec<f64>, Vec<f64>, Vec<f64>) {
+) -> Option<Solution> {
+    let kkt = system.kkt.as_ref()?;
     let (n, m) = (optimum.layout.num_variables(), optimum.layout.num_constraints());
     let mut dx = vec![0.0; n];
-    for b in variables {
+    for b in &system.variables {
         dx[b.index] = bound_rate(b, rates.lower[b.index], rates.upper[b.index]);
     }
     let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
@@ -32,13 +45,9 @@ pub(crate) fn derivative(
             rhs[p] = -(rates.lagrangian_gradient[i] + h_dx[i]);
         }
     }
-    for (k, &r) in kkt.rows.iter().enumerate() {
-        let side = kkt_row_side(at, r, optimum.multipliers.constraints[r]);
-        let target = match side {
-            Side::Upper => rates.row_upper[r],
-            _ => rates.row_lower[r],
-        };
-        rhs[kkt.free + k] = target - rates.constraints[r] - j_dx[r];
+    for (k, b) in kkt.rows.iter().enumerate() {
+        let r = b.index;
+        rhs[kkt.free + k] = bound_rate(b, rates.row_lower[r], rates.row_upper[r]) - rates.constraints[r] - j_dx[r];
     }
     // A failed solve leaves the right-hand side; the factorisation succeeded, so it does not fail.
     let _ = kkt.solve(&mut rhs);
@@ -48,35 +57,24 @@ pub(crate) fn derivative(
             dx[i] = rhs[p];
         }
     }
-    for (k, &r) in kkt.rows.iter().enumerate() {
-        dlambda[r] = rhs[kkt.free + k];
+    for (k, b) in kkt.rows.iter().enumerate() {
+        dlambda[b.index] = rhs[kkt.free + k];
     }
-    // Rates of the stationarity residual (the bound multipliers' rates) and of the rows.
     let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
     let jt_dl = jacobian_transpose_times(&matrices.jacobian_pattern, &matrices.jacobian, &dlambda, n);
     let dz: Vec<f64> = (0..n).map(|i| h_dx[i] + jt_dl[i] + rates.lagrangian_gradient[i]).collect();
     let j_dx = jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m);
     let dg: Vec<f64> = (0..m).map(|r| j_dx[r] + rates.constraints[r]).collect();
-    let report = report(optimum, variables, &kkt.rows, rates, at, &dx);
-    (report, dx, dz, dg.into_iter().chain(dlambda).collect())
-}
-
-/// The side of an active row: an equality, or the bound its multiplier points to.
-pub(crate) fn kkt_row_side(at: &Evaluation, r: usize, lambda: f64) -> Side {
-    if at.row_lower[r] == at.row_upper[r] {
-        Side::Both
-    } else if lambda > 0.0 {
-        Side::Upper
-    } else {
-        Side::Lower
-    }
+    let derivative = report(optimum, &system.variables, &kkt.rows, rates, at, &dx);
+    let broken_row = dependent_row_broken(system, rates, &dg);
+    Some(Solution { derivative, dx, dz, dg, dlambda, broken_row })
 }
 
 /// The derivative in the paper's quantities, and `dJ*/dp` both ways.
 fn report(
     optimum: &Optimum<'_>,
     variables: &[Bound],
-    rows: &[usize],
+    rows: &[Bound],
     rates: &Rates,
     at: &Evaluation,
     dx: &[f64],
@@ -90,9 +88,9 @@ fn report(
         (0..n).map(|i| dx[layout.state_angle(s, i)] + if deflection { dx[layout.theta0(i)] } else { 0.0 }).collect()
     };
     let mut envelope = rates.objective;
-    for &r in rows {
-        let side = kkt_row_side(at, r, multipliers.constraints[r]);
-        let bound = if side == Side::Upper { rates.row_upper[r] } else { rates.row_lower[r] };
+    for b in rows {
+        let r = b.index;
+        let bound = bound_rate(b, rates.row_lower[r], rates.row_upper[r]);
         envelope += multipliers.constraints[r] * (rates.constraints[r] - bound);
     }
     for b in variables {
@@ -118,85 +116,85 @@ fn report(
     }
 }
 
+/// The first dependent active row (left out of the system) whose linearised constraint the
+/// derivative breaks (by more than 1e-8 of the largest rate), or `None`: then the derivative holds
+/// for them too. `dg` holds the rates of every row's value.
+fn dependent_row_broken(system: &ActiveSystem, rates: &Rates, dg: &[f64]) -> Option<usize> {
+    let scale = dg.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    system
+        .rows
+        .iter()
+        .filter(|b| system.dependent.contains(&b.index))
+        .find(|b| {
+            (dg[b.index] - bound_rate(b, rates.row_lower[b.index], rates.row_upper[b.index])).abs() > 1e-8 * scale
+        })
+        .map(|b| b.index)
+}
+
+/// The weakly active bounds of an active set (with whether each bounds a variable) and, for every
+/// choice of those taken as active (bit `k` of the mask for the `k`-th), the system of that active
+/// set where its factorisation certifies a strict local minimum. Built once for all parameters and
+/// both directions.
+pub(crate) struct WeakCandidates {
+    weak: Vec<(Bound, bool)>,
+    systems: Vec<(u32, ActiveSystem)>,
+}
+
+/// The [`WeakCandidates`] of `set`.
+pub(crate) fn weak_candidates(optimum: &Optimum<'_>, matrices: &Matrices, set: &ActiveSet) -> WeakCandidates {
+    let weak: Vec<(Bound, bool)> =
+        set.weak_variables.iter().map(|b| (*b, true)).chain(set.weak_rows.iter().map(|b| (*b, false))).collect();
+    let systems = (0u32..(1 << weak.len()))
+        .filter_map(|mask| {
+            let chosen = |variable: bool| -> Vec<Bound> {
+                weak.iter()
+                    .enumerate()
+                    .filter(|(k, (_, v))| *v == variable && mask & (1 << k) != 0)
+                    .map(|(_, (b, _))| *b)
+                    .collect()
+            };
+            let (variables, rows) = with_weak(set, &chosen(true), &chosen(false));
+            // Fixing a weak bound can make more rows dependent: they leave the system too.
+            let system = ActiveSystem::new(matrices, optimum.layout, variables, rows);
+            system.certified().is_some().then_some((mask, system))
+        })
+        .collect();
+    WeakCandidates { weak, systems }
+}
+
 /// The one-sided derivative for an increase (`direction` 1) or a decrease (−1) of the parameter:
-/// the first choice of active weak bounds whose solution keeps every weak bound feasible (an
-/// inactive one is not crossed, an active one's multiplier does not change sign).
+/// the first candidate ([`weak_candidates`]) whose solution keeps every weak bound feasible (an
+/// inactive one is not crossed, an active one's multiplier does not change sign) and whose
+/// dependent rows can follow.
 pub(crate) fn one_sided(
     optimum: &Optimum<'_>,
     matrices: &Matrices,
-    set: &ActiveSet,
+    WeakCandidates { weak, systems }: &WeakCandidates,
     rates: &Rates,
     at: &Evaluation,
     direction: f64,
 ) -> Option<Derivative> {
-    let weak: Vec<(Bound, bool)> =
-        set.weak_variables.iter().map(|b| (*b, true)).chain(set.weak_rows.iter().map(|b| (*b, false))).collect();
-    for mask in 0u32..(1 << weak.len()) {
-        let chosen = |variable: bool| -> Vec<Bound> {
-            weak.iter()
-                .enumerate()
-                .filter(|(k, (_, v))| *v == variable && mask & (1 << k) != 0)
-                .map(|(_, (b, _))| *b)
-                .collect()
-        };
-        let (variables, mut rows) = with_weak(set, &chosen(true), &chosen(false));
-        // Fixing a weak bound can make more rows dependent: they leave the system too.
-        let n = optimum.layout.num_variables();
-        let all_rows = rows.clone();
-        let dependent = licq(n, &variables, &rows, (&matrices.jacobian_pattern, &matrices.jacobian))
-            .map(|(_, d)| d)
-            .unwrap_or_default();
-        rows.retain(|b| !dependent.contains(&b.index));
-        let Some(kkt) = factorise(matrices, optimum.layout, &variables, &rows) else { continue };
-        if !kkt.certifies_minimum() {
-            continue;
+    systems.iter().find_map(|(mask, system)| {
+        let s = derivative(optimum, matrices, system, rates, at)?;
+        if s.broken_row.is_some() {
+            return None;
         }
-        let (result, dx, dz, dg_dl) = derivative(optimum, matrices, &variables, &kkt, rates, at);
-        // A choice whose left-out rows cannot follow the parameter is not a solution.
-        if dependent_rows_broken(optimum, &all_rows, &dependent, rates, at, &dg_dl).is_some() {
-            continue;
-        }
-        let m = optimum.layout.num_constraints();
-        let scale = dx.iter().fold(1.0f64, |s, v| s.max(v.abs())) * 1e-9;
+        let scale = s.dx.iter().fold(1.0f64, |m, v| m.max(v.abs())) * 1e-9;
         let feasible = weak.iter().enumerate().all(|(k, (b, variable))| {
             let active = mask & (1 << k) != 0;
             let i = b.index;
             let sign = if b.side == Side::Upper { -1.0 } else { 1.0 };
             let change = match (active, variable) {
                 // An active bound's multiplier must not change sign: z_L = ∂L/∂x_i, z_U = −∂L/∂x_i.
-                (true, true) => sign * dz[i],
+                (true, true) => sign * s.dz[i],
                 // A row's multiplier is positive at its upper bound, negative at its lower bound.
-                (true, false) => -sign * dg_dl[m + i],
+                (true, false) => -sign * s.dlambda[i],
                 // An inactive bound must not be crossed.
-                (false, true) => sign * (dx[i] - bound_rate(b, rates.lower[i], rates.upper[i])),
-                (false, false) => sign * (dg_dl[i] - bound_rate(b, rates.row_lower[i], rates.row_upper[i])),
+                (false, true) => sign * (s.dx[i] - bound_rate(b, rates.lower[i], rates.upper[i])),
+                (false, false) => sign * (s.dg[i] - bound_rate(b, rates.row_lower[i], rates.row_upper[i])),
             };
             direction * change >= -scale
         });
-        if feasible {
-            return Some(result);
-        }
-    }
-    None
-}
-
-/// The first dependent active row (left out of the system) whose linearised constraint the
-/// derivative breaks (by more than 1e-8 of the largest rate), or `None`: then the derivative holds
-/// for them too. `dg` holds the rates of every row's value first.
-pub(crate) fn dependent_rows_broken(
-    optimum: &Optimum<'_>,
-    rows: &[Bound],
-    dependent: &[usize],
-    rates: &Rates,
-    at: &Evaluation,
-    dg: &[f64],
-) -> Option<usize> {
-    let scale = dg.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-    rows.iter().filter(|b| dependent.contains(&b.index)).map(|b| b.index).find(|&r| {
-        let target = match kkt_row_side(at, r, optimum.multipliers.constraints[r]) {
-            Side::Upper => rates.row_upper[r],
-            _ => rates.row_lower[r],
-        };
-        (dg[r] - target).abs() > 1e-8 * scale
+        feasible.then_some(s.derivative)
     })
 }

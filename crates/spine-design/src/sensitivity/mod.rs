@@ -30,11 +30,11 @@ pub use polish::{polish, POLISH_TOLERANCE};
 
 use crate::full_space::{assemble, Layout, Multipliers};
 use crate::DesignProblem;
-use derivative::{derivative, one_sided};
+use derivative::{derivative, one_sided, weak_candidates};
 use point::Evaluation;
 use rates::rates;
 use serde::Serialize;
-use system::ReducedKkt;
+use system::{ActiveSystem, Matrices};
 
 /// At most this many weakly active bounds are enumerated for one-sided derivatives (2^k systems).
 pub const MAX_WEAK: usize = 8;
@@ -132,22 +132,14 @@ pub struct SensitivityReport {
     pub parameters: Vec<ParameterSensitivity>,
 }
 
-/// The Hessian of the Lagrangian and the Jacobian at the optimum, with their patterns.
-pub(crate) struct Matrices {
-    pub hessian_pattern: Vec<(usize, usize)>,
-    pub hessian: Vec<f64>,
-    pub jacobian_pattern: Vec<(usize, usize)>,
-    pub jacobian: Vec<f64>,
-}
-
 /// The sensitivities of the optimum to each parameter.
 pub fn sensitivities(
     optimum: &Optimum<'_>,
     parameters: &[Parameter<'_>],
 ) -> Result<SensitivityReport, SensitivityError> {
     let (layout, x) = (optimum.layout, optimum.x);
-    let at = Evaluation::at(optimum.problem, layout, x);
     let assembled = assemble(optimum.problem, layout.states);
+    let at = Evaluation::of(&assembled, optimum.problem, layout, x);
     let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
     assembled.hessian(x, 1.0, &optimum.multipliers.constraints, &mut hessian);
     let matrices = Matrices {
@@ -156,48 +148,35 @@ pub fn sensitivities(
         jacobian_pattern: assembled.patterns.jacobian.clone(),
         jacobian: at.jacobian.clone(),
     };
-    let mut set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
-    let licq = system::licq(
-        layout.num_variables(),
-        &set.variables,
-        &set.rows,
-        (&matrices.jacobian_pattern, &matrices.jacobian),
-    );
+    let set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
     // Rows that depend on others are left out of the system (their multipliers are not unique);
     // each derivative is then checked against them.
-    let dependent = licq.as_ref().map(|(_, d)| d.clone()).unwrap_or_default();
-    let all_rows = set.rows.clone();
-    set.rows.retain(|b| !dependent.contains(&b.index));
-    let kkt = factorise(&matrices, layout, &set.variables, &set.rows);
-    let conditions = conditions(&set, kkt.as_ref(), licq.map(|(s, _)| s), &dependent, layout);
+    let system = ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone());
+    let conditions = conditions(&set, &system, layout);
+    let weak = set.weak_variables.len() + set.weak_rows.len();
+    let candidates = (weak > 0 && weak <= MAX_WEAK).then(|| weak_candidates(optimum, &matrices, &set));
     let mut out = Vec::new();
     for parameter in parameters {
-        let (step, rates) = rates(optimum, &at, parameter)?;
-        let weak = set.weak_variables.len() + set.weak_rows.len();
+        let (step, rates) = rates(optimum, &at, &matrices.jacobian_pattern, parameter)?;
         let mut note = None;
-        let derivative = match (&kkt, weak) {
-            (Some(kkt), 0) if conditions.second_order_sufficient => {
-                let (d, _, _, dg) = derivative(optimum, &matrices, &set.variables, kkt, &rates, &at);
-                let broken = derivative::dependent_rows_broken(optimum, &all_rows, &dependent, &rates, &at, &dg);
-                match broken {
-                    Some(row) => {
-                        note = Some(format!(
-                            "the active rows are dependent (LICQ fails) and constraint row {row} cannot follow the parameter: no two-sided derivative"
-                        ));
-                        None
-                    }
-                    None => Some(d),
-                }
+        let solution = (weak == 0 && conditions.second_order_sufficient)
+            .then(|| derivative(optimum, &matrices, &system, &rates, &at))
+            .flatten();
+        let derivative = solution.and_then(|s| match s.broken_row {
+            Some(row) => {
+                note = Some(format!(
+                    "the active rows are dependent (LICQ fails) and constraint row {row} cannot follow the parameter: no two-sided derivative"
+                ));
+                None
             }
-            _ => None,
-        };
-        let (increase, decrease) = if weak > 0 && weak <= MAX_WEAK {
-            (
-                one_sided(optimum, &matrices, &set, &rates, &at, 1.0),
-                one_sided(optimum, &matrices, &set, &rates, &at, -1.0),
-            )
-        } else {
-            (None, None)
+            None => Some(s.derivative),
+        });
+        let (increase, decrease) = match &candidates {
+            Some(c) => (
+                one_sided(optimum, &matrices, c, &rates, &at, 1.0),
+                one_sided(optimum, &matrices, c, &rates, &at, -1.0),
+            ),
+            None => (None, None),
         };
         out.push(ParameterSensitivity {
             name: parameter.name.clone(),
@@ -213,31 +192,8 @@ pub fn sensitivities(
     Ok(SensitivityReport { conditions, parameters: out })
 }
 
-pub(crate) fn factorise(
-    matrices: &Matrices,
-    layout: Layout,
-    variables: &[Bound],
-    rows: &[Bound],
-) -> Option<ReducedKkt> {
-    ReducedKkt::new(
-        layout.num_variables(),
-        layout.num_constraints(),
-        variables,
-        rows,
-        (&matrices.hessian_pattern, &matrices.hessian),
-        (&matrices.jacobian_pattern, &matrices.jacobian),
-    )
-    .ok()
-}
-
 /// LICQ, strict complementarity and second-order sufficiency, with their numbers.
-fn conditions(
-    set: &ActiveSet,
-    kkt: Option<&ReducedKkt>,
-    licq: Option<f64>,
-    dependent: &[usize],
-    layout: Layout,
-) -> Conditions {
+fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout) -> Conditions {
     let weakly_active: Vec<String> = set
         .weak_variables
         .iter()
@@ -251,17 +207,18 @@ fn conditions(
             )
         }))
         .collect();
-    let second_order_sufficient = kkt.is_some_and(ReducedKkt::certifies_minimum);
+    let second_order_sufficient = system.certified().is_some();
+    let dependent = &system.dependent;
     let finite = |v: f64| v.is_finite().then_some(v);
     Conditions {
         active_variable_bounds: set.variables.len(),
         free_variables: layout.num_variables() - set.variables.len(),
-        active_rows: set.rows.len() + dependent.len(),
-        licq_smallest_singular_value: licq,
-        dependent_rows: dependent.to_vec(),
+        active_rows: set.rows.len(),
+        licq_smallest_singular_value: system.licq,
+        dependent_rows: dependent.clone(),
         smallest_active_multiplier: finite(set.smallest_active_multiplier),
         smallest_inactive_gap: finite(set.smallest_inactive_gap),
-        reduced_kkt_inertia: kkt.map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]),
+        reduced_kkt_inertia: system.kkt.as_ref().map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]),
         second_order_sufficient,
         hold: second_order_sufficient && weakly_active.is_empty() && dependent.is_empty(),
         weakly_active,

@@ -1,6 +1,7 @@
 //! The NLP of eq. (33) evaluated at one point for one problem: what the KKT conditions and their
 //! parameter derivatives need (values, first derivatives, bounds).
 
+use crate::assembly::Assembled;
 use crate::full_space::{assemble, design_constraint_bounds, design_variable_bounds, Layout};
 use crate::DesignProblem;
 
@@ -18,7 +19,11 @@ pub(crate) struct Evaluation {
 
 impl Evaluation {
     pub fn at(problem: &DesignProblem, layout: Layout, x: &[f64]) -> Self {
-        let assembled = assemble(problem, layout.states);
+        Self::of(&assemble(problem, layout.states), problem, layout, x)
+    }
+
+    /// [`Evaluation::at`] with the problem's elements already assembled.
+    pub fn of(assembled: &Assembled, problem: &DesignProblem, layout: Layout, x: &[f64]) -> Self {
         let (n, m) = (layout.num_variables(), layout.num_constraints());
         let mut constraints = vec![0.0; m];
         let objective = assembled.values(x, &mut constraints);

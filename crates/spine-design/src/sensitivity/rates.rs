@@ -4,7 +4,6 @@
 
 use super::point::Evaluation;
 use super::{Optimum, Parameter, SensitivityError};
-use crate::full_space::assemble;
 use crate::DesignProblem;
 
 /// The rates of the NLP's data in one parameter at the optimum.
@@ -25,6 +24,7 @@ pub(crate) struct Rates {
 pub(crate) fn rates(
     optimum: &Optimum<'_>,
     at: &Evaluation,
+    pattern: &[(usize, usize)],
     parameter: &Parameter<'_>,
 ) -> Result<(f64, Rates), SensitivityError> {
     let h = 1e-4 * parameter.value.abs().max(1.0);
@@ -39,12 +39,11 @@ pub(crate) fn rates(
     let (plus_problem, minus_problem) = (build(parameter.value + h)?, build(parameter.value - h)?);
     let (layout, x) = (optimum.layout, optimum.x);
     let (plus, minus) = (Evaluation::at(&plus_problem, layout, x), Evaluation::at(&minus_problem, layout, x));
-    let pattern = assemble(optimum.problem, layout.states).patterns.jacobian;
     let lambda = &optimum.multipliers.constraints;
     let (gp, g0, gm) = (
-        plus.lagrangian_gradient(&pattern, lambda),
-        at.lagrangian_gradient(&pattern, lambda),
-        minus.lagrangian_gradient(&pattern, lambda),
+        plus.lagrangian_gradient(pattern, lambda),
+        at.lagrangian_gradient(pattern, lambda),
+        minus.lagrangian_gradient(pattern, lambda),
     );
     let rate = |p: &[f64], m: &[f64]| -> Vec<f64> {
         p.iter().zip(m).map(|(a, b)| if a == b { 0.0 } else { (a - b) / (2.0 * h) }).collect()

@@ -4,15 +4,73 @@
 //! every parameter.
 
 use super::active_set::{ActiveSet, Bound, Side};
+use crate::full_space::Layout;
 use spine_kkt::{Inertia, KktError, Structure, SymmetricSolver};
 use std::collections::BTreeMap;
+
+/// The Hessian of the Lagrangian (lower triangle) and the constraint Jacobian at the optimum, with
+/// their patterns.
+pub(crate) struct Matrices {
+    pub hessian_pattern: Vec<(usize, usize)>,
+    pub hessian: Vec<f64>,
+    pub jacobian_pattern: Vec<(usize, usize)>,
+    pub jacobian: Vec<f64>,
+}
+
+/// The position of each of `n` variables among those not fixed by a bound in `fixed` (`None` for a
+/// fixed one), and how many are free.
+fn free_positions(n: usize, fixed: &[Bound]) -> (Vec<Option<usize>>, usize) {
+    let mut position = vec![Some(0usize); n];
+    for b in fixed {
+        position[b.index] = None;
+    }
+    let mut free = 0;
+    for slot in position.iter_mut().flatten() {
+        *slot = free;
+        free += 1;
+    }
+    (position, free)
+}
+
+/// One active set's system: LICQ's measures, the dependent rows left out of it (each derivative is
+/// checked against them) and the factorised reduced KKT matrix of the rest (`None` when singular).
+pub(crate) struct ActiveSystem {
+    /// The bounds that fix variables.
+    pub variables: Vec<Bound>,
+    /// Every active row, the dependent ones included.
+    pub rows: Vec<Bound>,
+    /// The smallest singular value of the active rows' Jacobian (`None` above [`MAX_DENSE`]) and
+    /// the dependent rows.
+    pub licq: Option<f64>,
+    pub dependent: Vec<usize>,
+    pub kkt: Option<ReducedKkt>,
+}
+
+impl ActiveSystem {
+    pub fn new(matrices: &Matrices, layout: Layout, variables: Vec<Bound>, rows: Vec<Bound>) -> Self {
+        let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
+        let measured = licq(layout.num_variables(), &variables, &rows, jacobian);
+        let (licq, dependent) = measured.map_or((None, Vec::new()), |(s, d)| (Some(s), d));
+        let kept: Vec<Bound> = rows.iter().filter(|b| !dependent.contains(&b.index)).copied().collect();
+        let hessian = (&matrices.hessian_pattern[..], &matrices.hessian[..]);
+        let kkt =
+            ReducedKkt::new(layout.num_variables(), layout.num_constraints(), &variables, &kept, hessian, jacobian)
+                .ok();
+        Self { variables, rows, licq, dependent, kkt }
+    }
+
+    /// The factorisation, where it certifies a strict local minimum with independent active rows.
+    pub fn certified(&self) -> Option<&ReducedKkt> {
+        self.kkt.as_ref().filter(|k| k.certifies_minimum())
+    }
+}
 
 /// The factorised reduced KKT matrix and the index maps behind it.
 pub(crate) struct ReducedKkt {
     /// Position of each variable among the free ones (`None`: fixed by an active bound).
     pub free_position: Vec<Option<usize>>,
-    /// The active rows, in order.
-    pub rows: Vec<usize>,
+    /// The active rows in the system, in order.
+    pub rows: Vec<Bound>,
     pub free: usize,
     pub inertia: Inertia,
     solver: SymmetricSolver,
@@ -30,24 +88,12 @@ impl ReducedKkt {
         hessian: (&[(usize, usize)], &[f64]),
         jacobian: (&[(usize, usize)], &[f64]),
     ) -> Result<Self, KktError> {
-        let mut fixed = vec![false; n];
-        for b in variables {
-            fixed[b.index] = true;
-        }
-        let mut free_position = vec![None; n];
-        let mut free = 0;
-        for (i, slot) in free_position.iter_mut().enumerate() {
-            if !fixed[i] {
-                *slot = Some(free);
-                free += 1;
-            }
-        }
+        let (free_position, free) = free_positions(n, variables);
         let mut row_position = vec![None; m];
-        let active_rows: Vec<usize> = rows.iter().map(|b| b.index).collect();
-        for (k, &r) in active_rows.iter().enumerate() {
-            row_position[r] = Some(k);
+        for (k, b) in rows.iter().enumerate() {
+            row_position[b.index] = Some(k);
         }
-        let order = free + active_rows.len();
+        let order = free + rows.len();
         let mut entries: BTreeMap<(usize, usize), f64> = (0..order).map(|i| ((i, i), 0.0)).collect();
         for (&(a, b), &v) in hessian.0.iter().zip(hessian.1) {
             if let (Some(p), Some(q)) = (free_position[a], free_position[b]) {
@@ -67,7 +113,7 @@ impl ReducedKkt {
         }
         let mut solver = SymmetricSolver::new(structure);
         let inertia = solver.factorize(&values)?;
-        Ok(Self { free_position, rows: active_rows, free, inertia, solver })
+        Ok(Self { free_position, rows: rows.to_vec(), free, inertia, solver })
     }
 
     /// Whether the inertia is that of a strict local minimum with independent active rows:
@@ -142,15 +188,7 @@ pub(crate) fn licq(
     rows: &[Bound],
     jacobian: (&[(usize, usize)], &[f64]),
 ) -> Option<(f64, Vec<usize>)> {
-    let mut free = vec![Some(0usize); n];
-    for b in variables {
-        free[b.index] = None;
-    }
-    let mut count = 0;
-    for slot in free.iter_mut().flatten() {
-        *slot = count;
-        count += 1;
-    }
+    let (free, count) = free_positions(n, variables);
     let mut position = std::collections::HashMap::new();
     for (k, b) in rows.iter().enumerate() {
         position.insert(b.index, k);
