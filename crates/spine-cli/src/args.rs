@@ -191,6 +191,55 @@ impl SensitivityArgs {
 }
 
 #[derive(clap::Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// The swept parameter: a case file field path as for `spine sensitivity` (`loads.p_y`,
+    /// `delta_d`, `stiffness_scale`, …).
+    #[arg(long = "param", value_name = "NAME")]
+    pub param: String,
+    /// The parameter's first value (the optimum found there is followed).
+    #[arg(long, allow_negative_numbers = true)]
+    pub from: f64,
+    /// The parameter's last value.
+    #[arg(long, allow_negative_numbers = true)]
+    pub to: f64,
+    /// Reported points, equally spaced from --from to --to (rows of sweep.csv), 2..=100000.
+    #[arg(long, default_value_t = 21)]
+    pub points: usize,
+    /// A census at every --census-every-th point: a multi-start of this many seeded starts says
+    /// whether the followed optimum is still the best known.
+    #[arg(long, value_name = "STARTS", value_parser = parse_starts)]
+    pub census: Option<usize>,
+    /// The census's spacing in points (1: every point).
+    #[arg(long, value_name = "K", default_value_t = 5, value_parser = parse_every)]
+    pub census_every: usize,
+    /// Extra seeded starts of the design run at --from, whose best optimum is followed (0: the
+    /// case's own start); default: the case file's `multistart.starts`.
+    #[arg(long, value_parser = parse_starts)]
+    pub starts: Option<usize>,
+}
+
+impl SweepArgs {
+    /// The overrides: the number of seeded starts at the sweep's first value.
+    pub fn overrides(&self) -> spine_run::Overrides {
+        let mut overrides = spine_run::Overrides::default();
+        overrides.design.starts = self.starts;
+        overrides
+    }
+
+    /// The sweep's settings (validated by the run, which names the flag at fault).
+    pub fn settings(&self) -> spine_design::sweep::SweepSettings {
+        spine_design::sweep::SweepSettings::new(self.from, self.to, self.points)
+    }
+
+    /// The census plan, when asked for.
+    pub fn census(&self) -> Option<spine_run::sweep::CensusPlan> {
+        self.census.map(|starts| spine_run::sweep::CensusPlan { starts, every: self.census_every })
+    }
+}
+
+#[derive(clap::Args)]
 pub struct ReportArgs {
     /// The results folder: one sub-folder per case with its `result.json`.
     #[arg(long, default_value = "results")]
@@ -228,6 +277,10 @@ pub enum Command {
     /// Eq. (33) on a design case, then the derivatives of its optimum (θ0*, K*, θ1*, θ2*, λ*, J*)
     /// with respect to the case's parameters, with the conditions they rest on.
     Sensitivity(SensitivityArgs),
+    /// Eq. (33)'s optimum followed along one parameter of a design case (predictor: the
+    /// sensitivities; corrector: warm-started Ipopt), with the events on the way and an optional
+    /// multi-start census: sweep.csv, result.json and a figure.
+    Sweep(SweepArgs),
     /// Combines the shards of a multi-start (`spine design … --shard K/N`) into its `result.json`.
     Merge(MergeArgs),
     #[command(hide = true)]
@@ -358,6 +411,11 @@ fn parse_magnify(text: &str) -> Result<f64, String> {
 /// `--jobs`: 1..=[`spine_run::workers::MAX_JOBS`].
 fn parse_jobs(text: &str) -> Result<usize, String> {
     parse_within(text, 1..=spine_run::workers::MAX_JOBS, "")
+}
+
+/// `--census-every`: a spacing of at least 1 point.
+fn parse_every(text: &str) -> Result<usize, String> {
+    parse_within(text, 1..=100_000, "")
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).

@@ -51,6 +51,7 @@ fn main() -> ExitCode {
         Command::Case(a) => run(&a.run, None, a.overrides(), Mode::Case),
         Command::Study(a) => a.values().and_then(|v| run(&a.run, None, a.overrides()?, Mode::Study(v))),
         Command::Sensitivity(a) => run(&a.run, Some("design"), a.overrides(), Mode::Sensitivity(&a.params)),
+        Command::Sweep(a) => run(&a.run, Some("design"), a.overrides(), Mode::Sweep(a)),
         Command::Report(a) => report::run(a),
         Command::Worker(a) => worker(a),
     };
@@ -166,6 +167,8 @@ enum Mode<'a> {
     Study(Vec<f64>),
     /// The sensitivities of its optimum to these parameters (empty: all).
     Sensitivity(&'a [String]),
+    /// The optimum followed along a parameter.
+    Sweep(&'a args::SweepArgs),
 }
 
 /// Reads and runs one case (of kind `expect` when given) as `mode` says, writes its results and
@@ -190,6 +193,9 @@ fn run(
     let result = match &mode {
         Mode::Study(values) => spine_run::run_study(&case, &overrides, values, &mut |p| bars.report(p)),
         Mode::Sensitivity(names) => spine_run::run_sensitivity(&case, &overrides, names, &mut |p| bars.report(p)),
+        Mode::Sweep(a) => {
+            spine_run::run_sweep(&case, &overrides, &a.param, a.settings(), a.census(), &mut |p| bars.report(p))
+        }
         Mode::Case => spine_run::run_case(&case, &overrides, &spine_paper::PaperFigures, &mut |p| bars.report(p)),
     };
     bars.clear();

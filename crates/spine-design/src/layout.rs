@@ -119,11 +119,66 @@ impl Layout {
         State { theta, lambda: x[self.lambda(s)] }
     }
 
+    /// A bounded variable's name in the paper's 1-based numbering: `theta0[i]` (link `i`),
+    /// `K[j]` (spring `j`), `Y0[j]` (node `j`'s unloaded height); the states, which have no
+    /// bounds, as `theta1[i]`, `theta2[i]`, `lambda1`, `lambda2`.
+    pub fn variable_label(&self, v: usize) -> String {
+        let n = self.n;
+        match v {
+            v if v < n => format!("theta0[{}]", v + 1),
+            v if v <= 2 * n => format!("K[{}]", v - n + 1),
+            v if v < 3 * n + 1 => format!("theta1[{}]", v - 2 * n),
+            v if v == 3 * n + 1 => "lambda1".into(),
+            v if v < 4 * n + 2 => format!("theta2[{}]", v - 3 * n - 1),
+            v if v == 4 * n + 2 => "lambda2".into(),
+            v => format!("Y0[{}]", v - 4 * n - 2 + 1),
+        }
+    }
+
+    /// A constraint row's name: the equilibrium rows, `Y0 step[j]`, `end displacement`, and the
+    /// relative angles `theta0[i]-theta0[i+1]` (1-based).
+    pub fn row_label(&self, r: usize) -> String {
+        let n = self.n;
+        match r {
+            r if r <= n => format!("passive equilibrium[{}]", r + 1),
+            r if r <= 2 * n + 1 => format!("loaded equilibrium[{}]", r - n),
+            r if r < 3 * n + 2 => format!("Y0 step[{}]", r - 2 * n - 1),
+            r if r == 3 * n + 2 => "end displacement".into(),
+            r => format!("theta0[{}]-theta0[{}]", r - 3 * n - 2, r - 3 * n - 1),
+        }
+    }
+
     /// What a state variable is measured from: `θ0_i` for deflections, 0 for absolute angles.
     fn offset(&self, theta0: f64) -> f64 {
         match self.states {
             StateForm::Absolute => 0.0,
             StateForm::Deflection => theta0,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_follow_the_index_map() {
+        let l = Layout { n: 4, states: StateForm::Absolute };
+        assert_eq!(l.variable_label(l.theta0(0)), "theta0[1]");
+        assert_eq!(l.variable_label(l.stiffness(4)), "K[5]");
+        assert_eq!(l.variable_label(l.state_angle(LoadState::Passive, 3)), "theta1[4]");
+        assert_eq!(l.variable_label(l.lambda(LoadState::Passive)), "lambda1");
+        assert_eq!(l.variable_label(l.state_angle(LoadState::Loaded, 0)), "theta2[1]");
+        assert_eq!(l.variable_label(l.lambda(LoadState::Loaded)), "lambda2");
+        assert_eq!(l.variable_label(l.height(1).unwrap()), "Y0[2]");
+        assert_eq!(l.variable_label(l.height(3).unwrap()), "Y0[4]");
+        assert_eq!(l.row_label(l.equilibrium_row(LoadState::Passive, 0)), "passive equilibrium[1]");
+        assert_eq!(l.row_label(l.constraint_row(LoadState::Loaded)), "loaded equilibrium[5]");
+        assert_eq!(l.row_label(l.height_row(0)), "Y0 step[1]");
+        assert_eq!(l.row_label(l.height_row(3)), "Y0 step[4]");
+        assert_eq!(l.row_label(l.end_row()), "end displacement");
+        assert_eq!(l.row_label(l.relative_row(0)), "theta0[1]-theta0[2]");
+        assert_eq!(l.row_label(l.relative_row(2)), "theta0[3]-theta0[4]");
+        assert_eq!(l.num_constraints(), l.relative_row(2) + 1);
     }
 }

@@ -28,6 +28,7 @@
 
 pub mod adjoint;
 pub mod assembly;
+pub mod census;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod full_space;
@@ -42,6 +43,7 @@ pub mod settings;
 pub mod solve;
 mod solver_report;
 pub mod start_point;
+pub mod sweep;
 mod violations;
 mod warnings;
 

@@ -2,6 +2,7 @@
 //! start finds one local optimum. [`feasible_starts`] draws seeded starts that satisfy every bound
 //! and `Φ(θ0) = 0`; [`cluster`] groups the converged results into distinct optima.
 
+use crate::census::{estimate, CensusEstimate};
 use crate::problem::DesignProblem;
 use crate::result::DesignResult;
 use serde::Serialize;
@@ -106,6 +107,8 @@ pub struct MultiStartSummary {
     pub optima: Vec<Optimum>,
     /// Starts that did not converge, with Ipopt's status.
     pub failed: Vec<(usize, spine_ipopt::Status)>,
+    /// How complete the census of clean optima is ([`crate::census`]).
+    pub census: CensusEstimate,
 }
 
 impl MultiStartSummary {
@@ -160,5 +163,6 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
         let mirrored = mirror(&optima[k].result.design);
         optima[k].mirror_of = (0..k).find(|&m| same_optimum(&optima[m].result, &optima[k].result, &mirrored.theta0));
     }
-    MultiStartSummary { starts, seed, converged, optima, failed }
+    let census = estimate(optima.iter().filter(|o| o.clean).map(|o| o.count).collect());
+    MultiStartSummary { starts, seed, converged, optima, failed, census }
 }

@@ -115,20 +115,87 @@ pub fn run_solver(
             (solution, design, states, nlp.equilibrium_evaluations)
         }
     };
-    let multipliers = (formulation == Formulation::Full).then(|| Multipliers {
-        constraints: solution.lambda.clone(),
-        z_lower: solution.z_lower.clone(),
-        z_upper: solution.z_upper.clone(),
-    });
-    let mut report = SolverReport::from_ipopt(&solution, equilibrium_evaluations);
-    report.state_variables = (formulation == Formulation::Full).then_some(state_form);
-    report.start_seconds = start_seconds;
-    report.ipopt_options = options
-        .iter()
-        .map(|(k, v)| (k.to_string(), if let OptionValue::Str(text) = v { text.clone() } else { v.to_string() }))
-        .collect();
-    report.total_seconds = clock.elapsed().as_secs_f64();
-    Ok(SolverRun { formulation, design, states, solver: report, start_notes: notes, refinement, multipliers })
+    let run = Finished { formulation, state_form, start_seconds, equilibrium_evaluations, clock };
+    Ok(run.into_run(&solution, &options, design, states, notes, refinement))
+}
+
+/// What [`run_solver`] and [`resolve_from`] know when Ipopt returns.
+struct Finished {
+    formulation: Formulation,
+    state_form: crate::full_space::StateForm,
+    start_seconds: f64,
+    equilibrium_evaluations: usize,
+    clock: Instant,
+}
+
+impl Finished {
+    fn into_run(
+        self,
+        solution: &Solution,
+        options: &spine_ipopt::Options,
+        design: Design,
+        states: Option<(State, State)>,
+        start_notes: Vec<String>,
+        refinement: Option<RefinementReport>,
+    ) -> SolverRun {
+        let full = self.formulation == Formulation::Full;
+        let multipliers = full.then(|| Multipliers {
+            constraints: solution.lambda.clone(),
+            z_lower: solution.z_lower.clone(),
+            z_upper: solution.z_upper.clone(),
+        });
+        let mut report = SolverReport::from_ipopt(solution, self.equilibrium_evaluations);
+        report.state_variables = full.then_some(self.state_form);
+        report.start_seconds = self.start_seconds;
+        report.ipopt_options = options
+            .iter()
+            .map(|(k, v)| (k.to_string(), if let OptionValue::Str(text) = v { text.clone() } else { v.to_string() }))
+            .collect();
+        report.total_seconds = self.clock.elapsed().as_secs_f64();
+        SolverRun {
+            formulation: self.formulation,
+            design,
+            states,
+            solver: report,
+            start_notes,
+            refinement,
+            multipliers,
+        }
+    }
+}
+
+/// A point of the full space: a design, both states in absolute angles, and (optionally)
+/// Ipopt's multipliers in the layout of `form`.
+pub struct FullPoint<'a> {
+    pub form: crate::full_space::StateForm,
+    pub design: &'a Design,
+    pub states: &'a (State, State),
+    pub multipliers: Option<&'a Multipliers>,
+}
+
+/// Eq. (33) in the full space from a whole point (no start equilibria are computed, no mesh
+/// sequencing), with `options`; with multipliers Ipopt starts from them
+/// (`warm_start_init_point`, which `options` must ask for). The corrector of a followed sweep
+/// ([`crate::sweep`]).
+pub fn resolve_from(
+    problem: &DesignProblem,
+    start: FullPoint<'_>,
+    options: &spine_ipopt::Options,
+) -> Result<SolverRun, DesignError> {
+    let clock = Instant::now();
+    let (design, notes) = problem.project_start(start.design);
+    let mut nlp = FullSpaceNlp::new(problem, start.form, &design, &start.states.0, &start.states.1);
+    nlp.multipliers = start.multipliers.cloned();
+    let solution = spine_ipopt::solve(&mut nlp, options).map_err(DesignError::Setup)?;
+    let (design, states) = refine::solution_parts(&nlp, &solution.x);
+    let run = Finished {
+        formulation: Formulation::Full,
+        state_form: start.form,
+        start_seconds: 0.0,
+        equilibrium_evaluations: 0,
+        clock,
+    };
+    Ok(run.into_run(&solution, options, design, Some(states), notes, None))
 }
 
 /// Eq. (33) in the full space through the ladder of chain sizes (see [`crate::refine`]). Returns

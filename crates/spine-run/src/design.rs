@@ -216,6 +216,18 @@ impl DesignCaseResult {
                 if o.clean { "" } else { " (not clean: see its warnings in result.json)" }
             )?;
         }
+        let e = &summary.census;
+        let number =
+            |v: Option<f64>, digits: usize| v.map_or("n/a (too few runs)".to_string(), |v| format!("{v:.digits$}"));
+        writeln!(
+            f,
+            "census (Boender-Rinnooy Kan): {} clean optima from {} runs; estimated number of optima {}, P(all seen) {}, P(a better one unseen) {}",
+            e.distinct,
+            e.searches,
+            number(e.estimated_optima, 1),
+            number(e.probability_all_seen, 3),
+            number(e.probability_better_unseen, 3)
+        )?;
         match summary.best_clean() {
             Some(_) if self.reported_start == 0 => {
                 writeln!(f, "reported below: the best clean optimum, reached from the case's own start")?

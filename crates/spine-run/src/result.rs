@@ -9,6 +9,7 @@ use crate::figure::FigureResult;
 use crate::files::OutputFile;
 use crate::sensitivity::SensitivityResult;
 use crate::study::StudyResult;
+use crate::sweep::SweepCaseResult;
 use crate::twolink::TwoLinkResult;
 use serde::Serialize;
 use serde_json::{Map, Value};
@@ -78,6 +79,7 @@ pub enum KindResult {
     Figure(FigureResult),
     Study(StudyResult),
     Sensitivity(SensitivityResult),
+    Sweep(SweepCaseResult),
 }
 
 impl KindResult {
@@ -92,6 +94,7 @@ impl KindResult {
             Self::Figure(r) => r.is_clean(),
             Self::Study(r) => r.is_clean(),
             Self::Sensitivity(r) => r.is_clean(),
+            Self::Sweep(r) => r.is_clean(),
         }
     }
 
@@ -103,6 +106,7 @@ impl KindResult {
             Self::Figure(r) => r.files(),
             Self::Study(r) => r.files(),
             Self::Sensitivity(r) => r.files(),
+            Self::Sweep(r) => r.files(),
         }
     }
 }
@@ -118,6 +122,7 @@ impl std::fmt::Display for KindResult {
             Self::Figure(r) => r.fmt(f),
             Self::Study(r) => r.fmt(f),
             Self::Sensitivity(r) => r.fmt(f),
+            Self::Sweep(r) => r.fmt(f),
         }
     }
 }

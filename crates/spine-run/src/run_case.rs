@@ -155,3 +155,24 @@ pub fn run_sensitivity(
         Ok(KindResult::Sensitivity(result))
     })
 }
+
+/// `spine sweep`: the design case's optimum at `settings.from` followed to `settings.to` along the
+/// case field `name` ([`crate::sweep::run_design_sweep`]), with a census as `plan` says.
+pub fn run_sweep(
+    case: &Case,
+    overrides: &Overrides,
+    name: &str,
+    settings: spine_design::sweep::SweepSettings,
+    plan: Option<crate::sweep::CensusPlan>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<CaseResult, RunError> {
+    let Case::Design(c) = case else {
+        let message = format!("a sweep needs a \"design\" case, the file is \"{}\"", case.kind());
+        return Err(RunError::Case(spine_case::CaseError::invalid("kind", message)));
+    };
+    limited(overrides, || {
+        let workers = overrides.workers.as_ref();
+        let result = crate::sweep::run_design_sweep(c, &overrides.design, workers, name, settings, plan, progress)?;
+        Ok(KindResult::Sweep(result))
+    })
+}

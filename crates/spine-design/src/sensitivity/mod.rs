@@ -129,6 +129,10 @@ pub struct ParameterSensitivity {
 #[derive(Clone, Debug, Serialize)]
 pub struct SensitivityReport {
     pub conditions: Conditions,
+    /// The inequality bounds that hold strictly at the optimum, named as
+    /// [`Layout::variable_label`] / [`Layout::row_label`] with the side: `K[3] upper`,
+    /// `theta0[1]-theta0[2] lower`. (Weakly active bounds are in `conditions.weakly_active`.)
+    pub active: Vec<String>,
     pub parameters: Vec<ParameterSensitivity>,
 }
 
@@ -189,7 +193,20 @@ pub fn sensitivities(
             note,
         });
     }
-    Ok(SensitivityReport { conditions, parameters: out })
+    Ok(SensitivityReport { conditions, active: active_labels(&set, layout), parameters: out })
+}
+
+/// The strictly active inequality bounds by name and side (equalities left out).
+fn active_labels(set: &ActiveSet, layout: Layout) -> Vec<String> {
+    let side = |b: &Bound| match b.side {
+        Side::Lower => Some("lower"),
+        Side::Upper => Some("upper"),
+        Side::Both => None,
+    };
+    let variables =
+        set.variables.iter().filter_map(|b| Some(format!("{} {}", layout.variable_label(b.index), side(b)?)));
+    let rows = set.rows.iter().filter_map(|b| Some(format!("{} {}", layout.row_label(b.index), side(b)?)));
+    variables.chain(rows).collect()
 }
 
 /// LICQ, strict complementarity and second-order sufficiency, with their numbers.
@@ -198,12 +215,23 @@ fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout) -> Conditi
         .weak_variables
         .iter()
         .map(|b| {
-            format!("variable {} ({:?} bound): multiplier {:.1e}, gap {:.1e}", b.index, b.side, b.multiplier, b.gap)
+            format!(
+                "variable {} {} ({:?} bound): multiplier {:.1e}, gap {:.1e}",
+                b.index,
+                layout.variable_label(b.index),
+                b.side,
+                b.multiplier,
+                b.gap
+            )
         })
         .chain(set.weak_rows.iter().map(|b| {
             format!(
-                "constraint row {} ({:?} bound): multiplier {:.1e}, gap {:.1e}",
-                b.index, b.side, b.multiplier, b.gap
+                "constraint row {} {} ({:?} bound): multiplier {:.1e}, gap {:.1e}",
+                b.index,
+                layout.row_label(b.index),
+                b.side,
+                b.multiplier,
+                b.gap
             )
         }))
         .collect();

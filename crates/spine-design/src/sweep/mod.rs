@@ -1,0 +1,299 @@
+//! Sweeps that follow one optimum of eq. (33) along a parameter `p` (a load, `δ_d`, `C_K`, a
+//! bound, …): predictor–corrector continuation of the optimum branch `x*(p)`.
+//!
+//! * **Predictor**: the tangent `dx*/dp` of [`crate::sensitivity`] at the last point (the
+//!   one-sided derivative in the direction of travel where a bound is weakly active).
+//! * **Corrector**: Ipopt from the predicted design, states and the last multipliers
+//!   (`warm_start_init_point`, a small `mu_init`), to the polishing tolerance so that the next
+//!   active set and tangent can be read.
+//! * **Adaptive steps**: a step is accepted when the corrector ends clean within
+//!   [`SweepSettings::branch_tolerance`] of the prediction (a fraction of the design box); else it
+//!   is halved, up to [`SweepSettings::halvings`] times. A step that cannot be made small enough
+//!   is a **jump**: the branch ended (a fold) or the corrector left it; the sweep reports it and
+//!   goes on from the optimum the corrector reached.
+//! * **Events** between two accepted points, each located by bisection on the parameter: a bound
+//!   becoming active or inactive, the reduced Hessian losing (or regaining) definiteness (a fold
+//!   of the branch: second-order sufficiency fails), an equilibrium losing (or regaining)
+//!   stability.
+
+mod events;
+mod station;
+
+use crate::problem::DesignBounds;
+use crate::sensitivity::Derivative;
+use crate::{DesignError, DesignProblem, DesignResult, SolverSettings};
+use serde::Serialize;
+use spine_check::{require, FieldError};
+use spine_model::Design;
+use station::Station;
+
+/// What a sweep covers and how it steps.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SweepSettings {
+    /// The parameter's first and last value (either order).
+    pub from: f64,
+    pub to: f64,
+    /// Reported points, equally spaced from `from` to `to` (both included).
+    pub points: usize,
+    /// How many times a step may be halved before a jump is declared.
+    pub halvings: usize,
+    /// Bisection steps locating each event.
+    pub bisections: usize,
+    /// Largest accepted move of the corrector from the prediction, as a fraction of the design box.
+    pub branch_tolerance: f64,
+    /// Ipopt's `mu_init` of the corrector.
+    pub mu_init: f64,
+}
+
+impl SweepSettings {
+    /// `points` from `from` to `to`, with the default stepping controls.
+    pub fn new(from: f64, to: f64, points: usize) -> Self {
+        SweepSettings { from, to, points, halvings: 8, bisections: 10, branch_tolerance: 0.05, mu_init: 1e-9 }
+    }
+
+    /// Why these settings are not usable, naming the field (`from`, `to`, `points`, …).
+    pub fn validate(&self) -> Result<(), FieldError> {
+        require(self.from.is_finite(), "from", || format!("must be a finite number, got {}", self.from))?;
+        require(self.to.is_finite(), "to", || format!("must be a finite number, got {}", self.to))?;
+        require(self.to != self.from, "to", || format!("must differ from `from` ({})", self.from))?;
+        require((2..=100_000).contains(&self.points), "points", || {
+            format!("must be an integer from 2 to 100000, got {}", self.points)
+        })?;
+        require(self.halvings <= 30, "halvings", || format!("must be at most 30, got {}", self.halvings))?;
+        require(self.bisections <= 50, "bisections", || format!("must be at most 50, got {}", self.bisections))?;
+        require(self.branch_tolerance > 0.0 && self.branch_tolerance <= 1.0, "branch_tolerance", || {
+            format!("must be in (0, 1], got {}", self.branch_tolerance)
+        })?;
+        require(self.mu_init > 0.0 && self.mu_init <= 0.1, "mu_init", || {
+            format!("must be in (0, 0.1], got {}", self.mu_init)
+        })
+    }
+
+    /// The `k`-th reported parameter value.
+    pub fn value(&self, k: usize) -> f64 {
+        if k + 1 == self.points {
+            return self.to;
+        }
+        self.from + (self.to - self.from) * k as f64 / (self.points - 1) as f64
+    }
+}
+
+/// Why a sweep stopped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SweepError {
+    /// The problem could not be built at a parameter value.
+    #[error("parameter: {0}")]
+    Parameter(String),
+    /// Ipopt could not start.
+    #[error(transparent)]
+    Solver(#[from] DesignError),
+    /// The start optimum is not clean, so there is no branch to follow.
+    #[error("the optimum at the sweep's start is not clean ({0}): there is no branch to follow")]
+    Start(String),
+}
+
+/// How a reported point was reached.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PointStatus {
+    /// On the followed branch, every step accepted.
+    Followed,
+    /// After a jump (see [`EventKind::Jump`]): on the optimum the corrector reached.
+    Jumped,
+    /// The corrector did not end clean at this value; the row holds its last iterate.
+    Failed,
+}
+
+/// One reported point of the sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepPoint {
+    pub parameter: f64,
+    pub status: PointStatus,
+    /// `J*`, J; the end displacement `X_{N+1}(θ2) − L_x`, m.
+    pub objective: f64,
+    pub end_displacement: Option<f64>,
+    pub design: Design,
+    /// Ipopt's status and iterations of the corrector that gave this point.
+    pub ipopt_status: String,
+    pub iterations: usize,
+    /// The strictly active inequality bounds, second-order sufficiency, and the stability of the
+    /// passive and the loaded equilibrium.
+    pub active: Vec<String>,
+    pub second_order_sufficient: bool,
+    pub stable: [bool; 2],
+    /// The tangent `dx*/dp` (two-sided, or one-sided in the direction of travel).
+    pub tangent: Option<Derivative>,
+}
+
+/// What changed between two points, located by bisection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    BoundActive,
+    BoundInactive,
+    /// Second-order sufficiency lost: the reduced Hessian is no longer positive definite.
+    Fold,
+    SecondOrderRestored,
+    StabilityLost,
+    StabilityRestored,
+    /// The branch could not be followed with the smallest step: it ended or the corrector left it.
+    Jump,
+}
+
+/// An event of the sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepEvent {
+    pub kind: EventKind,
+    /// Which bound or equilibrium (empty for a fold or a jump).
+    pub what: String,
+    /// The parameter value (the middle of `bracket`), and the interval it lies in.
+    pub parameter: f64,
+    pub bracket: [f64; 2],
+}
+
+/// A followed sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepResult {
+    pub parameter: String,
+    pub settings: SweepSettings,
+    pub points: Vec<SweepPoint>,
+    pub events: Vec<SweepEvent>,
+    /// Corrector solves (accepted, rejected and bisection ones), and their Ipopt iterations.
+    pub solves: usize,
+    pub iterations: usize,
+    pub rejected_steps: usize,
+}
+
+/// A sweep of one problem family along one parameter.
+pub struct Sweep<'a> {
+    /// The parameter's name (for the sensitivities' report).
+    pub name: &'a str,
+    /// The problem at a parameter value.
+    pub problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, String> + 'a),
+    /// The case's solver settings (the corrector tightens them).
+    pub solver: &'a SolverSettings,
+    pub settings: SweepSettings,
+    /// The design box the branch distance is measured in.
+    pub bounds: DesignBounds,
+    counters: std::cell::Cell<(usize, usize)>,
+}
+
+impl<'a> Sweep<'a> {
+    pub fn new(
+        name: &'a str,
+        problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, String> + 'a),
+        solver: &'a SolverSettings,
+        settings: SweepSettings,
+    ) -> Result<Self, SweepError> {
+        let bounds = problem_at(settings.from).map_err(SweepError::Parameter)?.bounds;
+        Ok(Sweep { name, problem_at, solver, settings, bounds, counters: Default::default() })
+    }
+
+    fn problem(&self, parameter: f64) -> Result<DesignProblem, SweepError> {
+        (self.problem_at)(parameter).map_err(SweepError::Parameter)
+    }
+
+    /// Follows the optimum `start` (an optimum of the problem at `settings.from`) to `settings.to`.
+    pub fn follow(&self, start: &Design) -> Result<SweepResult, SweepError> {
+        let first = self.counted(self.restart(self.settings.from, start))?;
+        if !first.clean() {
+            return Err(SweepError::Start(first.result.solver.status.name().to_string()));
+        }
+        let mut points = vec![self.point(&first, PointStatus::Followed)];
+        let mut events = Vec::new();
+        let mut rejected = 0;
+        let mut current = first;
+        for k in 1..self.settings.points {
+            let target = self.settings.value(k);
+            let (next, status) = self.advance(current, target, &mut events, &mut rejected)?;
+            points.push(self.point(&next, status));
+            current = next;
+        }
+        let (solves, iterations) = self.counters.get();
+        Ok(SweepResult {
+            parameter: self.name.to_string(),
+            settings: self.settings,
+            points,
+            events,
+            solves,
+            iterations,
+            rejected_steps: rejected,
+        })
+    }
+
+    /// From `current` to `target` in accepted steps (halved where the corrector leaves the
+    /// branch), with the events between accepted points. Where the smallest step still leaves the
+    /// branch, a jump: the sweep goes on from the corrector's optimum, or, where that is not clean,
+    /// from a tight solve at `target` started from the last design (a failed point if that is not
+    /// clean either; the next target starts from it).
+    fn advance(
+        &self,
+        mut current: Station,
+        target: f64,
+        events: &mut Vec<SweepEvent>,
+        rejected: &mut usize,
+    ) -> Result<(Station, PointStatus), SweepError> {
+        let mut status = PointStatus::Followed;
+        let mut step = target - current.parameter;
+        let mut halvings = 0;
+        while current.parameter != target {
+            let p = if (target - current.parameter).abs() <= step.abs() { target } else { current.parameter + step };
+            let prediction = current.predict(p);
+            let next = self.counted(self.settle(p, &prediction))?;
+            let accepted = next.clean() && self.distance(&next, &prediction) <= self.settings.branch_tolerance;
+            if !accepted && halvings < self.settings.halvings {
+                *rejected += 1;
+                halvings += 1;
+                step *= 0.5;
+                continue;
+            }
+            let next = match (accepted, next.clean()) {
+                (true, _) => {
+                    events.extend(self.events_between(&current, &next)?);
+                    next
+                }
+                (false, clean) => {
+                    let to = if clean { p } else { target };
+                    let next = if clean { next } else { self.counted(self.restart(target, &current.result.design))? };
+                    if !next.clean() {
+                        return Ok((next, PointStatus::Failed));
+                    }
+                    let bracket = [current.parameter, to];
+                    let parameter = 0.5 * (bracket[0] + bracket[1]);
+                    events.push(SweepEvent { kind: EventKind::Jump, what: String::new(), parameter, bracket });
+                    status = PointStatus::Jumped;
+                    next
+                }
+            };
+            current = next;
+            halvings = 0;
+            step = target - current.parameter;
+        }
+        Ok((current, status))
+    }
+
+    /// Counts a corrector's solve and iterations.
+    fn counted(&self, station: Result<Station, SweepError>) -> Result<Station, SweepError> {
+        let station = station?;
+        let (solves, iterations) = self.counters.get();
+        self.counters.set((solves + 1, iterations + station.run.solver.iterations));
+        Ok(station)
+    }
+
+    fn point(&self, s: &Station, status: PointStatus) -> SweepPoint {
+        let r: &DesignResult = &s.result;
+        SweepPoint {
+            parameter: s.parameter,
+            status,
+            objective: r.objective,
+            end_displacement: r.end_displacement,
+            design: r.design.clone(),
+            ipopt_status: r.solver.status.name().to_string(),
+            iterations: r.solver.iterations,
+            active: s.active(),
+            second_order_sufficient: s.second_order(),
+            stable: s.stable(),
+            tangent: s.tangent(self.settings.to - self.settings.from).cloned(),
+        }
+    }
+}

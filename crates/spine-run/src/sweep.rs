@@ -1,0 +1,244 @@
+//! `spine sweep`: eq. (33)'s optimum followed along one parameter of a design case
+//! ([`spine_design::sweep`]), with a census (multi-start) at every k-th point saying whether the
+//! followed optimum is still the best known.
+
+use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
+use crate::error::RunError;
+use crate::files::{FileContent, OutputFile};
+use crate::progress::Progress;
+use crate::workers::Workers;
+use serde::Serialize;
+use spine_case::{CaseError, DesignCase, ValidDesign};
+use spine_design::census::CensusEstimate;
+use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult, SweepSettings};
+use spine_design::DesignProblem;
+use std::fmt::Write as _;
+
+/// A census along the sweep: a multi-start of `starts` seeded starts at every `every`-th point.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CensusPlan {
+    pub starts: usize,
+    pub every: usize,
+}
+
+/// The census at one point of the sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct CensusPoint {
+    /// The point's index and parameter value.
+    pub point: usize,
+    pub parameter: f64,
+    /// The best clean optimum the multi-start found (with the followed one among the candidates),
+    /// and the followed optimum's `J*`.
+    pub best_objective: Option<f64>,
+    pub followed_objective: f64,
+    /// The followed optimum is the best known (`J*` within 1e-6 relative of the best, or below).
+    pub followed_is_best: bool,
+    pub estimate: Option<CensusEstimate>,
+}
+
+/// `result.json` of `spine sweep`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepCaseResult {
+    pub kind: &'static str,
+    pub title: String,
+    /// The design run at the sweep's first value, whose reported optimum is followed.
+    pub start: DesignCaseResult,
+    pub sweep: SweepResult,
+    pub census: Vec<CensusPoint>,
+    pub files: Vec<String>,
+    pub solve_seconds: f64,
+    pub sweep_seconds: f64,
+    pub census_seconds: f64,
+}
+
+/// The case with `name` set to `value`, validated, with the overrides.
+fn case_at(c: &DesignCase, overrides: &DesignOverrides, name: &str, value: f64) -> Result<ValidDesign, CaseError> {
+    let mut valid = c.with_parameter(name, value)?.validate()?;
+    overrides.apply(&mut valid);
+    Ok(valid)
+}
+
+/// The design case run as `spine design` runs it at `settings.from` (its start and multi-start),
+/// then its reported optimum followed to `settings.to`, with a census as `plan` says.
+pub fn run_design_sweep(
+    c: &DesignCase,
+    overrides: &DesignOverrides,
+    workers: Option<&Workers>,
+    name: &str,
+    settings: SweepSettings,
+    plan: Option<CensusPlan>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<SweepCaseResult, RunError> {
+    c.parameter_value(name)?;
+    settings.validate().map_err(|e| CaseError::invalid(format!("--{}", e.field.replace('_', "-")), e.message))?;
+    let clock = std::time::Instant::now();
+    let first = case_at(c, overrides, name, settings.from)?;
+    let start = run_design_case(c, &first, workers, progress)?;
+    let solve_seconds = clock.elapsed().as_secs_f64();
+    progress(Progress::Done { message: format!("following the optimum over {} points", settings.points) });
+    let problem_at = |v: f64| -> Result<DesignProblem, String> {
+        case_at(c, overrides, name, v).map(|valid| valid.problem).map_err(|e| e.to_string())
+    };
+    let sweep = Sweep::new(name, &problem_at, &first.settings, settings).map_err(sweep_error)?;
+    let followed = sweep.follow(&start.result.design).map_err(sweep_error)?;
+    let sweep_seconds = clock.elapsed().as_secs_f64() - solve_seconds;
+    let census = match plan {
+        Some(plan) => census(c, overrides, workers, name, &followed, plan, progress)?,
+        None => Vec::new(),
+    };
+    let census_seconds = clock.elapsed().as_secs_f64() - solve_seconds - sweep_seconds;
+    Ok(SweepCaseResult {
+        kind: "sweep",
+        title: if c.title.is_empty() { "sweep".into() } else { c.title.clone() },
+        start,
+        sweep: followed,
+        census,
+        files: ["sweep.csv", "sweep.svg", "sweep.png", "sweep.pdf"].map(String::from).to_vec(),
+        solve_seconds,
+        sweep_seconds,
+        census_seconds,
+    })
+}
+
+fn sweep_error(e: SweepError) -> RunError {
+    match e {
+        SweepError::Solver(e) => RunError::Design(e),
+        e => RunError::Case(CaseError::invalid("--param", e.to_string())),
+    }
+}
+
+/// A multi-start of `plan.starts` seeded starts at every `plan.every`-th point of the sweep.
+fn census(
+    c: &DesignCase,
+    overrides: &DesignOverrides,
+    workers: Option<&Workers>,
+    name: &str,
+    followed: &SweepResult,
+    plan: CensusPlan,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<Vec<CensusPoint>, RunError> {
+    let mut out = Vec::new();
+    for (k, point) in followed.points.iter().enumerate().step_by(plan.every.max(1)) {
+        let overrides = DesignOverrides { starts: Some(plan.starts), ..*overrides };
+        let valid = case_at(c, &overrides, name, point.parameter)?;
+        let run = run_design_case(c, &valid, workers, progress)?;
+        let best = run.multistart.as_ref().and_then(|m| m.best_clean()).map(|o| o.objective());
+        let followed_objective = point.objective;
+        let best_objective = best.map(|b| b.min(followed_objective));
+        let followed_is_best = best.is_none_or(|b| followed_objective <= b + 1e-6 * b.abs());
+        out.push(CensusPoint {
+            point: k,
+            parameter: point.parameter,
+            best_objective,
+            followed_objective,
+            followed_is_best: followed_is_best && point.status != PointStatus::Failed,
+            estimate: run.multistart.map(|m| m.census),
+        });
+    }
+    Ok(out)
+}
+
+impl SweepCaseResult {
+    /// Clean: every point followed or jumped to a clean optimum (a failed point is not clean).
+    pub fn is_clean(&self) -> bool {
+        self.sweep.points.iter().all(|p| p.status != PointStatus::Failed)
+    }
+
+    /// `sweep.csv` and the figure.
+    pub fn files(&self) -> Vec<OutputFile> {
+        vec![
+            OutputFile::text("sweep.csv", self.csv()),
+            OutputFile { name: "sweep".into(), content: FileContent::Figure(crate::sweep_figure::figure(self)) },
+        ]
+    }
+
+    /// One row per point: the parameter, `objective` (J*), θ0*, K*, the end displacement, the
+    /// status, and the best-known J* where a census ran there.
+    pub fn csv(&self) -> String {
+        let n = self.sweep.points.first().map_or(0, |p| p.design.theta0.len());
+        let mut text = format!("{},objective_J", self.sweep.parameter);
+        (1..=n).for_each(|i| {
+            let _ = write!(text, ",theta0_{i}_rad");
+        });
+        (1..=n + 1).for_each(|j| {
+            let _ = write!(text, ",K_{j}_Nm_per_rad");
+        });
+        text.push_str(",end_displacement_m,status,best_known_objective_J\n");
+        for (k, p) in self.sweep.points.iter().enumerate() {
+            let _ = write!(text, "{:e},{:e}", p.parameter, p.objective);
+            p.design.theta0.iter().chain(&p.design.stiffness).for_each(|v| {
+                let _ = write!(text, ",{v:e}");
+            });
+            let best = self.census.iter().find(|c| c.point == k).and_then(|c| c.best_objective);
+            let status =
+                serde_json::to_value(p.status).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default();
+            let _ = writeln!(
+                text,
+                ",{},{status},{}",
+                p.end_displacement.map_or(String::new(), |d| format!("{d:e}")),
+                best.map_or(String::new(), |b| format!("{b:e}"))
+            );
+        }
+        text
+    }
+}
+
+impl std::fmt::Display for SweepCaseResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = &self.sweep;
+        let start = &self.start.result;
+        writeln!(
+            f,
+            "{}: the optimum at {} = {} (J* = {:.10e} J, {}) followed to {} over {} points",
+            self.title,
+            s.parameter,
+            s.settings.from,
+            start.objective,
+            start.solver.status,
+            s.settings.to,
+            s.settings.points
+        )?;
+        let count = |status| s.points.iter().filter(|p| p.status == status).count();
+        writeln!(
+            f,
+            "points: {} followed, {} after a jump, {} FAILED; {} corrector solves ({} Ipopt iterations, {} steps halved)",
+            count(PointStatus::Followed),
+            count(PointStatus::Jumped),
+            count(PointStatus::Failed),
+            s.solves,
+            s.iterations,
+            s.rejected_steps
+        )?;
+        writeln!(
+            f,
+            "times: start {:.3} s, sweep {:.3} s, census {:.3} s",
+            self.solve_seconds, self.sweep_seconds, self.census_seconds
+        )?;
+        for e in &s.events {
+            writeln!(
+                f,
+                "  event at {} = {:.6e} (in [{:.6e}, {:.6e}]): {:?} {}",
+                s.parameter, e.parameter, e.bracket[0], e.bracket[1], e.kind, e.what
+            )?;
+        }
+        if let (Some(first), Some(last)) = (s.points.first(), s.points.last()) {
+            writeln!(f, "J* from {:.6e} J to {:.6e} J", first.objective, last.objective)?;
+        }
+        for c in &self.census {
+            writeln!(
+                f,
+                "  census at {} = {:.6e}: followed J* {:.6e} J, best known {} ({}){}",
+                s.parameter,
+                c.parameter,
+                c.followed_objective,
+                c.best_objective.map_or("none".into(), |b| format!("{b:.6e} J")),
+                if c.followed_is_best { "the followed optimum is the best known" } else { "ANOTHER OPTIMUM IS BETTER" },
+                c.estimate
+                    .as_ref()
+                    .and_then(|e| e.probability_better_unseen)
+                    .map_or(String::new(), |p| { format!("; P(a better one unseen) {p:.3}") })
+            )?;
+        }
+        Ok(())
+    }
+}
