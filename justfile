@@ -79,6 +79,13 @@ case NAME:
 study NAME:
     cargo run --release --quiet -p spine-cli -- study {{NAME}} paper-cases/study-{{NAME}}.json --out results/study-{{NAME}}
 
+# Fig. 5 as a followed sweep (beside the paper's independent solves of `just case fig5`): the
+# optimum at -1 N per node followed to -20 N per node over 39 points (every 0.5 N), with a
+# 20-start census at every third point (-1, -2.5, -4, …, -19.0) and the events on the way:
+# results/fig5-sweep/{sweep.csv,sweep.svg,sweep.png,sweep.pdf,result.json}.
+sweep-fig5:
+    cargo run --release --quiet -p spine-cli -- sweep paper-cases/fig5-base.json --param loads.p_y --from -1 --to -20 --points 39 --census 20 --census-every 3 --out results/fig5-sweep
+
 # Every figure and the C_K study, then results/REPORT.md and results/report.html (one self-contained page; a failed solver check, exit 3, is reported, not fatal).
 paper:
     cargo build --release --quiet -p spine-cli

@@ -79,3 +79,47 @@ fn starts_zero_differentiates_the_optimum_of_the_case_s_own_start() {
     assert!(json["design"]["multistart"].is_null(), "no multi-start with --starts 0");
     assert_eq!(json["sensitivity"]["conditions"]["hold"], true, "{}", json["sensitivity"]["conditions"]);
 }
+
+#[test]
+fn sweep_writes_one_row_per_point_a_figure_and_the_events() {
+    let case = workspace().join("paper-cases/fig5-base.json");
+    let out = tmpdir("sweep-fig5");
+    let args = ["sweep", case.to_str().unwrap(), "--param", "loads.p_y", "--from", "-1", "--to", "-3", "--points", "5"];
+    let output = spine(&[&args[..], &["--out", out.to_str().unwrap(), "--deterministic"]].concat());
+    assert_eq!(output.status.code(), Some(0), "{}", String::from_utf8_lossy(&output.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(csv.starts_with("loads.p_y,objective_J,theta0_1_rad"), "{csv}");
+    assert_eq!(csv.lines().count(), 1 + 5, "a header and one row per point");
+    assert!(csv.lines().skip(1).all(|l| l.contains(",followed,")), "{csv}");
+    for f in ["sweep.svg", "sweep.png", "sweep.pdf"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    assert_eq!(json["kind"], "sweep");
+    assert_eq!(json["sweep"]["points"].as_array().unwrap().len(), 5);
+    assert!(json["sweep"]["events"].as_array().is_some_and(|e| !e.is_empty()), "stiffness bounds become active");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("5 followed") && stdout.contains("BoundActive"), "{stdout}");
+}
+
+#[test]
+fn bad_sweep_input_exits_2_names_the_flag_and_writes_nothing() {
+    let design = workspace().join("paper-cases/fig5-base.json");
+    let step = workspace().join("paper-cases/step5.json");
+    for (case, extra, field) in [
+        (&design, vec!["--param", "loads.p_y", "--from", "-1", "--to", "-1"], "--to"),
+        (&design, vec!["--param", "loads.p_y", "--from", "-1", "--to", "-2", "--points", "1"], "--points"),
+        (&design, vec!["--param", "no.such", "--from", "-1", "--to", "-2"], "--param"),
+        (&design, vec!["--param", "loads.p_y", "--from", "-1", "--to", "inf"], "--to"),
+        (&step, vec!["--param", "delta_d", "--from", "-0.01", "--to", "-0.02"], "kind"),
+    ] {
+        let out = tmpdir("sweep-bad");
+        let output =
+            spine(&[&["sweep", case.to_str().unwrap()][..], &extra, &["--out", out.to_str().unwrap()]].concat());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(field), "{extra:?}: {stderr}");
+        assert!(!out.join("result.json").exists());
+    }
+}
