@@ -11,6 +11,11 @@
 //! * `design_solve/{full,reduced}`: a whole eq. (33) solve from the arch start (N ≤ 100 and
 //!   N ≤ 10; larger N are timed once by `just bench-peers`).
 //!
+//! * `optimum_parameters/{sweep_fig5_40,polish,polish_and_sensitivities}` (N = 10 only): a followed
+//!   sweep of Fig. 5's load from −1 to −20 N per node over 40 points (from the optimum at −1 N,
+//!   events included), the tight re-solve of design10's optimum, and that re-solve plus the
+//!   sensitivities to every default parameter (the difference is the sensitivities' cost).
+//!
 //! `tests/agreement.rs` checks that the compared derivatives agree, so no benchmark times a wrong
 //! answer. `SPINE_BENCH_MAX_N` caps the sizes (for a quick run).
 
@@ -127,9 +132,52 @@ fn kkt(c: &mut Criterion) {
     g.finish();
 }
 
+/// A design case of `paper-cases/`.
+fn paper_case(name: &str) -> spine_case::DesignCase {
+    let path = format!("{}/../paper-cases/{name}.json", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("paper case");
+    let spine_case::Case::Design(c) = spine_case::Case::from_json(&text).expect("valid case") else {
+        panic!("{name} is a design case")
+    };
+    c
+}
+
+/// Followed sweeps and sensitivities of the optimum at N = 10 (issue targets: a 40-point sweep
+/// under 1 s; the sensitivities to all parameters about one extra factorisation).
+fn optimum_parameters(c: &mut Criterion) {
+    use spine_design::sweep::{Sweep, SweepSettings};
+    let mut g = c.benchmark_group("optimum_parameters");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    let fig5 = paper_case("fig5-base");
+    let valid = fig5.validate().expect("valid case");
+    let start = solve_design(&valid.problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true).unwrap();
+    assert!(start.is_clean());
+    let problem_at = |v: f64| -> Result<spine_design::DesignProblem, String> {
+        fig5.with_parameter("loads.p_y", v).and_then(|c| c.validate()).map(|v| v.problem).map_err(|e| e.to_string())
+    };
+    let sweep = Sweep::new("loads.p_y", &problem_at, &valid.settings, SweepSettings::new(-1.0, -20.0, 40)).unwrap();
+    let followed = sweep.follow(&start.design).expect("the sweep runs");
+    assert_eq!(followed.points.len(), 40);
+    g.bench_function(BenchmarkId::new("sweep_fig5_40", 10), |b| b.iter(|| sweep.follow(black_box(&start.design))));
+
+    let design10 = paper_case("design10");
+    let valid = design10.validate().expect("valid case");
+    let first = solve_design(&valid.problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true).unwrap();
+    let names = design10.default_parameters();
+    let overrides = spine_run::DesignOverrides::default();
+    let differentiate = || spine_run::sensitivity::differentiate(&design10, &valid, &overrides, &names, &first);
+    let (report, _) = differentiate().expect("sensitivities");
+    assert_eq!(report.expect("a clean optimum").parameters.len(), names.len());
+    g.bench_function(BenchmarkId::new("polish", 10), |b| {
+        b.iter(|| spine_design::sensitivity::polish(&valid.problem, black_box(&first.design), &valid.settings))
+    });
+    g.bench_function(BenchmarkId::new("polish_and_sensitivities", 10), |b| b.iter(differentiate));
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10).measurement_time(Duration::from_secs(1)).warm_up_time(Duration::from_millis(300));
-    targets = equilibrium, design, kkt
+    targets = equilibrium, design, kkt, optimum_parameters
 }
 criterion_main!(benches);

@@ -10,7 +10,7 @@ use std::fmt::Write;
 use std::path::Path;
 
 /// The benchmark groups of `benches/scaling.rs`, in report order, with what each times.
-pub const GROUPS: [(&str, &str); 8] = [
+pub const GROUPS: [(&str, &str); 9] = [
     ("residual", "equilibrium residual, eq. (5)"),
     ("jacobian", "residual + ∂r/∂(θ, λ), eqs. (46)–(49)"),
     ("newton_step", "one Newton step (residual, AD Jacobian, O(N) factorisation, solve)"),
@@ -19,6 +19,10 @@ pub const GROUPS: [(&str, &str); 8] = [
     ("hessian", "Hessian of the Lagrangian of eq. (33), second-order AD"),
     ("design_solve", "whole eq. (33) solve from the arch start"),
     ("kkt_factorization", "one factorisation of a KKT matrix Ipopt formed in an eq. (33) solve (order 10 N + 3)"),
+    (
+        "optimum_parameters",
+        "N = 10: the optimum followed over Fig. 5's loads (40 points), its tight re-solve, and that plus its sensitivities to all 19 default parameters",
+    ),
 ];
 
 /// Sizes at or above which the exponent is fitted (below, fixed costs dominate).
