@@ -90,11 +90,14 @@ fn ck_across_figures(results: &[FolderResult]) -> Option<String> {
     for (ck, cv, sh) in rows {
         let _ = writeln!(text, "| {ck} | {cv:.4} | {sh:.4} |");
     }
+    let why = |pass: bool| if pass { String::new() } else { format!(" ([why]({FINDINGS}#ck-trend))") };
     let _ = writeln!(
         text,
-        "\n- **{}** {SPREAD_STATEMENT}\n- **{}** {SHAPE_STATEMENT}",
+        "\n- **{}**{} {SPREAD_STATEMENT}\n- **{}**{} {SHAPE_STATEMENT}",
         verdict(spread_up),
-        verdict(shape_down)
+        why(spread_up),
+        verdict(shape_down),
+        why(shape_down)
     );
     Some(text)
 }
@@ -143,7 +146,11 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
     for r in results {
         for c in r.claims() {
             let s = |k: &str| text_of(c, k);
-            let verdict = if passed(c) { "PASS" } else { "**FAIL**" };
+            let verdict = match (passed(c), finding(s("statement"))) {
+                (true, _) => "PASS".to_string(),
+                (false, None) => "**FAIL**".to_string(),
+                (false, Some(anchor)) => format!("**FAIL** ([why]({FINDINGS}#{anchor}))"),
+            };
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {verdict} | {} |",
@@ -181,6 +188,26 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
     md.push_str(&errata_table(errata).join("\n"));
     md.push('\n');
     md
+}
+
+/// `docs/findings.md` as seen from the results folder (`results/REPORT.md`, `results/report.html`).
+pub const FINDINGS: &str = "../docs/findings.md";
+
+/// The paper's statements whose FAIL `docs/findings.md` explains, with the section's anchor: a
+/// fragment of the statement as the claims spell it.
+const FINDINGS_SECTIONS: [(&str, &str); 7] = [
+    ("orientation is preferred to change in stiffness", "orientation-vs-stiffness"),
+    ("more pronounced near the point of end-point load", "change-near-the-end-load"),
+    ("localized stiffening", "localized-stiffening"),
+    ("as the C_K is increased", "ck-trend"),
+    ("change in orientation of the links is less apparent", "ck-trend"),
+    ("reaches the desired δ in 0.5 seconds", "fig10-timings"),
+    ("returns to its original state in about 0.25 seconds", "fig10-timings"),
+];
+
+/// The anchor in `docs/findings.md` of the section explaining why `statement` fails, if any.
+pub fn finding(statement: &str) -> Option<&'static str> {
+    FINDINGS_SECTIONS.iter().find(|(fragment, _)| statement.contains(fragment)).map(|(_, anchor)| *anchor)
 }
 
 /// The lines of the first Markdown table of `docs/errata.md`.
@@ -248,7 +275,10 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
                 escape(text_of(c, "statement")),
                 escape(text_of(c, "test")),
                 if pass { "pass" } else { "fail" },
-                verdict(pass),
+                match (pass, finding(text_of(c, "statement"))) {
+                    (false, Some(anchor)) => format!("FAIL<br><a href=\"{FINDINGS}#{anchor}\">why</a>"),
+                    _ => verdict(pass).to_string(),
+                },
                 escape(text_of(c, "measured"))
             );
         }
@@ -262,7 +292,9 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
         h.push_str("</table>\n<table>\n");
         for (pass, statement) in [(ck.spread_up, SPREAD_STATEMENT), (ck.shape_down, SHAPE_STATEMENT)] {
             let class = if pass { "pass" } else { "fail" };
-            let _ = writeln!(h, "<tr><td class=\"{class}\">{}</td><td>{}</td></tr>", verdict(pass), escape(statement));
+            let why = if pass { String::new() } else { format!("<br><a href=\"{FINDINGS}#ck-trend\">why</a>") };
+            let _ =
+                writeln!(h, "<tr><td class=\"{class}\">{}{why}</td><td>{}</td></tr>", verdict(pass), escape(statement));
         }
         h.push_str("</table>\n");
     }
@@ -320,6 +352,20 @@ fn base64(bytes: &[u8]) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn every_failing_statement_with_a_finding_links_to_a_section_that_exists() {
+        let findings = include_str!("../../../docs/findings.md");
+        for (fragment, anchor) in FINDINGS_SECTIONS {
+            assert_eq!(finding(&format!("\"{fragment}\" (Sec. 5.1)")), Some(anchor));
+            assert!(
+                findings.contains(&format!("<a id=\"{anchor}\"></a>")),
+                "docs/findings.md has no section `{anchor}`"
+            );
+        }
+        assert!(findings.contains("<a id=\"ck-trend\"></a>"));
+        assert_eq!(finding("\"the end point reaches δ_d\""), None);
+    }
     use super::*;
     use serde_json::json;
 
