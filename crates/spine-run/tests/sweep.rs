@@ -106,7 +106,7 @@ fn the_census_reports_the_best_known_optimum_and_its_completeness() {
     let csv = r.csv();
     assert_eq!(csv.lines().count(), 4, "{csv}");
     assert!(
-        csv.lines().nth(1).unwrap().split(',').last().is_some_and(|b| !b.is_empty()),
+        csv.lines().nth(1).unwrap().rsplit(',').next().is_some_and(|b| !b.is_empty()),
         "census point 0 has its best J*"
     );
     assert!(csv.lines().nth(2).unwrap().ends_with(','), "no census at point 1");
