@@ -38,6 +38,7 @@ pub mod sensitivity;
 pub mod shard;
 pub mod study;
 pub mod sweep;
+mod sweep_census;
 mod sweep_figure;
 pub mod text;
 mod twolink;

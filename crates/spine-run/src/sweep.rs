@@ -6,35 +6,14 @@ use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
 use crate::error::RunError;
 use crate::files::{FileContent, OutputFile};
 use crate::progress::Progress;
+use crate::sweep_census::{case_at, census};
+pub use crate::sweep_census::{CensusPlan, CensusPoint};
 use crate::workers::Workers;
 use serde::Serialize;
-use spine_case::{CaseError, DesignCase, ValidDesign};
-use spine_design::census::CensusEstimate;
+use spine_case::{CaseError, DesignCase};
 use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult, SweepSettings};
 use spine_design::DesignProblem;
 use std::fmt::Write as _;
-
-/// A census along the sweep: a multi-start of `starts` seeded starts at every `every`-th point.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct CensusPlan {
-    pub starts: usize,
-    pub every: usize,
-}
-
-/// The census at one point of the sweep.
-#[derive(Clone, Debug, Serialize)]
-pub struct CensusPoint {
-    /// The point's index and parameter value.
-    pub point: usize,
-    pub parameter: f64,
-    /// The best clean optimum the multi-start found (with the followed one among the candidates),
-    /// and the followed optimum's `J*`.
-    pub best_objective: Option<f64>,
-    pub followed_objective: f64,
-    /// The followed optimum is the best known (`J*` within 1e-6 relative of the best, or below).
-    pub followed_is_best: bool,
-    pub estimate: Option<CensusEstimate>,
-}
 
 /// `result.json` of `spine sweep`.
 #[derive(Clone, Debug, Serialize)]
@@ -49,13 +28,6 @@ pub struct SweepCaseResult {
     pub solve_seconds: f64,
     pub sweep_seconds: f64,
     pub census_seconds: f64,
-}
-
-/// The case with `name` set to `value`, validated, with the overrides.
-fn case_at(c: &DesignCase, overrides: &DesignOverrides, name: &str, value: f64) -> Result<ValidDesign, CaseError> {
-    let mut valid = c.with_parameter(name, value)?.validate()?;
-    overrides.apply(&mut valid);
-    Ok(valid)
 }
 
 /// The design case run as `spine design` runs it at `settings.from` (its start and multi-start),
@@ -107,37 +79,6 @@ fn sweep_error(e: SweepError) -> RunError {
     }
 }
 
-/// A multi-start of `plan.starts` seeded starts at every `plan.every`-th point of the sweep.
-fn census(
-    c: &DesignCase,
-    overrides: &DesignOverrides,
-    workers: Option<&Workers>,
-    name: &str,
-    followed: &SweepResult,
-    plan: CensusPlan,
-    progress: &mut dyn FnMut(Progress<'_>),
-) -> Result<Vec<CensusPoint>, RunError> {
-    let mut out = Vec::new();
-    for (k, point) in followed.points.iter().enumerate().step_by(plan.every.max(1)) {
-        let overrides = DesignOverrides { starts: Some(plan.starts), ..*overrides };
-        let valid = case_at(c, &overrides, name, point.parameter)?;
-        let run = run_design_case(c, &valid, workers, progress)?;
-        let best = run.multistart.as_ref().and_then(|m| m.best_clean()).map(|o| o.objective());
-        let followed_objective = point.objective;
-        let best_objective = best.map(|b| b.min(followed_objective));
-        let followed_is_best = best.is_none_or(|b| followed_objective <= b + 1e-6 * b.abs());
-        out.push(CensusPoint {
-            point: k,
-            parameter: point.parameter,
-            best_objective,
-            followed_objective,
-            followed_is_best: followed_is_best && point.status != PointStatus::Failed,
-            estimate: run.multistart.map(|m| m.census),
-        });
-    }
-    Ok(out)
-}
-
 impl SweepCaseResult {
     /// Clean: every point followed or jumped to a clean optimum (a failed point is not clean).
     pub fn is_clean(&self) -> bool {
@@ -148,7 +89,10 @@ impl SweepCaseResult {
     pub fn files(&self) -> Vec<OutputFile> {
         vec![
             OutputFile::text("sweep.csv", self.csv()),
-            OutputFile { name: "sweep".into(), content: FileContent::Figure(crate::sweep_figure::figure(self)) },
+            OutputFile {
+                name: "sweep".into(),
+                content: FileContent::Figure(crate::sweep_figure::figure(&self.title, &self.sweep, &self.census)),
+            },
         ]
     }
 

@@ -1,19 +1,18 @@
 //! The figure of a followed sweep: `J*` (followed and best known) and the design against the
 //! parameter, with the events marked.
 
-use crate::sweep::SweepCaseResult;
-use spine_design::sweep::EventKind;
+use crate::sweep_census::CensusPoint;
+use spine_design::sweep::{EventKind, SweepResult};
 use spine_plot::{Figure, Panel, Series};
 
 /// (a) `J*` followed and best known, events as markers on the followed curve; (b) `θ0*` per link;
 /// (c) `K*` per spring (log scale).
-pub fn figure(r: &SweepCaseResult) -> Figure {
-    let s = &r.sweep;
+pub fn figure(title: &str, s: &SweepResult, census: &[CensusPoint]) -> Figure {
     let name = &s.parameter;
     let objective: Vec<(f64, f64)> = s.points.iter().map(|p| (p.parameter, p.objective)).collect();
     let mut a = Panel::new("(a) optimum value J* along the sweep", name.as_str(), "J* (J)")
         .with(Series::line_markers("followed optimum", objective.clone()));
-    let best: Vec<(f64, f64)> = r.census.iter().filter_map(|c| Some((c.parameter, c.best_objective?))).collect();
+    let best: Vec<(f64, f64)> = census.iter().filter_map(|c| Some((c.parameter, c.best_objective?))).collect();
     if !best.is_empty() {
         a = a.with(Series::markers("best known (multi-start)", best).colour(3));
     }
@@ -54,7 +53,7 @@ pub fn figure(r: &SweepCaseResult) -> Figure {
             .colour(j),
         );
     }
-    Figure::new(format!("{}: the optimum followed along {name}", r.title), 3).with(a).with(b).with(c)
+    Figure::new(format!("{title}: the optimum followed along {name}"), 3).with(a).with(b).with(c)
 }
 
 /// `y` at `x` on the polyline `points` (sorted either way in `x`).
