@@ -76,12 +76,32 @@ def sensitivity(
     `lambda1`, `lambda2`, `objective`; `result["sensitivity"]["conditions"]` the numbers of LICQ,
     strict complementarity and second-order sufficiency. Raises ValueError on a bad case or name."""
 
+def sweep(
+    case: CaseLike,
+    param: str,
+    start: float,
+    stop: float,
+    points: int = 21,
+    *,
+    census: Optional[int] = None,
+    census_every: int = 5,
+    out: Optional[Union[str, os.PathLike[str]]] = None,
+    deterministic: bool = False,
+) -> "Result":
+    """Eq. (33)'s optimum at `param = start` followed to `param = stop` over `points` equally
+    spaced values, as `spine sweep`. The result's kind is "sweep"; `result["sweep"]["points"]`
+    holds per point `parameter`, `objective` (J*), `design` (`theta0`, `stiffness`), `status`
+    ("followed", "jumped", "failed"), `active` (the active bounds) and `tangent`;
+    `result["sweep"]["events"]` the events (`kind`, `what`, `parameter`, `bracket`); with
+    `census=STARTS`, `result["census"]` the best-known J* at every `census_every`-th point.
+    Raises ValueError on a bad case, name or range."""
+
 class Result:
     """A case's typed result: what `result.json` holds, plus its time series as numpy arrays."""
 
     @property
     def kind(self) -> str:
-        """equilibrium, twolink, design, simulate, damping, periodic, figure, study or sensitivity."""
+        """equilibrium, twolink, design, simulate, damping, periodic, figure, study, sensitivity or sweep."""
     @property
     def clean(self) -> bool:
         """Converged, stable, every solver check passed, not stopped early (CLI exit code 0)."""

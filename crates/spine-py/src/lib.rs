@@ -267,6 +267,43 @@ fn sensitivity(
     Ok(result)
 }
 
+/// Eq. (33)'s optimum at `param = start` followed to `param = stop` over `points` equally spaced
+/// values, as `spine sweep` does: a result of kind `"sweep"` whose `["sweep"]["points"]` holds each
+/// point (parameter, objective, design, status, active bounds, tangent) and `["sweep"]["events"]`
+/// the events located on the way; with `census = STARTS`, a multi-start at every
+/// `census_every`-th point (`["census"]`).
+#[pyfunction]
+#[pyo3(signature = (case, param, start, stop, points = 21, *, census = None, census_every = 5, out = None, deterministic = false))]
+#[allow(clippy::too_many_arguments)]
+fn sweep(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    param: String,
+    start: f64,
+    stop: f64,
+    points: usize,
+    census: Option<usize>,
+    census_every: usize,
+    out: Option<std::path::PathBuf>,
+    deterministic: bool,
+) -> PyResult<CaseResult> {
+    let case = case_from(py, case)?;
+    let settings = spine_design::sweep::SweepSettings::new(start, stop, points);
+    if census_every == 0 {
+        return Err(PyValueError::new_err("census_every: must be at least 1, got 0"));
+    }
+    let plan = census.map(|starts| spine_run::sweep::CensusPlan { starts, every: census_every });
+    let overrides = spine_run::Overrides::default();
+    let result =
+        interruptible(py, || spine_run::run_sweep(&case, &overrides, &param, settings, plan, &mut spine_run::quiet))?
+            .map_err(run_error)?;
+    let result = CaseResult { inner: result };
+    if let Some(out) = out {
+        result.write(py, out, deterministic)?;
+    }
+    Ok(result)
+}
+
 /// The strain energy `U = ½ Σ K_j (Δθ_j − Δθ0_j)²` of eq. (2), J, of springs `stiffness`
 /// (N·m/rad, `N + 1`) at link angles `theta` from the unloaded angles `theta0` (rad, `N` each).
 #[pyfunction]
@@ -327,6 +364,7 @@ fn flexspine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<structure::Structure>()?;
     m.add_function(wrap_pyfunction!(run_case, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(strain_energy, m)?)?;
     m.add_function(wrap_pyfunction!(design_start, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;

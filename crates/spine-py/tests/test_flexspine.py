@@ -272,3 +272,26 @@ def test_sensitivity_from_python_matches_the_cli_and_re_solves(tmp_path):
         objective.append(flexspine.run_case(changed)["objective"])
     assert abs(derivative["objective"] - (objective[0] - objective[1]) / (2 * h)) < 1e-4 * abs(derivative["objective"])
     assert np.asarray(derivative["stiffness"]).shape == (6,)
+
+
+def test_sweep_from_python_matches_the_cli_and_follows_one_optimum(tmp_path):
+    """flexspine.sweep gives the CLI's result byte for byte, one point per value, and every
+    followed point's J* grows with the load's magnitude as its tangent says (dJ*/dp < 0 for p < 0)."""
+    case = json.loads((CASES / "fig5-base.json").read_text())
+    result = flexspine.sweep(case, "loads.p_y", -1.0, -3.0, 5, out=tmp_path / "py", deterministic=True)
+    assert result.kind == "sweep" and result.clean
+    cli = subprocess.run(
+        [SPINE, "sweep", str(CASES / "fig5-base.json"), "--param", "loads.p_y", "--from", "-1", "--to", "-3",
+         "--points", "5", "--out", str(tmp_path / "cli"), "--deterministic"],
+        capture_output=True,
+    )
+    assert cli.returncode == 0, cli.stderr
+    assert (tmp_path / "py" / "result.json").read_bytes() == (tmp_path / "cli" / "result.json").read_bytes()
+    assert (tmp_path / "py" / "sweep.csv").read_bytes() == (tmp_path / "cli" / "sweep.csv").read_bytes()
+    points = result["sweep"]["points"]
+    assert [p["parameter"] for p in points] == [-1.0, -1.5, -2.0, -2.5, -3.0]
+    objective = np.array([p["objective"] for p in points])
+    assert np.all(np.diff(objective) > 0)
+    assert all(p["tangent"]["objective"] < 0 for p in points)
+    with pytest.raises(ValueError, match="--points"):
+        flexspine.sweep(case, "loads.p_y", -1.0, -3.0, 1)
