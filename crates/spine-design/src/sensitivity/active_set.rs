@@ -3,7 +3,8 @@
 //! parameter, so one of the two is small and the other is not), and weakly active (degenerate)
 //! when both are negligible: the multiplier below [`WEAK_MULTIPLIER`] of the terms it balances in
 //! its stationarity row (`|∂f/∂x_i| + Σ_r |J_ri λ_r|`; for a row, of the largest row multiplier)
-//! and the gap below [`WEAK_GAP`] of `max(1, |bound|)`. An interior-point solution resolves this
+//! and the gap below [`WEAK_GAP`] of `max(1, |bound|)`, or the gap below that and the multiplier
+//! not larger than the gap (a bound in a flat valley: both at noise level). An interior-point solution resolves this
 //! only to about `√μ` of the final barrier parameter: after the polishing solve (`tol` 1e-12) a
 //! bound placed exactly at a free spring's optimum keeps a multiplier of 5e-4 of its terms, the
 //! smallest strictly active stiffness bound of design5 3e-3.
@@ -79,7 +80,11 @@ fn classify(q: Inequality) -> Option<(Bound, bool)> {
         return None;
     }
     let bound = Bound { index: q.index, side, multiplier, gap };
-    if multiplier <= WEAK_MULTIPLIER * q.scale && gap <= WEAK_GAP * at.abs().max(1.0) {
+    // A gap at zero with a multiplier that is negligible, or not even larger than that gap, is
+    // degenerate: the second case is a bound in a flat valley (a spring whose links deflect alike,
+    // whose stationarity terms are themselves near zero), which the relative test cannot see.
+    let zero_gap = gap <= WEAK_GAP * at.abs().max(1.0);
+    if zero_gap && (multiplier <= WEAK_MULTIPLIER * q.scale || multiplier <= gap) {
         Some((bound, false))
     } else {
         (multiplier > gap).then_some((bound, true))
@@ -142,5 +147,28 @@ impl ActiveSet {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn upper(value: f64, z_upper: f64, scale: f64) -> Option<(Bound, bool)> {
+        classify(Inequality { index: 0, value, lower: 1.0, upper: 100.0, z_lower: 0.0, z_upper, scale })
+    }
+
+    #[test]
+    fn strictly_weakly_and_not_active() {
+        // A multiplier well above its gap and its terms: active.
+        assert_eq!(upper(100.0 - 1e-9, 1e-2, 1.0).map(|(_, strict)| strict), Some(true));
+        // Both negligible against the terms: weakly active.
+        assert_eq!(upper(100.0 - 1e-9, 1e-8, 1.0).map(|(_, strict)| strict), Some(false));
+        // A spring in a flat valley (Fig. 5's case at −1 N per node): the terms are themselves
+        // near zero, the gap 6.3e-7 (zero at this bound's scale) and the multiplier 5.6e-8, below
+        // the gap: weakly active, not inactive (its tangent would leave the box).
+        assert_eq!(upper(100.0 - 6.3e-7, 5.6e-8, 1e-9).map(|(_, strict)| strict), Some(false));
+        // A real gap: inactive whatever the multiplier's noise.
+        assert!(upper(90.0, 1e-12, 1e-9).is_none());
     }
 }

@@ -51,6 +51,9 @@ impl Sweep<'_> {
             let kind = if (watch.holds)(b) { watch.kind_on } else { watch.kind_off };
             events.push(SweepEvent { kind, what: watch.what, parameter: 0.5 * (bracket[0] + bracket[1]), bracket });
         }
+        // In the order the sweep meets them.
+        let direction = (b.parameter - a.parameter).signum();
+        events.sort_by(|x, y| (direction * x.parameter).total_cmp(&(direction * y.parameter)));
         Ok(events)
     }
 
