@@ -15,7 +15,9 @@
 //! elements.
 
 use spine_model::local::{self, Element};
-use std::collections::HashMap;
+// The patterns are keyed by `(row, column)` pairs of small integers: Fx hashing, not SipHash
+// (no untrusted keys; assembly was a third of a sensitivity's cost with SipHash).
+use rustc_hash::FxHashMap as HashMap;
 
 /// Which function an element adds to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
