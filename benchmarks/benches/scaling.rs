@@ -167,7 +167,7 @@ fn optimum_parameters(c: &mut Criterion) {
     let overrides = spine_run::DesignOverrides::default();
     let differentiate = || spine_run::sensitivity::differentiate(&design10, &valid, &overrides, &names, &first);
     let (report, _) = differentiate().expect("sensitivities");
-    assert_eq!(report.expect("a clean optimum").parameters.len(), names.len());
+    assert_eq!(report.expect("a differentiable optimum").parameters.len(), names.len());
     g.bench_function(BenchmarkId::new("polish", 10), |b| {
         b.iter(|| spine_design::sensitivity::polish(&valid.problem, black_box(&first.design), &valid.settings))
     });

@@ -50,7 +50,7 @@ fn main() -> ExitCode {
         Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), Mode::Case),
         Command::Case(a) => run(&a.run, None, a.overrides(), Mode::Case),
         Command::Study(a) => a.values().and_then(|v| run(&a.run, None, a.overrides()?, Mode::Study(v))),
-        Command::Sensitivity(a) => run(&a.run, Some("design"), a.overrides(), Mode::Sensitivity(&a.params)),
+        Command::Sensitivity(a) => run(&a.run, None, a.overrides(), Mode::Sensitivity(&a.params)),
         Command::Sweep(a) => run(&a.run, Some("design"), a.overrides(), Mode::Sweep(a)),
         Command::Report(a) => report::run(a),
         Command::Worker(a) => worker(a),

@@ -7,7 +7,7 @@ use crate::dynamics::DynamicsResult;
 use crate::equilibrium::EquilibriumResult;
 use crate::figure::FigureResult;
 use crate::files::OutputFile;
-use crate::sensitivity::SensitivityResult;
+use crate::sensitivity::{FigureSensitivityResult, SensitivityResult};
 use crate::study::StudyResult;
 use crate::sweep::SweepCaseResult;
 use crate::twolink::TwoLinkResult;
@@ -79,6 +79,8 @@ pub enum KindResult {
     Figure(FigureResult),
     Study(StudyResult),
     Sensitivity(SensitivityResult),
+    /// `spine sensitivity` on a figure case: each design run's sensitivities.
+    FigureSensitivity(FigureSensitivityResult),
     Sweep(SweepCaseResult),
 }
 
@@ -94,6 +96,7 @@ impl KindResult {
             Self::Figure(r) => r.is_clean(),
             Self::Study(r) => r.is_clean(),
             Self::Sensitivity(r) => r.is_clean(),
+            Self::FigureSensitivity(r) => r.is_clean(),
             Self::Sweep(r) => r.is_clean(),
         }
     }
@@ -106,6 +109,7 @@ impl KindResult {
             Self::Figure(r) => r.files(),
             Self::Study(r) => r.files(),
             Self::Sensitivity(r) => r.files(),
+            Self::FigureSensitivity(r) => r.files(),
             Self::Sweep(r) => r.files(),
         }
     }
@@ -122,6 +126,7 @@ impl std::fmt::Display for KindResult {
             Self::Figure(r) => r.fmt(f),
             Self::Study(r) => r.fmt(f),
             Self::Sensitivity(r) => r.fmt(f),
+            Self::FigureSensitivity(r) => r.fmt(f),
             Self::Sweep(r) => r.fmt(f),
         }
     }

@@ -98,7 +98,7 @@ pub fn run_case(
                     let names = c.default_parameters();
                     let (report, _) =
                         crate::sensitivity::differentiate(c, &valid, &overrides.design, &names, &result.result)?;
-                    result.sensitivity = report;
+                    result.sensitivity = report.ok();
                 }
                 KindResult::Design(result)
             }
@@ -138,21 +138,34 @@ pub fn run_study(
 }
 
 /// `spine sensitivity`: eq. (33) on a design case (overrides applied, one start, full space) and
-/// the derivatives of its optimum with respect to the case fields `names` (empty: the defaults).
+/// the derivatives of its optimum with respect to the case fields `names` (empty: the defaults);
+/// on a figure case, the same for each of its design runs.
 pub fn run_sensitivity(
     case: &Case,
     overrides: &Overrides,
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    let Case::Design(c) = case else {
-        let message = format!("sensitivities need a \"design\" case, the file is \"{}\"", case.kind());
-        return Err(RunError::Case(spine_case::CaseError::invalid("kind", message)));
-    };
     limited(overrides, || {
         let workers = overrides.workers.as_ref();
-        let result = crate::sensitivity::run_design_sensitivity(c, &overrides.design, workers, names, progress)?;
-        Ok(KindResult::Sensitivity(result))
+        match case {
+            Case::Design(c) => {
+                let result =
+                    crate::sensitivity::run_design_sensitivity(c, &overrides.design, workers, names, progress)?;
+                Ok(KindResult::Sensitivity(result))
+            }
+            Case::Figure(c) => {
+                let runs = c.validate()?;
+                let result =
+                    crate::sensitivity::run_figure_sensitivity(c, &runs, &overrides.design, workers, names, progress)?;
+                Ok(KindResult::FigureSensitivity(result))
+            }
+            _ => {
+                let message =
+                    format!("sensitivities need a \"design\" or \"figure\" case, the file is \"{}\"", case.kind());
+                Err(RunError::Case(spine_case::CaseError::invalid("kind", message)))
+            }
+        }
     })
 }
 

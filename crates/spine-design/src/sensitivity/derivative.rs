@@ -144,7 +144,15 @@ pub(crate) struct WeakCandidates {
 pub(crate) fn weak_candidates(optimum: &Optimum<'_>, matrices: &Matrices, set: &ActiveSet) -> WeakCandidates {
     let weak: Vec<(Bound, bool)> =
         set.weak_variables.iter().map(|b| (*b, true)).chain(set.weak_rows.iter().map(|b| (*b, false))).collect();
-    let systems = (0u32..(1 << weak.len()))
+    // Most weak bounds kept active first: where the QP of the degenerate set is strictly convex,
+    // one choice is consistent and the order does not matter; where a weak bound bounds a flat
+    // direction (a spring in a flat valley of `J`), both keeping it and releasing it can be
+    // consistent, and the first choice is the one that changes the active set least (what a
+    // re-solve at `p ± h` does: it stays on the bound).
+    let mut masks: Vec<u32> = (0u32..(1 << weak.len())).collect();
+    masks.sort_by_key(|m| std::cmp::Reverse(m.count_ones()));
+    let systems = masks
+        .into_iter()
         .filter_map(|mask| {
             let chosen = |variable: bool| -> Vec<Bound> {
                 weak.iter()
