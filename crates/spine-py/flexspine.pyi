@@ -114,6 +114,12 @@ class Result:
     @property
     def series(self) -> dict[str, dict[str, Array]]:
         """The CSV tables of the result (response.csv, …) as {column: array}."""
+    @property
+    def derivatives(self) -> Optional[dict[str, Any]]:
+        """Sensitivity results: {parameter: {"theta0", "stiffness", "theta1", "theta2": array,
+        "lambda1", "lambda2", "objective", "objective_direct": float}} (one-sided:
+        {"increase": …, "decrease": …}; None where no derivative is given); keyed by run first for
+        a figure case. None for other results."""
     def json(self, deterministic: bool = False) -> str:
         """`result.json`'s text; deterministic=True leaves wall times out (same input, same bytes)."""
     def to_dict(self) -> dict[str, Any]:

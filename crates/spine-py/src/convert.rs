@@ -93,3 +93,68 @@ pub fn series_of<'py>(py: Python<'py>, result: &spine_run::CaseResult) -> PyResu
     }
     Ok(all)
 }
+
+/// One derivative as `{theta0, stiffness, theta1, theta2: numpy arrays; lambda1, lambda2,
+/// objective, objective_direct: floats}`.
+fn derivative_dict<'py>(py: Python<'py>, d: &spine_design::sensitivity::Derivative) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    for (name, values) in
+        [("theta0", &d.theta0), ("stiffness", &d.stiffness), ("theta1", &d.theta1), ("theta2", &d.theta2)]
+    {
+        out.set_item(name, PyArray1::from_vec(py, values.clone()))?;
+    }
+    for (name, value) in [
+        ("lambda1", d.lambda1),
+        ("lambda2", d.lambda2),
+        ("objective", d.objective),
+        ("objective_direct", d.objective_direct),
+    ] {
+        out.set_item(name, value)?;
+    }
+    Ok(out)
+}
+
+/// A sensitivity report's derivatives by parameter: the two-sided derivative's dictionary, or
+/// `{"increase": …, "decrease": …}` where only one-sided ones exist, or `None`.
+fn report_dict<'py>(
+    py: Python<'py>,
+    report: &spine_design::sensitivity::SensitivityReport,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    for p in &report.parameters {
+        match (&p.derivative, &p.increase, &p.decrease) {
+            (Some(d), _, _) => out.set_item(&p.name, derivative_dict(py, d)?)?,
+            (None, None, None) => out.set_item(&p.name, py.None())?,
+            (None, up, down) => {
+                let sides = PyDict::new(py);
+                for (side, d) in [("increase", up), ("decrease", down)] {
+                    match d {
+                        Some(d) => sides.set_item(side, derivative_dict(py, d)?)?,
+                        None => sides.set_item(side, py.None())?,
+                    }
+                }
+                out.set_item(&p.name, sides)?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The derivatives of a sensitivity result as numpy arrays (see `Result.derivatives`).
+pub fn derivatives_of<'py>(py: Python<'py>, result: &spine_run::CaseResult) -> PyResult<Option<Bound<'py, PyDict>>> {
+    match &result.result {
+        spine_run::KindResult::Sensitivity(r) => r.sensitivity.as_ref().map(|s| report_dict(py, s)).transpose(),
+        spine_run::KindResult::FigureSensitivity(r) => {
+            let out = PyDict::new(py);
+            for run in &r.runs {
+                match &run.result.sensitivity {
+                    Some(s) => out.set_item(&run.name, report_dict(py, s)?)?,
+                    None => out.set_item(&run.name, py.None())?,
+                }
+            }
+            Ok(Some(out))
+        }
+        spine_run::KindResult::Design(r) => r.sensitivity.as_ref().map(|s| report_dict(py, s)).transpose(),
+        _ => Ok(None),
+    }
+}

@@ -17,7 +17,7 @@
 mod convert;
 mod structure;
 
-use convert::{case_from, run_error, series_of};
+use convert::{case_from, derivatives_of, run_error, series_of};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -118,6 +118,16 @@ impl CaseResult {
     #[getter]
     fn series<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         series_of(py, &self.inner)
+    }
+
+    /// The derivatives of a sensitivity result as numpy arrays: `{parameter: {"theta0",
+    /// "stiffness", "theta1", "theta2": arrays per link or spring (per unit of the parameter),
+    /// "lambda1", "lambda2", "objective", "objective_direct": floats}}`; where only one-sided
+    /// derivatives exist, `{"increase": …, "decrease": …}`; `None` where none is given. For a
+    /// figure case, keyed by run first. `None` for results without sensitivities.
+    #[getter]
+    fn derivatives<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        derivatives_of(py, &self.inner)
     }
 
     /// The animation of the chain's motion as GIF bytes (`IPython.display.Image(data=...)` shows

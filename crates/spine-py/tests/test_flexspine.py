@@ -272,6 +272,21 @@ def test_sensitivity_from_python_matches_the_cli_and_re_solves(tmp_path):
         objective.append(flexspine.run_case(changed)["objective"])
     assert abs(derivative["objective"] - (objective[0] - objective[1]) / (2 * h)) < 1e-4 * abs(derivative["objective"])
     assert np.asarray(derivative["stiffness"]).shape == (6,)
+    # The same numbers as numpy arrays.
+    arrays = result.derivatives["delta_d"]
+    assert isinstance(arrays["stiffness"], np.ndarray) and arrays["stiffness"].shape == (6,)
+    assert np.array_equal(arrays["stiffness"], np.asarray(derivative["stiffness"]))
+    assert arrays["objective"] == derivative["objective"]
+
+
+def test_sensitivity_of_a_figure_case_gives_arrays_per_run():
+    """A figure case (Fig. 3): each design run's derivatives, keyed by run, as numpy arrays."""
+    result = flexspine.sensitivity(str(CASES / "fig3.json"), ["delta_d"])
+    assert result.kind == "figure_sensitivity"
+    runs = result.derivatives
+    assert set(runs) == {"n10", "n5"}
+    assert runs["n10"]["delta_d"]["theta0"].shape == (10,) and runs["n5"]["delta_d"]["theta0"].shape == (5,)
+    assert runs["n10"]["delta_d"]["objective"] < 0  # a larger |δ_d| costs more energy
 
 
 def test_sweep_from_python_matches_the_cli_and_follows_one_optimum(tmp_path):
