@@ -34,6 +34,7 @@ pub mod integrator;
 pub mod linearization;
 pub mod newton;
 pub mod ode;
+pub mod rates;
 pub mod system;
 
 pub use eom::Dynamics;

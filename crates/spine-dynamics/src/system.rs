@@ -5,6 +5,7 @@ use crate::eom::Dynamics;
 use crate::integrator::OdeSystem;
 use crate::linearization::Linearization;
 use crate::newton::ChainLinearization;
+use crate::rates::RatesIn;
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
@@ -38,16 +39,24 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.rhs(t, piece, y, &self.dynamics.damping)
     }
 
+    /// The `θ` columns by dual passes (`M(θ)` moves with them), the `θ̇` columns from
+    /// [`Dynamics::acceleration_rates`] (one real factorisation, a solve per column).
     fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
-        let n = y.len();
+        let dim = y.len();
+        let n = self.dynamics.n_links();
         let damping: Vec<Dual64> = self.damping();
-        let mut jac = DMatrix::zeros(n, n);
+        let mut jac = DMatrix::zeros(dim, dim);
         for k in 0..n {
             let f = self.dynamics.rhs(t, piece, &seeded(y, k), &damping);
-            for i in 0..n {
+            for i in 0..dim {
                 jac[(i, k)] = f[i].eps;
             }
         }
+        let rates = self.dynamics.acceleration_rates(&y[..n], &y[n..], RatesIn::AngularVelocities);
+        for k in 0..n {
+            jac[(k, n + k)] = 1.0;
+        }
+        jac.view_mut((n, n), (n, n)).copy_from(&rates);
         jac
     }
 
@@ -70,16 +79,15 @@ impl OdeSystem for SpineOde<'_> {
         }
     }
 
-    fn rhs_params(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
+    /// `∂f/∂C`: zero for `θ`, [`Dynamics::acceleration_rates`] for `θ̈` (all dampers through one
+    /// real factorisation of `M`; the loads do not depend on the dampers, so `t` does not enter).
+    fn rhs_params(&self, _t: f64, _piece: f64, y: &[f64]) -> DMatrix<f64> {
         let p = self.n_params();
+        let n = self.dynamics.n_links();
         let mut out = DMatrix::zeros(y.len(), p);
-        let yd: Vec<Dual64> = y.iter().map(|&v| Dual64::from(v)).collect();
-        for k in 0..p {
-            let damping = seeded(&self.dynamics.damping, k);
-            let f = self.dynamics.rhs(t, piece, &yd, &damping);
-            for i in 0..y.len() {
-                out[(i, k)] = f[i].eps;
-            }
+        if p > 0 {
+            let rates = self.dynamics.acceleration_rates(&y[..n], &y[n..], RatesIn::Dampers);
+            out.view_mut((n, 0), (n, p)).copy_from(&rates);
         }
         out
     }
@@ -100,5 +108,40 @@ impl OdeSystem for SpineOde<'_> {
 
     fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
         self.dynamics.forcing.breakpoints(t0, t1)
+    }
+}
+
+/// The reference path of [`SpineOde`]'s `∂f/∂y` and `∂f/∂C`: a dual pass of the whole right-hand
+/// side per column. The tests hold the fast path ([`Dynamics::acceleration_rates`]) to it.
+pub mod reference {
+    use super::*;
+
+    /// `∂f/∂y` by `2N` dual passes.
+    pub fn jacobian(ode: &SpineOde<'_>, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
+        let n = y.len();
+        let damping: Vec<Dual64> = ode.damping();
+        let mut jac = DMatrix::zeros(n, n);
+        for k in 0..n {
+            let f = ode.dynamics.rhs(t, piece, &seeded(y, k), &damping);
+            for i in 0..n {
+                jac[(i, k)] = f[i].eps;
+            }
+        }
+        jac
+    }
+
+    /// `∂f/∂C` by `N + 1` dual passes.
+    pub fn rhs_params(ode: &SpineOde<'_>, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
+        let p = ode.dynamics.damping.len();
+        let mut out = DMatrix::zeros(y.len(), p);
+        let yd: Vec<Dual64> = y.iter().map(|&v| Dual64::from(v)).collect();
+        for k in 0..p {
+            let damping = seeded(&ode.dynamics.damping, k);
+            let f = ode.dynamics.rhs(t, piece, &yd, &damping);
+            for i in 0..y.len() {
+                out[(i, k)] = f[i].eps;
+            }
+        }
+        out
     }
 }

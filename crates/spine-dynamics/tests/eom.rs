@@ -281,3 +281,65 @@ fn a_non_finite_state_gives_nan_accelerations_on_both_paths() {
         assert!(acc.iter().all(|a| a.is_nan()) && lambda.is_nan());
     }
 }
+
+/// The fast `∂f/∂y` and `∂f/∂C` of the integrator ([`Dynamics::acceleration_rates`] for the `θ̇`
+/// and damper columns) against the reference path (a dual pass of the whole right-hand side per
+/// column) and against central differences of the right-hand side.
+#[test]
+fn acceleration_rates_match_dual_passes_and_central_differences() {
+    use spine_dynamics::integrator::OdeSystem;
+    use spine_dynamics::system::reference;
+    use spine_dynamics::SpineOde;
+    for (n, seed) in [(1, 11), (2, 12), (5, 13), (10, 14), (24, 15)] {
+        let (dynamics, theta, omega) = random_dynamics(n, seed);
+        let ode = SpineOde { dynamics: &dynamics, damping_sensitivities: true };
+        let y: Vec<f64> = theta.iter().chain(&omega).copied().collect();
+        let (t, piece) = (0.3, 0.3);
+        let fast = (ode.jacobian(t, piece, &y), ode.rhs_params(t, piece, &y));
+        let slow = (reference::jacobian(&ode, t, piece, &y), reference::rhs_params(&ode, t, piece, &y));
+        for (a, b, what) in [(&fast.0, &slow.0, "∂f/∂y"), (&fast.1, &slow.1, "∂f/∂C")] {
+            let scale = b.amax().max(1.0);
+            eprintln!("N = {n}, {what}: {:.1e} of {scale:.1e}", (a - b).amax());
+            assert!((a - b).amax() <= 1e-10 * scale, "N = {n}, {what}: {:.1e} of {scale:.1e}", (a - b).amax());
+        }
+        // Central differences in each θ̇ and each damper: `f` is quadratic in `θ̇` and affine in the
+        // dampers, so the differences are exact but for round-off, and the steps can be large.
+        // (A single link is held by the slider alone: its accelerations come from dividing by
+        // `∇Φᵀ M⁻¹ ∇Φ` with heavy cancellation, and differences lose 8 digits; it is checked against
+        // the dual passes only.)
+        if n == 1 {
+            continue;
+        }
+        let f = |y: &[f64], d: &Dynamics| d.rhs(t, piece, y, &d.damping);
+        for k in 0..n {
+            let h = 1e-3;
+            let (mut plus, mut minus) = (y.clone(), y.clone());
+            plus[n + k] += h;
+            minus[n + k] -= h;
+            let (fp, fm) = (f(&plus, &dynamics), f(&minus, &dynamics));
+            // The differences' round-off: 1e-13 of the largest |f| (a single link's constraint
+            // makes it 1e5) over the step.
+            let noise = 1e-13 * fp.iter().chain(&fm).fold(0.0f64, |m, v| m.max(v.abs())) / h;
+            for i in 0..2 * n {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                let exact = fast.0[(i, n + k)];
+                let tol = 1e-8 * fast.0.amax().max(1.0) + noise;
+                assert!((fd - exact).abs() <= tol, "N = {n}: ∂f_{i}/∂θ̇_{k}: {fd} vs {exact}");
+            }
+        }
+        for k in 0..=n {
+            let h = 1e-2 * dynamics.damping[k];
+            let (mut plus, mut minus) = (dynamics.clone(), dynamics.clone());
+            plus.damping[k] += h;
+            minus.damping[k] -= h;
+            let (fp, fm) = (f(&y, &plus), f(&y, &minus));
+            let noise = 1e-13 * fp.iter().chain(&fm).fold(0.0f64, |m, v| m.max(v.abs())) / h;
+            for i in 0..2 * n {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                let exact = fast.1[(i, k)];
+                let tol = 1e-8 * fast.1.amax().max(1e-3) + noise;
+                assert!((fd - exact).abs() <= tol, "N = {n}: ∂f_{i}/∂C_{k}: {fd} vs {exact}");
+            }
+        }
+    }
+}

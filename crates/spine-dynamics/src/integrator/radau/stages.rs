@@ -11,6 +11,12 @@ pub(super) const S6: f64 = 2.449_489_742_783_178;
 pub(super) const C: [f64; 3] = [(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0];
 /// Error-estimate weights `e_i` (multiplying `Z_i / h`).
 pub(super) const E: [f64; 3] = [(-13.0 - 7.0 * S6) / 3.0, (-13.0 + 7.0 * S6) / 3.0, -1.0 / 3.0];
+/// The Radau IIA Butcher matrix `A` (order 5, stiffly accurate: its last row is `b`).
+pub(super) const A: [[f64; 3]; 3] = [
+    [(88.0 - 7.0 * S6) / 360.0, (296.0 - 169.0 * S6) / 1800.0, (-2.0 + 3.0 * S6) / 225.0],
+    [(296.0 + 169.0 * S6) / 1800.0, (88.0 + 7.0 * S6) / 360.0, (-2.0 - 3.0 * S6) / 225.0],
+    [(16.0 - S6) / 36.0, (16.0 + S6) / 36.0, 1.0 / 9.0],
+];
 /// The real eigenvalue `μ = 3 + 3^{2/3} − 3^{1/3}` of `A⁻¹`.
 pub(super) const MU_REAL: f64 = 3.637_834_252_744_496;
 /// The complex pair `α ± iβ` of `A⁻¹`: `α = 3 + (3^{1/3} − 3^{2/3})/2`, `β = (3^{5/6} + 3^{7/6})/2`.
@@ -177,17 +183,7 @@ mod tests {
 
     /// The Radau IIA Butcher matrix.
     fn butcher() -> nalgebra::Matrix3<f64> {
-        nalgebra::Matrix3::new(
-            (88.0 - 7.0 * S6) / 360.0,
-            (296.0 - 169.0 * S6) / 1800.0,
-            (-2.0 + 3.0 * S6) / 225.0,
-            (296.0 + 169.0 * S6) / 1800.0,
-            (88.0 + 7.0 * S6) / 360.0,
-            (-2.0 - 3.0 * S6) / 225.0,
-            (16.0 - S6) / 36.0,
-            (16.0 + S6) / 36.0,
-            1.0 / 9.0,
-        )
+        nalgebra::Matrix3::from_fn(|r, c| A[r][c])
     }
 
     #[test]

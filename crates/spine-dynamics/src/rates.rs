@@ -1,0 +1,94 @@
+//! The accelerations' rates in the angular velocities and in the dampers, `∂θ̈/∂θ̇` and `∂θ̈/∂C`,
+//! from one real factorisation of `M(θ)` and one `O(N)` solve per column.
+//!
+//! The index-1 form ([`Dynamics::acceleration`]) is `θ̈ = M⁻¹Q + λ M⁻¹∇Φ`,
+//! `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)`. `M` and `∇Φ` depend on `θ` only, so a change of `θ̇` or of a
+//! damper changes `Q` and `b` alone, and the accelerations change by the same bordered solve with
+//! `(dQ, db)` in place of `(Q, b)`:
+//!
+//! * damper `C_k` (joint `k`, between links `k − 1` and `k`): `dQ = −r_k (e_k − e_{k−1})` with the
+//!   joint's relative rate `r_k = θ̇_k − θ̇_{k−1}` (`θ̇_{−1} = θ̇_N = 0`), `db = 0`;
+//! * angular velocity `θ̇_k`: `dQ = −∂h/∂θ̇_k − C_m e_k` with the centrifugal terms' rate
+//!   `∂h_i/∂θ̇_k = 2 L_i L_k μ_{max(i,k)} sin(θ_i − θ_k) θ̇_k` (`i ≠ k`), and
+//!   `db = 2 L_k sin θ_k θ̇_k`.
+//!
+//! The `θ` columns, where `M` itself moves, stay dual passes ([`crate::system`]). Where `M(θ)` has
+//! no factorisation (a non-finite trial state) the rates are NaN, as the accelerations are.
+
+use crate::articulated::ArticulatedChain;
+use crate::eom::{joint_moments, Dynamics};
+use nalgebra::DMatrix;
+
+/// Which rates [`Dynamics::acceleration_rates`] computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RatesIn {
+    /// `∂θ̈/∂θ̇`, `N × N`, 1/s.
+    AngularVelocities,
+    /// `∂θ̈/∂C`, `N × (N + 1)`, rad/s² per N·m·s/rad.
+    Dampers,
+}
+
+impl Dynamics {
+    /// The accelerations' rates in `θ̇` or in the dampers at `(θ, θ̇)` (module docs).
+    pub fn acceleration_rates(&self, theta: &[f64], omega: &[f64], what: RatesIn) -> DMatrix<f64> {
+        let n = self.n_links();
+        let columns = match what {
+            RatesIn::AngularVelocities => n,
+            RatesIn::Dampers => self.damping.len(),
+        };
+        let mut rates = DMatrix::zeros(n, columns);
+        let trig: Vec<(f64, f64)> = theta.iter().map(|t| t.sin_cos()).collect();
+        let Some(chain) = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig) else {
+            rates.fill(f64::NAN);
+            return rates;
+        };
+        let l = &self.lengths;
+        let g: Vec<f64> = (0..n).map(|i| trig[i].1 * l[i]).collect();
+        let mg = chain.solve(&g);
+        let gmg: f64 = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
+        // The bordered solve of `(dQ, db)`: `M⁻¹dQ + M⁻¹∇Φ dλ`.
+        let respond = |dq: &[f64], db: f64, column: &mut dyn FnMut(usize, f64)| {
+            let mq = chain.solve(dq);
+            let dlambda = (db - g.iter().zip(&mq).map(|(a, b)| a * b).sum::<f64>()) / gmg;
+            for i in 0..n {
+                column(i, mq[i] + mg[i] * dlambda);
+            }
+        };
+        let mut dq = vec![0.0; n];
+        if what == RatesIn::Dampers {
+            let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { omega[i as usize] };
+            for k in 0..columns {
+                dq.fill(0.0);
+                let r = at(k as isize) - at(k as isize - 1);
+                if k < n {
+                    dq[k] -= r;
+                }
+                if k > 0 {
+                    dq[k - 1] += r;
+                }
+                respond(&dq, 0.0, &mut |i, v| rates[(i, k)] = v);
+            }
+            return rates;
+        }
+        let (coupling, _) = self.inertia_coefficients();
+        let mut unit = vec![0.0; n];
+        for k in 0..n {
+            unit[k] = 1.0;
+            let damper = joint_moments(&self.damping, &unit);
+            unit[k] = 0.0;
+            let (sk, ck) = trig[k];
+            for i in 0..n {
+                let centrifugal = if i == k {
+                    0.0
+                } else {
+                    let (si, ci) = trig[i];
+                    2.0 * l[i] * l[k] * coupling[i.max(k)] * (si * ck - ci * sk) * omega[k]
+                };
+                dq[i] = -centrifugal - damper[i];
+            }
+            let db = 2.0 * l[k] * sk * omega[k];
+            respond(&dq, db, &mut |i, v| rates[(i, k)] = v);
+        }
+        rates
+    }
+}
