@@ -1,5 +1,5 @@
-//! The accelerations' rates in the angular velocities and in the dampers, `∂θ̈/∂θ̇` and `∂θ̈/∂C`,
-//! from one real factorisation of `M(θ)` and one `O(N)` solve per column.
+//! The accelerations' rates in the angles, the angular velocities and the dampers, `∂θ̈/∂θ`,
+//! `∂θ̈/∂θ̇` and `∂θ̈/∂C`, from one real factorisation of `M(θ)` and one `O(N)` solve per column.
 //!
 //! The index-1 form ([`Dynamics::acceleration`]) is `θ̈ = M⁻¹Q + λ M⁻¹∇Φ`,
 //! `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)`. `M` and `∇Φ` depend on `θ` only, so a change of `θ̇` or of a
@@ -12,16 +12,25 @@
 //!   `∂h_i/∂θ̇_k = 2 L_i L_k μ_{max(i,k)} sin(θ_i − θ_k) θ̇_k` (`i ≠ k`), and
 //!   `db = 2 L_k sin θ_k θ̇_k`.
 //!
-//! The `θ` columns, where `M` itself moves, stay dual passes ([`crate::system`]). Where `M(θ)` has
-//! no factorisation (a non-finite trial state) the rates are NaN, as the accelerations are.
+//! * angle `θ_k`, where `M`, `∇Φ` and `b` move too: differentiating `M θ̈ − ∇Φ λ = Q`,
+//!   `∇Φᵀ θ̈ = b` gives the same bordered solve with `dQ = ∂Q/∂θ_k − (∂M/∂θ_k) θ̈ + (∂∇Φ/∂θ_k) λ`
+//!   and `db = ∂b/∂θ_k − (∂∇Φ/∂θ_k)ᵀ θ̈`, from the state's own `θ̈` and `λ`. `∂M/∂θ_k` and
+//!   `∂h/∂θ_k` touch row `k` (a sum over the links) and column `k`: `O(N)` per column.
+//!
+//! The dual passes of the whole right-hand side ([`crate::system::reference`]) are the reference
+//! the tests hold these to. Where `M(θ)` has no factorisation (a non-finite trial state) the rates
+//! are NaN, as the accelerations are.
 
 use crate::articulated::ArticulatedChain;
 use crate::eom::{joint_moments, Dynamics};
 use nalgebra::DMatrix;
+use spine_model::LinkLoads;
 
 /// Which rates [`Dynamics::acceleration_rates`] computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RatesIn {
+    /// `∂θ̈/∂θ`, `N × N`, 1/s².
+    Angles,
     /// `∂θ̈/∂θ̇`, `N × N`, 1/s.
     AngularVelocities,
     /// `∂θ̈/∂C`, `N × (N + 1)`, rad/s² per N·m·s/rad.
@@ -29,11 +38,12 @@ pub enum RatesIn {
 }
 
 impl Dynamics {
-    /// The accelerations' rates in `θ̇` or in the dampers at `(θ, θ̇)` (module docs).
-    pub fn acceleration_rates(&self, theta: &[f64], omega: &[f64], what: RatesIn) -> DMatrix<f64> {
+    /// The accelerations' rates in `θ`, `θ̇` or the dampers at `(θ, θ̇)` under `loads` (module
+    /// docs; the loads enter the `θ` columns only).
+    pub fn acceleration_rates(&self, loads: &LinkLoads, theta: &[f64], omega: &[f64], what: RatesIn) -> DMatrix<f64> {
         let n = self.n_links();
         let columns = match what {
-            RatesIn::AngularVelocities => n,
+            RatesIn::Angles | RatesIn::AngularVelocities => n,
             RatesIn::Dampers => self.damping.len(),
         };
         let mut rates = DMatrix::zeros(n, columns);
@@ -71,6 +81,39 @@ impl Dynamics {
             return rates;
         }
         let (coupling, _) = self.inertia_coefficients();
+        // `c_ij = L_i L_j μ_max(i,j)`: `M_ij = c_ij cos(θ_i − θ_j)`, `h_i = Σ_j c_ij θ̇_j² sin(θ_i − θ_j)`.
+        let c = |i: usize, j: usize| l[i] * l[j] * coupling[i.max(j)];
+        if what == RatesIn::Angles {
+            let (acc, lambda) = self.acceleration(loads, theta, omega, &self.damping);
+            let k_m = &self.stiffness;
+            for k in 0..n {
+                let (sk, ck) = trig[k];
+                dq.fill(0.0);
+                // P_k = (cos θ_k V_k − sin θ_k X_k) L_k.
+                dq[k] += (-sk * loads.vertical[k] - ck * loads.axial[k]) * l[k];
+                for i in (0..n).filter(|&i| i != k) {
+                    let (si, ci) = trig[i];
+                    let (cos_ik, sin_ik) = (ci * ck + si * sk, si * ck - ci * sk);
+                    let cik = c(i, k);
+                    // −∂h/∂θ_k and −(∂M/∂θ_k) θ̈, row i ≠ k and their row-k sums.
+                    dq[i] += cik * omega[k] * omega[k] * cos_ik - cik * sin_ik * acc[k];
+                    dq[k] += -cik * omega[i] * omega[i] * cos_ik - cik * sin_ik * acc[i];
+                }
+                // −∂(K_m (θ − θ0))/∂θ_k: the two springs at the link's ends.
+                dq[k] -= k_m[k] + k_m[k + 1];
+                if k > 0 {
+                    dq[k - 1] += k_m[k];
+                }
+                if k + 1 < n {
+                    dq[k + 1] += k_m[k + 1];
+                }
+                // + (∂∇Φ/∂θ_k) λ, and the constraint row's `∂b/∂θ_k − (∂∇Φ/∂θ_k)ᵀ θ̈`.
+                dq[k] -= l[k] * sk * lambda;
+                let db = l[k] * ck * omega[k] * omega[k] + l[k] * sk * acc[k];
+                respond(&dq, db, &mut |i, v| rates[(i, k)] = v);
+            }
+            return rates;
+        }
         let mut unit = vec![0.0; n];
         for k in 0..n {
             unit[k] = 1.0;
@@ -82,7 +125,7 @@ impl Dynamics {
                     0.0
                 } else {
                     let (si, ci) = trig[i];
-                    2.0 * l[i] * l[k] * coupling[i.max(k)] * (si * ck - ci * sk) * omega[k]
+                    2.0 * c(i, k) * (si * ck - ci * sk) * omega[k]
                 };
                 dq[i] = -centrifugal - damper[i];
             }

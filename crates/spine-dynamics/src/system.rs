@@ -1,5 +1,6 @@
 //! The spine's equations of motion as an [`OdeSystem`] in `y = (θ, θ̇)`, with exact Jacobians and
-//! damper sensitivities from forward AD ([`num_dual::Dual64`] directional passes).
+//! damper rates ([`Dynamics::acceleration_rates`]: real factorisations and `O(N)` solves) and
+//! exact Jacobian–vector products (one [`num_dual::Dual64`] directional pass each).
 
 use crate::eom::Dynamics;
 use crate::integrator::OdeSystem;
@@ -39,24 +40,20 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.rhs(t, piece, y, &self.dynamics.damping)
     }
 
-    /// The `θ` columns by dual passes (`M(θ)` moves with them), the `θ̇` columns from
-    /// [`Dynamics::acceleration_rates`] (one real factorisation, a solve per column).
+    /// `[0 I; ∂θ̈/∂θ ∂θ̈/∂θ̇]` from [`Dynamics::acceleration_rates`] (real factorisations of
+    /// `M`, an `O(N)` solve per column).
     fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
-        let dim = y.len();
         let n = self.dynamics.n_links();
-        let damping: Vec<Dual64> = self.damping();
-        let mut jac = DMatrix::zeros(dim, dim);
-        for k in 0..n {
-            let f = self.dynamics.rhs(t, piece, &seeded(y, k), &damping);
-            for i in 0..dim {
-                jac[(i, k)] = f[i].eps;
-            }
-        }
-        let rates = self.dynamics.acceleration_rates(&y[..n], &y[n..], RatesIn::AngularVelocities);
+        let (theta, omega) = y.split_at(n);
+        let loads = self.dynamics.loads_at(t, piece);
+        let mut jac = DMatrix::zeros(2 * n, 2 * n);
         for k in 0..n {
             jac[(k, n + k)] = 1.0;
         }
-        jac.view_mut((n, n), (n, n)).copy_from(&rates);
+        for (block, what) in [(0, RatesIn::Angles), (n, RatesIn::AngularVelocities)] {
+            let rates = self.dynamics.acceleration_rates(&loads, theta, omega, what);
+            jac.view_mut((n, block), (n, n)).copy_from(&rates);
+        }
         jac
     }
 
@@ -86,7 +83,8 @@ impl OdeSystem for SpineOde<'_> {
         let n = self.dynamics.n_links();
         let mut out = DMatrix::zeros(y.len(), p);
         if p > 0 {
-            let rates = self.dynamics.acceleration_rates(&y[..n], &y[n..], RatesIn::Dampers);
+            let none = spine_model::LinkLoads::zero(n);
+            let rates = self.dynamics.acceleration_rates(&none, &y[..n], &y[n..], RatesIn::Dampers);
             out.view_mut((n, 0), (n, p)).copy_from(&rates);
         }
         out

@@ -172,9 +172,18 @@ pub(super) fn weighted_rms(v: &[f64], a: &[f64], b: &[f64], o: &Options) -> f64 
     (s / n as f64).sqrt()
 }
 
+/// Dense stage Jacobians pay when the state has at most this many times as many components as
+/// there are parameters: a linear iteration or a directional pass per parameter column takes
+/// about this many passes.
+pub(super) const DENSE_AFTER: usize = 4;
+
 /// `Ṡ = J S + ∂f/∂p` at `(t, y)`, column by column through [`OdeSystem::jacobian_times`].
 pub(super) fn sensitivity_rate(sys: &dyn OdeSystem, t: f64, piece: f64, y: &[f64], s: &DMatrix<f64>) -> DMatrix<f64> {
     let mut rate = sys.rhs_params(t, piece, y);
+    // With few states per parameter, one dense Jacobian beats a directional pass per column.
+    if y.len() <= DENSE_AFTER * s.ncols() {
+        return sys.jacobian(t, piece, y) * s + rate;
+    }
     for k in 0..s.ncols() {
         let column: Vec<f64> = s.column(k).iter().copied().collect();
         let js = sys.jacobian_times(t, piece, y, &column);

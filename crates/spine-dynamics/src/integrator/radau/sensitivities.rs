@@ -3,14 +3,10 @@
 //! ∂f/∂p(Y_j))` at the converged stage points `Y_j` by the stages' own transformed iteration.
 
 use super::super::options::Stats;
+use super::super::DENSE_AFTER;
 use super::stages::{collocation, Factors, Stages, A, C};
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
-
-/// The linear iteration takes about this many passes per column and stage point (its iterations):
-/// dense stage Jacobians pay when the state has at most this many times as many components as
-/// there are parameters.
-const DENSE_AFTER: usize = 4;
 
 /// The stage sensitivities of an accepted step: `S₁ = S₀ + dZ₃` (before the projection).
 #[allow(clippy::too_many_arguments)]
