@@ -108,7 +108,7 @@ impl Dynamics {
     }
 
     /// [`Self::velocity_terms`] from `(sin θ_i, cos θ_i)`.
-    fn velocity_terms_from<D: Scalar>(&self, trig: &[(D, D)], omega: &[D]) -> Vec<D> {
+    pub(crate) fn velocity_terms_from<D: Scalar>(&self, trig: &[(D, D)], omega: &[D]) -> Vec<D> {
         let n = self.n_links();
         let (coupling, _) = self.inertia_coefficients();
         let w: Vec<(D, D)> = (0..n)
@@ -224,7 +224,7 @@ impl Dynamics {
 
     /// The index-1 form's parts at `(θ, θ̇)` given the centrifugal terms `h`: `Q = P − h − C_m θ̇ −
     /// K_m (θ − θ0)` (N·m), `∇Φ` (m) and `Σ L_i sin θ_i θ̇_i²` (m/s², the `Φ̈ = 0` row).
-    fn index1_terms<D: Scalar>(
+    pub(crate) fn index1_terms<D: Scalar>(
         &self,
         loads: &LinkLoads,
         (theta, trig): (&[D], &[(D, D)]),
@@ -348,7 +348,7 @@ fn nan_accelerations<D: Scalar>(n: usize) -> (Vec<D>, D) {
 
 /// `θ̈ = M⁻¹Q + λ M⁻¹∇Φ` with `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)` (the Schur complement of the
 /// bordered system), from `mq = M⁻¹Q` and `mg = M⁻¹∇Φ`.
-fn bordered<D: Scalar>(mq: &[D], mg: &[D], g: &[D], b: D) -> (Vec<D>, D) {
+pub(crate) fn bordered<D: Scalar>(mq: &[D], mg: &[D], g: &[D], b: D) -> (Vec<D>, D) {
     let gmq: D = g.iter().zip(mq).map(|(&a, &c)| a * c).sum();
     let gmg: D = g.iter().zip(mg).map(|(&a, &c)| a * c).sum();
     let lambda = (b - gmq) / gmg;

@@ -29,6 +29,11 @@ pub trait OdeSystem {
     fn rhs_params(&self, _t: f64, _piece: f64, _y: &[f64]) -> DMatrix<f64> {
         DMatrix::zeros(self.dim(), 0)
     }
+    /// [`OdeSystem::jacobian`] and [`OdeSystem::rhs_params`] at one point, where computing them
+    /// together shares work (default: one after the other).
+    fn jacobian_and_params(&self, t: f64, piece: f64, y: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
+        (self.jacobian(t, piece, y), self.rhs_params(t, piece, y))
+    }
     /// Moves `y` onto the invariant manifold (default: nothing).
     fn project(&self, _y: &mut [f64]) {}
     /// `S ← (∂ project / ∂y) S` at the unprojected `y` (default: identity).

@@ -22,11 +22,11 @@
 //! are NaN, as the accelerations are.
 
 use crate::articulated::ArticulatedChain;
-use crate::eom::{joint_moments, Dynamics};
+use crate::eom::{bordered, joint_moments, Dynamics};
 use nalgebra::DMatrix;
 use spine_model::LinkLoads;
 
-/// Which rates [`Dynamics::acceleration_rates`] computes.
+/// Which rates [`RatesAt::rates`] computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RatesIn {
     /// `∂θ̈/∂θ`, `N × N`, 1/s².
@@ -37,100 +37,135 @@ pub enum RatesIn {
     Dampers,
 }
 
+/// One state `(θ, θ̇)` with `M(θ)` factorised once and `M⁻¹∇Φ`: every block of rates at it.
+pub struct RatesAt<'a> {
+    dynamics: &'a Dynamics,
+    theta: &'a [f64],
+    omega: &'a [f64],
+    trig: Vec<(f64, f64)>,
+    /// `None` where `M(θ)` has no factorisation: the rates are NaN.
+    chain: Option<ArticulatedChain<f64>>,
+    g: Vec<f64>,
+    mg: Vec<f64>,
+    gmg: f64,
+}
+
 impl Dynamics {
+    /// The state `(θ, θ̇)` prepared for its rates (one factorisation of `M(θ)`).
+    pub fn rates_at<'a>(&'a self, theta: &'a [f64], omega: &'a [f64]) -> RatesAt<'a> {
+        let n = self.n_links();
+        let trig: Vec<(f64, f64)> = theta.iter().map(|t| t.sin_cos()).collect();
+        let chain = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig);
+        let g: Vec<f64> = (0..n).map(|i| trig[i].1 * self.lengths[i]).collect();
+        let mg = chain.as_ref().map_or_else(|| vec![f64::NAN; n], |c| c.solve(&g));
+        let gmg = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
+        RatesAt { dynamics: self, theta, omega, trig, chain, g, mg, gmg }
+    }
+
     /// The accelerations' rates in `θ`, `θ̇` or the dampers at `(θ, θ̇)` under `loads` (module
     /// docs; the loads enter the `θ` columns only).
     pub fn acceleration_rates(&self, loads: &LinkLoads, theta: &[f64], omega: &[f64], what: RatesIn) -> DMatrix<f64> {
-        let n = self.n_links();
+        self.rates_at(theta, omega).rates(loads, what)
+    }
+}
+
+impl RatesAt<'_> {
+    /// One block of rates (module docs).
+    pub fn rates(&self, loads: &LinkLoads, what: RatesIn) -> DMatrix<f64> {
+        let d = self.dynamics;
+        let n = d.n_links();
         let columns = match what {
             RatesIn::Angles | RatesIn::AngularVelocities => n,
-            RatesIn::Dampers => self.damping.len(),
+            RatesIn::Dampers => d.damping.len(),
         };
         let mut rates = DMatrix::zeros(n, columns);
-        let trig: Vec<(f64, f64)> = theta.iter().map(|t| t.sin_cos()).collect();
-        let Some(chain) = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig) else {
+        let Some(chain) = &self.chain else {
             rates.fill(f64::NAN);
             return rates;
         };
-        let l = &self.lengths;
-        let g: Vec<f64> = (0..n).map(|i| trig[i].1 * l[i]).collect();
-        let mg = chain.solve(&g);
-        let gmg: f64 = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
-        // The bordered solve of `(dQ, db)`: `M⁻¹dQ + M⁻¹∇Φ dλ`.
-        let respond = |dq: &[f64], db: f64, column: &mut dyn FnMut(usize, f64)| {
-            let mq = chain.solve(dq);
+        let (trig, omega, g, mg, gmg) = (&self.trig, self.omega, &self.g, &self.mg, self.gmg);
+        let l = &d.lengths;
+        let (mut mq, mut work) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        // The bordered solve of `(dQ, db)` into column `k`: `M⁻¹dQ + M⁻¹∇Φ dλ`.
+        let mut respond = |dq: &[f64], db: f64, k: usize| {
+            chain.solve_into(dq, &mut mq, &mut work);
             let dlambda = (db - g.iter().zip(&mq).map(|(a, b)| a * b).sum::<f64>()) / gmg;
             for i in 0..n {
-                column(i, mq[i] + mg[i] * dlambda);
+                rates[(i, k)] = mq[i] + mg[i] * dlambda;
             }
         };
         let mut dq = vec![0.0; n];
-        if what == RatesIn::Dampers {
-            let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { omega[i as usize] };
-            for k in 0..columns {
-                dq.fill(0.0);
-                let r = at(k as isize) - at(k as isize - 1);
-                if k < n {
-                    dq[k] -= r;
-                }
-                if k > 0 {
-                    dq[k - 1] += r;
-                }
-                respond(&dq, 0.0, &mut |i, v| rates[(i, k)] = v);
-            }
-            return rates;
-        }
-        let (coupling, _) = self.inertia_coefficients();
         // `c_ij = L_i L_j μ_max(i,j)`: `M_ij = c_ij cos(θ_i − θ_j)`, `h_i = Σ_j c_ij θ̇_j² sin(θ_i − θ_j)`.
+        let (coupling, _) = d.inertia_coefficients();
         let c = |i: usize, j: usize| l[i] * l[j] * coupling[i.max(j)];
-        if what == RatesIn::Angles {
-            let (acc, lambda) = self.acceleration(loads, theta, omega, &self.damping);
-            let k_m = &self.stiffness;
-            for k in 0..n {
-                let (sk, ck) = trig[k];
-                dq.fill(0.0);
-                // P_k = (cos θ_k V_k − sin θ_k X_k) L_k.
-                dq[k] += (-sk * loads.vertical[k] - ck * loads.axial[k]) * l[k];
-                for i in (0..n).filter(|&i| i != k) {
-                    let (si, ci) = trig[i];
-                    let (cos_ik, sin_ik) = (ci * ck + si * sk, si * ck - ci * sk);
-                    let cik = c(i, k);
-                    // −∂h/∂θ_k and −(∂M/∂θ_k) θ̈, row i ≠ k and their row-k sums.
-                    dq[i] += cik * omega[k] * omega[k] * cos_ik - cik * sin_ik * acc[k];
-                    dq[k] += -cik * omega[i] * omega[i] * cos_ik - cik * sin_ik * acc[i];
+        match what {
+            RatesIn::Dampers => {
+                let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { omega[i as usize] };
+                for k in 0..columns {
+                    dq.fill(0.0);
+                    let r = at(k as isize) - at(k as isize - 1);
+                    if k < n {
+                        dq[k] -= r;
+                    }
+                    if k > 0 {
+                        dq[k - 1] += r;
+                    }
+                    respond(&dq, 0.0, k);
                 }
-                // −∂(K_m (θ − θ0))/∂θ_k: the two springs at the link's ends.
-                dq[k] -= k_m[k] + k_m[k + 1];
-                if k > 0 {
-                    dq[k - 1] += k_m[k];
-                }
-                if k + 1 < n {
-                    dq[k + 1] += k_m[k + 1];
-                }
-                // + (∂∇Φ/∂θ_k) λ, and the constraint row's `∂b/∂θ_k − (∂∇Φ/∂θ_k)ᵀ θ̈`.
-                dq[k] -= l[k] * sk * lambda;
-                let db = l[k] * ck * omega[k] * omega[k] + l[k] * sk * acc[k];
-                respond(&dq, db, &mut |i, v| rates[(i, k)] = v);
             }
-            return rates;
-        }
-        let mut unit = vec![0.0; n];
-        for k in 0..n {
-            unit[k] = 1.0;
-            let damper = joint_moments(&self.damping, &unit);
-            unit[k] = 0.0;
-            let (sk, ck) = trig[k];
-            for i in 0..n {
-                let centrifugal = if i == k {
-                    0.0
-                } else {
-                    let (si, ci) = trig[i];
-                    2.0 * c(i, k) * (si * ck - ci * sk) * omega[k]
-                };
-                dq[i] = -centrifugal - damper[i];
+            RatesIn::AngularVelocities => {
+                let mut unit = vec![0.0; n];
+                for k in 0..n {
+                    unit[k] = 1.0;
+                    let damper = joint_moments(&d.damping, &unit);
+                    unit[k] = 0.0;
+                    let (sk, ck) = trig[k];
+                    for i in 0..n {
+                        let centrifugal = if i == k {
+                            0.0
+                        } else {
+                            let (si, ci) = trig[i];
+                            2.0 * c(i, k) * (si * ck - ci * sk) * omega[k]
+                        };
+                        dq[i] = -centrifugal - damper[i];
+                    }
+                    let db = 2.0 * l[k] * sk * omega[k];
+                    respond(&dq, db, k);
+                }
             }
-            let db = 2.0 * l[k] * sk * omega[k];
-            respond(&dq, db, &mut |i, v| rates[(i, k)] = v);
+            RatesIn::Angles => {
+                // The state's own θ̈ and λ.
+                let h = d.velocity_terms_from(trig, omega);
+                let (q, _, b) = d.index1_terms(loads, (self.theta, trig), omega, &d.damping, &h);
+                let (acc, lambda) = bordered(&chain.solve(&q), mg, g, b);
+                let k_m = &d.stiffness;
+                for k in 0..n {
+                    let (sk, ck) = trig[k];
+                    dq.fill(0.0);
+                    // P_k = (cos θ_k V_k − sin θ_k X_k) L_k.
+                    dq[k] += (-sk * loads.vertical[k] - ck * loads.axial[k]) * l[k];
+                    for i in (0..n).filter(|&i| i != k) {
+                        let (si, ci) = trig[i];
+                        let (cos_ik, sin_ik) = (ci * ck + si * sk, si * ck - ci * sk);
+                        let cik = c(i, k);
+                        // −∂h/∂θ_k and −(∂M/∂θ_k) θ̈, row i ≠ k and their row-k sums.
+                        dq[i] += cik * omega[k] * omega[k] * cos_ik - cik * sin_ik * acc[k];
+                        dq[k] += -cik * omega[i] * omega[i] * cos_ik - cik * sin_ik * acc[i];
+                    }
+                    // −∂(K_m (θ − θ0))/∂θ_k: the two springs at the link's ends.
+                    dq[k] -= k_m[k] + k_m[k + 1];
+                    if k > 0 {
+                        dq[k - 1] += k_m[k];
+                    }
+                    if k + 1 < n {
+                        dq[k + 1] += k_m[k + 1];
+                    }
+                    // + (∂∇Φ/∂θ_k) λ, and the constraint row's `∂b/∂θ_k − (∂∇Φ/∂θ_k)ᵀ θ̈`.
+                    dq[k] -= l[k] * sk * lambda;
+                    let db = l[k] * ck * omega[k] * omega[k] + l[k] * sk * acc[k];
+                    respond(&dq, db, k);
+                }
+            }
         }
         rates
     }

@@ -6,7 +6,7 @@ use crate::eom::Dynamics;
 use crate::integrator::OdeSystem;
 use crate::linearization::Linearization;
 use crate::newton::ChainLinearization;
-use crate::rates::RatesIn;
+use crate::rates::{RatesAt, RatesIn};
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
@@ -31,6 +31,35 @@ fn seeded(y: &[f64], direction: usize) -> Vec<Dual64> {
         .collect()
 }
 
+impl SpineOde<'_> {
+    /// `[0 I; ∂θ̈/∂θ ∂θ̈/∂θ̇]` at a prepared state.
+    fn jacobian_from(&self, at: &RatesAt<'_>, t: f64, piece: f64) -> DMatrix<f64> {
+        let n = self.dynamics.n_links();
+        let loads = self.dynamics.loads_at(t, piece);
+        let mut jac = DMatrix::zeros(2 * n, 2 * n);
+        for k in 0..n {
+            jac[(k, n + k)] = 1.0;
+        }
+        for (block, what) in [(0, RatesIn::Angles), (n, RatesIn::AngularVelocities)] {
+            jac.view_mut((n, block), (n, n)).copy_from(&at.rates(&loads, what));
+        }
+        jac
+    }
+
+    /// `∂f/∂C` at a prepared state (`dim` rows; none without damper sensitivities).
+    fn params_from(&self, at: &RatesAt<'_>, dim: usize) -> DMatrix<f64> {
+        let p = self.n_params();
+        let n = self.dynamics.n_links();
+        let mut out = DMatrix::zeros(dim, p);
+        if p > 0 {
+            // The loads do not enter the damper columns.
+            let none = spine_model::LinkLoads::zero(n);
+            out.view_mut((n, 0), (n, p)).copy_from(&at.rates(&none, RatesIn::Dampers));
+        }
+        out
+    }
+}
+
 impl OdeSystem for SpineOde<'_> {
     fn dim(&self) -> usize {
         2 * self.dynamics.n_links()
@@ -44,17 +73,15 @@ impl OdeSystem for SpineOde<'_> {
     /// `M`, an `O(N)` solve per column).
     fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
         let n = self.dynamics.n_links();
-        let (theta, omega) = y.split_at(n);
-        let loads = self.dynamics.loads_at(t, piece);
-        let mut jac = DMatrix::zeros(2 * n, 2 * n);
-        for k in 0..n {
-            jac[(k, n + k)] = 1.0;
-        }
-        for (block, what) in [(0, RatesIn::Angles), (n, RatesIn::AngularVelocities)] {
-            let rates = self.dynamics.acceleration_rates(&loads, theta, omega, what);
-            jac.view_mut((n, block), (n, n)).copy_from(&rates);
-        }
-        jac
+        let at = self.dynamics.rates_at(&y[..n], &y[n..]);
+        self.jacobian_from(&at, t, piece)
+    }
+
+    /// Both from one factorisation of `M` ([`Dynamics::rates_at`]).
+    fn jacobian_and_params(&self, t: f64, piece: f64, y: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
+        let n = self.dynamics.n_links();
+        let at = self.dynamics.rates_at(&y[..n], &y[n..]);
+        (self.jacobian_from(&at, t, piece), self.params_from(&at, y.len()))
     }
 
     /// The structured `J̃` of [`crate::newton`]: `O(N)` per factorisation.
@@ -79,15 +106,8 @@ impl OdeSystem for SpineOde<'_> {
     /// `∂f/∂C`: zero for `θ`, [`Dynamics::acceleration_rates`] for `θ̈` (all dampers through one
     /// real factorisation of `M`; the loads do not depend on the dampers, so `t` does not enter).
     fn rhs_params(&self, _t: f64, _piece: f64, y: &[f64]) -> DMatrix<f64> {
-        let p = self.n_params();
         let n = self.dynamics.n_links();
-        let mut out = DMatrix::zeros(y.len(), p);
-        if p > 0 {
-            let none = spine_model::LinkLoads::zero(n);
-            let rates = self.dynamics.acceleration_rates(&none, &y[..n], &y[n..], RatesIn::Dampers);
-            out.view_mut((n, 0), (n, p)).copy_from(&rates);
-        }
-        out
+        self.params_from(&self.dynamics.rates_at(&y[..n], &y[n..]), y.len())
     }
 
     fn project(&self, y: &mut [f64]) {

@@ -179,11 +179,12 @@ pub(super) const DENSE_AFTER: usize = 4;
 
 /// `Ṡ = J S + ∂f/∂p` at `(t, y)`, column by column through [`OdeSystem::jacobian_times`].
 pub(super) fn sensitivity_rate(sys: &dyn OdeSystem, t: f64, piece: f64, y: &[f64], s: &DMatrix<f64>) -> DMatrix<f64> {
-    let mut rate = sys.rhs_params(t, piece, y);
     // With few states per parameter, one dense Jacobian beats a directional pass per column.
     if y.len() <= DENSE_AFTER * s.ncols() {
-        return sys.jacobian(t, piece, y) * s + rate;
+        let (jac, params) = sys.jacobian_and_params(t, piece, y);
+        return jac * s + params;
     }
+    let mut rate = sys.rhs_params(t, piece, y);
     for k in 0..s.ncols() {
         let column: Vec<f64> = s.column(k).iter().copied().collect();
         let js = sys.jacobian_times(t, piece, y, &column);

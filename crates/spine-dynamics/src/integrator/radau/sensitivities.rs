@@ -25,14 +25,17 @@ pub(super) fn step_sensitivities(
     let h = factors.h;
     let points: Vec<(f64, Vec<f64>)> =
         (0..3).map(|i| (t + C[i] * h, (0..n).map(|j| y[j] + z[i][j]).collect())).collect();
-    let params: Vec<DMatrix<f64>> = points.iter().map(|(ti, yi)| sys.rhs_params(*ti, piece, yi)).collect();
+
     // `J(Y_i) v` for every column and iteration: directional passes, or products with the dense
     // Jacobians of the three stage points when those cost fewer passes (`n` each, against about
     // `DENSE_AFTER` passes per column).
-    let dense: Option<Vec<DMatrix<f64>>> = (n <= DENSE_AFTER * s0.ncols()).then(|| {
+    let (dense, params): (Option<Vec<DMatrix<f64>>>, Vec<DMatrix<f64>>) = if n <= DENSE_AFTER * s0.ncols() {
         stats.jacobian_evaluations += 3;
-        points.iter().map(|(ti, yi)| sys.jacobian(*ti, piece, yi)).collect()
-    });
+        let (jac, params) = points.iter().map(|(ti, yi)| sys.jacobian_and_params(*ti, piece, yi)).unzip();
+        (Some(jac), params)
+    } else {
+        (None, points.iter().map(|(ti, yi)| sys.rhs_params(*ti, piece, yi)).collect())
+    };
     if let Some(s1) = dense.as_ref().and_then(|jac| direct(jac, &params, s0, h)) {
         return s1;
     }
