@@ -357,7 +357,7 @@ pub(crate) fn bordered<D: Scalar>(mq: &[D], mg: &[D], g: &[D], b: D) -> (Vec<D>,
 
 /// Gauss–Newton sweeps of [`Dynamics::project`]; the first leaves `|Φ|` at the square of the step's
 /// drift, the second at round-off.
-const PROJECTION_SWEEPS: usize = 3;
+pub(crate) const PROJECTION_SWEEPS: usize = 3;
 
 /// Moments of joint elements with coefficients `c_0..c_N` acting on the relative motion of
 /// neighbouring links: `(c_i (x_i − x_{i−1}) − c_{i+1} (x_{i+1} − x_i))` with `x_{−1} = x_N = 0`

@@ -170,3 +170,64 @@ impl RatesAt<'_> {
         rates
     }
 }
+
+impl Dynamics {
+    /// `S ← (∂ project/∂y) S` at the unprojected `y` ([`Dynamics::project`]: Gauss–Newton sweeps
+    /// of `θ` onto `Φ = 0`, then `θ̇` onto `Φ̇ = 0`), for all columns of `S` at once in real
+    /// arithmetic: each sweep `θ ← θ − ∇Φ s`, `s = Φ/|∇Φ|²`, moves a direction `dθ` by
+    /// `−(∂∇Φ dθ) s − ∇Φ ds` with `ds = (∇Φᵀdθ − 2 s ∇Φᵀ(∂∇Φ dθ)) / |∇Φ|²`, and `∂∇Φ` is diagonal
+    /// (`−L_i sin θ_i`).
+    pub fn project_tangent(&self, y: &[f64], s: &mut DMatrix<f64>) {
+        let n = self.n_links();
+        let l = &self.lengths;
+        let mut theta = y[..n].to_vec();
+        let omega = &y[n..];
+        let at = |theta: &[f64]| -> (Vec<f64>, Vec<f64>, f64) {
+            let (mut g, mut curvature, mut phi) = (vec![0.0; n], vec![0.0; n], 0.0);
+            for i in 0..n {
+                let (si, ci) = theta[i].sin_cos();
+                phi += l[i] * si;
+                g[i] = l[i] * ci;
+                curvature[i] = -l[i] * si;
+            }
+            (g, curvature, phi)
+        };
+        let mut dg = vec![0.0; n];
+        for _ in 0..crate::eom::PROJECTION_SWEEPS {
+            let (g, curvature, phi) = at(&theta);
+            let gg: f64 = g.iter().map(|v| v * v).sum();
+            let step = phi / gg;
+            for mut column in s.column_iter_mut() {
+                let mut dphi = 0.0;
+                let mut dgg = 0.0;
+                for i in 0..n {
+                    dphi += g[i] * column[i];
+                    dg[i] = curvature[i] * column[i];
+                    dgg += 2.0 * g[i] * dg[i];
+                }
+                let dstep = (dphi - step * dgg) / gg;
+                for i in 0..n {
+                    column[i] -= dg[i] * step + g[i] * dstep;
+                }
+            }
+            for i in 0..n {
+                theta[i] -= g[i] * step;
+            }
+        }
+        let (g, curvature, _) = at(&theta);
+        let gg: f64 = g.iter().map(|v| v * v).sum();
+        let rate = g.iter().zip(omega).map(|(a, b)| a * b).sum::<f64>() / gg;
+        for mut column in s.column_iter_mut() {
+            let (mut dgg, mut dnum) = (0.0, 0.0);
+            for i in 0..n {
+                dg[i] = curvature[i] * column[i];
+                dgg += 2.0 * g[i] * dg[i];
+                dnum += dg[i] * omega[i] + g[i] * column[n + i];
+            }
+            let drate = (dnum - rate * dgg) / gg;
+            for i in 0..n {
+                column[n + i] -= dg[i] * rate + g[i] * drate;
+            }
+        }
+    }
+}

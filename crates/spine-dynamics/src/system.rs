@@ -114,14 +114,9 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.project(y);
     }
 
+    /// All columns at once in real arithmetic ([`Dynamics::project_tangent`]).
     fn project_sensitivities(&self, y: &[f64], s: &mut DMatrix<f64>) {
-        for k in 0..s.ncols() {
-            let mut yd: Vec<Dual64> = y.iter().enumerate().map(|(i, &v)| Dual64::new(v, s[(i, k)])).collect();
-            self.dynamics.project(&mut yd);
-            for i in 0..y.len() {
-                s[(i, k)] = yd[i].eps;
-            }
-        }
+        self.dynamics.project_tangent(y, s);
     }
 
     fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
@@ -161,5 +156,16 @@ pub mod reference {
             }
         }
         out
+    }
+
+    /// The projection's tangent map by a dual pass per column.
+    pub fn project_sensitivities(ode: &SpineOde<'_>, y: &[f64], s: &mut DMatrix<f64>) {
+        for k in 0..s.ncols() {
+            let mut yd: Vec<Dual64> = y.iter().enumerate().map(|(i, &v)| Dual64::new(v, s[(i, k)])).collect();
+            ode.dynamics.project(&mut yd);
+            for i in 0..y.len() {
+                s[(i, k)] = yd[i].eps;
+            }
+        }
     }
 }
