@@ -223,3 +223,43 @@ impl<T: ChainNumber> ArticulatedChain<T> {
         }
     }
 }
+
+impl ArticulatedChain<f64> {
+    /// `X = M(θ)⁻¹ B` for all columns of `B` at once (overwritten with `X`): the sweeps of
+    /// [`Self::solve`] with each link's factors read once for every column.
+    pub fn solve_columns(&self, b: &mut nalgebra::DMatrix<f64>) {
+        let (n, m) = b.shape();
+        // τ = Tᵀ b per column (suffix sums), in place.
+        for mut column in b.column_iter_mut() {
+            let mut sum = 0.0;
+            for k in (0..n).rev() {
+                sum += column[k];
+                column[k] = sum;
+            }
+        }
+        let mut bias = vec![[0.0f64; 3]; m];
+        for k in (0..n).rev() {
+            let (u, d) = (self.u[k], self.d[k]);
+            for (c, bias) in bias.iter_mut().enumerate() {
+                let uk = b[(k, c)] - bias[0];
+                b[(k, c)] = uk;
+                let scale = uk / d;
+                let passed = [bias[0] + u[0] * scale, bias[1] + u[1] * scale, bias[2] + u[2] * scale];
+                if k > 0 {
+                    *bias = shift_force(&passed, &self.shift[k - 1]);
+                }
+            }
+        }
+        let mut motion = vec![[0.0f64; 3]; m];
+        for k in 0..n {
+            let (u, d) = (self.u[k], self.d[k]);
+            for (c, motion) in motion.iter_mut().enumerate() {
+                let seen = if k > 0 { shift_motion(motion, &self.shift[k - 1]) } else { [0.0; 3] };
+                let dot = u[0] * seen[0] + u[1] * seen[1] + u[2] * seen[2];
+                let joint = (b[(k, c)] - dot) / d;
+                *motion = [seen[0] + joint, seen[1], seen[2]];
+                b[(k, c)] = motion[0];
+            }
+        }
+    }
+}

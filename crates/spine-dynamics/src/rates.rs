@@ -85,16 +85,14 @@ impl RatesAt<'_> {
         };
         let (trig, omega, g, mg, gmg) = (&self.trig, self.omega, &self.g, &self.mg, self.gmg);
         let l = &d.lengths;
-        let (mut mq, mut work) = (Vec::with_capacity(n), Vec::with_capacity(n));
-        // The bordered solve of `(dQ, db)` into column `k`: `M⁻¹dQ + M⁻¹∇Φ dλ`.
-        let mut respond = |dq: &[f64], db: f64, k: usize| {
-            chain.solve_into(dq, &mut mq, &mut work);
-            let dlambda = (db - g.iter().zip(&mq).map(|(a, b)| a * b).sum::<f64>()) / gmg;
-            for i in 0..n {
-                rates[(i, k)] = mq[i] + mg[i] * dlambda;
-            }
-        };
+        // Column `k` of `rates` collects `dQ`, `dbs[k]` its `db`; then one solve for all columns
+        // and the bordered correction `M⁻¹dQ + M⁻¹∇Φ dλ`.
+        let mut dbs = vec![0.0; columns];
         let mut dq = vec![0.0; n];
+        let mut respond = |dq: &[f64], db: f64, k: usize| {
+            rates.column_mut(k).copy_from_slice(dq);
+            dbs[k] = db;
+        };
         // `c_ij = L_i L_j μ_max(i,j)`: `M_ij = c_ij cos(θ_i − θ_j)`, `h_i = Σ_j c_ij θ̇_j² sin(θ_i − θ_j)`.
         let (coupling, _) = d.inertia_coefficients();
         let c = |i: usize, j: usize| l[i] * l[j] * coupling[i.max(j)];
@@ -165,6 +163,13 @@ impl RatesAt<'_> {
                     let db = l[k] * ck * omega[k] * omega[k] + l[k] * sk * acc[k];
                     respond(&dq, db, k);
                 }
+            }
+        }
+        chain.solve_columns(&mut rates);
+        for (k, mut column) in rates.column_iter_mut().enumerate() {
+            let dlambda = (dbs[k] - g.iter().zip(column.iter()).map(|(a, b)| a * b).sum::<f64>()) / gmg;
+            for i in 0..n {
+                column[i] += mg[i] * dlambda;
             }
         }
         rates

@@ -191,6 +191,14 @@ fn articulated_body_solve_agrees_with_the_dense_mass_matrix() {
         for i in 0..n {
             assert!((x[i] - x_dense[i]).abs() <= 1e-12 * max_abs(&x_dense), "x[{i}] (n = {n})");
         }
+        // All columns at once: each column as its own solve, bit for bit (the same operations).
+        let columns = nalgebra::DMatrix::from_fn(n, 3, |i, c| omega[i] * (c as f64 + 1.0) + theta[(i + c) % n]);
+        let mut together = columns.clone();
+        chain.solve_columns(&mut together);
+        for c in 0..3 {
+            let alone = chain.solve(&columns.column(c).iter().copied().collect::<Vec<_>>());
+            assert_eq!(together.column(c).as_slice(), &alone[..], "column {c} (n = {n})");
+        }
         // d/dθ_k of M⁻¹ b = −M⁻¹ (∂M/∂θ_k) M⁻¹ b, against central differences of the dense solve.
         let k = n / 2;
         let th: Vec<Dual64> =
