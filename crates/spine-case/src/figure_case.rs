@@ -82,6 +82,15 @@ pub fn merge_patch(target: &Value, patch: &Value) -> Value {
 }
 
 impl FigureCase {
+    /// The figure's title, or its recipe's name where the file gives none.
+    pub fn shown_title(&self) -> String {
+        if self.title.is_empty() {
+            self.figure.clone()
+        } else {
+            self.title.clone()
+        }
+    }
+
     /// Checks the recipe name and the run names, and merges each run's patch over the base. Errors
     /// name the run: `runs[1].name: …`. (Parsing and checking the merged cases is
     /// [`FigureCase::validate`], beside the dispatcher.)

@@ -178,30 +178,20 @@ impl<T: ChainNumber> ArticulatedChain<T> {
 
     /// `x = M(θ)⁻¹ b` (`b` in N·m per absolute angle, `x` in rad/s²).
     pub fn solve(&self, b: &[T]) -> Vec<T> {
-        let (mut x, mut work) = (Vec::new(), Vec::new());
-        self.solve_into(b, &mut x, &mut work);
-        x
-    }
-
-    /// [`Self::solve`] into `x`, with `work` as scratch (both resized to `b`'s length): no
-    /// allocation once they have grown.
-    pub fn solve_into(&self, b: &[T], x: &mut Vec<T>, work: &mut Vec<T>) {
         let n = b.len();
         let zero = T::from(0.0);
         // Joint moments τ = Tᵀ b: the moment at joint k carries every link from k outward.
-        let tau = work;
-        tau.clear();
-        tau.resize(n, zero);
+        let mut tau = vec![zero; n];
         let mut sum = zero;
         for k in (0..n).rev() {
             sum += b[k];
             tau[k] = sum;
         }
-        // Tip to base: the bias force p^A at each joint and u_k = τ_k − Sᵀ p^A_k (over τ_k).
-        let free = tau;
+        // Tip to base: the bias force p^A at each joint and u_k = τ_k − Sᵀ p^A_k.
+        let mut free = vec![zero; n];
         let mut bias: V3<T> = [zero; 3];
         for k in (0..n).rev() {
-            let uk = free[k] - bias[0];
+            let uk = tau[k] - bias[0];
             free[k] = uk;
             let scale = uk / self.d[k];
             let passed =
@@ -211,8 +201,7 @@ impl<T: ChainNumber> ArticulatedChain<T> {
             }
         }
         // Base to tip: the base joint is fixed (zero acceleration of its point).
-        x.clear();
-        x.resize(n, zero);
+        let mut x = vec![zero; n];
         let mut motion: V3<T> = [zero; 3];
         for k in 0..n {
             let seen = if k > 0 { shift_motion(&motion, &self.shift[k - 1]) } else { [zero; 3] };
@@ -221,6 +210,7 @@ impl<T: ChainNumber> ArticulatedChain<T> {
             motion = [seen[0] + joint, seen[1], seen[2]];
             x[k] = motion[0];
         }
+        x
     }
 }
 

@@ -27,10 +27,10 @@ use nalgebra::DMatrix;
 use spine_model::LinkLoads;
 
 /// Which rates [`RatesAt::rates`] computes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RatesIn {
-    /// `∂θ̈/∂θ`, `N × N`, 1/s².
-    Angles,
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RatesIn<'a> {
+    /// `∂θ̈/∂θ` under these link loads (they enter through `P(θ)`), `N × N`, 1/s².
+    Angles(&'a LinkLoads),
     /// `∂θ̈/∂θ̇`, `N × N`, 1/s.
     AngularVelocities,
     /// `∂θ̈/∂C`, `N × (N + 1)`, rad/s² per N·m·s/rad.
@@ -61,21 +61,15 @@ impl Dynamics {
         let gmg = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
         RatesAt { dynamics: self, theta, omega, trig, chain, g, mg, gmg }
     }
-
-    /// The accelerations' rates in `θ`, `θ̇` or the dampers at `(θ, θ̇)` under `loads` (module
-    /// docs; the loads enter the `θ` columns only).
-    pub fn acceleration_rates(&self, loads: &LinkLoads, theta: &[f64], omega: &[f64], what: RatesIn) -> DMatrix<f64> {
-        self.rates_at(theta, omega).rates(loads, what)
-    }
 }
 
 impl RatesAt<'_> {
     /// One block of rates (module docs).
-    pub fn rates(&self, loads: &LinkLoads, what: RatesIn) -> DMatrix<f64> {
+    pub fn rates(&self, what: RatesIn<'_>) -> DMatrix<f64> {
         let d = self.dynamics;
         let n = d.n_links();
         let columns = match what {
-            RatesIn::Angles | RatesIn::AngularVelocities => n,
+            RatesIn::Angles(_) | RatesIn::AngularVelocities => n,
             RatesIn::Dampers => d.damping.len(),
         };
         let mut rates = DMatrix::zeros(n, columns);
@@ -131,7 +125,7 @@ impl RatesAt<'_> {
                     respond(&dq, db, k);
                 }
             }
-            RatesIn::Angles => {
+            RatesIn::Angles(loads) => {
                 // The state's own θ̈ and λ.
                 let h = d.velocity_terms_from(trig, omega);
                 let (q, _, b) = d.index1_terms(loads, (self.theta, trig), omega, &d.damping, &h);

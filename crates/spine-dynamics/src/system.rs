@@ -1,5 +1,5 @@
 //! The spine's equations of motion as an [`OdeSystem`] in `y = (θ, θ̇)`, with exact Jacobians and
-//! damper rates ([`Dynamics::acceleration_rates`]: real factorisations and `O(N)` solves) and
+//! damper rates ([`Dynamics::rates_at`]: real factorisations and `O(N)` solves) and
 //! exact Jacobian–vector products (one [`num_dual::Dual64`] directional pass each).
 
 use crate::eom::Dynamics;
@@ -40,8 +40,8 @@ impl SpineOde<'_> {
         for k in 0..n {
             jac[(k, n + k)] = 1.0;
         }
-        for (block, what) in [(0, RatesIn::Angles), (n, RatesIn::AngularVelocities)] {
-            jac.view_mut((n, block), (n, n)).copy_from(&at.rates(&loads, what));
+        for (block, what) in [(0, RatesIn::Angles(&loads)), (n, RatesIn::AngularVelocities)] {
+            jac.view_mut((n, block), (n, n)).copy_from(&at.rates(what));
         }
         jac
     }
@@ -52,9 +52,7 @@ impl SpineOde<'_> {
         let n = self.dynamics.n_links();
         let mut out = DMatrix::zeros(dim, p);
         if p > 0 {
-            // The loads do not enter the damper columns.
-            let none = spine_model::LinkLoads::zero(n);
-            out.view_mut((n, 0), (n, p)).copy_from(&at.rates(&none, RatesIn::Dampers));
+            out.view_mut((n, 0), (n, p)).copy_from(&at.rates(RatesIn::Dampers));
         }
         out
     }
@@ -69,7 +67,7 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.rhs(t, piece, y, &self.dynamics.damping)
     }
 
-    /// `[0 I; ∂θ̈/∂θ ∂θ̈/∂θ̇]` from [`Dynamics::acceleration_rates`] (real factorisations of
+    /// `[0 I; ∂θ̈/∂θ ∂θ̈/∂θ̇]` from [`Dynamics::rates_at`] (real factorisations of
     /// `M`, an `O(N)` solve per column).
     fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
         let n = self.dynamics.n_links();
@@ -103,7 +101,7 @@ impl OdeSystem for SpineOde<'_> {
         }
     }
 
-    /// `∂f/∂C`: zero for `θ`, [`Dynamics::acceleration_rates`] for `θ̈` (all dampers through one
+    /// `∂f/∂C`: zero for `θ`, [`Dynamics::rates_at`] for `θ̈` (all dampers through one
     /// real factorisation of `M`; the loads do not depend on the dampers, so `t` does not enter).
     fn rhs_params(&self, _t: f64, _piece: f64, y: &[f64]) -> DMatrix<f64> {
         let n = self.dynamics.n_links();
@@ -125,7 +123,7 @@ impl OdeSystem for SpineOde<'_> {
 }
 
 /// The reference path of [`SpineOde`]'s `∂f/∂y` and `∂f/∂C`: a dual pass of the whole right-hand
-/// side per column. The tests hold the fast path ([`Dynamics::acceleration_rates`]) to it.
+/// side per column. The tests hold the fast path ([`Dynamics::rates_at`]) to it.
 pub mod reference {
     use super::*;
 

@@ -290,7 +290,7 @@ fn a_non_finite_state_gives_nan_accelerations_on_both_paths() {
     }
 }
 
-/// The fast `∂f/∂y` and `∂f/∂C` of the integrator ([`Dynamics::acceleration_rates`]) against the
+/// The fast `∂f/∂y` and `∂f/∂C` of the integrator ([`Dynamics::rates_at`]) against the
 /// reference path (a dual pass of the whole right-hand side per
 /// column) and against central differences of the right-hand side.
 #[test]

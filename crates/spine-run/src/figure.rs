@@ -114,7 +114,7 @@ pub fn run_figure(
     animation: Option<AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<FigureResult, RunError> {
-    let title = if case.title.is_empty() { case.figure.clone() } else { case.title.clone() };
+    let title = case.shown_title();
     let clock = std::time::Instant::now();
     progress(Progress::Done { message: format!("{title} ({} runs)", runs.len()) });
     let mut results = Vec::new();

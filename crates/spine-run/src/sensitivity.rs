@@ -96,8 +96,6 @@ pub fn differentiate(
     let multipliers = polished.multipliers.clone();
     let design = polished.check(problem, &valid.settings);
     let polish_seconds = clock.elapsed().as_secs_f64();
-    // The same optimum: `J` moves by about the first solve's tolerance (1e-7 relative on design5),
-    // another local optimum by much more.
     let moved = (design.objective - first.objective).abs() / first.objective.abs().max(1e-12);
     let shape_moved =
         design.design.theta0.iter().zip(&first.design.theta0).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
@@ -314,7 +312,7 @@ pub fn run_figure_sensitivity(
             format!("figure {:?} has no design runs to differentiate (its runs: {})", case.figure, skipped.join(", "));
         return Err(RunError::Case(CaseError::invalid("runs", message)));
     }
-    let title = if case.title.is_empty() { case.figure.clone() } else { case.title.clone() };
+    let title = case.shown_title();
     Ok(FigureSensitivityResult { kind: "figure_sensitivity", figure: case.figure.clone(), title, runs: out, skipped })
 }
 

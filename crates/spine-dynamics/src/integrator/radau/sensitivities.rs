@@ -25,10 +25,9 @@ pub(super) fn step_sensitivities(
     let h = factors.h;
     let points: Vec<(f64, Vec<f64>)> =
         (0..3).map(|i| (t + C[i] * h, (0..n).map(|j| y[j] + z[i][j]).collect())).collect();
-
-    // `J(Y_i) v` for every column and iteration: directional passes, or products with the dense
-    // Jacobians of the three stage points when those cost fewer passes (`n` each, against about
-    // `DENSE_AFTER` passes per column).
+    // With few states per parameter, the dense Jacobians of the three stage points and one direct
+    // solve for all columns ([`direct`]); otherwise `J(Y_i) v` by a directional pass for every
+    // column and iteration of the linear iteration.
     let (dense, params): (Option<Vec<DMatrix<f64>>>, Vec<DMatrix<f64>>) = if n <= DENSE_AFTER * s0.ncols() {
         stats.jacobian_evaluations += 3;
         let (jac, params) = points.iter().map(|(ti, yi)| sys.jacobian_and_params(*ti, piece, yi)).unzip();
