@@ -40,7 +40,7 @@ def run_case(
     starts: Optional[int] = None,
     seed: Optional[int] = None,
     formulation: Optional[Literal["full", "reduced"]] = None,
-    method: Optional[Literal["ga", "pattern"]] = None,
+    method: Optional[Literal["ga", "pattern", "gradient"]] = None,
     time_limit: Optional[float] = None,
     animate: bool = False,
     frames: Optional[int] = None,

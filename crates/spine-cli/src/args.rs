@@ -143,8 +143,9 @@ pub struct WorkerArgs {
 pub struct PeriodicArgs {
     #[command(flatten)]
     pub run: RunArgs,
-    /// Search for eq. (37): `ga` (genetic algorithm) or `pattern` (pattern search); default: the case file's.
-    #[arg(long, value_parser = ["ga", "pattern"])]
+    /// Method for eq. (37): `ga` (genetic algorithm), `pattern` (pattern search) or `gradient`
+    /// (Ipopt with exact sensitivities); default: the case file's.
+    #[arg(long, value_parser = ["ga", "pattern", "gradient"])]
     pub method: Option<String>,
     #[command(flatten)]
     pub animate: AnimateArgs,
@@ -317,8 +318,7 @@ impl DesignArgs {
 
 impl PeriodicArgs {
     pub fn overrides(&self) -> spine_run::Overrides {
-        let method =
-            self.method.as_deref().map(|m| if m == "pattern" { SearchMethod::Pattern } else { SearchMethod::Ga });
+        let method = self.method.as_deref().and_then(SearchMethod::from_name);
         spine_run::Overrides {
             dynamics: spine_run::DynamicsOverrides { method },
             animation: self.animate.options(),

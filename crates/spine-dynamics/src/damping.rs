@@ -8,6 +8,7 @@
 //! `ln C`: Illinois regula falsi, 8 to 11 simulations where bisection took 23), so the
 //! optimiser starts feasible and only redistributes damping.
 
+use crate::bracket::illinois;
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
 use crate::response::{
@@ -214,48 +215,20 @@ pub fn design_damping(
 
     // Uniform start: T_90 grows with the damping in the overdamped range; a bracketing root
     // search on ln C (Illinois regula falsi, a bisection step where the slow end has no rise).
-    let (mut lo, mut hi) = (settings.damping_min.ln(), settings.damping_max.ln());
+    let (lo, hi) = (settings.damping_min.ln(), settings.damping_max.ln());
     let t_lo = uniform_rise_time(&base, &ends, &settings.step, lo.exp());
     let t_hi = uniform_rise_time(&base, &ends, &settings.step, hi.exp());
     simulations += 2;
     // Not reaching the rise within t_end counts as slower than any target below t_end.
     let bracketed = matches!(t_lo, Some(a) if a <= target) && t_hi.is_none_or(|b| target <= b);
     let uniform_start = bracketed.then(|| {
-        let mut ends_at = (t_lo.map(|t| t - target), t_hi.map(|t| t - target));
-        let mut side = 0i8;
-        let mut x = 0.5 * (lo + hi);
-        for _ in 0..60 {
-            x = match ends_at {
-                (Some(a), Some(b)) if b > a => {
-                    (lo - a * (hi - lo) / (b - a)).clamp(lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo))
-                }
-                _ => 0.5 * (lo + hi),
-            };
+        // Not reaching the rise within t_end counts as slower than any target (+∞).
+        let mut residual = |x: f64| {
             simulations += 1;
-            match uniform_rise_time(&base, &ends, &settings.step, x.exp()).map(|t| t - target) {
-                Some(r) if r.abs() <= 1e-10 * target => break,
-                Some(r) if r < 0.0 => {
-                    (lo, ends_at.0) = (x, Some(r));
-                    // Illinois: the end that stayed twice in a row counts half.
-                    if side == -1 {
-                        ends_at.1 = ends_at.1.map(|b| 0.5 * b);
-                    }
-                    side = -1;
-                }
-                r => {
-                    (hi, ends_at.1) = (x, r);
-                    if side == 1 {
-                        ends_at.0 = ends_at.0.map(|a| 0.5 * a);
-                    }
-                    side = 1;
-                }
-            }
-            if hi - lo < 1e-6 {
-                x = 0.5 * (lo + hi);
-                break;
-            }
-        }
-        x.exp()
+            uniform_rise_time(&base, &ends, &settings.step, x.exp()).map_or(f64::INFINITY, |t| t - target)
+        };
+        let ends_at = (t_lo.map_or(f64::INFINITY, |t| t - target), t_hi.map_or(f64::INFINITY, |t| t - target));
+        illinois((lo, hi), ends_at, &mut residual, &|r| r.abs() <= 1e-10 * target, 1e-6).exp()
     });
 
     let (status, converged, iterations, damping) = match uniform_start {

@@ -25,6 +25,7 @@
 #![forbid(unsafe_code)]
 
 pub mod articulated;
+mod bracket;
 mod cholesky;
 pub mod eom;
 #[cfg(any(test, feature = "testing"))]
@@ -40,7 +41,7 @@ pub mod system;
 pub use eom::Dynamics;
 pub use forcing::Forcing;
 pub use integrator::{integrate, Options, Outcome, Stats, Trajectory, DEFAULT_ATOL, DEFAULT_RTOL};
-pub use system::SpineOde;
+pub use system::{Parameters, SpineOde};
 pub mod response;
 
 pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, StepSettings};
@@ -49,6 +50,7 @@ pub mod damping;
 pub use damping::{design_damping, DampingDesign, DampingSettings, DampingStatus, RISE_TIME_ACCEPTANCE};
 pub mod periodic;
 pub mod periodic_design;
+pub mod periodic_gradient;
 
 pub use periodic::{periodic_response, PeriodicResponse, PeriodicSettings};
 pub use periodic_design::{design_periodic, PeriodicDesign, PeriodicDesignSettings, SearchMethod};

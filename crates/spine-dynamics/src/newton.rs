@@ -193,7 +193,7 @@ mod tests {
     use crate::forcing::Forcing;
     use crate::integrator::OdeSystem;
     use crate::linearization::DenseJacobian;
-    use crate::SpineOde;
+    use crate::{Parameters, SpineOde};
 
     /// A state of equilibrium at rest under the passive load (a pulse train that starts later, so
     /// the actuation is off at t = 0), where `J̃` is the exact Jacobian.
@@ -227,7 +227,7 @@ mod tests {
     fn at_rest_the_structured_solve_equals_the_dense_one() {
         for n in [1, 2, 3, 10, 25] {
             let (d, y) = at_rest(n);
-            let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+            let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
             let dense = DenseJacobian(ode.jacobian(0.0, 0.0, &y));
             let fast = ChainLinearization::new(&d, 0.0, 0.0, &y);
             let r = pattern(2 * n, 1.3);
@@ -260,7 +260,7 @@ mod tests {
         let problem = arch_problem(8, 50.0);
         let ends = problem.static_ends(&Default::default()).expect("stable ends");
         let d = problem.dynamics(Forcing::Step);
-        let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
         // A state in motion: the step response after 20 ms.
         let traj = crate::integrate(
             &ode,

@@ -5,7 +5,9 @@
 //! of their swing) or `max_periods` have run. On the last period it reports
 //!
 //! * the minimum end displacement `min_t (X_{N+1}(t) − L_x)` (the constraint of eq. (37)) and when it
-//!   occurs;
+//!   occurs: the lowest sample of a dense grid (4 × `samples_per_period` points and the steps),
+//!   refined on the dense output by golden-section search between its neighbours, so that it is
+//!   the minimum of the computed motion to round-off and not a grid value;
 //! * `reach_time`: from the load's onset until the end has covered `reach_fraction` (0.9) of its swing
 //!   from the onset value to the minimum;
 //! * `return_time`: from the release until it has come back `reach_fraction` of the way from the
@@ -19,7 +21,8 @@ use crate::eom::Dynamics;
 use crate::forcing::Forcing;
 use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
 use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
-use crate::system::SpineOde;
+use crate::system::{Parameters, SpineOde};
+use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 use spine_solve::ContinuationOptions;
 
@@ -118,10 +121,56 @@ pub fn simulate_periodic(
     target: Option<f64>,
     settings: &PeriodicSettings,
 ) -> PeriodicResponse {
+    run_periodic(d, ends, length_x, target, settings, None).0
+}
+
+/// `X_{N+1}(t) − L_x` at one time of the last simulated period (a local minimum, or the period's
+/// end) with its gradient in the springs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EndValue {
+    /// Absolute time, s, and the value, m.
+    pub t: f64,
+    pub value: f64,
+    /// `d value / dK`, m per N·m/rad: `∇_y X · S(t)` (at an interior minimum `Ẋ = 0`, so the
+    /// minimum's own shift in time does not enter, the envelope theorem; the period's end is a
+    /// fixed time).
+    pub gradient: Vec<f64>,
+}
+
+/// [`simulate_periodic`] with the sensitivities to the springs: `S(0) = s0` (`2N × (N + 1)`, the
+/// rates of the rest state `(θ1, 0)`), always `settings.max_periods` periods (a horizon that does
+/// not depend on the springs, so that the minima are smooth functions of them; `settled` and
+/// `period_change` are still reported), the local minima of the last period with their
+/// gradients, lowest first, and the value at the period's end with its gradient (none of these
+/// when the simulation failed).
+pub fn simulate_periodic_springs(
+    d: &Dynamics,
+    ends: StaticEnds,
+    length_x: f64,
+    target: Option<f64>,
+    settings: &PeriodicSettings,
+    s0: DMatrix<f64>,
+) -> (PeriodicResponse, Option<(Vec<EndValue>, EndValue)>) {
+    run_periodic(d, ends, length_x, target, settings, Some(s0))
+}
+
+/// The periodic response; with `springs` (`S(0)`), the spring sensitivities and the last period's
+/// minima (module docs).
+fn run_periodic(
+    d: &Dynamics,
+    ends: StaticEnds,
+    length_x: f64,
+    target: Option<f64>,
+    settings: &PeriodicSettings,
+    springs: Option<DMatrix<f64>>,
+) -> (PeriodicResponse, Option<(Vec<EndValue>, EndValue)>) {
     let clock = std::time::Instant::now();
     let n = d.n_links();
     let period = d.forcing.period().expect("a periodic forcing");
-    let ode = SpineOde { dynamics: d, damping_sensitivities: false };
+    let fixed_horizon = springs.is_some();
+    let parameters = if fixed_horizon { Parameters::Springs } else { Parameters::None };
+    let ode = SpineOde { dynamics: d, parameters };
+    let mut sensitivities = springs;
     let mut y = ends.rest_state();
     let mut stats = Stats::default();
     let mut drift = Drift::default();
@@ -138,7 +187,9 @@ pub fn simulate_periodic(
     let mut first_rise_time = None;
     for k in 0..settings.max_periods.max(2) {
         let t0 = k as f64 * period;
-        let traj = integrate(&ode, t0, &y, t0 + period, &settings.integrator, Extras::default());
+        let extras = Extras { sensitivities: sensitivities.take(), ..Extras::default() };
+        let traj = integrate(&ode, t0, &y, t0 + period, &settings.integrator, extras);
+        sensitivities = traj.end_sensitivity();
         periods_run += 1;
         if k == 0 {
             first_rise_time =
@@ -157,8 +208,8 @@ pub fn simulate_periodic(
         y = traj.end().to_vec();
         if let Some(prev) = &previous {
             period_change = relative_change(&trace, prev);
-            if period_change <= settings.settle_tolerance {
-                settled = true;
+            settled = period_change <= settings.settle_tolerance;
+            if settled && !fixed_horizon {
                 last = Some(traj);
                 break;
             }
@@ -168,7 +219,8 @@ pub fn simulate_periodic(
     }
     let traj = last.expect("at least one period");
     let (t_start, _) = traj.span();
-    let (min, max) = extremes(&traj, &x_of, settings.samples_per_period * 4);
+    let (minima, max) = extremes(&traj, &x_of, settings.samples_per_period * 4);
+    let min = minima[0];
     let (onset, release) = (t_start + onset, t_start + release);
     let x_onset = x_of(&traj.value(onset));
     let f = settings.reach_fraction;
@@ -178,7 +230,18 @@ pub fn simulate_periodic(
     let return_time = traj.first_root(release, &|y| x_of(y) - return_level, &grad).map(|e| e.t - release);
     let time_to_target =
         target.and_then(|delta_d| traj.first_root(onset, &|y| x_of(y) - delta_d, &grad)).map(|e| e.t - onset);
-    PeriodicResponse {
+    let with_gradient = |t: f64, value: f64| {
+        let dx = grad(&traj.value(t));
+        let s = traj.sensitivity(t).expect("sensitivities were propagated");
+        let gradient = (0..s.ncols()).map(|p| (0..s.nrows()).map(|i| dx[i] * s[(i, p)]).sum()).collect();
+        EndValue { t, value, gradient }
+    };
+    let values = (fixed_horizon && outcome == Outcome::Completed).then(|| {
+        let (_, t_end) = traj.span();
+        let end = with_gradient(t_end, x_of(traj.end()));
+        (minima.iter().map(|&(value, t)| with_gradient(t, value)).collect(), end)
+    });
+    let response = PeriodicResponse {
         outcome,
         ends,
         period,
@@ -196,7 +259,8 @@ pub fn simulate_periodic(
         stats,
         time_seconds: clock.elapsed().as_secs_f64(),
         samples,
-    }
+    };
+    (response, values)
 }
 
 /// The largest difference of two periods' end-displacement traces, as a fraction of the swing of
@@ -208,22 +272,64 @@ fn relative_change(trace: &[f64], previous: &[f64]) -> f64 {
     diff / swing.max(1e-300)
 }
 
-/// The minimum of `x` (with its time) and the maximum over a trajectory's step points and `dense`
-/// equal intervals of its span.
-fn extremes(traj: &Trajectory, x_of: &dyn Fn(&[f64]) -> f64, dense: usize) -> ((f64, f64), f64) {
+/// The local minima of `x` over a trajectory, lowest first, as `(value, time)`, and the maximum:
+/// from its step points and `dense` equal intervals of its span, each interior minimum of those
+/// points refined by golden-section search on the dense output between its two neighbours.
+fn extremes(traj: &Trajectory, x_of: &dyn Fn(&[f64]) -> f64, dense: usize) -> (Vec<(f64, f64)>, f64) {
     let (t_start, t_stop) = traj.span();
-    let mut min = (f64::INFINITY, t_start);
-    let mut max = f64::NEG_INFINITY;
-    let dense_points = (0..=dense).map(|k| {
-        let t = t_start + (t_stop - t_start) * k as f64 / dense as f64;
-        (t, x_of(&traj.value(t)))
-    });
-    let step_points: Vec<(f64, f64)> = traj.points().map(|(t, y)| (t, x_of(y))).collect();
-    for (t, x) in dense_points.chain(step_points) {
-        if x < min.0 {
-            min = (x, t);
-        }
-        max = max.max(x);
+    let mut points: Vec<(f64, f64)> = (0..=dense)
+        .map(|k| {
+            let t = t_start + (t_stop - t_start) * k as f64 / dense as f64;
+            (t, x_of(&traj.value(t)))
+        })
+        .chain(traj.points().map(|(t, y)| (t, x_of(y))))
+        .collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    points.dedup_by(|a, b| a.0 == b.0);
+    let max = points.iter().fold(f64::NEG_INFINITY, |m, p| m.max(p.1));
+    let last = points.len() - 1;
+    let mut minima: Vec<(f64, f64)> = (0..=last)
+        .filter(|&k| (k == 0 || points[k].1 < points[k - 1].1) && (k == last || points[k].1 <= points[k + 1].1))
+        .map(|k| {
+            if k == 0 || k == last {
+                return (points[k].1, points[k].0);
+            }
+            let (t, x) = golden_minimum(points[k - 1].0, points[k + 1].0, &|t| x_of(&traj.value(t)));
+            if x < points[k].1 {
+                (x, t)
+            } else {
+                (points[k].1, points[k].0)
+            }
+        })
+        .collect();
+    minima.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if minima.is_empty() {
+        // A constant trace: its start.
+        minima.push((points[0].1, points[0].0));
     }
-    (min, max)
+    (minima, max)
+}
+
+/// The minimiser of a unimodal `f` on `[a, b]` by golden-section search to round-off in `t`, and
+/// its value.
+fn golden_minimum(mut a: f64, mut b: f64, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    while b - a > 4.0 * f64::EPSILON * b.abs().max(1.0) && d > c {
+        if fc <= fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    if fc <= fd {
+        (c, fc)
+    } else {
+        (d, fd)
+    }
 }

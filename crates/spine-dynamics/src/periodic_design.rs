@@ -2,9 +2,11 @@
 //! springs `K`, subject to the passive equilibrium, the equations of motion under the periodic
 //! force, and `min_t (X_{N+1}(t) − L_x) = δ_d` over a settled period.
 //!
-//! The constraint is a minimum over time of a simulated motion, so it is not smooth; as in the paper
-//! it is handled by gradient-free searches ([`spine_search`]): a genetic algorithm or a pattern
-//! search. The search variables are `log10 K_i` (stiffness spans two decades); the equality is met
+//! The paper handles the constraint, a minimum over time of a simulated motion, by gradient-free
+//! searches ([`spine_search`]): a genetic algorithm or a pattern search. [`SearchMethod::Gradient`]
+//! hands it to Ipopt with exact gradients instead ([`crate::periodic_gradient`]: forward
+//! sensitivities of the whole periodic motion and the envelope theorem at the minimising time).
+//! The variables are `log10 K_i` for every method (stiffness spans two decades); the equality is met
 //! within a band `|min_t(X − L_x) − δ_d| ≤ tolerance · |δ_d|`, and points are compared by Deb's
 //! feasibility rules with the violation measured in units of `|δ_d|`. A design whose passive or
 //! loaded equilibrium is not stable, or whose simulation fails, is worse than any other point.
@@ -12,11 +14,13 @@
 use crate::forcing::Forcing;
 use crate::integrator::Options;
 use crate::periodic::{simulate_periodic, PeriodicResponse, PeriodicSettings};
+use crate::periodic_gradient::{design_by_gradient, GradientReport, GradientSettings};
 use crate::response::{DynamicProblem, DynamicsError};
 use serde::{Deserialize, Serialize};
 use spine_search::{
     genetic_algorithm, pattern_search, Bounds, Evaluation, GaSettings, PatternSettings, Progress, SearchResult,
 };
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Which search solves eq. (37).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -24,15 +28,37 @@ use spine_search::{
 pub enum SearchMethod {
     Ga,
     Pattern,
+    /// Ipopt with exact gradients ([`crate::periodic_gradient`]).
+    Gradient,
 }
 
 impl std::fmt::Display for SearchMethod {
-    /// As in a case file: `ga`, `pattern`.
+    /// As in a case file: `ga`, `pattern`, `gradient`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.pad(match self {
             Self::Ga => "ga",
             Self::Pattern => "pattern",
+            Self::Gradient => "gradient",
         })
+    }
+}
+
+impl SearchMethod {
+    /// Every method, in the order of the docs.
+    pub const ALL: [SearchMethod; 3] = [SearchMethod::Ga, SearchMethod::Pattern, SearchMethod::Gradient];
+
+    /// The method of a case-file name (`ga`, `pattern`, `gradient`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.to_string() == name)
+    }
+
+    /// What a figure or report calls it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Ga => "genetic algorithm",
+            Self::Pattern => "pattern search",
+            Self::Gradient => "gradient (Ipopt, exact sensitivities)",
+        }
     }
 }
 
@@ -47,6 +73,7 @@ pub struct PeriodicDesignSettings {
     pub tolerance: f64,
     pub ga: GaSettings,
     pub pattern: PatternSettings,
+    pub gradient: GradientSettings,
     /// The periodic response of every candidate.
     pub response: PeriodicSettings,
 }
@@ -74,6 +101,7 @@ impl Default for PeriodicDesignSettings {
                 max_evaluations: 600,
                 ..Default::default()
             },
+            gradient: GradientSettings::default(),
             response,
         }
     }
@@ -83,8 +111,13 @@ impl Default for PeriodicDesignSettings {
 #[derive(Clone, Debug, Serialize)]
 pub struct PeriodicDesign {
     pub method: SearchMethod,
-    /// The search's own status (mesh converged, generation limit, …).
-    pub search: SearchResult,
+    /// The search's own status (mesh converged, generation limit, …); none for the gradient method.
+    pub search: Option<SearchResult>,
+    /// Ipopt's run, for the gradient method.
+    pub gradient: Option<GradientReport>,
+    /// Periodic simulations run in all (start, search or root search and Ipopt's evaluations, the
+    /// final one).
+    pub simulations: usize,
     /// The design meets the displacement band and both static states are stable.
     pub feasible: bool,
     /// Springs of the best point, N·m/rad.
@@ -103,6 +136,28 @@ pub struct PeriodicDesign {
     pub time_seconds: f64,
 }
 
+impl PeriodicDesign {
+    /// How the method ended: the search's status, or Ipopt's.
+    pub fn status(&self) -> String {
+        match (&self.search, &self.gradient) {
+            (Some(s), _) => s.status.name().to_string(),
+            (None, Some(g)) => g.status.clone(),
+            (None, None) => "none".into(),
+        }
+    }
+
+    /// The method ended by its own rule: a search not stopped from outside or by the clock, or
+    /// Ipopt converged.
+    pub fn finished(&self) -> bool {
+        self.search.as_ref().is_some_and(|s| s.status.finished()) || self.gradient.as_ref().is_some_and(|g| g.converged)
+    }
+
+    /// Generations, pattern iterations or Ipopt iterations.
+    pub fn iterations(&self) -> usize {
+        self.search.as_ref().map_or_else(|| self.gradient.as_ref().map_or(0, |g| g.iterations), |s| s.iterations)
+    }
+}
+
 /// Passive strain energy and periodic response of `problem` with springs `stiffness`.
 fn evaluate(
     problem: &DynamicProblem,
@@ -117,12 +172,17 @@ fn evaluate(
     let strain = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);
     let d = p.dynamics(forcing.clone());
     let r = simulate_periodic(&d, ends, p.structure.chain.length_x(), Some(delta_d), &settings.response);
+    Ok((evaluation_of(&r, strain, delta_d, settings), r))
+}
+
+/// A response's value for the searches: its strain energy, and its distance outside the band.
+fn evaluation_of(r: &PeriodicResponse, strain: f64, delta_d: f64, settings: &PeriodicDesignSettings) -> Evaluation {
     let violation = if r.outcome == crate::Outcome::Completed {
         (((r.min_end_displacement - delta_d).abs() / delta_d.abs()) - settings.tolerance).max(0.0)
     } else {
         f64::INFINITY
     };
-    Ok((Evaluation { objective: strain, violation }, r))
+    Evaluation { objective: strain, violation }
 }
 
 /// Solves eq. (37) for the springs of `problem` (its design's `θ0` is kept; its `K` is the start).
@@ -142,24 +202,52 @@ pub fn design_periodic(
     let start_stiffness: Vec<f64> =
         problem.design.stiffness.iter().map(|k| k.clamp(settings.stiffness_min, settings.stiffness_max)).collect();
     let start_u: Vec<f64> = start_stiffness.iter().map(|k| k.log10()).collect();
-    let objective = |u: &[f64]| match evaluate(problem, &forcing, &to_stiffness(u), delta_d, settings) {
-        Ok((e, _)) => e,
-        Err(_) => Evaluation::failed(),
+    let simulations = AtomicUsize::new(0);
+    let objective = |u: &[f64]| {
+        simulations.fetch_add(1, Ordering::Relaxed);
+        match evaluate(problem, &forcing, &to_stiffness(u), delta_d, settings) {
+            Ok((e, _)) => e,
+            Err(_) => Evaluation::failed(),
+        }
     };
     match method {
         SearchMethod::Ga => settings.ga.validate()?,
         SearchMethod::Pattern => settings.pattern.validate()?,
+        SearchMethod::Gradient => settings.gradient.validate()?,
     }
     let start = objective(&start_u);
-    let search = match method {
-        SearchMethod::Ga => genetic_algorithm(&objective, &bounds, Some(&start_u), &settings.ga, progress)?,
-        SearchMethod::Pattern => pattern_search(&mut |u| objective(u), &bounds, &start_u, &settings.pattern, progress)?,
+    let (stiffness, search, gradient, response) = match method {
+        SearchMethod::Ga | SearchMethod::Pattern => {
+            let search = match method {
+                SearchMethod::Ga => genetic_algorithm(&objective, &bounds, Some(&start_u), &settings.ga, progress)?,
+                _ => pattern_search(&mut |u| objective(u), &bounds, &start_u, &settings.pattern, progress)?,
+            };
+            (to_stiffness(&search.x), Some(search), None, None)
+        }
+        SearchMethod::Gradient => {
+            let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &start_stiffness);
+            simulations.fetch_add(report.root_search_simulations + report.gradient_simulations, Ordering::Relaxed);
+            (stiffness, None, Some(report), point.map(|p| p.response))
+        }
     };
-    let stiffness = to_stiffness(&search.x);
     // The best point's response in full, also when a time limit ended the search (one more
-    // evaluation, so that the result reports a usable design).
-    let (best, response) =
-        spine_stop::without_time_limit(|| evaluate(problem, &forcing, &stiffness, delta_d, settings))?;
+    // evaluation, so that the result reports a usable design). The gradient method's own last
+    // point is that response already (on its fixed horizon).
+    let (best, response) = match response {
+        Some(r) => (
+            evaluation_of(
+                &r,
+                spine_model::energy::strain_energy(&r.ends.theta1, &problem.design.theta0, &stiffness),
+                delta_d,
+                settings,
+            ),
+            r,
+        ),
+        None => {
+            simulations.fetch_add(1, Ordering::Relaxed);
+            spine_stop::without_time_limit(|| evaluate(problem, &forcing, &stiffness, delta_d, settings))?
+        }
+    };
     Ok(PeriodicDesign {
         method,
         feasible: best.violation == 0.0,
@@ -169,6 +257,8 @@ pub fn design_periodic(
         delta_d,
         stiffness,
         search,
+        gradient,
+        simulations: simulations.into_inner(),
         start_stiffness,
         start,
         response,
@@ -182,7 +272,7 @@ mod tests {
 
     #[test]
     fn the_printed_search_method_is_its_case_file_name() {
-        for m in [SearchMethod::Ga, SearchMethod::Pattern] {
+        for m in SearchMethod::ALL {
             assert_eq!(serde_json::to_value(m).unwrap(), m.to_string().as_str());
         }
     }

@@ -1,5 +1,6 @@
-//! The accelerations' rates in the angles, the angular velocities and the dampers, `∂θ̈/∂θ`,
-//! `∂θ̈/∂θ̇` and `∂θ̈/∂C`, from one real factorisation of `M(θ)` and one `O(N)` solve per column.
+//! The accelerations' rates in the angles, the angular velocities, the dampers and the springs,
+//! `∂θ̈/∂θ`, `∂θ̈/∂θ̇`, `∂θ̈/∂C` and `∂θ̈/∂K`, from one real factorisation of `M(θ)` and one `O(N)`
+//! solve per column.
 //!
 //! The index-1 form ([`Dynamics::acceleration`]) is `θ̈ = M⁻¹Q + λ M⁻¹∇Φ`,
 //! `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)`. `M` and `∇Φ` depend on `θ` only, so a change of `θ̇` or of a
@@ -8,6 +9,8 @@
 //!
 //! * damper `C_k` (joint `k`, between links `k − 1` and `k`): `dQ = −r_k (e_k − e_{k−1})` with the
 //!   joint's relative rate `r_k = θ̇_k − θ̇_{k−1}` (`θ̇_{−1} = θ̇_N = 0`), `db = 0`;
+//! * spring `K_k`: the same with the joint's relative deflection `r_k = Δθ_k − Δθ_{k−1}`,
+//!   `Δθ = θ − θ0` (`Δθ_{−1} = Δθ_N = 0`);
 //! * angular velocity `θ̇_k`: `dQ = −∂h/∂θ̇_k − C_m e_k` with the centrifugal terms' rate
 //!   `∂h_i/∂θ̇_k = 2 L_i L_k μ_{max(i,k)} sin(θ_i − θ_k) θ̇_k` (`i ≠ k`), and
 //!   `db = 2 L_k sin θ_k θ̇_k`.
@@ -35,6 +38,8 @@ pub enum RatesIn<'a> {
     AngularVelocities,
     /// `∂θ̈/∂C`, `N × (N + 1)`, rad/s² per N·m·s/rad.
     Dampers,
+    /// `∂θ̈/∂K`, `N × (N + 1)`, rad/s² per N·m/rad.
+    Springs,
 }
 
 /// One state `(θ, θ̇)` with `M(θ)` factorised once and `M⁻¹∇Φ`: every block of rates at it.
@@ -71,6 +76,7 @@ impl RatesAt<'_> {
         let columns = match what {
             RatesIn::Angles(_) | RatesIn::AngularVelocities => n,
             RatesIn::Dampers => d.damping.len(),
+            RatesIn::Springs => d.stiffness.len(),
         };
         let mut rates = DMatrix::zeros(n, columns);
         let Some(chain) = &self.chain else {
@@ -91,8 +97,13 @@ impl RatesAt<'_> {
         let (coupling, _) = d.inertia_coefficients();
         let c = |i: usize, j: usize| l[i] * l[j] * coupling[i.max(j)];
         match what {
-            RatesIn::Dampers => {
-                let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { omega[i as usize] };
+            RatesIn::Dampers | RatesIn::Springs => {
+                // The joint's relative motion: θ̇ for a damper, θ − θ0 for a spring.
+                let x: Vec<f64> = match what {
+                    RatesIn::Springs => self.theta.iter().zip(&d.theta0).map(|(t, t0)| t - t0).collect(),
+                    _ => omega.to_vec(),
+                };
+                let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { x[i as usize] };
                 for k in 0..columns {
                     dq.fill(0.0);
                     let r = at(k as isize) - at(k as isize - 1);

@@ -5,7 +5,7 @@
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
 use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
-use crate::system::SpineOde;
+use crate::system::{Parameters, SpineOde};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 use spine_model::{Design, Structure};
@@ -27,6 +27,9 @@ pub struct DynamicProblem {
 pub struct StaticEnds {
     /// `θ1`: the passive equilibrium (the start, at rest), rad.
     pub theta1: Vec<f64>,
+    /// The slider's reaction `λ` at `θ1`, N (the state of eq. (5) with `θ1`; not written).
+    #[serde(skip)]
+    pub lambda1: f64,
     /// `θ2`: the equilibrium under passive load plus the full actuation, rad.
     pub theta2: Vec<f64>,
     /// `X_{N+1}(θ1)` and `X_{N+1}(θ2)`, m.
@@ -91,6 +94,7 @@ impl DynamicProblem {
         let (x1, x2) = (d.end_x(&sol.passive.state.theta), d.end_x(&loaded.state.theta));
         Ok(StaticEnds {
             theta1: sol.passive.state.theta.clone(),
+            lambda1: sol.passive.state.lambda,
             theta2: loaded.state.theta.clone(),
             x1,
             x2,
@@ -299,7 +303,7 @@ fn run_step(
     stop_at_rise: bool,
 ) -> (Trajectory, Option<crate::integrator::Event>) {
     let n = d.n_links();
-    let ode = SpineOde { dynamics: d, damping_sensitivities: gradient };
+    let ode = SpineOde { dynamics: d, parameters: if gradient { Parameters::Dampers } else { Parameters::None } };
     let target = ends.x1 + settings.rise_fraction * (ends.x2 - ends.x1);
     let sign0 = (d.end_x(&ends.theta1) - target).signum();
     let passed = |_: f64, y: &[f64]| (d.end_x(&y[..n]) - target) * sign0 <= 0.0;

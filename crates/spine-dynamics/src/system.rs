@@ -11,11 +11,23 @@ use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
 
+/// The parameters `p` whose sensitivities `∂y/∂p` a [`SpineOde`] propagates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Parameters {
+    /// None: a plain simulation.
+    #[default]
+    None,
+    /// The dampers `C_1..C_{N+1}`, N·m·s/rad (eq. (35)).
+    Dampers,
+    /// The springs `K_1..K_{N+1}`, N·m/rad (eq. (37)).
+    Springs,
+}
+
 /// Index-1 form of the constrained equations of motion with projection onto `Φ = 0`, `Φ̇ = 0`
-/// after every step. With `damping_sensitivities` the parameters are the dampers `C_1..C_{N+1}`.
+/// after every step, with the sensitivities to `parameters`.
 pub struct SpineOde<'a> {
     pub dynamics: &'a Dynamics,
-    pub damping_sensitivities: bool,
+    pub parameters: Parameters,
 }
 
 impl SpineOde<'_> {
@@ -46,14 +58,17 @@ impl SpineOde<'_> {
         jac
     }
 
-    /// `∂f/∂C` at a prepared state (`dim` rows; none without damper sensitivities).
+    /// `∂f/∂p` at a prepared state (`dim` rows; no columns without parameters).
     fn params_from(&self, at: &RatesAt<'_>, dim: usize) -> DMatrix<f64> {
         let p = self.n_params();
         let n = self.dynamics.n_links();
         let mut out = DMatrix::zeros(dim, p);
-        if p > 0 {
-            out.view_mut((n, 0), (n, p)).copy_from(&at.rates(RatesIn::Dampers));
-        }
+        let what = match self.parameters {
+            Parameters::None => return out,
+            Parameters::Dampers => RatesIn::Dampers,
+            Parameters::Springs => RatesIn::Springs,
+        };
+        out.view_mut((n, 0), (n, p)).copy_from(&at.rates(what));
         out
     }
 }
@@ -94,15 +109,15 @@ impl OdeSystem for SpineOde<'_> {
     }
 
     fn n_params(&self) -> usize {
-        if self.damping_sensitivities {
-            self.dynamics.damping.len()
-        } else {
-            0
+        match self.parameters {
+            Parameters::None => 0,
+            Parameters::Dampers => self.dynamics.damping.len(),
+            Parameters::Springs => self.dynamics.stiffness.len(),
         }
     }
 
-    /// `∂f/∂C`: zero for `θ`, [`Dynamics::rates_at`] for `θ̈` (all dampers through one
-    /// real factorisation of `M`; the loads do not depend on the dampers, so `t` does not enter).
+    /// `∂f/∂p`: zero for `θ`, [`Dynamics::rates_at`] for `θ̈` (all dampers or springs through one
+    /// real factorisation of `M`; the loads depend on neither, so `t` does not enter).
     fn rhs_params(&self, _t: f64, _piece: f64, y: &[f64]) -> DMatrix<f64> {
         let n = self.dynamics.n_links();
         self.params_from(&self.dynamics.rates_at(&y[..n], &y[n..]), y.len())
@@ -141,17 +156,31 @@ pub mod reference {
         jac
     }
 
-    /// `∂f/∂C` by `N + 1` dual passes.
+    /// `∂f/∂p` by `N + 1` dual passes (dampers), or by central differences of the right-hand side
+    /// in each spring (the equations of motion take the springs as plain numbers; `f` is affine in
+    /// `K`, so the differences are exact to round-off).
     pub fn rhs_params(ode: &SpineOde<'_>, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64> {
-        let p = ode.dynamics.damping.len();
+        let p = ode.n_params();
         let mut out = DMatrix::zeros(y.len(), p);
         let yd: Vec<Dual64> = y.iter().map(|&v| Dual64::from(v)).collect();
         for k in 0..p {
-            let damping = seeded(&ode.dynamics.damping, k);
-            let f = ode.dynamics.rhs(t, piece, &yd, &damping);
-            for i in 0..y.len() {
-                out[(i, k)] = f[i].eps;
-            }
+            let column: Vec<f64> = match ode.parameters {
+                Parameters::None => unreachable!("no columns without parameters"),
+                Parameters::Dampers => {
+                    let damping = seeded(&ode.dynamics.damping, k);
+                    ode.dynamics.rhs(t, piece, &yd, &damping).iter().map(|f| f.eps).collect()
+                }
+                Parameters::Springs => {
+                    let h = 1e-3 * ode.dynamics.stiffness[k].abs().max(1.0);
+                    let at = |sign: f64| {
+                        let mut d = ode.dynamics.clone();
+                        d.stiffness[k] += sign * h;
+                        d.rhs(t, piece, y, &d.damping)
+                    };
+                    at(1.0).iter().zip(at(-1.0)).map(|(a, b)| (a - b) / (2.0 * h)).collect()
+                }
+            };
+            out.column_mut(k).copy_from_slice(&column);
         }
         out
     }

@@ -4,7 +4,7 @@
 
 use proptest::prelude::*;
 use spine_dynamics::integrator::{integrate, Extras, Options, Outcome};
-use spine_dynamics::{Dynamics, Forcing, SpineOde};
+use spine_dynamics::{Dynamics, Forcing, Parameters, SpineOde};
 use spine_model::fixtures::{arch, uniform_loads};
 
 fn total_energy(d: &Dynamics, t: f64, y: &[f64]) -> f64 {
@@ -38,7 +38,7 @@ proptest! {
         let d = Dynamics::new(&chain, &design, dampers, &passive, &actuation, Forcing::Step);
         let mut y0 = start.state.theta;
         y0.extend(vec![0.0; n]);
-        let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
         let t_end = 0.3;
         let traj = integrate(&ode, 0.0, &y0, t_end, &Options { rtol: 1e-10, atol: 1e-12, ..Default::default() }, Extras::default());
         prop_assert_eq!(&traj.outcome, &Outcome::Completed);

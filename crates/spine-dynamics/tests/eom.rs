@@ -297,10 +297,10 @@ fn a_non_finite_state_gives_nan_accelerations_on_both_paths() {
 fn acceleration_rates_match_dual_passes_and_central_differences() {
     use spine_dynamics::integrator::OdeSystem;
     use spine_dynamics::system::reference;
-    use spine_dynamics::SpineOde;
+    use spine_dynamics::{Parameters, SpineOde};
     for (n, seed) in [(1, 11), (2, 12), (5, 13), (10, 14), (24, 15)] {
         let (dynamics, theta, omega) = random_dynamics(n, seed);
-        let ode = SpineOde { dynamics: &dynamics, damping_sensitivities: true };
+        let ode = SpineOde { dynamics: &dynamics, parameters: Parameters::Dampers };
         let y: Vec<f64> = theta.iter().chain(&omega).copied().collect();
         let (t, piece) = (0.3, 0.3);
         let fast = (ode.jacobian(t, piece, &y), ode.rhs_params(t, piece, &y));
@@ -372,7 +372,7 @@ fn acceleration_rates_match_dual_passes_and_central_differences() {
 #[test]
 fn projection_tangent_matches_dual_passes() {
     use spine_dynamics::system::reference;
-    use spine_dynamics::SpineOde;
+    use spine_dynamics::{Parameters, SpineOde};
     for (n, seed) in [(2, 21), (5, 22), (10, 23), (30, 24)] {
         let (dynamics, theta, omega) = random_dynamics(n, seed);
         let mut rng = SplitMix64::new(seed);
@@ -381,8 +381,38 @@ fn projection_tangent_matches_dual_passes() {
         let s = nalgebra::DMatrix::from_fn(2 * n, n + 1, |_, _| rng.uniform(-2.0, 2.0));
         let (mut fast, mut slow) = (s.clone(), s);
         dynamics.project_tangent(&y, &mut fast);
-        reference::project_sensitivities(&SpineOde { dynamics: &dynamics, damping_sensitivities: true }, &y, &mut slow);
+        reference::project_sensitivities(
+            &SpineOde { dynamics: &dynamics, parameters: Parameters::Dampers },
+            &y,
+            &mut slow,
+        );
         let error = (&fast - &slow).amax() / slow.amax();
         assert!(error <= 1e-13, "N = {n}: {error:.1e}");
+    }
+}
+
+/// `∂θ̈/∂K` ([`RatesIn::Springs`](spine_dynamics::rates::RatesIn)) against central differences of
+/// the right-hand side in each spring (the reference path; `f` is affine in `K`, so the differences
+/// are exact to round-off), and the angle block unchanged by asking for the springs.
+#[test]
+fn spring_rates_match_central_differences() {
+    use spine_dynamics::integrator::OdeSystem;
+    use spine_dynamics::system::reference;
+    use spine_dynamics::{Parameters, SpineOde};
+    for (n, seed) in [(2, 21), (5, 22), (10, 23), (24, 24)] {
+        let (dynamics, theta, omega) = random_dynamics(n, seed);
+        let ode = SpineOde { dynamics: &dynamics, parameters: Parameters::Springs };
+        assert_eq!(ode.n_params(), n + 1);
+        let y: Vec<f64> = theta.iter().chain(&omega).copied().collect();
+        let (t, piece) = (0.3, 0.3);
+        let (fast, slow) = (ode.rhs_params(t, piece, &y), reference::rhs_params(&ode, t, piece, &y));
+        let scale = slow.amax();
+        assert!(scale > 0.0, "N = {n}: the springs move the accelerations");
+        eprintln!("N = {n}, ∂f/∂K: {:.1e} of {scale:.1e}", (&fast - &slow).amax());
+        assert!((&fast - &slow).amax() <= 1e-8 * scale, "N = {n}: {:.1e} of {scale:.1e}", (&fast - &slow).amax());
+        assert!(fast.rows(0, n).iter().all(|v| *v == 0.0), "N = {n}: θ does not depend on K directly");
+        let (jac, params) = ode.jacobian_and_params(t, piece, &y);
+        assert_eq!(jac, ode.jacobian(t, piece, &y));
+        assert_eq!(params, fast);
     }
 }

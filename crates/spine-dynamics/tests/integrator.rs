@@ -4,7 +4,7 @@
 
 use nalgebra::DMatrix;
 use spine_dynamics::integrator::{integrate, Extras, Method, OdeSystem, Options, Outcome};
-use spine_dynamics::{Dynamics, Forcing, SpineOde};
+use spine_dynamics::{Dynamics, Forcing, Parameters, SpineOde};
 use spine_model::fixtures::{arch, uniform_loads};
 
 /// Prothero–Robinson: `y' = λ (y − cos t) − sin t`, exact solution `cos t`, stiff for λ ≪ 0.
@@ -161,7 +161,7 @@ fn total_energy(d: &Dynamics, t: f64, y: &[f64]) -> f64 {
 #[test]
 fn without_damping_energy_is_conserved_over_many_oscillations() {
     let (d, y0) = spine(4, 0.0, Forcing::Step);
-    let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+    let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
     let opts = Options { rtol: 1e-8, atol: 1e-10, ..Default::default() };
     let traj = integrate(&ode, 0.0, &y0, 1.0, &opts, Extras::default());
     assert_eq!(traj.outcome, Outcome::Completed);
@@ -178,7 +178,7 @@ fn without_damping_energy_is_conserved_over_many_oscillations() {
 #[test]
 fn with_damping_energy_never_increases_and_the_dissipation_balances() {
     let (d, y0) = spine(5, 2.0, Forcing::Step);
-    let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+    let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
     let opts = Options { rtol: 1e-9, atol: 1e-11, ..Default::default() };
     let traj = integrate(&ode, 0.0, &y0, 1.0, &opts, Extras::default());
     let pts: Vec<(f64, Vec<f64>)> = traj.points().map(|(t, y)| (t, y.to_vec())).collect();
@@ -204,7 +204,7 @@ fn damper_sensitivities_equal_finite_differences_of_the_discrete_solution() {
     let (d, y0) = spine(3, 3.0, Forcing::Step);
     for method in [Method::Radau5, Method::TrBdf2] {
         let opts = Options { method, rtol: 1e-7, atol: 1e-9, newton_tolerance: 1e-6, ..Default::default() };
-        let ode = SpineOde { dynamics: &d, damping_sensitivities: true };
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::Dampers };
         let traj = integrate(
             &ode,
             0.0,
@@ -221,7 +221,7 @@ fn damper_sensitivities_equal_finite_differences_of_the_discrete_solution() {
             let run = |c: f64| {
                 let mut dk = d.clone();
                 dk.damping[k] = c;
-                let ode = SpineOde { dynamics: &dk, damping_sensitivities: false };
+                let ode = SpineOde { dynamics: &dk, parameters: Parameters::None };
                 integrate(&ode, 0.0, &y0, 0.3, &opts, Extras { steps: Some(&steps), ..Default::default() })
                     .value(t_probe)
             };
@@ -322,7 +322,7 @@ fn dense_and_directional_stage_products_give_the_same_sensitivities() {
 #[test]
 fn radau_and_trbdf2_give_the_same_response() {
     let (d, y0) = spine(10, 20.0, Forcing::PulseTrain { period: 0.2, duty: 0.5, delay: 0.01 });
-    let ode = SpineOde { dynamics: &d, damping_sensitivities: false };
+    let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
     let run = |opts: Options| integrate(&ode, 0.0, &y0, 0.5, &opts, Extras::default());
     let radau = run(Options::default());
     let trbdf2 = run(Options { method: Method::TrBdf2, rtol: 1e-11, atol: 1e-13, ..Default::default() });

@@ -175,7 +175,7 @@ impl CaseResult {
 ///
 /// `case`: a dictionary in the case-file format (docs/case-format.md), its JSON text, or the path
 /// of a case file. The optional overrides are the CLI's: `starts` and `seed` (multi-start of
-/// eq. (33)), `formulation` (`"full"` or `"reduced"`), `method` (`"ga"` or `"pattern"`, eq. (37)),
+/// eq. (33)), `formulation` (`"full"` or `"reduced"`), `method` (`"ga"`, `"pattern"` or `"gradient"`, eq. (37)),
 /// `time_limit` (s, wall clock; the result then says `stopped="time_limit"`), and the animation
 /// of a dynamic run (`animate`, `frames`, `frame_width`, `magnify`, as `--animate`, `--frames`,
 /// `--frame-width`, `--magnify`; any of them asks for it; `Result.gif()` gives its bytes). With
@@ -221,9 +221,9 @@ fn run_case(
     };
     overrides.dynamics.method = match method {
         None => None,
-        Some("ga") => Some(spine_dynamics::SearchMethod::Ga),
-        Some("pattern") => Some(spine_dynamics::SearchMethod::Pattern),
-        Some(other) => return Err(PyValueError::new_err(format!("method: \"ga\" or \"pattern\", got {other:?}"))),
+        Some(name) => Some(spine_dynamics::SearchMethod::from_name(name).ok_or_else(|| {
+            PyValueError::new_err(format!("method: \"ga\", \"pattern\" or \"gradient\", got {name:?}"))
+        })?),
     };
     if let Some(s) = time_limit {
         if !(s > 0.0 && s <= MAX_TIME_LIMIT) {

@@ -136,11 +136,12 @@ fn run_task(
             let (stage, total) = match method {
                 SearchMethod::Ga => ("eq. (37) Ga", settings.ga.generations),
                 SearchMethod::Pattern => ("eq. (37) Pattern", settings.pattern.max_evaluations),
+                SearchMethod::Gradient => ("eq. (37) Gradient", settings.gradient.max_iterations),
             };
             let design = design_periodic(&problem, valid.forcing.clone(), *delta_d, *method, settings, &mut |p| {
                 let done = match method {
                     SearchMethod::Ga => p.iteration,
-                    SearchMethod::Pattern => p.evaluations,
+                    SearchMethod::Pattern | SearchMethod::Gradient => p.evaluations,
                 };
                 progress(Progress::Step { stage, done, total })
             })
@@ -303,7 +304,7 @@ impl DynamicsResult {
                 .iter()
                 .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.settled));
         }
-        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.search.status.finished() && r.response.settled)
+        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.finished() && r.response.settled)
     }
 
     /// The responses to animate: the step or periodic response, each eq. (35) design's step

@@ -135,11 +135,11 @@ impl std::fmt::Display for DynamicsResult {
         if let Some(r) = &self.periodic_design {
             writeln!(
                 f,
-                "eq. (37) by {}: {} after {} iterations, {} evaluations; {}",
+                "eq. (37) by {}: {} after {} iterations, {} simulations; {}",
                 r.method,
-                r.search.status,
-                r.search.iterations,
-                r.search.evaluations,
+                r.status(),
+                r.iterations(),
+                r.simulations,
                 if r.feasible { "feasible" } else { "NOT feasible" }
             )?;
             writeln!(

@@ -123,6 +123,16 @@ impl Trajectory {
         self.interval_at(t).map_or_else(|| self.start.1.clone(), |iv| iv.value(t))
     }
 
+    /// `S(t) = ∂y(t)/∂p` from the dense output, when sensitivities were propagated.
+    pub fn sensitivity(&self, t: f64) -> Option<DMatrix<f64>> {
+        self.interval_at(t).and_then(|iv| iv.sensitivity(t))
+    }
+
+    /// `S` at the last state reached (`None` without sensitivities or accepted steps).
+    pub fn end_sensitivity(&self) -> Option<DMatrix<f64>> {
+        self.intervals.last().and_then(|iv| iv.sens.as_ref()).map(|[_, _, s1, _]| s1.clone())
+    }
+
     /// The last state reached.
     pub fn end(&self) -> &[f64] {
         self.intervals.last().map_or(&self.start.1, |iv| &iv.y1)

@@ -231,17 +231,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
             "(a) nodal stiffness",
             vec![
                 Series::bars("start", points(&p.start_stiffness, 1)).colour(7),
-                Series::bars(
-                    format!(
-                        "eq. (37), {}",
-                        match p.method {
-                            spine_dynamics::SearchMethod::Ga => "genetic algorithm",
-                            spine_dynamics::SearchMethod::Pattern => "pattern search",
-                        }
-                    ),
-                    points(&p.stiffness, 1),
-                )
-                .colour(0),
+                Series::bars(format!("eq. (37), {}", p.method.describe()), points(&p.stiffness, 1)).colour(0),
             ],
         ))
         .with(periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d)))
@@ -262,7 +252,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     out.summary.insert(scope.to_string(), json!({
         "stiffness": p.stiffness, "objective": p.objective, "min_end_displacement": p.min_end_displacement,
         "reach_time": r.reach_time, "return_time": r.return_time, "time_to_target": r.time_to_target, "feasible": p.feasible,
-        "evaluations": p.search.evaluations,
+        "simulations": p.simulations,
     }));
     out.figures.push(("figure".into(), fig));
     Ok(out)
@@ -278,8 +268,8 @@ fn periodic_design_claims(scope: &str, p: &spine_dynamics::PeriodicDesign) -> Ve
         "eq. (37): the end point reaches δ_d under the periodic force",
         "min_t (X − L_x) over a settled period within the search's band of δ_d (the case's tolerance)",
         p.feasible && r.settled,
-        format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {} after {} evaluations; U(θ1) = {:.4e} J",
-            p.min_end_displacement, p.delta_d, 100.0 * p.relative_error, r.settled, p.search.status, p.search.evaluations, p.objective),
+        format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {} after {} simulations; U(θ1) = {:.4e} J",
+            p.min_end_displacement, p.delta_d, 100.0 * p.relative_error, r.settled, p.status(), p.simulations, p.objective),
     ));
     // The time to δ_d itself when the end reaches it; else (the search's band lets the minimum stop
     // short of δ_d) the time to 90 % of the swing.

@@ -1,0 +1,333 @@
+//! Eq. (37) by gradients: Ipopt on the springs with the exact gradients of the strain energy and of
+//! the minimum end displacement over the settled period.
+//!
+//! * **Objective** `U(θ1(K); K) = ½ Σ K_j r_j²` (`r_j` the joint's relative deflection at the
+//!   passive equilibrium `θ1`): `dU/dK_j = ½ r_j² + (∂U/∂θ)ᵀ dθ1/dK_j`, where `∂U/∂θ` is the
+//!   springs' joint moments and `dθ1/dK` comes from the equilibrium `R(θ1, λ1; K) = 0` of eq. (5)
+//!   by the implicit-function theorem (one factorisation of its bordered tridiagonal Jacobian, a
+//!   solve per spring). The same `dθ1/dK` is the start of the trajectory's sensitivities, so the
+//!   direct method costs nothing extra here (the adjoint of `spine-design` gives the same `dU/dK`
+//!   with one solve, and the tests hold the two to each other through central differences).
+//! * **Constraint** `min_t (X_{N+1}(t) − L_x) = δ_d` over the last of a fixed number of forcing
+//!   periods (`response.max_periods`; a horizon that does not depend on `K` keeps the function
+//!   smooth). The motion starts at rest at `θ1(K)`, so its sensitivities `S = ∂y/∂K` start at
+//!   `(dθ1/dK, 0)` and are propagated through every period with the Radau steps
+//!   ([`crate::system::Parameters::Springs`]). At an interior minimum `Ẋ = 0`, so by the envelope
+//!   theorem `d min/dK = ∇_y X · S(t*)`.
+//! * **Two minima.** The minimum over time is not smooth where two local minima in time trade
+//!   places. Both enter: the lowest local minimum as the equality `(x₁ − δ_d)/|δ_d| = 0` and the
+//!   next lowest (or, when the period has one minimum, the end of the period) as
+//!   `(x₂ − δ_d)/|δ_d| ≥ 0`. Away from a tie the second is inactive (`x₂ > x₁ = δ_d`); at a tie
+//!   both are active with their own gradients, which is the linearisation of `min(x₁, x₂) = δ_d`
+//!   on that branch.
+//! * **Variables** `log10 K` (as for the searches; stiffness spans two decades), bounds
+//!   `[log10 K_min, log10 K_max]`; the objective is scaled by its value at the start. The Hessian
+//!   of the Lagrangian is Ipopt's L-BFGS approximation (the constraint's curvature would need
+//!   second-order sensitivities).
+//! * **Start**: by default the uniform springs that meet the equality (a bracketing root search on
+//!   one common `log10 K`, as eq. (35)'s uniform start), or the case's springs (`start: "case"`;
+//!   Fig. 10 also starts one run from the genetic algorithm's best).
+
+use crate::bracket::illinois;
+use crate::forcing::Forcing;
+use crate::integrator::Outcome;
+use crate::periodic::{simulate_periodic_springs, EndValue, PeriodicResponse};
+use crate::periodic_design::PeriodicDesignSettings;
+use crate::response::DynamicProblem;
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+use spine_check::require;
+use spine_ipopt::{Problem, Status};
+use spine_model::jacobian::{design_column_of_stiffness, design_jacobian, residual_and_state_jacobian};
+use spine_model::State;
+use spine_solve::linalg::BorderedLu;
+
+/// A spring within this of a bound in `log10 K` (2.3e-5 relative) is reported at it: Ipopt's
+/// interior point stops that close to an active bound at its tolerance 1e-6.
+pub const AT_BOUND: f64 = 1e-5;
+
+/// Where the gradient method starts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum GradientStart {
+    /// Uniform springs that meet the equality (a root search on one common `log10 K`).
+    #[default]
+    Uniform,
+    /// The case's springs (`design.stiffness`, clamped to the bounds).
+    Case,
+}
+
+/// Settings of the gradient method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct GradientSettings {
+    /// Ipopt's `tol` on the scaled problem (objective over its start value, constraint over
+    /// `|δ_d|`); > 0.
+    pub tolerance: f64,
+    /// Ipopt's iteration limit (≥ 1).
+    pub max_iterations: usize,
+    pub start: GradientStart,
+}
+
+impl Default for GradientSettings {
+    fn default() -> Self {
+        Self { tolerance: 1e-6, max_iterations: 100, start: GradientStart::Uniform }
+    }
+}
+
+impl GradientSettings {
+    /// The fields in range, or the first that is not.
+    pub fn validate(&self) -> Result<(), spine_check::FieldError> {
+        let t = self.tolerance;
+        require((1e-12..=0.1).contains(&t), "tolerance", || format!("must be in [1e-12, 0.1], got {t}"))?;
+        let m = self.max_iterations;
+        require((1..=10_000).contains(&m), "max_iterations", || format!("must be in 1..=10000, got {m}"))?;
+        Ok(())
+    }
+}
+
+/// What the gradient method did.
+#[derive(Clone, Debug, Serialize)]
+pub struct GradientReport {
+    /// Ipopt's status (its snake_case name), and whether it converged.
+    pub status: String,
+    pub converged: bool,
+    pub iterations: usize,
+    /// `uniform`, `case`, or `case (no uniform springs meet δ_d)`.
+    pub start: String,
+    /// The uniform start's springs, N·m/rad, when it was found.
+    pub uniform_stiffness: Option<f64>,
+    /// Simulations of the root search (no sensitivities) and of Ipopt's evaluations (with them).
+    pub root_search_simulations: usize,
+    pub gradient_simulations: usize,
+    /// The two constraint values at the end, `(x − δ_d)/|δ_d|` of the lowest and the next local
+    /// minimum, and Ipopt's multipliers of them.
+    pub constraints: [f64; 2],
+    pub multipliers: [f64; 2],
+    /// Springs at a bound at the end (within [`AT_BOUND`] in `log10 K`), lower and upper.
+    pub at_lower_bound: Vec<usize>,
+    pub at_upper_bound: Vec<usize>,
+}
+
+/// One design with the exact derivatives of eq. (37)'s functions in `K`.
+#[derive(Clone, Debug)]
+pub struct Eq37Point {
+    /// `U(θ1)`, J, and `dU/dK`, J per N·m/rad.
+    pub energy: f64,
+    pub energy_gradient: Vec<f64>,
+    /// The lowest local minimum of `X_{N+1} − L_x` over the last period and the next one (or the
+    /// period's end), m, with their gradients in `K`.
+    pub minima: [EndValue; 2],
+    pub response: PeriodicResponse,
+}
+
+/// Eq. (37)'s objective and constraint functions with their `K`-gradients at `stiffness` (module
+/// docs); `None` where the design has no stable equilibria or its simulation fails.
+pub fn eq37_point(
+    problem: &DynamicProblem,
+    forcing: &Forcing,
+    stiffness: &[f64],
+    delta_d: f64,
+    settings: &PeriodicDesignSettings,
+) -> Option<Eq37Point> {
+    let mut p = problem.clone();
+    p.design.stiffness = stiffness.to_vec();
+    let ends = p.static_ends(&settings.response.continuation).ok()?;
+    let spans = &p.structure.chain.spans;
+    let n = spans.len();
+    let loads = p.structure.passive_loads();
+    let state = State { theta: ends.theta1.clone(), lambda: ends.lambda1 };
+    // dθ1/dK: A [dθ; dλ] = −∂R/∂K_j, one solve per spring.
+    let (_, a) = residual_and_state_jacobian(spans, &p.design, &loads, &state);
+    let lu = BorderedLu::factor(&a).ok()?;
+    let mut rhs = vec![vec![0.0; n + 1]; stiffness.len()];
+    for &(r, c, v) in &design_jacobian(spans, &p.design, &loads, &state).entries {
+        if let Some(j) = (0..stiffness.len()).find(|&j| design_column_of_stiffness(n, j) == c) {
+            rhs[j][r] -= v;
+        }
+    }
+    let mut s0 = DMatrix::zeros(2 * n, stiffness.len());
+    let deflection: Vec<f64> = ends.theta1.iter().zip(&p.design.theta0).map(|(t, t0)| t - t0).collect();
+    let moments = crate::eom::joint_moments(stiffness, &deflection);
+    let relative = |j: usize| {
+        let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { deflection[i as usize] };
+        at(j as isize) - at(j as isize - 1)
+    };
+    let mut energy_gradient = vec![0.0; stiffness.len()];
+    for (j, b) in rhs.iter().enumerate() {
+        let dtheta = lu.solve(b);
+        for i in 0..n {
+            s0[(i, j)] = dtheta[i];
+        }
+        energy_gradient[j] = 0.5 * relative(j).powi(2) + (0..n).map(|i| moments[i] * dtheta[i]).sum::<f64>();
+    }
+    let energy = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);
+    let d = p.dynamics(forcing.clone());
+    let (response, values) =
+        simulate_periodic_springs(&d, ends, p.structure.chain.length_x(), Some(delta_d), &settings.response, s0);
+    let (mut minima, end) = values?;
+    // One minimum in the period: the second constraint is the period's end (inactive).
+    let second = if minima.len() > 1 { minima.swap_remove(1) } else { end };
+    let first = minima.swap_remove(0);
+    Some(Eq37Point { energy, energy_gradient, minima: [first, second], response })
+}
+
+/// The cached last point of the Ipopt problem.
+type Cached = (Vec<f64>, Option<Eq37Point>);
+
+struct Eq37<'a> {
+    problem: &'a DynamicProblem,
+    forcing: &'a Forcing,
+    delta_d: f64,
+    settings: &'a PeriodicDesignSettings,
+    start: Vec<f64>,
+    energy_scale: f64,
+    cache: Option<Cached>,
+    simulations: usize,
+}
+
+impl Eq37<'_> {
+    fn point(&mut self, u: &[f64]) -> Option<&Eq37Point> {
+        if self.cache.as_ref().is_none_or(|(x, _)| x.as_slice() != u) {
+            let stiffness: Vec<f64> = u.iter().map(|v| 10f64.powf(*v)).collect();
+            self.simulations += 1;
+            let point = eq37_point(self.problem, self.forcing, &stiffness, self.delta_d, self.settings);
+            self.cache = Some((u.to_vec(), point));
+        }
+        self.cache.as_ref().and_then(|(_, p)| p.as_ref())
+    }
+}
+
+/// `d/d log10 K = K ln 10 · d/dK`.
+fn in_log10<'a>(u: &'a [f64], gradient: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+    let ln10 = std::f64::consts::LN_10;
+    gradient.iter().zip(u).map(move |(g, v)| g * 10f64.powf(*v) * ln10)
+}
+
+impl Problem for Eq37<'_> {
+    fn num_variables(&self) -> usize {
+        self.start.len()
+    }
+    fn num_constraints(&self) -> usize {
+        2
+    }
+    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.fill(self.settings.stiffness_min.log10());
+        upper.fill(self.settings.stiffness_max.log10());
+    }
+    fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.fill(0.0);
+        upper[0] = 0.0;
+        upper[1] = 2e19; // Ipopt's infinity
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&self.start);
+    }
+    fn objective(&mut self, x: &[f64], _: bool) -> Option<f64> {
+        let scale = self.energy_scale;
+        self.point(x).map(|p| p.energy / scale)
+    }
+    fn objective_gradient(&mut self, x: &[f64], _: bool, gradient: &mut [f64]) -> bool {
+        let scale = self.energy_scale;
+        let Some(p) = self.point(x) else { return false };
+        let g: Vec<f64> = in_log10(x, &p.energy_gradient).map(|g| g / scale).collect();
+        gradient.copy_from_slice(&g);
+        true
+    }
+    fn constraints(&mut self, x: &[f64], _: bool, g: &mut [f64]) -> bool {
+        let delta_d = self.delta_d;
+        let Some(p) = self.point(x) else { return false };
+        for (gi, m) in g.iter_mut().zip(&p.minima) {
+            *gi = (m.value - delta_d) / delta_d.abs();
+        }
+        true
+    }
+    fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+        (0..2).flat_map(|r| (0..self.start.len()).map(move |c| (r, c))).collect()
+    }
+    fn jacobian_values(&mut self, x: &[f64], _: bool, values: &mut [f64]) -> bool {
+        let scale = self.delta_d.abs();
+        let Some(p) = self.point(x) else { return false };
+        let rows: Vec<f64> = p.minima.iter().flat_map(|m| in_log10(x, &m.gradient).map(|g| g / scale)).collect();
+        values.copy_from_slice(&rows);
+        true
+    }
+    fn hessian_structure(&self) -> Option<Vec<(usize, usize)>> {
+        None
+    }
+    fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
+        false
+    }
+}
+
+/// Eq. (37) by Ipopt from `start` (N·m/rad) or from the uniform springs that meet δ_d: the final
+/// point (its springs and functions) and the report.
+pub fn design_by_gradient(
+    problem: &DynamicProblem,
+    forcing: &Forcing,
+    delta_d: f64,
+    settings: &PeriodicDesignSettings,
+    case_start: &[f64],
+) -> (Vec<f64>, Option<Eq37Point>, GradientReport) {
+    let gradient = &settings.gradient;
+    let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
+    let mut root_search_simulations = 0;
+    let (start, start_name, uniform_stiffness) = match gradient.start {
+        GradientStart::Case => (case_start.iter().map(|k| k.log10()).collect(), "case".to_string(), None),
+        GradientStart::Uniform => {
+            // min_t X − δ_d rises with the springs (a stiffer arch moves less); a design that
+            // buckles or whose simulation fails counts as too soft (−∞).
+            let mut residual = |u: f64| {
+                root_search_simulations += 1;
+                let mut p = problem.clone();
+                p.design.stiffness = vec![10f64.powf(u); case_start.len()];
+                match crate::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response) {
+                    Ok(r) if r.outcome == Outcome::Completed => (r.min_end_displacement - delta_d) / delta_d.abs(),
+                    _ => f64::NEG_INFINITY,
+                }
+            };
+            let ends = (residual(lo), residual(hi));
+            if ends.0 < 0.0 && ends.1 >= 0.0 {
+                let u = illinois((lo, hi), ends, &mut residual, &|r| r.abs() <= 1e-3 * settings.tolerance, 1e-9);
+                (vec![u; case_start.len()], "uniform".to_string(), Some(10f64.powf(u)))
+            } else {
+                let start = case_start.iter().map(|k| k.log10()).collect();
+                (start, "case (no uniform springs meet δ_d)".to_string(), None)
+            }
+        }
+    };
+    let mut eq37 = Eq37 {
+        problem,
+        forcing,
+        delta_d,
+        settings,
+        energy_scale: 1.0,
+        start: start.clone(),
+        cache: None,
+        simulations: 0,
+    };
+    eq37.energy_scale = eq37.point(&start).map_or(1.0, |p| p.energy.abs().max(1e-300));
+    let options = spine_ipopt::Options::new()
+        .number("tol", gradient.tolerance)
+        .number("constr_viol_tol", 1e-3 * settings.tolerance)
+        .integer("max_iter", gradient.max_iterations as i64)
+        .string("hessian_approximation", "limited-memory")
+        .string("mu_strategy", "adaptive");
+    let sol = spine_ipopt::solve(&mut eq37, &options).expect("eq. (37) is a valid Ipopt problem");
+    let point = eq37.point(&sol.x).cloned();
+    let at_bound = |bound: f64| (0..sol.x.len()).filter(|&j| (sol.x[j] - bound).abs() <= AT_BOUND).collect();
+    let report = GradientReport {
+        status: sol.status.name(),
+        converged: sol.status == Status::SolveSucceeded || sol.status.is_converged(),
+        iterations: sol.iterations,
+        start: start_name,
+        uniform_stiffness,
+        root_search_simulations,
+        gradient_simulations: eq37.simulations,
+        constraints: [sol.g[0], sol.g[1]],
+        multipliers: [sol.lambda[0], sol.lambda[1]],
+        at_lower_bound: at_bound(lo),
+        at_upper_bound: at_bound(hi),
+    };
+    (sol.x.iter().map(|v| 10f64.powf(*v)).collect(), point, report)
+}
