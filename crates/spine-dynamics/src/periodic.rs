@@ -138,7 +138,7 @@ pub struct EndValue {
 }
 
 /// [`simulate_periodic`] with the sensitivities to the springs: `S(0) = s0` (`2N × (N + 1)`, the
-/// rates of the rest state `(θ1, 0)`), always `settings.max_periods` periods (a horizon that does
+/// rates of the rest state `(θ1, 0)`), always `periods` periods (at least 2; a horizon that does
 /// not depend on the springs, so that the minima are smooth functions of them; `settled` and
 /// `period_change` are still reported), the local minima of the last period with their
 /// gradients, lowest first, and the value at the period's end with its gradient (none of these
@@ -150,8 +150,10 @@ pub fn simulate_periodic_springs(
     target: Option<f64>,
     settings: &PeriodicSettings,
     s0: DMatrix<f64>,
+    periods: usize,
 ) -> (PeriodicResponse, Option<(Vec<EndValue>, EndValue)>) {
-    run_periodic(d, ends, length_x, target, settings, Some(s0))
+    let settings = PeriodicSettings { max_periods: periods, ..settings.clone() };
+    run_periodic(d, ends, length_x, target, &settings, Some(s0))
 }
 
 /// The periodic response; with `springs` (`S(0)`), the spring sensitivities and the last period's

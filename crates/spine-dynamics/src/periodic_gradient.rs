@@ -9,8 +9,10 @@
 //!   direct method costs nothing extra here (the adjoint of `spine-design` gives the same `dU/dK`
 //!   with one solve, and the tests hold the two to each other through central differences).
 //! * **Constraint** `min_t (X_{N+1}(t) − L_x) = δ_d` over the last of a fixed number of forcing
-//!   periods (`response.max_periods`; a horizon that does not depend on `K` keeps the function
-//!   smooth). The motion starts at rest at `θ1(K)`, so its sensitivities `S = ∂y/∂K` start at
+//!   periods: a horizon that does not depend on `K` keeps the function smooth. It is one period more
+//!   than the start design needs to settle (`response.settle_tolerance`), at most
+//!   `response.max_periods`; the final design's response reports whether its last two periods
+//!   agree. The motion starts at rest at `θ1(K)`, so its sensitivities `S = ∂y/∂K` start at
 //!   `(dθ1/dK, 0)` and are propagated through every period with the Radau steps
 //!   ([`crate::system::Parameters::Springs`]). At an interior minimum `Ẋ = 0`, so by the envelope
 //!   theorem `d min/dK = ∇_y X · S(t*)`.
@@ -95,9 +97,12 @@ pub struct GradientReport {
     pub iterations: usize,
     /// `uniform`, `case`, or `case (no uniform springs meet δ_d)`.
     pub start: String,
+    /// Forcing periods of every simulation (one more than the start needs to settle).
+    pub periods: usize,
     /// The uniform start's springs, N·m/rad, when it was found.
     pub uniform_stiffness: Option<f64>,
-    /// Simulations of the root search (no sensitivities) and of Ipopt's evaluations (with them).
+    /// Simulations without sensitivities (the root search and the start's settling) and with
+    /// them (Ipopt's evaluations).
     pub root_search_simulations: usize,
     pub gradient_simulations: usize,
     /// The two constraint values at the end, `(x − δ_d)/|δ_d|` of the lowest and the next local
@@ -122,13 +127,15 @@ pub struct Eq37Point {
 }
 
 /// Eq. (37)'s objective and constraint functions with their `K`-gradients at `stiffness` (module
-/// docs); `None` where the design has no stable equilibria or its simulation fails.
+/// docs), over `periods` forcing periods; `None` where the design has no stable equilibria or its
+/// simulation fails.
 pub fn eq37_point(
     problem: &DynamicProblem,
     forcing: &Forcing,
     stiffness: &[f64],
     delta_d: f64,
     settings: &PeriodicDesignSettings,
+    periods: usize,
 ) -> Option<Eq37Point> {
     let mut p = problem.clone();
     p.design.stiffness = stiffness.to_vec();
@@ -163,8 +170,15 @@ pub fn eq37_point(
     }
     let energy = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);
     let d = p.dynamics(forcing.clone());
-    let (response, values) =
-        simulate_periodic_springs(&d, ends, p.structure.chain.length_x(), Some(delta_d), &settings.response, s0);
+    let (response, values) = simulate_periodic_springs(
+        &d,
+        ends,
+        p.structure.chain.length_x(),
+        Some(delta_d),
+        &settings.response,
+        s0,
+        periods,
+    );
     let (mut minima, end) = values?;
     // One minimum in the period: the second constraint is the period's end (inactive).
     let second = if minima.len() > 1 { minima.swap_remove(1) } else { end };
@@ -180,6 +194,7 @@ struct Eq37<'a> {
     forcing: &'a Forcing,
     delta_d: f64,
     settings: &'a PeriodicDesignSettings,
+    periods: usize,
     start: Vec<f64>,
     energy_scale: f64,
     cache: Option<Cached>,
@@ -191,7 +206,7 @@ impl Eq37<'_> {
         if self.cache.as_ref().is_none_or(|(x, _)| x.as_slice() != u) {
             let stiffness: Vec<f64> = u.iter().map(|v| 10f64.powf(*v)).collect();
             self.simulations += 1;
-            let point = eq37_point(self.problem, self.forcing, &stiffness, self.delta_d, self.settings);
+            let point = eq37_point(self.problem, self.forcing, &stiffness, self.delta_d, self.settings, self.periods);
             self.cache = Some((u.to_vec(), point));
         }
         self.cache.as_ref().and_then(|(_, p)| p.as_ref())
@@ -296,11 +311,19 @@ pub fn design_by_gradient(
             }
         }
     };
+    // The horizon: one period more than the start needs to settle.
+    let mut p = problem.clone();
+    p.design.stiffness = start.iter().map(|u| 10f64.powf(*u)).collect();
+    root_search_simulations += 1;
+    let settle = crate::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response)
+        .map_or(settings.response.max_periods, |r| r.periods_run);
+    let periods = (settle + 1).clamp(2, settings.response.max_periods.max(2));
     let mut eq37 = Eq37 {
         problem,
         forcing,
         delta_d,
         settings,
+        periods,
         energy_scale: 1.0,
         start: start.clone(),
         cache: None,
@@ -321,6 +344,7 @@ pub fn design_by_gradient(
         converged: sol.status == Status::SolveSucceeded || sol.status.is_converged(),
         iterations: sol.iterations,
         start: start_name,
+        periods,
         uniform_stiffness,
         root_search_simulations,
         gradient_simulations: eq37.simulations,

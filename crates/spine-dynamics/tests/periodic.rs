@@ -143,7 +143,7 @@ fn check_gradient(what: &str, k: &[f64], gradient: &[f64], f: &dyn Fn(&[f64]) ->
 #[test]
 fn eq37_gradients_match_central_differences_of_the_whole_periodic_simulation() {
     let (p, forcing, settings, k) = two_minima();
-    let point = eq37_point(&p, &forcing, &k, -0.01, &settings).unwrap();
+    let point = eq37_point(&p, &forcing, &k, -0.01, &settings, PERIODS).unwrap();
     let (early, release) = overshoot_and_release(&point).expect("two local minima");
     let [first, second] = &point.minima;
     assert_eq!((first, second), (early, release), "the overshoot is the lowest, the release minimum the second");
@@ -152,7 +152,7 @@ fn eq37_gradients_match_central_differences_of_the_whole_periodic_simulation() {
     let distinct: f64 = early.gradient.iter().zip(&release.gradient).map(|(a, b)| (a - b).abs()).sum();
     let size: f64 = release.gradient.iter().map(|g| g.abs()).sum();
     assert!(distinct > 0.03 * size, "two different gradients: {early:?} {release:?}");
-    let at = |kk: &[f64]| eq37_point(&p, &forcing, kk, -0.01, &settings).unwrap();
+    let at = |kk: &[f64]| eq37_point(&p, &forcing, kk, -0.01, &settings, PERIODS).unwrap();
     check_gradient("U(θ1)", &k, &point.energy_gradient, &|kk| at(kk).energy, 1e-6);
     let value = |overshoot: bool| {
         move |kk: &[f64]| {
@@ -176,10 +176,13 @@ fn eq37_gradients_match_central_differences_of_the_whole_periodic_simulation() {
 fn eq37_by_gradient_meets_delta_d_with_two_minima_in_play() {
     use spine_dynamics::periodic_gradient::GradientStart;
     let (mut p, forcing, mut settings, k) = two_minima();
-    let start = eq37_point(&p, &forcing, &k, -0.01, &settings).unwrap();
+    let start = eq37_point(&p, &forcing, &k, -0.01, &settings, PERIODS).unwrap();
     let delta_d = 1.05 * start.minima[0].value;
     p.design.stiffness = k;
     settings.gradient.start = GradientStart::Case;
+    // The horizon of the other tests (the start would settle to 1e-3 in 2 periods, and the
+    // horizon would be 3).
+    settings.response.settle_tolerance = 1e-12;
     settings.response.integrator.rtol = 1e-8;
     settings.response.integrator.atol = 1e-10;
     let d = design_periodic(&p, forcing.clone(), delta_d, SearchMethod::Gradient, &settings, &mut |_| {}).unwrap();
@@ -194,8 +197,12 @@ fn eq37_by_gradient_meets_delta_d_with_two_minima_in_play() {
         d.feasible,
         d.relative_error
     );
-    assert_eq!(d.simulations, g.gradient_simulations + 1, "the start and Ipopt");
-    let replay = eq37_point(&p_with(&p, &d.stiffness), &forcing, &d.stiffness, delta_d, &settings).unwrap();
+    assert_eq!(
+        d.simulations,
+        1 + g.root_search_simulations + g.gradient_simulations,
+        "the start, the settling and Ipopt"
+    );
+    let replay = eq37_point(&p_with(&p, &d.stiffness), &forcing, &d.stiffness, delta_d, &settings, g.periods).unwrap();
     assert_eq!(replay.minima[0].value, d.min_end_displacement);
     // Bounds became active on the way (the start is inside): K_0 at 10⁴, K_2 at 10².
     assert_eq!((g.at_lower_bound.as_slice(), g.at_upper_bound.as_slice()), (&[2][..], &[0][..]));

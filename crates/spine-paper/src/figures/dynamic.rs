@@ -217,24 +217,34 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
 }
 
 /// Fig. 10: the eq. (37) design — stiffness, end-point motion under the periodic force, shapes.
+/// The first run is the paper's (its genetic algorithm); a second run, if given, is another
+/// method on the same problem (the case file's: Ipopt with exact gradients), drawn beside it and
+/// compared by objective, simulations and time.
 pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
-    let [run] = runs else { return Err(FieldError::new("runs", "fig10 needs one periodic design run")) };
-    let (used, DynamicOutput::PeriodicDesign { design: p }) = expect_dynamics(run)? else {
-        return Err(run.error("fig10 needs a \"periodic\" run (eq. (37))"));
+    let (run, beside) = match runs {
+        [run] => (run, None),
+        [run, other] => (run, Some(other)),
+        _ => return Err(FieldError::new("runs", "fig10 needs one periodic design run, and at most one beside it")),
     };
+    let (used, p) = periodic(run)?;
+    let other = beside.map(periodic).transpose()?;
     let r = &p.response;
     let mut out = FigureOutput::default();
     let design = Design { theta0: used.design.theta0.clone(), stiffness: p.stiffness.clone() };
     let shapes = Shapes::of_ends(&used.spans, &design, &r.ends);
+    let mut bars = vec![
+        Series::bars("start", points(&p.start_stiffness, 1)).colour(7),
+        Series::bars(format!("eq. (37), {}", p.method.describe()), points(&p.stiffness, 1)).colour(0),
+    ];
+    let mut motion = periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d));
+    if let Some((_, q)) = &other {
+        bars.push(Series::bars(format!("eq. (37), {}", q.method.describe()), points(&q.stiffness, 1)).colour(2));
+        let samples = q.response.samples.iter().map(|s| (s.t, s.end_displacement)).collect();
+        motion = motion.with(Series::line(format!("end-point motion, {} design", q.method), samples).colour(2));
+    }
     let fig = Figure::new(title, 2)
-        .with(stiffness_panel(
-            "(a) nodal stiffness",
-            vec![
-                Series::bars("start", points(&p.start_stiffness, 1)).colour(7),
-                Series::bars(format!("eq. (37), {}", p.method.describe()), points(&p.stiffness, 1)).colour(0),
-            ],
-        ))
-        .with(periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d)))
+        .with(stiffness_panel("(a) nodal stiffness", bars))
+        .with(motion)
         .with(shapes.panel("(c) shapes of the design"));
     out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
     out.tables.push(("stiffness.csv".into(), values_csv("stiffness_n_m_per_rad", &p.stiffness)));
@@ -247,15 +257,62 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
             options: Default::default(),
         },
     ));
-    let scope = run.name;
-    out.claims.extend(periodic_design_claims(scope, p));
-    out.summary.insert(scope.to_string(), json!({
-        "stiffness": p.stiffness, "objective": p.objective, "min_end_displacement": p.min_end_displacement,
-        "reach_time": r.reach_time, "return_time": r.return_time, "time_to_target": r.time_to_target, "feasible": p.feasible,
-        "simulations": p.simulations,
-    }));
+    let summary = |p: &spine_dynamics::PeriodicDesign| {
+        json!({
+            "method": p.method, "stiffness": p.stiffness, "objective": p.objective,
+            "min_end_displacement": p.min_end_displacement, "reach_time": p.response.reach_time,
+            "return_time": p.response.return_time, "time_to_target": p.response.time_to_target,
+            "feasible": p.feasible, "simulations": p.simulations,
+        })
+    };
+    out.claims.extend(periodic_design_claims(run.name, p));
+    out.summary.insert(run.name.to_string(), summary(p));
+    if let (Some(other_run), Some((_, q))) = (beside, &other) {
+        out.tables.push((format!("stiffness_{}.csv", q.method), values_csv("stiffness_n_m_per_rad", &q.stiffness)));
+        out.claims.push(Claim::solver(
+            other_run.name,
+            &format!("eq. (37) by {}: the end point reaches δ_d under the periodic force", q.method.describe()),
+            "the method converged and min_t (X − L_x) over the last period is within the band of δ_d",
+            q.feasible && q.finished(),
+            format!(
+                "min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2e} relative); {} after {} iterations, {} simulations; U(θ1) = {:.4e} J",
+                q.min_end_displacement, q.delta_d, q.relative_error, q.status(), q.iterations(), q.simulations, q.objective
+            ),
+        ));
+        out.claims.push(Claim::new(
+            "figure",
+            &format!(
+                "beside the paper: eq. (37) by {} does at least as well as the {}",
+                q.method.describe(),
+                p.method.describe()
+            ),
+            "both feasible at the same δ_d, and U(θ1) of the second run at most the first's (+1e-9 relative)",
+            p.feasible && q.feasible && q.objective <= p.objective * (1.0 + 1e-9),
+            format!(
+                "U(θ1): {} {:.4e} J ({} simulations, {:.1} s), {} {:.4e} J ({} simulations, {:.1} s); ratio {:.3}",
+                p.method,
+                p.objective,
+                p.simulations,
+                p.time_seconds,
+                q.method,
+                q.objective,
+                q.simulations,
+                q.time_seconds,
+                q.objective / p.objective
+            ),
+        ));
+        out.summary.insert(other_run.name.to_string(), summary(q));
+    }
     out.figures.push(("figure".into(), fig));
     Ok(out)
+}
+
+/// The eq. (37) design of a Fig. 10 run.
+fn periodic<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a spine_dynamics::PeriodicDesign), FieldError> {
+    match expect_dynamics(run)? {
+        (used, DynamicOutput::PeriodicDesign { design }) => Ok((used, design)),
+        _ => Err(run.error("fig10 needs \"periodic\" runs (eq. (37))")),
+    }
 }
 
 /// Fig. 10's claims on the eq. (37) design `p`: it reaches δ_d, the reach and return times of
