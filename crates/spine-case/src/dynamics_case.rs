@@ -350,6 +350,7 @@ impl DynamicsCase {
         positive("periodic_design.settings.tolerance", st.tolerance, "")?;
         st.ga.validate().map_err(|e| e.under("periodic_design.settings.ga"))?;
         st.pattern.validate().map_err(|e| e.under("periodic_design.settings.pattern"))?;
+        st.gradient.validate().map_err(|e| e.under("periodic_design.settings.gradient"))?;
         if st.tolerance > 1.0 {
             return Err(CaseError::invalid(
                 "periodic_design.settings.tolerance",

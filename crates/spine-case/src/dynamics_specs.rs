@@ -59,7 +59,7 @@ fn iters() -> usize {
 pub struct PeriodicDesignSpec {
     /// Desired `min_t (X_{N+1}(t) − L_x)`, m (≠ 0).
     pub delta_d: f64,
-    /// `"ga"` (default) or `"pattern"`; `spine periodic --method` overrides it.
+    /// `"ga"` (default), `"pattern"` or `"gradient"`; `spine periodic --method` overrides it.
     #[serde(default = "ga")]
     pub method: SearchMethod,
     #[serde(default)]

@@ -145,6 +145,8 @@ def test_bad_arguments_raise_value_error_naming_them():
         flexspine.run_case(CASES / "design5.json", time_limit=-1)
     with pytest.raises(ValueError, match="formulation"):
         flexspine.run_case(CASES / "design5.json", formulation="half")
+    with pytest.raises(ValueError, match="method"):
+        flexspine.run_case(CASES / "periodic7.json", method="newton")
     with pytest.raises(ValueError, match="cannot read"):
         flexspine.run_case(str(CASES / "no-such-case.json"))
 
@@ -154,6 +156,15 @@ def test_a_time_limit_returns_what_was_reached_marked():
     assert r.stopped == "time_limit" and not r.clean
     assert r["stopped"] == "time_limit"
     assert r["periodic_design"]["search"]["status"] == "time_limit"
+
+
+def test_eq37_by_gradient_from_python_reports_ipopt_and_meets_delta_d():
+    r = flexspine.run_case(CASES / "periodic7.json", method="gradient")
+    d = r["periodic_design"]
+    assert d["method"] == "gradient" and d["search"] is None
+    assert d["gradient"]["status"] == "solve_succeeded" and d["feasible"]
+    assert abs(d["min_end_displacement"] - d["delta_d"]) <= 1e-6 * abs(d["delta_d"])
+    assert d["simulations"] == 1 + d["gradient"]["root_search_simulations"] + d["gradient"]["gradient_simulations"]
 
 
 def test_long_calls_release_the_gil():

@@ -40,7 +40,7 @@ pub enum DynamicOutput {
         periodic: Vec<PeriodicResponse>,
     },
     PeriodicDesign {
-        design: PeriodicDesign,
+        design: Box<PeriodicDesign>,
     },
 }
 
@@ -146,7 +146,7 @@ fn run_task(
                 progress(Progress::Step { stage, done, total })
             })
             .map_err(RunError::Dynamics)?;
-            DynamicOutput::PeriodicDesign { design }
+            DynamicOutput::PeriodicDesign { design: Box::new(design) }
         }
     };
     Ok(output)
@@ -279,7 +279,7 @@ pub fn run_dynamics_case(
                 designs.into_iter().map(|design| DampingRun { design, periodic_response: periodic.next() }).collect(),
             );
         }
-        Some(DynamicOutput::PeriodicDesign { design }) => result.periodic_design = Some(design),
+        Some(DynamicOutput::PeriodicDesign { design }) => result.periodic_design = Some(*design),
     }
     if let Some(options) = animation {
         let tracks = result.tracks(&valid.chain.spans);
