@@ -51,6 +51,7 @@ pub use damping::{design_damping, DampingDesign, DampingSettings, DampingStatus,
 pub mod periodic;
 pub mod periodic_design;
 pub mod periodic_gradient;
+pub mod periodic_settings;
 
 pub use periodic::{periodic_response, PeriodicResponse, PeriodicSettings};
 pub use periodic_design::{design_periodic, PeriodicDesign, PeriodicDesignSettings, SearchMethod};

@@ -12,100 +12,13 @@
 //! loaded equilibrium is not stable, or whose simulation fails, is worse than any other point.
 
 use crate::forcing::Forcing;
-use crate::integrator::Options;
-use crate::periodic::{simulate_periodic, PeriodicResponse, PeriodicSettings};
-use crate::periodic_gradient::{design_by_gradient, GradientReport, GradientSettings};
+use crate::periodic::{simulate_periodic, PeriodicResponse};
+use crate::periodic_gradient::{design_by_gradient, GradientReport};
+pub use crate::periodic_settings::{GradientSettings, GradientStart, PeriodicDesignSettings, SearchMethod};
 use crate::response::{DynamicProblem, DynamicsError};
-use serde::{Deserialize, Serialize};
-use spine_search::{
-    genetic_algorithm, pattern_search, Bounds, Evaluation, GaSettings, PatternSettings, Progress, SearchResult,
-};
+use serde::Serialize;
+use spine_search::{genetic_algorithm, pattern_search, Bounds, Evaluation, Progress, SearchResult};
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Which search solves eq. (37).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum SearchMethod {
-    Ga,
-    Pattern,
-    /// Ipopt with exact gradients ([`crate::periodic_gradient`]).
-    Gradient,
-}
-
-impl std::fmt::Display for SearchMethod {
-    /// As in a case file: `ga`, `pattern`, `gradient`.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.pad(match self {
-            Self::Ga => "ga",
-            Self::Pattern => "pattern",
-            Self::Gradient => "gradient",
-        })
-    }
-}
-
-impl SearchMethod {
-    /// Every method, in the order of the docs.
-    pub const ALL: [SearchMethod; 3] = [SearchMethod::Ga, SearchMethod::Pattern, SearchMethod::Gradient];
-
-    /// The method of a case-file name (`ga`, `pattern`, `gradient`).
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.to_string() == name)
-    }
-
-    /// What a figure or report calls it.
-    pub fn describe(self) -> &'static str {
-        match self {
-            Self::Ga => "genetic algorithm",
-            Self::Pattern => "pattern search",
-            Self::Gradient => "gradient (Ipopt, exact sensitivities)",
-        }
-    }
-}
-
-/// Settings of eq. (37).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields, default)]
-pub struct PeriodicDesignSettings {
-    /// Stiffness bounds, N·m/rad (the paper's 10² and 10⁴).
-    pub stiffness_min: f64,
-    pub stiffness_max: f64,
-    /// Width of the equality band, as a fraction of `|δ_d|`.
-    pub tolerance: f64,
-    pub ga: GaSettings,
-    pub pattern: PatternSettings,
-    pub gradient: GradientSettings,
-    /// The periodic response of every candidate.
-    pub response: PeriodicSettings,
-}
-
-impl Default for PeriodicDesignSettings {
-    fn default() -> Self {
-        // The searches compare hundreds of responses through J and a 1 % displacement band, which
-        // need far less than the single-simulation default (T_90 to 1e-6, about 8 times dearer).
-        let integrator = Options { rtol: 1e-6, atol: 1e-8, ..Options::default() };
-        let response = PeriodicSettings {
-            max_periods: 6,
-            settle_tolerance: 1e-3,
-            samples_per_period: 200,
-            integrator,
-            ..Default::default()
-        };
-        Self {
-            stiffness_min: 1e2,
-            stiffness_max: 1e4,
-            tolerance: 0.01,
-            ga: GaSettings { population: 24, generations: 25, stall_generations: 10, ..Default::default() },
-            pattern: PatternSettings {
-                initial_mesh: 0.125,
-                mesh_tolerance: 1e-3,
-                max_evaluations: 600,
-                ..Default::default()
-            },
-            gradient: GradientSettings::default(),
-            response,
-        }
-    }
-}
 
 /// What eq. (37) found.
 #[derive(Clone, Debug, Serialize)]

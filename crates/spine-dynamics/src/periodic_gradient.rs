@@ -34,11 +34,10 @@ use crate::bracket::illinois;
 use crate::forcing::Forcing;
 use crate::integrator::Outcome;
 use crate::periodic::{simulate_periodic_springs, EndValue, PeriodicResponse};
-use crate::periodic_design::PeriodicDesignSettings;
+use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
 use crate::response::DynamicProblem;
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
-use spine_check::require;
+use serde::Serialize;
 use spine_ipopt::{Problem, Status};
 use spine_model::jacobian::{design_column_of_stiffness, design_jacobian, residual_and_state_jacobian};
 use spine_model::State;
@@ -47,46 +46,6 @@ use spine_solve::linalg::BorderedLu;
 /// A spring within this of a bound in `log10 K` (2.3e-5 relative) is reported at it: Ipopt's
 /// interior point stops that close to an active bound at its tolerance 1e-6.
 pub const AT_BOUND: f64 = 1e-5;
-
-/// Where the gradient method starts.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum GradientStart {
-    /// Uniform springs that meet the equality (a root search on one common `log10 K`).
-    #[default]
-    Uniform,
-    /// The case's springs (`design.stiffness`, clamped to the bounds).
-    Case,
-}
-
-/// Settings of the gradient method.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(deny_unknown_fields, default)]
-pub struct GradientSettings {
-    /// Ipopt's `tol` on the scaled problem (objective over its start value, constraint over
-    /// `|δ_d|`); > 0.
-    pub tolerance: f64,
-    /// Ipopt's iteration limit (≥ 1).
-    pub max_iterations: usize,
-    pub start: GradientStart,
-}
-
-impl Default for GradientSettings {
-    fn default() -> Self {
-        Self { tolerance: 1e-6, max_iterations: 100, start: GradientStart::Uniform }
-    }
-}
-
-impl GradientSettings {
-    /// The fields in range, or the first that is not.
-    pub fn validate(&self) -> Result<(), spine_check::FieldError> {
-        let t = self.tolerance;
-        require((1e-12..=0.1).contains(&t), "tolerance", || format!("must be in [1e-12, 0.1], got {t}"))?;
-        let m = self.max_iterations;
-        require((1..=10_000).contains(&m), "max_iterations", || format!("must be in 1..=10000, got {m}"))?;
-        Ok(())
-    }
-}
 
 /// What the gradient method did.
 #[derive(Clone, Debug, Serialize)]

@@ -174,7 +174,7 @@ fn eq37_gradients_match_central_differences_of_the_whole_periodic_simulation() {
 /// numbers agree with a plain re-simulation of the final springs.
 #[test]
 fn eq37_by_gradient_meets_delta_d_with_two_minima_in_play() {
-    use spine_dynamics::periodic_gradient::GradientStart;
+    use spine_dynamics::periodic_settings::GradientStart;
     let (mut p, forcing, mut settings, k) = two_minima();
     let start = eq37_point(&p, &forcing, &k, -0.01, &settings, PERIODS).unwrap();
     let delta_d = 1.05 * start.minima[0].value;
