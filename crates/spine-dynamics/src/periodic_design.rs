@@ -24,7 +24,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 #[derive(Clone, Debug, Serialize)]
 pub struct PeriodicDesign {
     pub method: SearchMethod,
-    /// The search's own status (mesh converged, generation limit, …); none for the gradient method.
+    /// The search's own status (mesh converged, generation limit, …); for the gradient method,
+    /// the genetic algorithm's that gave its start (`start: "ga"`), else none.
     pub search: Option<SearchResult>,
     /// Ipopt's run, for the gradient method.
     pub gradient: Option<GradientReport>,
@@ -50,24 +51,32 @@ pub struct PeriodicDesign {
 }
 
 impl PeriodicDesign {
-    /// How the method ended: the search's status, or Ipopt's.
+    /// How the method ended: Ipopt's status for the gradient method, else the search's.
     pub fn status(&self) -> String {
-        match (&self.search, &self.gradient) {
-            (Some(s), _) => s.status.name().to_string(),
-            (None, Some(g)) => g.status.clone(),
+        match (&self.gradient, &self.search) {
+            (Some(g), _) => g.status.clone(),
+            (None, Some(s)) => s.status.name().to_string(),
             (None, None) => "none".into(),
         }
     }
 
-    /// The method ended by its own rule: a search not stopped from outside or by the clock, or
-    /// Ipopt converged.
+    /// The method ended by its own rule: Ipopt converged, or a search was not stopped from
+    /// outside or by the clock.
     pub fn finished(&self) -> bool {
-        self.search.as_ref().is_some_and(|s| s.status.finished()) || self.gradient.as_ref().is_some_and(|g| g.converged)
+        match (&self.gradient, &self.search) {
+            (Some(g), _) => g.converged,
+            (None, Some(s)) => s.status.finished(),
+            (None, None) => false,
+        }
     }
 
-    /// Generations, pattern iterations or Ipopt iterations.
+    /// Ipopt iterations for the gradient method, else generations or pattern iterations.
     pub fn iterations(&self) -> usize {
-        self.search.as_ref().map_or_else(|| self.gradient.as_ref().map_or(0, |g| g.iterations), |s| s.iterations)
+        match (&self.gradient, &self.search) {
+            (Some(g), _) => g.iterations,
+            (None, Some(s)) => s.iterations,
+            (None, None) => 0,
+        }
     }
 }
 
@@ -126,7 +135,12 @@ pub fn design_periodic(
     match method {
         SearchMethod::Ga => settings.ga.validate()?,
         SearchMethod::Pattern => settings.pattern.validate()?,
-        SearchMethod::Gradient => settings.gradient.validate()?,
+        SearchMethod::Gradient => {
+            settings.gradient.validate()?;
+            if settings.gradient.start == GradientStart::Ga {
+                settings.ga.validate()?;
+            }
+        }
     }
     let start = objective(&start_u);
     let (stiffness, search, gradient, response) = match method {
@@ -138,9 +152,16 @@ pub fn design_periodic(
             (to_stiffness(&search.x), Some(search), None, None)
         }
         SearchMethod::Gradient => {
-            let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &start_stiffness);
+            let (given, ga) = match settings.gradient.start {
+                GradientStart::Ga => {
+                    let ga = genetic_algorithm(&objective, &bounds, Some(&start_u), &settings.ga, progress)?;
+                    (to_stiffness(&ga.x), Some(ga))
+                }
+                GradientStart::Uniform | GradientStart::Case => (start_stiffness.clone(), None),
+            };
+            let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &given);
             simulations.fetch_add(report.root_search_simulations + report.gradient_simulations, Ordering::Relaxed);
-            (stiffness, None, Some(report), point.map(|p| p.response))
+            (stiffness, ga, Some(report), point.map(|p| p.response))
         }
     };
     // The best point's response in full, also when a time limit ended the search (one more

@@ -54,7 +54,8 @@ pub struct GradientReport {
     pub status: String,
     pub converged: bool,
     pub iterations: usize,
-    /// `uniform`, `case`, or `case (no uniform springs meet δ_d)`.
+    /// `uniform`, `case`, `ga` (the genetic algorithm's best), or `case (no uniform springs meet
+    /// δ_d)`.
     pub start: String,
     /// Forcing periods of every simulation (one more than the start needs to settle).
     pub periods: usize,
@@ -234,27 +235,31 @@ impl Problem for Eq37<'_> {
     }
 }
 
-/// Eq. (37) by Ipopt from `start` (N·m/rad) or from the uniform springs that meet δ_d: the final
-/// point (its springs and functions) and the report.
+/// Eq. (37) by Ipopt from `given` springs (N·m/rad: the case's or the GA's best) or from the
+/// uniform springs that meet δ_d (`settings.gradient.start`): the final springs, the final point
+/// (its functions and response) and the report.
 pub fn design_by_gradient(
     problem: &DynamicProblem,
     forcing: &Forcing,
     delta_d: f64,
     settings: &PeriodicDesignSettings,
-    case_start: &[f64],
+    given: &[f64],
 ) -> (Vec<f64>, Option<Eq37Point>, GradientReport) {
     let gradient = &settings.gradient;
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
     let mut root_search_simulations = 0;
     let (start, start_name, uniform_stiffness) = match gradient.start {
-        GradientStart::Case => (case_start.iter().map(|k| k.log10()).collect(), "case".to_string(), None),
+        GradientStart::Case | GradientStart::Ga => {
+            let name = if gradient.start == GradientStart::Ga { "ga" } else { "case" };
+            (given.iter().map(|k| k.log10()).collect(), name.to_string(), None)
+        }
         GradientStart::Uniform => {
             // min_t X − δ_d rises with the springs (a stiffer arch moves less); a design that
             // buckles or whose simulation fails counts as too soft (−∞).
             let mut residual = |u: f64| {
                 root_search_simulations += 1;
                 let mut p = problem.clone();
-                p.design.stiffness = vec![10f64.powf(u); case_start.len()];
+                p.design.stiffness = vec![10f64.powf(u); given.len()];
                 match crate::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response) {
                     Ok(r) if r.outcome == Outcome::Completed => (r.min_end_displacement - delta_d) / delta_d.abs(),
                     _ => f64::NEG_INFINITY,
@@ -263,9 +268,9 @@ pub fn design_by_gradient(
             let ends = (residual(lo), residual(hi));
             if ends.0 < 0.0 && ends.1 >= 0.0 {
                 let u = illinois((lo, hi), ends, &mut residual, &|r| r.abs() <= 1e-3 * settings.tolerance, 1e-9);
-                (vec![u; case_start.len()], "uniform".to_string(), Some(10f64.powf(u)))
+                (vec![u; given.len()], "uniform".to_string(), Some(10f64.powf(u)))
             } else {
-                let start = case_start.iter().map(|k| k.log10()).collect();
+                let start = given.iter().map(|k| k.log10()).collect();
                 (start, "case (no uniform springs meet δ_d)".to_string(), None)
             }
         }

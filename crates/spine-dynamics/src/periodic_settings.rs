@@ -101,6 +101,9 @@ pub enum GradientStart {
     Uniform,
     /// The case's springs (`design.stiffness`, clamped to the bounds).
     Case,
+    /// The best point of the genetic algorithm (`settings.ga`), which runs first: the GA
+    /// explores, Ipopt refines.
+    Ga,
 }
 
 /// Settings of the gradient method.

@@ -85,6 +85,15 @@ fn eq37_searches_lower_the_strain_energy_and_keep_the_displacement() {
         let b = design_periodic(&p, forcing.clone(), delta_d, method, &settings, &mut |_| {}).unwrap();
         assert_eq!(a.stiffness, b.stiffness, "deterministic");
     }
+    // The gradient method from the GA's best: the GA runs first and its result is kept beside
+    // Ipopt's report.
+    settings.gradient.start = spine_dynamics::periodic_settings::GradientStart::Ga;
+    let g = design_periodic(&p, forcing.clone(), delta_d, SearchMethod::Gradient, &settings, &mut |_| {}).unwrap();
+    let report = g.gradient.as_ref().unwrap();
+    assert_eq!(report.start, "ga");
+    let ga = g.search.as_ref().expect("the GA's result");
+    assert!(g.finished() && g.feasible && g.relative_error <= 1e-6, "{} {}", g.status(), g.relative_error);
+    assert_eq!(g.simulations, 1 + ga.evaluations + report.root_search_simulations + report.gradient_simulations);
 }
 
 /// A 3-link chain under short pulses (period 0.1 s, dampers 9 N·m·s/rad, springs
