@@ -189,6 +189,10 @@ impl Problem for Eq35<'_> {
     fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
         false
     }
+    /// Stops Ipopt when the run's time limit passes or a stop is requested.
+    fn intermediate(&mut self, _: &spine_ipopt::IterationInfo) -> bool {
+        spine_stop::check().is_none()
+    }
 }
 
 /// `T_90` of uniform damping `c`.

@@ -159,7 +159,7 @@ pub fn design_periodic(
                 }
                 GradientStart::Uniform | GradientStart::Case => (start_stiffness.clone(), None),
             };
-            let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &given);
+            let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &given, progress);
             simulations.fetch_add(report.root_search_simulations + report.gradient_simulations, Ordering::Relaxed);
             (stiffness, ga, Some(report), point.map(|p| p.response))
         }

@@ -41,6 +41,7 @@ use serde::Serialize;
 use spine_ipopt::{Problem, Status};
 use spine_model::jacobian::{design_column_of_stiffness, design_jacobian, residual_and_state_jacobian};
 use spine_model::State;
+use spine_search::{Evaluation, Progress};
 use spine_solve::linalg::BorderedLu;
 
 /// A spring within this of a bound in `log10 K` (2.3e-5 relative) is reported at it: Ipopt's
@@ -50,7 +51,8 @@ pub const AT_BOUND: f64 = 1e-5;
 /// What the gradient method did.
 #[derive(Clone, Debug, Serialize)]
 pub struct GradientReport {
-    /// Ipopt's status (its snake_case name), and whether it converged.
+    /// Ipopt's status (its snake_case name), or `time_limit` / `interrupted` when the run was
+    /// stopped from outside; and whether it converged.
     pub status: String,
     pub converged: bool,
     pub iterations: usize,
@@ -159,6 +161,7 @@ struct Eq37<'a> {
     energy_scale: f64,
     cache: Option<Cached>,
     simulations: usize,
+    progress: &'a mut dyn FnMut(Progress),
 }
 
 impl Eq37<'_> {
@@ -233,6 +236,13 @@ impl Problem for Eq37<'_> {
     fn hessian_values(&mut self, _: &[f64], _: bool, _: f64, _: &[f64], _: bool, _: &mut [f64]) -> bool {
         false
     }
+    /// Reports the iteration (`U(θ1)` in J, the constraint violation in units of `|δ_d|`) and
+    /// stops Ipopt when the run's time limit passes or a stop is requested.
+    fn intermediate(&mut self, info: &spine_ipopt::IterationInfo) -> bool {
+        let best = Evaluation { objective: info.objective * self.energy_scale, violation: info.primal_infeasibility };
+        (self.progress)(Progress { iteration: info.iteration, evaluations: self.simulations, best });
+        spine_stop::check().is_none()
+    }
 }
 
 /// Eq. (37) by Ipopt from `given` springs (N·m/rad: the case's or the GA's best) or from the
@@ -244,6 +254,7 @@ pub fn design_by_gradient(
     delta_d: f64,
     settings: &PeriodicDesignSettings,
     given: &[f64],
+    progress: &mut dyn FnMut(Progress),
 ) -> (Vec<f64>, Option<Eq37Point>, GradientReport) {
     let gradient = &settings.gradient;
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
@@ -292,6 +303,7 @@ pub fn design_by_gradient(
         start: start.clone(),
         cache: None,
         simulations: 0,
+        progress,
     };
     eq37.energy_scale = eq37.point(&start).map_or(1.0, |p| p.energy.abs().max(1e-300));
     let options = spine_ipopt::Options::new()
@@ -303,9 +315,13 @@ pub fn design_by_gradient(
     let sol = spine_ipopt::solve(&mut eq37, &options).expect("eq. (37) is a valid Ipopt problem");
     let point = eq37.point(&sol.x).cloned();
     let at_bound = |bound: f64| (0..sol.x.len()).filter(|&j| (sol.x[j] - bound).abs() <= AT_BOUND).collect();
+    // A stop from outside makes the evaluations fail before Ipopt's next iteration asks: say so
+    // instead of Ipopt's reading of the failures (`invalid_number_detected`).
+    let converged = sol.status == Status::SolveSucceeded || sol.status.is_converged();
+    let stopped = if converged { None } else { spine_stop::check() };
     let report = GradientReport {
-        status: sol.status.name(),
-        converged: sol.status == Status::SolveSucceeded || sol.status.is_converged(),
+        status: stopped.map_or_else(|| sol.status.name(), |reason| reason.name().to_string()),
+        converged,
         iterations: sol.iterations,
         start: start_name,
         periods,

@@ -140,8 +140,8 @@ fn run_task(
             };
             let design = design_periodic(&problem, valid.forcing.clone(), *delta_d, *method, settings, &mut |p| {
                 let done = match method {
-                    SearchMethod::Ga => p.iteration,
-                    SearchMethod::Pattern | SearchMethod::Gradient => p.evaluations,
+                    SearchMethod::Ga | SearchMethod::Gradient => p.iteration,
+                    SearchMethod::Pattern => p.evaluations,
                 };
                 progress(Progress::Step { stage, done, total })
             })
