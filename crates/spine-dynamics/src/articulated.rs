@@ -180,19 +180,20 @@ impl<T: ChainNumber> ArticulatedChain<T> {
     pub fn solve(&self, b: &[T]) -> Vec<T> {
         let n = b.len();
         let zero = T::from(0.0);
+        // One buffer: the joint moments τ, then the free parts u_k, then x (each entry is read
+        // once before it is overwritten).
         // Joint moments τ = Tᵀ b: the moment at joint k carries every link from k outward.
-        let mut tau = vec![zero; n];
+        let mut x = vec![zero; n];
         let mut sum = zero;
         for k in (0..n).rev() {
             sum += b[k];
-            tau[k] = sum;
+            x[k] = sum;
         }
         // Tip to base: the bias force p^A at each joint and u_k = τ_k − Sᵀ p^A_k.
-        let mut free = vec![zero; n];
         let mut bias: V3<T> = [zero; 3];
         for k in (0..n).rev() {
-            let uk = tau[k] - bias[0];
-            free[k] = uk;
+            let uk = x[k] - bias[0];
+            x[k] = uk;
             let scale = uk / self.d[k];
             let passed =
                 [bias[0] + self.u[k][0] * scale, bias[1] + self.u[k][1] * scale, bias[2] + self.u[k][2] * scale];
@@ -201,12 +202,11 @@ impl<T: ChainNumber> ArticulatedChain<T> {
             }
         }
         // Base to tip: the base joint is fixed (zero acceleration of its point).
-        let mut x = vec![zero; n];
         let mut motion: V3<T> = [zero; 3];
         for k in 0..n {
             let seen = if k > 0 { shift_motion(&motion, &self.shift[k - 1]) } else { [zero; 3] };
             let dot = self.u[k][0] * seen[0] + self.u[k][1] * seen[1] + self.u[k][2] * seen[2];
-            let joint = (free[k] - dot) / self.d[k];
+            let joint = (x[k] - dot) / self.d[k];
             motion = [seen[0] + joint, seen[1], seen[2]];
             x[k] = motion[0];
         }

@@ -233,17 +233,24 @@ impl Dynamics {
         h: &[D],
     ) -> (Vec<D>, Vec<D>, D) {
         let n = self.n_links();
-        let delta: Vec<D> = theta.iter().zip(&self.theta0).map(|(&t, &t0)| t - t0).collect();
-        let stiffness: Vec<D> = self.stiffness.iter().map(|&k| D::from(k)).collect();
-        let spring = joint_moments(&stiffness, &delta);
-        let damper = joint_moments(damping, omega);
+        // The springs' and dampers' joint moments ([`joint_moments`], term by term in its order,
+        // without its intermediate vectors).
+        let zero = D::from(0.0);
+        let delta = |i: usize| if i < n { theta[i] - self.theta0[i] } else { zero };
+        let rate = |i: usize| if i < n { omega[i] } else { zero };
+        let moment = |c: D, c_next: D, x: &dyn Fn(usize) -> D, i: usize| {
+            let before = if i == 0 { zero } else { x(i - 1) };
+            c * (x(i) - before) - c_next * (x(i + 1) - x(i))
+        };
         let l = &self.lengths;
         // P_i (eq. (48)), Q, ∇Φ_i = L_i cos θ_i and Σ L_i sin θ_i θ̇_i², from one sin/cos per link.
         let q: Vec<D> = (0..n)
             .map(|i| {
                 let (s, c) = trig[i];
                 let p = (c * loads.vertical[i] - s * loads.axial[i]) * l[i];
-                p - h[i] - damper[i] - spring[i]
+                let spring = moment(D::from(self.stiffness[i]), D::from(self.stiffness[i + 1]), &delta, i);
+                let damper = moment(damping[i], damping[i + 1], &rate, i);
+                p - h[i] - damper - spring
             })
             .collect();
         let g = (0..n).map(|i| trig[i].1 * l[i]).collect();
