@@ -99,10 +99,21 @@ fn equilibrate(analysis: &Analysis, values: &[f64]) -> Vec<f64> {
     let mut largest = vec![0.0f64; n];
     for _ in 0..SCALING_PASSES {
         largest.fill(0.0);
-        for (r, c, e) in analysis.structure.entries() {
-            let v = (values[e] * s[r] * s[c]).abs();
-            largest[r] = largest[r].max(v);
-            largest[c] = largest[c].max(v);
+        // Row by row, row `r`'s largest kept in a register (the values are finite, so a plain
+        // comparison is `f64::max`; the largest of a set does not depend on the order).
+        for r in 0..n {
+            let (positions, columns) = analysis.structure.row(r);
+            let (sr, mut lr) = (s[r], largest[r]);
+            for (e, &c) in positions.zip(columns) {
+                let v = (values[e] * sr * s[c]).abs();
+                if v > lr {
+                    lr = v;
+                }
+                if c != r && v > largest[c] {
+                    largest[c] = v;
+                }
+            }
+            largest[r] = lr;
         }
         for (si, &m) in s.iter_mut().zip(&largest) {
             if m > 0.0 && m.is_finite() {

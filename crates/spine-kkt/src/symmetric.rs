@@ -76,6 +76,12 @@ impl Structure {
     }
 
     /// The stored entries as `(row, column, position in the value slice)`.
+    /// The stored entries of row `r`: their positions and columns.
+    pub fn row(&self, r: usize) -> (std::ops::Range<usize>, &[usize]) {
+        let range = self.row_start[r]..self.row_start[r + 1];
+        (range.clone(), &self.col[range])
+    }
+
     pub fn entries(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
         (0..self.n).flat_map(move |r| (self.row_start[r]..self.row_start[r + 1]).map(move |e| (r, self.col[e], e)))
     }
