@@ -149,6 +149,11 @@ def first_rise(L, n, target, t_grid, ys):
     return t_grid[k - 1] + b * h
 
 
+# Repeats of one integration: until they take this long together (s), at most this many times.
+REPEAT_SECONDS = 0.3
+MAX_REPEATS = 30
+
+
 def main():
     path, budget, plugin = sys.argv[1], float(sys.argv[2]), sys.argv[3]
     rtols = [float(a) for a in sys.argv[4:]]
@@ -178,11 +183,16 @@ def main():
                 xdot0, start_of = None, {"x0": y0}
             full = build(plugin, m, n, L, diag, C, rtol, tout, xdot0)
             construction = time.perf_counter() - begin
-            start = time.perf_counter()
-            out = full(**start_of)
-            ys = np.hstack([y0[:, None], np.asarray(out["xf"])])
-            t90 = first_rise(L, n, target, t_grid, ys)
-            elapsed = time.perf_counter() - start
+            # The fastest of repeated integrations (with the T_90 search), as for the workspace's
+            # runs: until they take REPEAT_SECONDS together or MAX_REPEATS times.
+            elapsed, total, repeats = float("inf"), 0.0, 0
+            while repeats < MAX_REPEATS and total < REPEAT_SECONDS:
+                start = time.perf_counter()
+                out = full(**start_of)
+                ys = np.hstack([y0[:, None], np.asarray(out["xf"])])
+                t90 = first_rise(L, n, target, t_grid, ys)
+                run = time.perf_counter() - start
+                elapsed, total, repeats = min(elapsed, run), total + run, repeats + 1
             signal.setitimer(signal.ITIMER_REAL, 0)
             stats = full.stats()
             line = {
