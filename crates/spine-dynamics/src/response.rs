@@ -32,6 +32,9 @@ pub struct StaticEnds {
     pub lambda1: f64,
     /// `θ2`: the equilibrium under passive load plus the full actuation, rad.
     pub theta2: Vec<f64>,
+    /// The slider's reaction `λ` at `θ2`, N (not written).
+    #[serde(skip)]
+    pub lambda2: f64,
     /// `X_{N+1}(θ1)` and `X_{N+1}(θ2)`, m.
     pub x1: f64,
     pub x2: f64,
@@ -96,6 +99,7 @@ impl DynamicProblem {
             theta1: sol.passive.state.theta.clone(),
             lambda1: sol.passive.state.lambda,
             theta2: loaded.state.theta.clone(),
+            lambda2: loaded.state.lambda,
             x1,
             x2,
             passive_displacement: x1 - lx,

@@ -233,3 +233,34 @@ fn p_with(p: &DynamicProblem, stiffness: &[f64]) -> DynamicProblem {
     q.design.stiffness = stiffness.to_vec();
     q
 }
+
+/// `dU/dK` of eq. (37) (the direct method through the passive equilibrium) against the hand adjoint
+/// of the static design (`spine_design::adjoint::adjoint_hand`, Appendix II): two formulations of
+/// the same derivative.
+#[test]
+fn the_strain_energy_gradient_equals_the_static_designs_hand_adjoint() {
+    let (p, forcing, settings, k) = two_minima();
+    let q = p_with(&p, &k);
+    let ends = q.static_ends(&settings.response.continuation).unwrap();
+    let point = eq37_point(&p, &forcing, &k, -0.01, &settings, PERIODS).unwrap();
+    let n = q.structure.n_links();
+    let bounds = spine_design::DesignBounds {
+        theta0_max: 1.0,
+        relative_angle_max: 1.0,
+        stiffness_min: vec![1e2; n + 1],
+        stiffness_max: vec![1e4; n + 1],
+        height_min: 0.0,
+        height_max: 1.0,
+    };
+    let problem =
+        spine_design::DesignProblem { structure: q.structure.clone(), delta_d: -0.01, bounds, stiffness_scale: 1.0 };
+    let passive = spine_model::State { theta: ends.theta1.clone(), lambda: ends.lambda1 };
+    let loaded = spine_model::State { theta: ends.theta2.clone(), lambda: ends.lambda2 };
+    let adjoint = spine_design::adjoint::adjoint_hand(&problem, &q.design, &passive, &loaded).unwrap();
+    assert!((adjoint.energy - point.energy).abs() <= 1e-14 * point.energy);
+    for j in 0..=n {
+        let (ours, theirs) = (point.energy_gradient[j], adjoint.energy_gradient[n + j]);
+        eprintln!("dU/dK_{j}: direct {ours:.15e}, hand adjoint {theirs:.15e}");
+        assert!((ours - theirs).abs() <= 1e-10 * theirs.abs(), "dU/dK_{j}: {ours} vs {theirs}");
+    }
+}
