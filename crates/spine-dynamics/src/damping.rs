@@ -255,12 +255,7 @@ pub fn design_damping(
                 .string("mu_strategy", "adaptive");
             let sol = spine_ipopt::solve(&mut eq35, &options).expect("eq. (35) is a valid Ipopt problem");
             simulations += eq35.simulations;
-            (
-                DampingStatus::Ipopt(sol.status),
-                sol.status == Status::SolveSucceeded || sol.status.is_converged(),
-                sol.iterations,
-                sol.x,
-            )
+            (DampingStatus::Ipopt(sol.status), sol.status.is_converged(), sol.iterations, sol.x)
         }
     };
     let mut d = base.clone();

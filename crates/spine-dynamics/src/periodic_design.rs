@@ -13,7 +13,7 @@
 
 use crate::forcing::Forcing;
 use crate::periodic::{simulate_periodic, PeriodicResponse};
-use crate::periodic_gradient::{design_by_gradient, GradientReport};
+use crate::periodic_gradient::{design_by_gradient, stiffness_of, GradientReport};
 pub use crate::periodic_settings::{GradientSettings, GradientStart, PeriodicDesignSettings, SearchMethod};
 use crate::response::{DynamicProblem, DynamicsError};
 use serde::Serialize;
@@ -120,7 +120,7 @@ pub fn design_periodic(
     let n_springs = problem.design.stiffness.len();
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
     let bounds = Bounds { lower: vec![lo; n_springs], upper: vec![hi; n_springs] };
-    let to_stiffness = |u: &[f64]| u.iter().map(|v| 10f64.powf(*v)).collect::<Vec<f64>>();
+    let to_stiffness = stiffness_of;
     let start_stiffness: Vec<f64> =
         problem.design.stiffness.iter().map(|k| k.clamp(settings.stiffness_min, settings.stiffness_max)).collect();
     let start_u: Vec<f64> = start_stiffness.iter().map(|k| k.log10()).collect();
@@ -161,22 +161,14 @@ pub fn design_periodic(
             };
             let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &given, progress);
             simulations.fetch_add(report.root_search_simulations + report.gradient_simulations, Ordering::Relaxed);
-            (stiffness, ga, Some(report), point.map(|p| p.response))
+            (stiffness, ga, Some(report), point.map(|p| (p.energy, p.response)))
         }
     };
     // The best point's response in full, also when a time limit ended the search (one more
     // evaluation, so that the result reports a usable design). The gradient method's own last
     // point is that response already (on its fixed horizon).
     let (best, response) = match response {
-        Some(r) => (
-            evaluation_of(
-                &r,
-                spine_model::energy::strain_energy(&r.ends.theta1, &problem.design.theta0, &stiffness),
-                delta_d,
-                settings,
-            ),
-            r,
-        ),
+        Some((energy, r)) => (evaluation_of(&r, energy, delta_d, settings), r),
         None => {
             simulations.fetch_add(1, Ordering::Relaxed);
             spine_stop::without_time_limit(|| evaluate(problem, &forcing, &stiffness, delta_d, settings))?

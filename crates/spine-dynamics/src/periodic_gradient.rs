@@ -38,7 +38,7 @@ use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
 use crate::response::DynamicProblem;
 use nalgebra::DMatrix;
 use serde::Serialize;
-use spine_ipopt::{Problem, Status};
+use spine_ipopt::Problem;
 use spine_model::jacobian::{design_column_of_stiffness, design_jacobian, residual_and_state_jacobian};
 use spine_model::State;
 use spine_search::{Evaluation, Progress};
@@ -110,8 +110,9 @@ pub fn eq37_point(
     let (_, a) = residual_and_state_jacobian(spans, &p.design, &loads, &state);
     let lu = BorderedLu::factor(&a).ok()?;
     let mut rhs = vec![vec![0.0; n + 1]; stiffness.len()];
+    let first_spring = design_column_of_stiffness(n, 0);
     for &(r, c, v) in &design_jacobian(spans, &p.design, &loads, &state).entries {
-        if let Some(j) = (0..stiffness.len()).find(|&j| design_column_of_stiffness(n, j) == c) {
+        if let Some(j) = c.checked_sub(first_spring) {
             rhs[j][r] -= v;
         }
     }
@@ -167,13 +168,19 @@ struct Eq37<'a> {
 impl Eq37<'_> {
     fn point(&mut self, u: &[f64]) -> Option<&Eq37Point> {
         if self.cache.as_ref().is_none_or(|(x, _)| x.as_slice() != u) {
-            let stiffness: Vec<f64> = u.iter().map(|v| 10f64.powf(*v)).collect();
             self.simulations += 1;
-            let point = eq37_point(self.problem, self.forcing, &stiffness, self.delta_d, self.settings, self.periods);
+            let point =
+                eq37_point(self.problem, self.forcing, &stiffness_of(u), self.delta_d, self.settings, self.periods);
             self.cache = Some((u.to_vec(), point));
         }
         self.cache.as_ref().and_then(|(_, p)| p.as_ref())
     }
+}
+
+/// The springs `K = 10^u`, N·m/rad, of the variables `u = log10 K` that every eq. (37) method
+/// works in.
+pub(crate) fn stiffness_of(u: &[f64]) -> Vec<f64> {
+    u.iter().map(|v| 10f64.powf(*v)).collect()
 }
 
 /// `d/d log10 K = K ln 10 · d/dK`.
@@ -260,10 +267,8 @@ pub fn design_by_gradient(
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
     let mut root_search_simulations = 0;
     let (start, start_name, uniform_stiffness) = match gradient.start {
-        GradientStart::Case | GradientStart::Ga => {
-            let name = if gradient.start == GradientStart::Ga { "ga" } else { "case" };
-            (given.iter().map(|k| k.log10()).collect(), name.to_string(), None)
-        }
+        GradientStart::Case => (given.iter().map(|k| k.log10()).collect(), "case".to_string(), None),
+        GradientStart::Ga => (given.iter().map(|k| k.log10()).collect(), "ga".to_string(), None),
         GradientStart::Uniform => {
             // min_t X − δ_d rises with the springs (a stiffer arch moves less); a design that
             // buckles or whose simulation fails counts as too soft (−∞).
@@ -288,7 +293,7 @@ pub fn design_by_gradient(
     };
     // The horizon: one period more than the start needs to settle.
     let mut p = problem.clone();
-    p.design.stiffness = start.iter().map(|u| 10f64.powf(*u)).collect();
+    p.design.stiffness = stiffness_of(&start);
     root_search_simulations += 1;
     let settle = crate::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response)
         .map_or(settings.response.max_periods, |r| r.periods_run);
@@ -313,11 +318,13 @@ pub fn design_by_gradient(
         .string("hessian_approximation", "limited-memory")
         .string("mu_strategy", "adaptive");
     let sol = spine_ipopt::solve(&mut eq37, &options).expect("eq. (37) is a valid Ipopt problem");
-    let point = eq37.point(&sol.x).cloned();
+    // The final point out of the cache (evaluated there unless Ipopt's last trial was elsewhere).
+    eq37.point(&sol.x);
+    let point = eq37.cache.take().and_then(|(_, p)| p);
     let at_bound = |bound: f64| (0..sol.x.len()).filter(|&j| (sol.x[j] - bound).abs() <= AT_BOUND).collect();
     // A stop from outside makes the evaluations fail before Ipopt's next iteration asks: say so
     // instead of Ipopt's reading of the failures (`invalid_number_detected`).
-    let converged = sol.status == Status::SolveSucceeded || sol.status.is_converged();
+    let converged = sol.status.is_converged();
     let stopped = if converged { None } else { spine_stop::check() };
     let report = GradientReport {
         status: stopped.map_or_else(|| sol.status.name(), |reason| reason.name().to_string()),
@@ -333,5 +340,5 @@ pub fn design_by_gradient(
         at_lower_bound: at_bound(lo),
         at_upper_bound: at_bound(hi),
     };
-    (sol.x.iter().map(|v| 10f64.powf(*v)).collect(), point, report)
+    (stiffness_of(&sol.x), point, report)
 }
