@@ -99,9 +99,13 @@ impl RatesAt<'_> {
         match what {
             RatesIn::Dampers | RatesIn::Springs => {
                 // The joint's relative motion: θ̇ for a damper, θ − θ0 for a spring.
-                let x: Vec<f64> = match what {
-                    RatesIn::Springs => self.theta.iter().zip(&d.theta0).map(|(t, t0)| t - t0).collect(),
-                    _ => omega.to_vec(),
+                let deflection: Vec<f64>;
+                let x: &[f64] = match what {
+                    RatesIn::Springs => {
+                        deflection = self.theta.iter().zip(&d.theta0).map(|(t, t0)| t - t0).collect();
+                        &deflection
+                    }
+                    _ => omega,
                 };
                 let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { x[i as usize] };
                 for k in 0..columns {
