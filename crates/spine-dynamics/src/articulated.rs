@@ -178,39 +178,53 @@ impl<T: ChainNumber> ArticulatedChain<T> {
 
     /// `x = M(θ)⁻¹ b` (`b` in N·m per absolute angle, `x` in rad/s²).
     pub fn solve(&self, b: &[T]) -> Vec<T> {
-        let n = b.len();
+        let mut x = b.to_vec();
+        self.solve_in_place([&mut x]);
+        x
+    }
+
+    /// `x_c = M(θ)⁻¹ x_c` for each of the `C` columns, in place. The columns go through the
+    /// sweeps side by side: each link's factors are read once, and the columns' chains of
+    /// dependent divisions overlap. Each column's arithmetic is that of a solve on its own.
+    pub fn solve_in_place<const C: usize>(&self, mut columns: [&mut [T]; C]) {
+        let n = self.d.len();
         let zero = T::from(0.0);
-        // One buffer: the joint moments τ, then the free parts u_k, then x (each entry is read
-        // once before it is overwritten).
+        // Each column is overwritten in turn by the joint moments τ, then the free parts u_k,
+        // then x (each entry is read once before it is overwritten).
         // Joint moments τ = Tᵀ b: the moment at joint k carries every link from k outward.
-        let mut x = vec![zero; n];
-        let mut sum = zero;
-        for k in (0..n).rev() {
-            sum += b[k];
-            x[k] = sum;
+        for x in columns.iter_mut() {
+            let mut sum = zero;
+            for k in (0..n).rev() {
+                sum += x[k];
+                x[k] = sum;
+            }
         }
         // Tip to base: the bias force p^A at each joint and u_k = τ_k − Sᵀ p^A_k.
-        let mut bias: V3<T> = [zero; 3];
+        let mut bias: [V3<T>; C] = [[zero; 3]; C];
         for k in (0..n).rev() {
-            let uk = x[k] - bias[0];
-            x[k] = uk;
-            let scale = uk / self.d[k];
-            let passed =
-                [bias[0] + self.u[k][0] * scale, bias[1] + self.u[k][1] * scale, bias[2] + self.u[k][2] * scale];
-            if k > 0 {
-                bias = shift_force(&passed, &self.shift[k - 1]);
+            let (u, d) = (self.u[k], self.d[k]);
+            for (x, bias) in columns.iter_mut().zip(bias.iter_mut()) {
+                let uk = x[k] - bias[0];
+                x[k] = uk;
+                let scale = uk / d;
+                let passed = [bias[0] + u[0] * scale, bias[1] + u[1] * scale, bias[2] + u[2] * scale];
+                if k > 0 {
+                    *bias = shift_force(&passed, &self.shift[k - 1]);
+                }
             }
         }
         // Base to tip: the base joint is fixed (zero acceleration of its point).
-        let mut motion: V3<T> = [zero; 3];
+        let mut motion: [V3<T>; C] = [[zero; 3]; C];
         for k in 0..n {
-            let seen = if k > 0 { shift_motion(&motion, &self.shift[k - 1]) } else { [zero; 3] };
-            let dot = self.u[k][0] * seen[0] + self.u[k][1] * seen[1] + self.u[k][2] * seen[2];
-            let joint = (x[k] - dot) / self.d[k];
-            motion = [seen[0] + joint, seen[1], seen[2]];
-            x[k] = motion[0];
+            let (u, d) = (self.u[k], self.d[k]);
+            for (x, motion) in columns.iter_mut().zip(motion.iter_mut()) {
+                let seen = if k > 0 { shift_motion(motion, &self.shift[k - 1]) } else { [zero; 3] };
+                let dot = u[0] * seen[0] + u[1] * seen[1] + u[2] * seen[2];
+                let joint = (x[k] - dot) / d;
+                *motion = [seen[0] + joint, seen[1], seen[2]];
+                x[k] = motion[0];
+            }
         }
-        x
     }
 }
 

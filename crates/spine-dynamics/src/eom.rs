@@ -110,27 +110,32 @@ impl Dynamics {
     /// [`Self::velocity_terms`] from `(sin θ_i, cos θ_i)`.
     pub(crate) fn velocity_terms_from<D: Scalar>(&self, trig: &[(D, D)], omega: &[D]) -> Vec<D> {
         let n = self.n_links();
-        let (coupling, _) = self.inertia_coefficients();
-        let w: Vec<(D, D)> = (0..n)
-            .map(|j| {
-                let (s, c) = trig[j];
-                let a = omega[j] * omega[j] * self.lengths[j];
-                (a * c, a * s)
-            })
-            .collect();
-        let mut after = vec![(D::zero(), D::zero()); n];
-        let mut sum = (D::zero(), D::zero());
+        // Per link, from the tip: μ_i = ½ m_i + Σ_{k>i} m_k ([`Self::inertia_coefficients`], the
+        // same sums in the same order), w_i = L_i θ̇_i² (cos θ_i, sin θ_i) and the μ-weighted
+        // suffix sum of w beyond link i.
+        let mut links: Vec<TipSums<D>> = Vec::with_capacity(n);
+        let (mut beyond, mut sum) = (0.0, (D::zero(), D::zero()));
         for i in (0..n).rev() {
-            after[i] = sum;
-            sum = (sum.0 + w[i].0 * coupling[i], sum.1 + w[i].1 * coupling[i]);
+            if i + 1 < n {
+                beyond += self.masses[i + 1];
+            }
+            let coupling = 0.5 * self.masses[i] + beyond;
+            let (s, c) = trig[i];
+            let a = omega[i] * omega[i] * self.lengths[i];
+            let w = (a * c, a * s);
+            links.push(TipSums { coupling, w, after: sum });
+            sum = (sum.0 + w.0 * coupling, sum.1 + w.1 * coupling);
         }
         let mut before = (D::zero(), D::zero());
-        (0..n)
-            .map(|i| {
+        links
+            .iter()
+            .rev()
+            .enumerate()
+            .map(|(i, &TipSums { coupling, w, after })| {
                 let (s, c) = trig[i];
-                let a = before.0 * coupling[i] + after[i].0;
-                let b = before.1 * coupling[i] + after[i].1;
-                before = (before.0 + w[i].0, before.1 + w[i].1);
+                let a = before.0 * coupling + after.0;
+                let b = before.1 * coupling + after.1;
+                before = (before.0 + w.0, before.1 + w.1);
                 (s * a - c * b) * self.lengths[i]
             })
             .collect()
@@ -272,7 +277,10 @@ impl Dynamics {
         let Some(chain) = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig) else {
             return nan_accelerations(self.n_links());
         };
-        bordered(&chain.solve(&q), &chain.solve(&g), &g, b)
+        // M⁻¹Q and M⁻¹∇Φ in one pair of sweeps.
+        let (mut mq, mut mg) = (q, g.clone());
+        chain.solve_in_place([&mut mq, &mut mg]);
+        bordered(mq, &mg, &g, b)
     }
 
     /// [`Self::acceleration`] through the dense mass matrix ([`Self::mass_matrix`], Cholesky) and
@@ -290,7 +298,7 @@ impl Dynamics {
         let Some(chol) = cholesky(self.mass_matrix(theta)) else {
             return nan_accelerations(self.n_links());
         };
-        bordered(&chol_solve(&chol, &q), &chol_solve(&chol, &g), &g, b)
+        bordered(chol_solve(&chol, &q), &chol_solve(&chol, &g), &g, b)
     }
 
     /// Right-hand side of the first-order system in `y = (θ, θ̇)`: `(θ̇, θ̈)`.
@@ -348,18 +356,30 @@ impl Dynamics {
     }
 }
 
+/// One link's terms of the centrifugal sums ([`Dynamics::velocity_terms`]): `μ_i`, `w_i` and the
+/// `μ`-weighted sum of `w` beyond the link.
+#[derive(Clone, Copy)]
+struct TipSums<D> {
+    coupling: f64,
+    w: (D, D),
+    after: (D, D),
+}
+
 /// NaN accelerations and reaction: what a state without a regular mass matrix gives.
 fn nan_accelerations<D: Scalar>(n: usize) -> (Vec<D>, D) {
     (vec![D::from(f64::NAN); n], D::from(f64::NAN))
 }
 
 /// `θ̈ = M⁻¹Q + λ M⁻¹∇Φ` with `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)` (the Schur complement of the
-/// bordered system), from `mq = M⁻¹Q` and `mg = M⁻¹∇Φ`.
-pub(crate) fn bordered<D: Scalar>(mq: &[D], mg: &[D], g: &[D], b: D) -> (Vec<D>, D) {
-    let gmq: D = g.iter().zip(mq).map(|(&a, &c)| a * c).sum();
+/// bordered system), from `mq = M⁻¹Q` (overwritten with `θ̈`) and `mg = M⁻¹∇Φ`.
+pub(crate) fn bordered<D: Scalar>(mut mq: Vec<D>, mg: &[D], g: &[D], b: D) -> (Vec<D>, D) {
+    let gmq: D = g.iter().zip(&mq).map(|(&a, &c)| a * c).sum();
     let gmg: D = g.iter().zip(mg).map(|(&a, &c)| a * c).sum();
     let lambda = (b - gmq) / gmg;
-    ((0..mq.len()).map(|i| mq[i] + mg[i] * lambda).collect(), lambda)
+    for (x, &m) in mq.iter_mut().zip(mg) {
+        *x += m * lambda;
+    }
+    (mq, lambda)
 }
 
 /// Gauss–Newton sweeps of [`Dynamics::project`]; the first leaves `|Φ|` at the square of the step's

@@ -162,9 +162,12 @@ impl<T: ChainNumber> ShiftedSolve<T> for ChainFactor<T> {
         let n = c.trig.len();
         let (r1, r2) = rhs.split_at_mut(n);
         let kr1 = c.stiffness_times(&self.stiffness, r1);
-        let mr2 = c.mass_times(r2);
-        let rhs_u: Vec<T> = mr2.iter().zip(&kr1).map(|(&m, &k)| (m - k * self.inv) * self.inv).collect();
-        let au = self.chain.solve(&rhs_u);
+        // (M r2 − K̃ r1/σ)/σ, then A⁻¹ of it, in one buffer.
+        let mut au = c.mass_times(r2);
+        for (m, &k) in au.iter_mut().zip(&kr1) {
+            *m = (*m - k * self.inv) * self.inv;
+        }
+        self.chain.solve_in_place([&mut au]);
         let mu = (dot(&self.g, &au) - dot(&self.g, r2) * self.inv) / self.gag;
         for i in 0..n {
             let u = au[i] - mu * self.ag[i];

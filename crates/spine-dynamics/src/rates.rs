@@ -144,7 +144,7 @@ impl RatesAt<'_> {
                 // The state's own θ̈ and λ.
                 let h = d.velocity_terms_from(trig, omega);
                 let (q, _, b) = d.index1_terms(loads, (self.theta, trig), omega, &d.damping, &h);
-                let (acc, lambda) = bordered(&chain.solve(&q), mg, g, b);
+                let (acc, lambda) = bordered(chain.solve(&q), mg, g, b);
                 let k_m = &d.stiffness;
                 for k in 0..n {
                     let (sk, ck) = trig[k];

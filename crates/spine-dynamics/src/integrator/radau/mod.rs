@@ -218,8 +218,11 @@ impl<'a> Run<'a> {
             let sum: f64 = dw.iter().map(|d| d.iter().zip(&scale).map(|(a, s)| (a / s).powi(2)).sum::<f64>()).sum();
             (sum / (3 * n.max(1)) as f64).sqrt()
         };
+        let mut yi = vec![0.0; n];
         let mut stage = |i: usize, zi: &[f64]| {
-            let yi: Vec<f64> = (0..n).map(|j| y[j] + zi[j]).collect();
+            for (v, (&a, &b)) in yi.iter_mut().zip(y.iter().zip(zi)) {
+                *v = a + b;
+            }
             stats.rhs_evaluations += 1;
             stats.newton_iterations += usize::from(i == 0);
             sys.rhs(t + C[i] * h_step, piece, &yi)

@@ -86,11 +86,21 @@ pub(super) fn collocation(
 ) -> Option<Collocation> {
     let n = z0[0].len();
     let h = factors.h;
-    let transform = |m: &[[f64; 3]; 3], x: &Stages| -> Stages {
-        std::array::from_fn(|r| (0..n).map(|j| m[r][0] * x[0][j] + m[r][1] * x[1][j] + m[r][2] * x[2][j]).collect())
+    // `out = m x` stage by stage, into storage kept across the iterations.
+    let transform = |m: &[[f64; 3]; 3], x: &Stages, out: &mut Stages| {
+        for (r, row) in out.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = m[r][0] * x[0][j] + m[r][1] * x[1][j] + m[r][2] * x[2][j];
+            }
+        }
     };
-    let mut w = transform(&TI, &z0);
+    let zeros = || -> Stages { std::array::from_fn(|_| vec![0.0; n]) };
+    let mut w = zeros();
+    transform(&TI, &z0, &mut w);
     let mut z = z0;
+    let (mut tf, mut dw) = (zeros(), zeros());
+    let mut real = vec![0.0; n];
+    let mut complex = vec![Complex64::new(0.0, 0.0); n];
     let mut previous: Option<f64> = None;
     let mut rate;
     let (mu, mu_c) = (MU_REAL / h, Complex64::new(MU_ALPHA, -MU_BETA) / h);
@@ -99,13 +109,19 @@ pub(super) fn collocation(
         if f.iter().flatten().any(|v| !v.is_finite()) {
             return None;
         }
-        let tf = transform(&TI, &f);
-        let mut real: Vec<f64> = (0..n).map(|j| tf[0][j] - mu * w[0][j]).collect();
-        let mut complex: Vec<Complex64> =
-            (0..n).map(|j| Complex64::new(tf[1][j], tf[2][j]) - mu_c * Complex64::new(w[1][j], w[2][j])).collect();
+        transform(&TI, &f, &mut tf);
+        for (j, x) in real.iter_mut().enumerate() {
+            *x = tf[0][j] - mu * w[0][j];
+        }
+        for (j, x) in complex.iter_mut().enumerate() {
+            *x = Complex64::new(tf[1][j], tf[2][j]) - mu_c * Complex64::new(w[1][j], w[2][j]);
+        }
         factors.real.solve(&mut real);
         factors.complex.solve(&mut complex);
-        let dw: Stages = [real, complex.iter().map(|c| c.re).collect(), complex.iter().map(|c| c.im).collect()];
+        dw[0].copy_from_slice(&real);
+        for (j, c) in complex.iter().enumerate() {
+            (dw[1][j], dw[2][j]) = (c.re, c.im);
+        }
         let dw_norm = norm(&dw);
         if !dw_norm.is_finite() {
             return None;
@@ -125,7 +141,7 @@ pub(super) fn collocation(
         for (wr, dr) in w.iter_mut().zip(&dw) {
             wr.iter_mut().zip(dr).for_each(|(a, b)| *a += b);
         }
-        z = transform(&T, &w);
+        transform(&T, &w, &mut z);
         // Stalled at round-off, a correction a tenth of the tolerance, or a predicted remaining
         // error below it: done.
         let stalled = slow && noise;
