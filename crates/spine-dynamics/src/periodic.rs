@@ -19,7 +19,7 @@
 
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
-use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
+use crate::integrator::{first_event, integrate, Extras, Options, Outcome, Stats, Trajectory};
 use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
 use crate::system::{Parameters, SpineOde};
 use nalgebra::DMatrix;
@@ -184,6 +184,10 @@ fn run_periodic(
     let x_of = |y: &[f64]| d.end_x(&y[..n]) - length_x;
     let grad = |y: &[f64]| d.end_x_state_gradient(y);
     let (onset, release) = onset_and_release(&d.forcing);
+    // The first time after `after` that the end's X displacement reaches `level`, on the steps.
+    let crossing = |traj: &Trajectory, after: f64, level: f64| {
+        first_event(&ode, &settings.integrator, traj, after, &|y| x_of(y) - level, &grad).map(|e| e.t)
+    };
     let first_level =
         ends.passive_displacement + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
     let mut first_rise_time = None;
@@ -194,8 +198,7 @@ fn run_periodic(
         sensitivities = traj.end_sensitivity();
         periods_run += 1;
         if k == 0 {
-            first_rise_time =
-                traj.first_root(t0 + onset, &|y| x_of(y) - first_level, &grad).map(|e| e.t - (t0 + onset));
+            first_rise_time = crossing(&traj, t0 + onset, first_level).map(|t| t - (t0 + onset));
         }
         stats.absorb(&traj.stats);
         let (s, dr) = sample(d, &traj, settings.samples_per_period + 1, ends.x1, length_x);
@@ -227,11 +230,10 @@ fn run_periodic(
     let x_onset = x_of(&traj.value(onset));
     let f = settings.reach_fraction;
     let reach_level = x_onset + f * (min.0 - x_onset);
-    let reach_time = traj.first_root(onset, &|y| x_of(y) - reach_level, &grad).map(|e| e.t - onset);
+    let reach_time = crossing(&traj, onset, reach_level).map(|t| t - onset);
     let return_level = min.0 + f * (ends.passive_displacement - min.0);
-    let return_time = traj.first_root(release, &|y| x_of(y) - return_level, &grad).map(|e| e.t - release);
-    let time_to_target =
-        target.and_then(|delta_d| traj.first_root(onset, &|y| x_of(y) - delta_d, &grad)).map(|e| e.t - onset);
+    let return_time = crossing(&traj, release, return_level).map(|t| t - release);
+    let time_to_target = target.and_then(|delta_d| crossing(&traj, onset, delta_d)).map(|t| t - onset);
     let with_gradient = |t: f64, value: f64| {
         let dx = grad(&traj.value(t));
         let s = traj.sensitivity(t).expect("sensitivities were propagated");

@@ -22,6 +22,46 @@ fn step_response_settles_in_the_static_loaded_equilibrium_with_no_drift() {
     assert!(r.fit.tau > 0.0 && r.fit.rms_error < 0.1);
 }
 
+/// `T_90` on the integration steps converges with the tolerance, where the root of the dense output
+/// stalls at the interpolant's error: the scaled step case at N = 10 and 50, against rtol 1e-10.
+#[test]
+fn rise_time_on_the_steps_converges_with_the_tolerance() {
+    use spine_dynamics::fixtures::peer_step_problem;
+    use spine_dynamics::integrator::{integrate, Extras};
+    use spine_dynamics::{Parameters, SpineOde};
+    for n in [10, 50] {
+        let p = peer_step_problem(n);
+        let ends = p.static_ends(&Default::default()).unwrap();
+        let d = p.dynamics(Forcing::Step);
+        let at = |rtol: f64| {
+            let mut settings = StepSettings { t_end: 1.0, ..Default::default() };
+            (settings.integrator.rtol, settings.integrator.atol) = (rtol, rtol / 100.0);
+            let (t90, _) = rise_time(&d, &ends, &settings, false);
+            // The same run's root on the dense output alone.
+            let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
+            let traj = integrate(&ode, 0.0, &ends.rest_state(), 1.0, &settings.integrator, Extras::default());
+            let target = ends.x1 + 0.9 * (ends.x2 - ends.x1);
+            let g = |y: &[f64]| d.end_x(&y[..n]) - target;
+            let dense = traj.first_root(0.0, &g, &|y: &[f64]| d.end_x_state_gradient(y)).unwrap().t;
+            (t90.unwrap(), dense)
+        };
+        let (reference, _) = at(1e-10);
+        let errors: Vec<(f64, f64)> = [1e-5, 1e-6, 1e-7]
+            .iter()
+            .map(|&r| at(r))
+            .map(|(s, d)| ((s - reference).abs(), (d - reference).abs()))
+            .collect();
+        for (k, &(on_steps, dense)) in errors.iter().enumerate() {
+            let rtol = 1e-5 / 10f64.powi(k as i32);
+            assert!(on_steps <= 3e-3 * rtol, "N = {n}, rtol {rtol:e}: T_90 off by {on_steps:.1e} s");
+            assert!(on_steps <= dense, "N = {n}, rtol {rtol:e}: {on_steps:.1e} s on the steps, {dense:.1e} s dense");
+        }
+        // At rtol 1e-6 the dense root is at least ten times further off (its error does not
+        // follow the tolerance).
+        assert!(10.0 * errors[1].0 <= errors[1].1, "N = {n}: {:?}", errors[1]);
+    }
+}
+
 #[test]
 fn first_order_fit_recovers_an_exact_exponential() {
     let times: Vec<f64> = (0..500).map(|k| k as f64 * 0.002).collect();

@@ -27,12 +27,14 @@
 //! holds what the drivers share (stops, landing on breakpoints, projection).
 
 mod dense;
+mod event;
 mod options;
 mod radau;
 mod trbdf2;
 
 pub use crate::ode::OdeSystem;
 pub use dense::{Event, Interval, Trajectory};
+pub use event::first_event;
 pub use options::{Method, Options, Outcome, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
 
 use nalgebra::DMatrix;
