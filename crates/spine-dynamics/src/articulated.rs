@@ -45,16 +45,22 @@ impl<T> ChainNumber for T where
 type V3<D> = [D; 3];
 type M3<D> = [[D; 3]; 3];
 
-/// The articulated-body factorisation of `M(θ)` for one configuration `θ`.
+/// The articulated-body factorisation of `M(θ)` for one configuration `θ`: one record per link.
 pub struct ArticulatedChain<D> {
+    links: Vec<Link<D>>,
+}
+
+/// One link's part of [`ArticulatedChain`].
+#[derive(Clone, Copy)]
+struct Link<D> {
     /// `U_k = I^A_k S` (the first column of the articulated inertia; `S = (1, 0, 0)`: a revolute
     /// joint at the reference point).
-    u: Vec<V3<D>>,
+    u: V3<D>,
     /// `D_k = Sᵀ I^A_k S`, kg·m² (> 0 for links with mass).
-    d: Vec<D>,
+    d: D,
     /// `r_k^⊥ = L_k (−sin θ_k, cos θ_k)`, m: moves motion from joint `k` to joint `k + 1`
     /// (`a_{k+1} = a_k + α r_k^⊥` at rest).
-    shift: Vec<[D; 2]>,
+    shift: [D; 2],
 }
 
 /// `Xᵀ A X` for the shift `X = [[1, 0, 0], [p_x, 1, 0], [p_y, 0, 1]]` (motion at the outboard joint
@@ -95,7 +101,7 @@ impl<D: Scalar> ArticulatedChain<D> {
     pub fn from_trig(lengths: &[f64], masses: &[f64], trig: &[(D, D)]) -> Option<Self> {
         let shifts = trig.iter().zip(lengths).map(|(&(s, c), &l)| [-s * l, c * l]);
         let positive = |d: &D| d.re().partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
-        Self::factor(lengths, masses, shifts.collect(), None, &positive)
+        Self::factor(lengths, masses, shifts, None, &positive)
     }
 }
 
@@ -115,26 +121,25 @@ impl<T: ChainNumber> ArticulatedChain<T> {
         pivot_ok: &dyn Fn(&T) -> bool,
     ) -> Option<Self> {
         let shifts = trig.iter().zip(lengths).map(|(&(s, c), &l)| [T::from(-s * l), T::from(c * l)]);
-        Self::factor(lengths, masses, shifts.collect(), Some((joint, body)), pivot_ok)
+        Self::factor(lengths, masses, shifts, Some((joint, body)), pivot_ok)
     }
 
     /// The tip-to-base sweep from the links' shifts `r_k^⊥`.
     fn factor(
         lengths: &[f64],
         masses: &[f64],
-        shift: Vec<[T; 2]>,
+        shifts: impl Iterator<Item = [T; 2]>,
         additions: Option<(&[T], &[T])>,
         pivot_ok: &dyn Fn(&T) -> bool,
     ) -> Option<Self> {
-        let n = shift.len();
         let zero = T::from(0.0);
-        let mut u = vec![[zero; 3]; n];
-        let mut d = vec![zero; n];
+        let mut links: Vec<Link<T>> = shifts.map(|shift| Link { u: [zero; 3], d: zero, shift }).collect();
+        let n = links.len();
         // The reduced articulated inertia the outboard link hands inboard, at its own joint.
         let mut outboard: Option<M3<T>> = None;
         for k in (0..n).rev() {
             let (l, m) = (lengths[k], masses[k]);
-            let p = shift[k];
+            let p = links[k].shift;
             // Rigid inertia at the inboard joint: centre of mass at c = (L/2) e_k, c^⊥ = (L/2) e_k^⊥,
             // I_c = m L² / 12: [[I_c + m|c|², m c^⊥ᵀ], [m c^⊥, m 1]].
             let half = [p[0] * T::from(0.5 * m), p[1] * T::from(0.5 * m)];
@@ -169,11 +174,10 @@ impl<T: ChainNumber> ArticulatedChain<T> {
                     *x -= uk[i] * uk[j] / dk;
                 }
             }
-            u[k] = uk;
-            d[k] = dk;
+            (links[k].u, links[k].d) = (uk, dk);
             outboard = Some(reduced);
         }
-        Some(Self { u, d, shift })
+        Some(Self { links })
     }
 
     /// `x = M(θ)⁻¹ b` (`b` in N·m per absolute angle, `x` in rad/s²).
@@ -187,7 +191,7 @@ impl<T: ChainNumber> ArticulatedChain<T> {
     /// sweeps side by side: each link's factors are read once, and the columns' chains of
     /// dependent divisions overlap. Each column's arithmetic is that of a solve on its own.
     pub fn solve_in_place<const C: usize>(&self, mut columns: [&mut [T]; C]) {
-        let n = self.d.len();
+        let n = self.links.len();
         let zero = T::from(0.0);
         // Each column is overwritten in turn by the joint moments τ, then the free parts u_k,
         // then x (each entry is read once before it is overwritten).
@@ -202,23 +206,23 @@ impl<T: ChainNumber> ArticulatedChain<T> {
         // Tip to base: the bias force p^A at each joint and u_k = τ_k − Sᵀ p^A_k.
         let mut bias: [V3<T>; C] = [[zero; 3]; C];
         for k in (0..n).rev() {
-            let (u, d) = (self.u[k], self.d[k]);
+            let Link { u, d, .. } = self.links[k];
             for (x, bias) in columns.iter_mut().zip(bias.iter_mut()) {
                 let uk = x[k] - bias[0];
                 x[k] = uk;
                 let scale = uk / d;
                 let passed = [bias[0] + u[0] * scale, bias[1] + u[1] * scale, bias[2] + u[2] * scale];
                 if k > 0 {
-                    *bias = shift_force(&passed, &self.shift[k - 1]);
+                    *bias = shift_force(&passed, &self.links[k - 1].shift);
                 }
             }
         }
         // Base to tip: the base joint is fixed (zero acceleration of its point).
         let mut motion: [V3<T>; C] = [[zero; 3]; C];
         for k in 0..n {
-            let (u, d) = (self.u[k], self.d[k]);
+            let Link { u, d, .. } = self.links[k];
             for (x, motion) in columns.iter_mut().zip(motion.iter_mut()) {
-                let seen = if k > 0 { shift_motion(motion, &self.shift[k - 1]) } else { [zero; 3] };
+                let seen = if k > 0 { shift_motion(motion, &self.links[k - 1].shift) } else { [zero; 3] };
                 let dot = u[0] * seen[0] + u[1] * seen[1] + u[2] * seen[2];
                 let joint = (x[k] - dot) / d;
                 *motion = [seen[0] + joint, seen[1], seen[2]];
@@ -243,22 +247,22 @@ impl ArticulatedChain<f64> {
         }
         let mut bias = vec![[0.0f64; 3]; m];
         for k in (0..n).rev() {
-            let (u, d) = (self.u[k], self.d[k]);
+            let Link { u, d, .. } = self.links[k];
             for (c, bias) in bias.iter_mut().enumerate() {
                 let uk = b[(k, c)] - bias[0];
                 b[(k, c)] = uk;
                 let scale = uk / d;
                 let passed = [bias[0] + u[0] * scale, bias[1] + u[1] * scale, bias[2] + u[2] * scale];
                 if k > 0 {
-                    *bias = shift_force(&passed, &self.shift[k - 1]);
+                    *bias = shift_force(&passed, &self.links[k - 1].shift);
                 }
             }
         }
         let mut motion = vec![[0.0f64; 3]; m];
         for k in 0..n {
-            let (u, d) = (self.u[k], self.d[k]);
+            let Link { u, d, .. } = self.links[k];
             for (c, motion) in motion.iter_mut().enumerate() {
-                let seen = if k > 0 { shift_motion(motion, &self.shift[k - 1]) } else { [0.0; 3] };
+                let seen = if k > 0 { shift_motion(motion, &self.links[k - 1].shift) } else { [0.0; 3] };
                 let dot = u[0] * seen[0] + u[1] * seen[1] + u[2] * seen[2];
                 let joint = (b[(k, c)] - dot) / d;
                 *motion = [seen[0] + joint, seen[1], seen[2]];

@@ -229,13 +229,14 @@ impl Dynamics {
 
     /// The index-1 form's parts at `(θ, θ̇)` given the centrifugal terms `h`: `Q = P − h − C_m θ̇ −
     /// K_m (θ − θ0)` (N·m), `∇Φ` (m) and `Σ L_i sin θ_i θ̇_i²` (m/s², the `Φ̈ = 0` row).
+    /// `h` is overwritten with `Q`.
     pub(crate) fn index1_terms<D: Scalar>(
         &self,
-        loads: &LinkLoads,
+        loads: LoadsAt<'_>,
         (theta, trig): (&[D], &[(D, D)]),
         omega: &[D],
         damping: &[D],
-        h: &[D],
+        h: Vec<D>,
     ) -> (Vec<D>, Vec<D>, D) {
         let n = self.n_links();
         // The springs' and dampers' joint moments ([`joint_moments`], term by term in its order,
@@ -249,15 +250,15 @@ impl Dynamics {
         };
         let l = &self.lengths;
         // P_i (eq. (48)), Q, ∇Φ_i = L_i cos θ_i and Σ L_i sin θ_i θ̇_i², from one sin/cos per link.
-        let q: Vec<D> = (0..n)
-            .map(|i| {
-                let (s, c) = trig[i];
-                let p = (c * loads.vertical[i] - s * loads.axial[i]) * l[i];
-                let spring = moment(D::from(self.stiffness[i]), D::from(self.stiffness[i + 1]), &delta, i);
-                let damper = moment(damping[i], damping[i + 1], &rate, i);
-                p - h[i] - damper - spring
-            })
-            .collect();
+        let mut q = h;
+        for (i, q) in q.iter_mut().enumerate() {
+            let (s, c) = trig[i];
+            let (vertical, axial) = loads.at(i);
+            let p = (c * vertical - s * axial) * l[i];
+            let spring = moment(D::from(self.stiffness[i]), D::from(self.stiffness[i + 1]), &delta, i);
+            let damper = moment(damping[i], damping[i + 1], &rate, i);
+            *q = p - *q - damper - spring;
+        }
         let g = (0..n).map(|i| trig[i].1 * l[i]).collect();
         let b: D = (0..n).map(|i| trig[i].0 * omega[i] * omega[i] * l[i]).sum();
         (q, g, b)
@@ -269,9 +270,14 @@ impl Dynamics {
     /// by the articulated-body recursion ([`ArticulatedChain`], one factorisation for both), then
     /// `λ = (b − ∇Φᵀ M⁻¹ Q) / (∇Φᵀ M⁻¹ ∇Φ)`. [`Self::acceleration_dense`] is the dense reference.
     pub fn acceleration<D: Scalar>(&self, loads: &LinkLoads, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
+        self.acceleration_at(LoadsAt::Given(loads), theta, omega, damping)
+    }
+
+    /// [`Self::acceleration`] with the loads given as [`LoadsAt`].
+    fn acceleration_at<D: Scalar>(&self, loads: LoadsAt<'_>, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
         let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
         let h = self.velocity_terms_from(&trig, omega);
-        let (q, g, b) = self.index1_terms(loads, (theta, &trig), omega, damping, &h);
+        let (q, g, b) = self.index1_terms(loads, (theta, &trig), omega, damping, h);
         // M is positive definite for links with mass; a non-finite trial state (a diverging Newton
         // iterate) gives NaN accelerations, which the integrator rejects.
         let Some(chain) = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig) else {
@@ -294,7 +300,7 @@ impl Dynamics {
     ) -> (Vec<D>, D) {
         let h = self.velocity_terms_dense(theta, omega);
         let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
-        let (q, g, b) = self.index1_terms(loads, (theta, &trig), omega, damping, &h);
+        let (q, g, b) = self.index1_terms(LoadsAt::Given(loads), (theta, &trig), omega, damping, h);
         let Some(chol) = cholesky(self.mass_matrix(theta)) else {
             return nan_accelerations(self.n_links());
         };
@@ -305,8 +311,8 @@ impl Dynamics {
     pub fn rhs<D: Scalar>(&self, t: f64, piece: f64, y: &[D], damping: &[D]) -> Vec<D> {
         let n = self.n_links();
         let (theta, omega) = y.split_at(n);
-        let loads = self.loads_at(t, piece);
-        let (acc, _) = self.acceleration(&loads, theta, omega, damping);
+        let loads = LoadsAt::Blend { from: &self.passive, to: &self.loaded, s: self.forcing.factor(t, piece) };
+        let (acc, _) = self.acceleration_at(loads, theta, omega, damping);
         omega.iter().copied().chain(acc).collect()
     }
 
@@ -353,6 +359,28 @@ impl Dynamics {
                 self.damping[i] * (right - left).powi(2)
             })
             .sum()
+    }
+}
+
+/// The link loads at one instant: given, or blended between the passive load and the passive
+/// load plus the full actuation without writing the blend out ([`LinkLoads::lerp`]'s arithmetic,
+/// [`Dynamics::loads_at`]).
+#[derive(Clone, Copy)]
+pub(crate) enum LoadsAt<'a> {
+    Given(&'a LinkLoads),
+    Blend { from: &'a LinkLoads, to: &'a LinkLoads, s: f64 },
+}
+
+impl LoadsAt<'_> {
+    /// `(vertical_i, axial_i)`, N.
+    fn at(&self, i: usize) -> (f64, f64) {
+        match *self {
+            LoadsAt::Given(l) => (l.vertical[i], l.axial[i]),
+            LoadsAt::Blend { from, to, s } => {
+                let mix = |x: f64, y: f64| x + s * (y - x);
+                (mix(from.vertical[i], to.vertical[i]), mix(from.axial[i], to.axial[i]))
+            }
+        }
     }
 }
 

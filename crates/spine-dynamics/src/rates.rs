@@ -25,7 +25,7 @@
 //! are NaN, as the accelerations are.
 
 use crate::articulated::ArticulatedChain;
-use crate::eom::{bordered, joint_moments, Dynamics};
+use crate::eom::{bordered, joint_moments, Dynamics, LoadsAt};
 use nalgebra::DMatrix;
 use spine_model::LinkLoads;
 
@@ -143,7 +143,7 @@ impl RatesAt<'_> {
             RatesIn::Angles(loads) => {
                 // The state's own θ̈ and λ.
                 let h = d.velocity_terms_from(trig, omega);
-                let (q, _, b) = d.index1_terms(loads, (self.theta, trig), omega, &d.damping, &h);
+                let (q, _, b) = d.index1_terms(LoadsAt::Given(loads), (self.theta, trig), omega, &d.damping, h);
                 let (acc, lambda) = bordered(chain.solve(&q), mg, g, b);
                 let k_m = &d.stiffness;
                 for k in 0..n {

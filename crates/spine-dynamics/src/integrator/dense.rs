@@ -57,14 +57,24 @@ impl Interval {
 
     /// `y(t)` on this interval.
     pub fn value(&self, t: f64) -> Vec<f64> {
+        let mut y = vec![0.0; self.y0.len()];
+        self.value_into(t, &mut y);
+        y
+    }
+
+    /// [`Self::value`] into `y` (of the state's length).
+    pub fn value_into(&self, t: f64, y: &mut [f64]) {
         if let Some(q) = &self.collocation {
             let x = ((t - self.t0) / (self.t1 - self.t0)).clamp(0.0, 1.0);
-            return (0..self.y0.len()).map(|i| self.y0[i] + x * (q[0][i] + x * (q[1][i] + x * q[2][i]))).collect();
+            for (i, v) in y.iter_mut().enumerate() {
+                *v = self.y0[i] + x * (q[0][i] + x * (q[1][i] + x * q[2][i]));
+            }
+            return;
         }
         let (b, _) = self.weights(t);
-        (0..self.y0.len())
-            .map(|i| b[0] * self.y0[i] + b[1] * self.f0[i] + b[2] * self.y1[i] + b[3] * self.f1[i])
-            .collect()
+        for (i, v) in y.iter_mut().enumerate() {
+            *v = b[0] * self.y0[i] + b[1] * self.f0[i] + b[2] * self.y1[i] + b[3] * self.f1[i];
+        }
     }
 
     /// `ẏ(t)` of the interpolant.
@@ -158,12 +168,14 @@ impl Trajectory {
         const SCAN: usize = 8;
         let start = self.value(after);
         let sign0 = if g(&start) < 0.0 { -1.0 } else { 1.0 };
+        let mut y = vec![0.0; start.len()];
         for iv in self.intervals.iter().filter(|iv| iv.t1 > after) {
             let lo0 = iv.t0.max(after);
             let mut prev = lo0;
             for k in 1..=SCAN {
                 let t = lo0 + (iv.t1 - lo0) * k as f64 / SCAN as f64;
-                if g(&iv.value(t)) * sign0 <= 0.0 {
+                iv.value_into(t, &mut y);
+                if g(&y) * sign0 <= 0.0 {
                     let root = refine(prev, t, &|s| g(&iv.value(s)) * sign0);
                     let y = iv.value(root);
                     let t_sensitivity = iv.sensitivity(root).map(|s| {
