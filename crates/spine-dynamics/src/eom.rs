@@ -321,9 +321,14 @@ impl Dynamics {
     pub fn project<D: Scalar>(&self, y: &mut [D]) {
         let n = self.n_links();
         let (theta, omega) = y.split_at_mut(n);
+        let mut trig: Vec<(D, D)> = Vec::with_capacity(n);
         for _ in 0..PROJECTION_SWEEPS {
-            let phi = self.constraint(theta);
-            let g = self.constraint_gradient(theta);
+            // Φ ([`Self::constraint`]) and ∇Φ ([`Self::constraint_gradient`]) from one sin/cos per
+            // link.
+            trig.clear();
+            trig.extend(theta.iter().map(|t| t.sin_cos()));
+            let phi: D = trig.iter().zip(&self.lengths).map(|(&(s, _), &l)| s * l).sum();
+            let g: Vec<D> = trig.iter().zip(&self.lengths).map(|(&(_, c), &l)| c * l).collect();
             let gg: D = g.iter().map(|&v| v * v).sum();
             let step = phi / gg;
             for i in 0..n {

@@ -107,28 +107,28 @@ impl Chain {
     fn mass_times<T: ChainNumber>(&self, r: &[T]) -> Vec<T> {
         let n = r.len();
         let zero = T::from(0.0);
-        let w: Vec<(T, T)> = (0..n)
-            .map(|j| {
-                let (s, c) = self.trig[j];
-                let a = r[j] * T::from(self.lengths[j]);
-                (a * T::from(c), a * T::from(s))
-            })
-            .collect();
-        let mut after = vec![(zero, zero); n];
+        // Per link, from the tip: w_j = L_j r_j (cos θ_j, sin θ_j) and the μ-weighted sum of w
+        // beyond link j; then M r from the base, written over the same storage.
+        let mut sums: Vec<((T, T), (T, T))> = Vec::with_capacity(n);
         let mut sum = (zero, zero);
         for i in (0..n).rev() {
-            after[i] = sum;
+            let (s, c) = self.trig[i];
+            let a = r[i] * T::from(self.lengths[i]);
+            let w = (a * T::from(c), a * T::from(s));
+            sums.push((w, sum));
             let mu = T::from(self.coupling[i]);
-            sum = (sum.0 + w[i].0 * mu, sum.1 + w[i].1 * mu);
+            sum = (sum.0 + w.0 * mu, sum.1 + w.1 * mu);
         }
+        sums.reverse();
         let mut before = (zero, zero);
         (0..n)
             .map(|i| {
                 let (s, c) = self.trig[i];
+                let (w, after) = sums[i];
                 let mu = T::from(self.coupling[i]);
-                let a = before.0 * mu + after[i].0;
-                let b = before.1 * mu + after[i].1;
-                before = (before.0 + w[i].0, before.1 + w[i].1);
+                let a = before.0 * mu + after.0;
+                let b = before.1 * mu + after.1;
+                before = (before.0 + w.0, before.1 + w.1);
                 r[i] * T::from(self.diag[i]) + (a * T::from(c) + b * T::from(s)) * T::from(self.lengths[i])
             })
             .collect()
@@ -136,8 +136,11 @@ impl Chain {
 
     /// `K̃ r`, with the springs `stiffness` already in the number type of `r`.
     fn stiffness_times<T: ChainNumber>(&self, stiffness: &[T], r: &[T]) -> Vec<T> {
-        let springs = joint_moments(stiffness, r);
-        springs.into_iter().zip(r).zip(&self.load_stiffness).map(|((s, &x), &l)| s + x * T::from(l)).collect()
+        let mut springs = joint_moments(stiffness, r);
+        for ((s, &x), &l) in springs.iter_mut().zip(r).zip(&self.load_stiffness) {
+            *s += x * T::from(l);
+        }
+        springs
     }
 }
 
