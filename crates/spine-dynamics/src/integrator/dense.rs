@@ -158,7 +158,8 @@ impl Trajectory {
     /// sign at `after`, located on the dense output to round-off (bisection refined by the secant
     /// rule). Each step is scanned at `SCAN` sub-points so that a crossing and return inside one step
     /// is not missed. With sensitivities, also `dt/dp = −(∇g · S) / (∇g · ẏ)` at the root, `∇g` from
-    /// `grad`.
+    /// `grad`. The root of the interpolant, whose error does not follow the tolerance;
+    /// [`super::first_event`] moves it onto the integration steps.
     pub fn first_root(
         &self,
         after: f64,
