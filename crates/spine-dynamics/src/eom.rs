@@ -368,8 +368,8 @@ impl Dynamics {
 }
 
 /// The link loads at one instant: given, or blended between the passive load and the passive
-/// load plus the full actuation without writing the blend out ([`LinkLoads::lerp`]'s arithmetic,
-/// [`Dynamics::loads_at`]).
+/// load plus the full actuation without writing the blend out ([`LinkLoads::lerp_at`], what
+/// [`Dynamics::loads_at`] writes out).
 #[derive(Clone, Copy)]
 pub(crate) enum LoadsAt<'a> {
     Given(&'a LinkLoads),
@@ -381,10 +381,7 @@ impl LoadsAt<'_> {
     fn at(&self, i: usize) -> (f64, f64) {
         match *self {
             LoadsAt::Given(l) => (l.vertical[i], l.axial[i]),
-            LoadsAt::Blend { from, to, s } => {
-                let mix = |x: f64, y: f64| x + s * (y - x);
-                (mix(from.vertical[i], to.vertical[i]), mix(from.axial[i], to.axial[i]))
-            }
+            LoadsAt::Blend { from, to, s } => LinkLoads::lerp_at(from, to, s, i),
         }
     }
 }

@@ -68,8 +68,14 @@ impl LinkLoads {
 
     /// `(1 − s) · from + s · to`: the load at continuation parameter `s`.
     pub fn lerp(from: &Self, to: &Self, s: f64) -> Self {
-        let mix = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect();
-        Self { vertical: mix(&from.vertical, &to.vertical), axial: mix(&from.axial, &to.axial) }
+        let (vertical, axial) = (0..from.vertical.len()).map(|i| Self::lerp_at(from, to, s, i)).unzip();
+        Self { vertical, axial }
+    }
+
+    /// `(vertical_i, axial_i)` of [`Self::lerp`], N, without writing the blend out.
+    pub fn lerp_at(from: &Self, to: &Self, s: f64, i: usize) -> (f64, f64) {
+        let mix = |x: f64, y: f64| x + s * (y - x);
+        (mix(from.vertical[i], to.vertical[i]), mix(from.axial[i], to.axial[i]))
     }
 
     /// Largest resultant magnitude, N: a scale for tolerances.

@@ -123,7 +123,9 @@ impl Trajectory {
         (self.start.0, self.intervals.last().map_or(self.start.0, |i| i.t1))
     }
 
-    fn interval_at(&self, t: f64) -> Option<&Interval> {
+    /// The accepted step whose interval holds `t` (`t0 < t ≤ t1`; the first or last step outside
+    /// the span).
+    pub(super) fn interval_at(&self, t: f64) -> Option<&Interval> {
         let k = self.intervals.partition_point(|iv| iv.t1 < t);
         self.intervals.get(k.min(self.intervals.len().saturating_sub(1)))
     }

@@ -13,9 +13,14 @@ use super::{integrate, Event, Extras, OdeSystem, Options, Outcome, Trajectory};
 /// Most Newton steps on the event time (two reach round-off from a dense root).
 const NEWTON_STEPS: usize = 3;
 
-/// The first time after `after` where `g(y(t))` changes sign ([`Trajectory::first_root`] on the
-/// dense output of `traj`, a run of `sys` with `opts`), moved onto the integration steps
-/// ([`refine_event`]).
+/// The first time after `after` where `g(y(t))` changes sign, on the integration steps.
+///
+/// [`Trajectory::first_root`] locates it on the dense output of `traj` (a run of `sys` with
+/// `opts`). Then Newton on `g(y(t)) = 0` moves it onto the steps: each `y(t)` integrated (the
+/// run's options, a first step that covers the way) from the accepted step point before the event,
+/// `ġ = ∇g · f`. The event's `y` is the state at the last Newton iterate, `dt/dp = −(∇g · S) / ġ`
+/// with `S` the dense output's at the refined time. The dense root stays when an iterate leaves
+/// the event's step or an integration does not complete.
 pub fn first_event(
     sys: &dyn OdeSystem,
     opts: &Options,
@@ -24,25 +29,9 @@ pub fn first_event(
     g: &dyn Fn(&[f64]) -> f64,
     grad: &dyn Fn(&[f64]) -> Vec<f64>,
 ) -> Option<Event> {
-    traj.first_root(after, g, grad).map(|e| refine_event(sys, opts, traj, e, g, grad))
-}
-
-/// `event` (a root of `g(y(t))` on the dense output of `traj`) with its time moved onto the
-/// integration steps: Newton on `g(y(t)) = 0`, each `y(t)` integrated (the run's options, a first
-/// step that covers the way) from the accepted step point before the event, `ġ = ∇g · f`. `y` is
-/// the state at the last Newton iterate, `dt/dp = −(∇g · S) / ġ` with `S` the dense output's at
-/// the refined time. The dense root stays when an iterate leaves the event's step or an
-/// integration does not complete.
-fn refine_event(
-    sys: &dyn OdeSystem,
-    opts: &Options,
-    traj: &Trajectory,
-    event: Event,
-    g: &dyn Fn(&[f64]) -> f64,
-    grad: &dyn Fn(&[f64]) -> Vec<f64>,
-) -> Event {
-    let Some(step) = traj.intervals.iter().find(|iv| iv.t0 < event.t && event.t <= iv.t1) else {
-        return event;
+    let event = traj.first_root(after, g, grad)?;
+    let Some(step) = traj.interval_at(event.t).filter(|iv| iv.t0 < event.t) else {
+        return Some(event);
     };
     // Any time inside the step is inside its smooth piece of `f`.
     let piece = 0.5 * (step.t0 + step.t1);
@@ -52,7 +41,7 @@ fn refine_event(
         let options = Options { initial_step: Some(t - step.t0), ..opts.clone() };
         let run = integrate(sys, step.t0, &step.y0, t, &options, Extras::default());
         if run.outcome != Outcome::Completed {
-            return event;
+            return Some(event);
         }
         let at = run.end().to_vec();
         let dg = grad(&at);
@@ -60,7 +49,7 @@ fn refine_event(
         let next = t - g(&at) / rate;
         last = Some((at, dg, rate));
         if !(next > step.t0 && next <= step.t1) {
-            return event;
+            return Some(event);
         }
         let moved = (next - t).abs();
         t = next;
@@ -68,9 +57,9 @@ fn refine_event(
             break;
         }
     }
-    let Some((y, dg, rate)) = last else { return event };
+    let Some((y, dg, rate)) = last else { return Some(event) };
     let t_sensitivity = step
         .sensitivity(t)
         .map(|s| (0..s.ncols()).map(|p| -(0..s.nrows()).map(|i| dg[i] * s[(i, p)]).sum::<f64>() / rate).collect());
-    Event { t, y, t_sensitivity }
+    Some(Event { t, y, t_sensitivity })
 }
