@@ -1,5 +1,5 @@
 //! The scaled step case of `just bench-dynamics` at one size and tolerance, simulated `REPEATS`
-//! times: the best wall time, the steps and evaluations, `T_90` and `Δ(1 s)` (for profiling a step
+//! times: the best wall time, the work counts (steps, evaluations, Newton iterations, Jacobians, factorisations), `T_90` and `Δ(1 s)` (for profiling a step
 //! of the integrator, e.g. under `perf record`):
 //! `cargo run --release -p spine-dynamics --example step_timing -- N RTOL REPEATS`.
 use spine_dynamics::fixtures::peer_step_problem;
@@ -27,11 +27,18 @@ fn main() {
         last = Some(r);
     }
     let r = last.expect("at least one run");
+    let s = &r.stats;
     println!(
-        "N = {n}, rtol {rtol:e}: best {:.3} ms, {} steps, {} evaluations, T_90 = {:?} s, Δ(1 s) = {:e} m",
+        "N = {n}, rtol {rtol:e}: best {:.3} ms, {} steps ({} rejected), {} evaluations, {} Newton iterations \
+         ({} failed), {} Jacobians, {} factorisations, T_90 = {:?} s, Δ(1 s) = {:e} m",
         best * 1e3,
-        r.stats.accepted_steps,
-        r.stats.rhs_evaluations,
+        s.accepted_steps,
+        s.rejected_steps,
+        s.rhs_evaluations,
+        s.newton_iterations,
+        s.newton_failures,
+        s.jacobian_evaluations,
+        s.factorizations,
         r.rise_time,
         r.final_delta
     );

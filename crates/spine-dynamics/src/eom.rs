@@ -227,6 +227,14 @@ impl Dynamics {
         (0..2 * n).map(|i| if i < n { -self.lengths[i] * y[i].sin() } else { 0.0 }).collect()
     }
 
+    /// Weights `w` with `|X_{N+1}(y) − X_{N+1}(z)| ≤ Σ_i w_i |y_i − z_i|` for states `y = (θ, θ̇)`:
+    /// `L_i` (m/rad) on `θ_i`, since `|cos a − cos b| ≤ |a − b|`, and 0 on `θ̇` (the Lipschitz bound
+    /// of events on the end's X, [`crate::integrator::EventFunction::lipschitz`]).
+    pub fn end_x_lipschitz(&self) -> Vec<f64> {
+        let n = self.n_links();
+        (0..2 * n).map(|i| if i < n { self.lengths[i] } else { 0.0 }).collect()
+    }
+
     /// The index-1 form's parts at `(θ, θ̇)` given the centrifugal terms `h`: `Q = P − h − C_m θ̇ −
     /// K_m (θ − θ0)` (N·m), `∇Φ` (m) and `Σ L_i sin θ_i θ̇_i²` (m/s², the `Φ̈ = 0` row).
     /// `h` is overwritten with `Q`.

@@ -19,7 +19,7 @@
 
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
-use crate::integrator::{first_event, integrate, Extras, Options, Outcome, Stats, Trajectory};
+use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
 use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
 use crate::system::{Parameters, SpineOde};
 use nalgebra::DMatrix;
@@ -185,8 +185,11 @@ fn run_periodic(
     let grad = |y: &[f64]| d.end_x_state_gradient(y);
     let (onset, release) = onset_and_release(&d.forcing);
     // The first time after `after` that the end's X displacement reaches `level`, on the steps.
+    let lipschitz = d.end_x_lipschitz();
     let crossing = |traj: &Trajectory, after: f64, level: f64| {
-        first_event(&ode, &settings.integrator, traj, after, &|y| x_of(y) - level, &grad).map(|e| e.t)
+        let g = |y: &[f64]| x_of(y) - level;
+        let event = EventFunction::new(&g, &grad).with_lipschitz(&lipschitz);
+        first_event(&ode, &settings.integrator, traj, after, &event).map(|e| e.t)
     };
     let first_level =
         ends.passive_displacement + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);

@@ -4,7 +4,7 @@
 
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
-use crate::integrator::{first_event, integrate, Extras, Options, Outcome, Stats, Trajectory};
+use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
 use crate::system::{Parameters, SpineOde};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -319,8 +319,10 @@ fn run_step(
     let traj = integrate(&ode, 0.0, &ends.rest_state(), settings.t_end, &settings.integrator, extras);
     let g = |y: &[f64]| d.end_x(&y[..n]) - target;
     let grad = |y: &[f64]| d.end_x_state_gradient(y);
+    let lipschitz = d.end_x_lipschitz();
     // Located on the dense output, then moved onto the steps (order 5, not 3).
-    let event = first_event(&ode, &settings.integrator, &traj, 0.0, &g, &grad);
+    let event =
+        first_event(&ode, &settings.integrator, &traj, 0.0, &EventFunction::new(&g, &grad).with_lipschitz(&lipschitz));
     (traj, event)
 }
 

@@ -213,19 +213,24 @@ fn eq37_by_gradient_meets_delta_d_with_two_minima_in_play() {
     );
     let replay = eq37_point(&p_with(&p, &d.stiffness), &forcing, &d.stiffness, delta_d, &settings, g.periods).unwrap();
     assert_eq!(replay.minima[0].value, d.min_end_displacement);
-    // Bounds became active on the way (the start is inside): K_0 at 10⁴, K_2 at 10².
-    assert_eq!((g.at_lower_bound.as_slice(), g.at_upper_bound.as_slice()), (&[2][..], &[0][..]));
+    // Bounds became active on the way (the start is inside): one spring at 10⁴ and one at 10².
+    // Which ones depends on the path: the design has local optima with the roles of the outer
+    // and inner springs swapped (K ≈ (10⁴, 3282, 10², 757) and (752, 10², 3447, 10⁴) both satisfy
+    // the tests below).
+    assert_eq!((g.at_lower_bound.len(), g.at_upper_bound.len()), (1, 1), "{g:?}");
+    let (lower, upper) = (g.at_lower_bound[0], g.at_upper_bound[0]);
+    assert!((d.stiffness[lower] / 1e2 - 1.0).abs() <= 1e-4 && (d.stiffness[upper] / 1e4 - 1.0).abs() <= 1e-4);
     // First-order conditions from our own gradients (in K; the scaling to log10 K cancels): the
     // free springs share one ratio μ = (dU/dK_j)/(dx/dK_j); at the upper bound U would still fall
     // along the constraint (dU − μ dx < 0), at the lower bound it would rise.
     let (du, dx) = (&replay.energy_gradient, &replay.minima[0].gradient);
     let reduced = |j: usize, mu: f64| (du[j] - mu * dx[j]) * d.stiffness[j];
-    let free: Vec<usize> = (0..4).filter(|j| ![0, 2].contains(j)).collect();
+    let free: Vec<usize> = (0..4).filter(|j| ![lower, upper].contains(j)).collect();
     let mu = du[free[0]] / dx[free[0]];
     for &j in &free {
         assert!(reduced(j, mu).abs() <= 1e-4 * (du[j] * d.stiffness[j]).abs(), "K_{j} stationary: {}", reduced(j, mu));
     }
-    assert!(reduced(0, mu) < 0.0 && reduced(2, mu) > 0.0, "bound multipliers of the right sign");
+    assert!(reduced(upper, mu) < 0.0 && reduced(lower, mu) > 0.0, "bound multipliers of the right sign");
 }
 
 fn p_with(p: &DynamicProblem, stiffness: &[f64]) -> DynamicProblem {

@@ -27,7 +27,7 @@ fn step_response_settles_in_the_static_loaded_equilibrium_with_no_drift() {
 #[test]
 fn rise_time_on_the_steps_converges_with_the_tolerance() {
     use spine_dynamics::fixtures::peer_step_problem;
-    use spine_dynamics::integrator::{integrate, Extras};
+    use spine_dynamics::integrator::{integrate, EventFunction, Extras};
     use spine_dynamics::{Parameters, SpineOde};
     for n in [10, 50] {
         let p = peer_step_problem(n);
@@ -42,7 +42,8 @@ fn rise_time_on_the_steps_converges_with_the_tolerance() {
             let traj = integrate(&ode, 0.0, &ends.rest_state(), 1.0, &settings.integrator, Extras::default());
             let target = ends.x1 + 0.9 * (ends.x2 - ends.x1);
             let g = |y: &[f64]| d.end_x(&y[..n]) - target;
-            let dense = traj.first_root(0.0, &g, &|y: &[f64]| d.end_x_state_gradient(y)).unwrap().t;
+            let grad = |y: &[f64]| d.end_x_state_gradient(y);
+            let dense = traj.first_root(0.0, &EventFunction::new(&g, &grad)).unwrap().t;
             (t90.unwrap(), dense)
         };
         let (reference, _) = at(1e-10);

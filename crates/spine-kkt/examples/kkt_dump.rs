@@ -1,6 +1,7 @@
 //! Factorises a matrix written by `SPINE_KKT_DUMP=FILE` (see `src/pardiso.rs`) and prints the
-//! best time of 20 factorisations and of 20 solves, the inertia, the front statistics and the
-//! result of one solve: `cargo run --release -p spine-kkt --example kkt_dump FILE`.
+//! best time of REPEATS factorisations and solves, the inertia, the front statistics and the
+//! result of one solve: `cargo run --release -p spine-kkt --example kkt_dump FILE [REPEATS]`
+//! (REPEATS, 20 by default, also serves `perf record`).
 use spine_kkt::{Dump, SymmetricSolver};
 fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
@@ -13,11 +14,12 @@ fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     (best, out)
 }
 fn main() {
-    let path = std::env::args().nth(1).expect("usage: kkt_dump FILE");
+    let path = std::env::args().nth(1).expect("usage: kkt_dump FILE [REPEATS]");
+    let repeats: usize = std::env::args().nth(2).map_or(20, |r| r.parse().expect("REPEATS: a count"));
     let dump = Dump::parse(&std::fs::read_to_string(&path).expect("a readable file")).expect("a recorded system");
     let (n, a) = (dump.n, dump.a.clone());
     let mut solver = SymmetricSolver::new(dump.structure().expect("a valid structure"));
-    let (factor_time, inertia) = best_of(20, || solver.factorize(&a).unwrap());
+    let (factor_time, inertia) = best_of(repeats, || solver.factorize(&a).unwrap());
     println!(
         "factorisation {:.3} ms, {:?} {:?} dense {} predicted {}",
         factor_time * 1e3,
@@ -27,7 +29,7 @@ fn main() {
         solver.analysis().predicted_front()
     );
     let b: Vec<f64> = dump.rhs.clone().unwrap_or_else(|| (0..n).map(|i| (i as f64).sin()).collect());
-    let (solve_time, report) = best_of(20, || {
+    let (solve_time, report) = best_of(repeats, || {
         let mut x = b.clone();
         solver.solve(&mut x)
     });

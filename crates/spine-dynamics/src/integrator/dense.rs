@@ -95,6 +95,27 @@ impl Interval {
         let (b, _) = self.weights(t);
         self.sens.as_ref().map(|[s0, sd0, s1, sd1]| s0 * b[0] + sd0 * b[1] + s1 * b[2] + sd1 * b[3])
     }
+
+    /// Whether `sign0 · g(y(t)) > 0` for every `t` in `[from, t1]` by the event's Lipschitz bound:
+    /// on the collocation polynomial `y_i(x) = y0_i + Σ_k q_ki x^{k+1}` (`x ∈ [0, 1]`) no component
+    /// moves by more than `Σ_k |q_ki|`, so `g` moves by at most `Σ_i w_i Σ_k |q_ki|`. Needs the
+    /// weights and the collocation polynomial (`false` without them). `y` is scratch.
+    fn clear_of_zero(&self, from: f64, event: &EventFunction<'_>, sign0: f64, y: &mut [f64]) -> bool {
+        let (Some(w), Some(q)) = (event.lipschitz, &self.collocation) else {
+            return false;
+        };
+        self.value_into(from, y);
+        let g0 = (event.g)(y) * sign0;
+        let (mut reach, mut size) = (0.0, 0.0);
+        for (i, &wi) in w.iter().enumerate() {
+            if wi != 0.0 {
+                reach += wi * (q[0][i].abs() + q[1][i].abs() + q[2][i].abs());
+                size += wi * y[i].abs();
+            }
+        }
+        // The margin covers the round-off of the scan's own evaluations of `y(t)` and `g`.
+        g0 > reach * (1.0 + 1e-9) + 1e-11 * (g0.abs() + reach + size)
+    }
 }
 
 /// A computed solution.
@@ -106,6 +127,32 @@ pub struct Trajectory {
     pub intervals: Vec<Interval>,
     pub outcome: Outcome,
     pub stats: Stats,
+}
+
+/// A scalar event function `g(y)` whose sign changes are searched for ([`Trajectory::first_root`],
+/// [`super::first_event`]), with its gradient.
+#[derive(Clone, Copy)]
+pub struct EventFunction<'a> {
+    /// `g(y)`.
+    pub g: &'a dyn Fn(&[f64]) -> f64,
+    /// `∇g(y)`, for `dt/dp` and the Newton steps of [`super::first_event`].
+    pub grad: &'a dyn Fn(&[f64]) -> Vec<f64>,
+    /// Optional weights `w ≥ 0` with `|g(y) − g(z)| ≤ Σ_i w_i |y_i − z_i|` for all `y, z`: a step
+    /// of the collocation dense output along which this bound keeps `g` from zero (with a margin
+    /// for round-off) is not scanned. Wrong weights can miss roots; `None` scans every step.
+    pub lipschitz: Option<&'a [f64]>,
+}
+
+impl<'a> EventFunction<'a> {
+    /// `g` and `∇g`, every step scanned.
+    pub fn new(g: &'a dyn Fn(&[f64]) -> f64, grad: &'a dyn Fn(&[f64]) -> Vec<f64>) -> Self {
+        Self { g, grad, lipschitz: None }
+    }
+
+    /// With the Lipschitz weights [`Self::lipschitz`].
+    pub fn with_lipschitz(self, weights: &'a [f64]) -> Self {
+        Self { lipschitz: Some(weights), ..self }
+    }
 }
 
 /// A located event: the first time `g(y(t))` reaches zero.
@@ -159,21 +206,22 @@ impl Trajectory {
     /// The first time after `after` where the scalar event function `g(y)` changes sign from its
     /// sign at `after`, located on the dense output to round-off (bisection refined by the secant
     /// rule). Each step is scanned at `SCAN` sub-points so that a crossing and return inside one step
-    /// is not missed. With sensitivities, also `dt/dp = −(∇g · S) / (∇g · ẏ)` at the root, `∇g` from
-    /// `grad`. The root of the interpolant, whose error does not follow the tolerance;
-    /// [`super::first_event`] moves it onto the integration steps.
-    pub fn first_root(
-        &self,
-        after: f64,
-        g: &dyn Fn(&[f64]) -> f64,
-        grad: &dyn Fn(&[f64]) -> Vec<f64>,
-    ) -> Option<Event> {
+    /// is not missed, unless the event's Lipschitz bound keeps `g` away from zero along the whole
+    /// step ([`EventFunction::lipschitz`]; such a step has no root, so the result is the same). With
+    /// sensitivities, also `dt/dp = −(∇g · S) / (∇g · ẏ)` at the root. The root of the
+    /// interpolant, whose error does not follow the tolerance; [`super::first_event`] moves it onto
+    /// the integration steps.
+    pub fn first_root(&self, after: f64, event: &EventFunction<'_>) -> Option<Event> {
         const SCAN: usize = 8;
+        let (g, grad) = (event.g, event.grad);
         let start = self.value(after);
         let sign0 = if g(&start) < 0.0 { -1.0 } else { 1.0 };
         let mut y = vec![0.0; start.len()];
         for iv in self.intervals.iter().filter(|iv| iv.t1 > after) {
             let lo0 = iv.t0.max(after);
+            if iv.clear_of_zero(lo0, event, sign0, &mut y) {
+                continue;
+            }
             let mut prev = lo0;
             for k in 1..=SCAN {
                 let t = lo0 + (iv.t1 - lo0) * k as f64 / SCAN as f64;

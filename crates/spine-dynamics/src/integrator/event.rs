@@ -8,12 +8,13 @@
 //! 6e-10 of the reference). [`first_event`] takes Newton steps on the event time with `y(t)`
 //! from a step that ends at `t`.
 
-use super::{integrate, Event, Extras, OdeSystem, Options, Outcome, Trajectory};
+use super::{integrate, Event, EventFunction, Extras, OdeSystem, Options, Outcome, Trajectory};
 
 /// Most Newton steps on the event time (two reach round-off from a dense root).
 const NEWTON_STEPS: usize = 3;
 
-/// The first time after `after` where `g(y(t))` changes sign, on the integration steps.
+/// The first time after `after` where the event function `g(y(t))` changes sign, on the
+/// integration steps.
 ///
 /// [`Trajectory::first_root`] locates it on the dense output of `traj` (a run of `sys` with
 /// `opts`). Then Newton on `g(y(t)) = 0` moves it onto the steps: each `y(t)` integrated (the
@@ -26,10 +27,10 @@ pub fn first_event(
     opts: &Options,
     traj: &Trajectory,
     after: f64,
-    g: &dyn Fn(&[f64]) -> f64,
-    grad: &dyn Fn(&[f64]) -> Vec<f64>,
+    function: &EventFunction<'_>,
 ) -> Option<Event> {
-    let event = traj.first_root(after, g, grad)?;
+    let (g, grad) = (function.g, function.grad);
+    let event = traj.first_root(after, function)?;
     let Some(step) = traj.interval_at(event.t).filter(|iv| iv.t0 < event.t) else {
         return Some(event);
     };

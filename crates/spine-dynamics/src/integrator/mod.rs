@@ -33,7 +33,7 @@ mod radau;
 mod trbdf2;
 
 pub use crate::ode::OdeSystem;
-pub use dense::{Event, Interval, Trajectory};
+pub use dense::{Event, EventFunction, Interval, Trajectory};
 pub use event::first_event;
 pub use options::{Method, Options, Outcome, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
 

@@ -33,7 +33,9 @@ use crate::linearization::Linearization;
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 use sensitivities::step_sensitivities;
-use stages::{collocation, factor, newton_tol, predict_factor, Collocation, Factors, Polynomial, Stages};
+use stages::{
+    carried_contraction, collocation, factor, newton_tol, predict_factor, Collocation, Factors, Polynomial, Stages,
+};
 use stages::{C, E, NEWTON_MAXITER};
 
 /// The Radau IIA driver.
@@ -115,6 +117,9 @@ struct Run<'a> {
     h: f64,
     /// `(h, err)` of the last accepted step, for the predictive controller.
     last: Option<(f64, f64)>,
+    /// The Newton iteration's contraction factor `Θ/(1 − Θ)` carried from step to step
+    /// ([`stages::carried_contraction`]); 1 at the start and after a breakpoint.
+    contraction: f64,
 }
 
 impl<'a> Run<'a> {
@@ -152,6 +157,7 @@ impl<'a> Run<'a> {
             polynomial: None,
             h: course.initial_step(opts),
             last: None,
+            contraction: 1.0,
         }
     }
 
@@ -202,7 +208,7 @@ impl<'a> Run<'a> {
     /// The stages of a step of `h_step` from `(t, y)`, from the last polynomial's guess; `None`
     /// without factors or when the iteration fails.
     fn stages(&mut self, h_step: f64) -> Option<Collocation> {
-        let Self { sys, opts, tol, stats, t, y, piece, factors, polynomial, .. } = self;
+        let Self { sys, opts, tol, stats, t, y, piece, factors, polynomial, contraction, .. } = self;
         let fa = factors.as_ref()?;
         let n = y.len();
         let (t, piece) = (*t, *piece);
@@ -227,8 +233,12 @@ impl<'a> Run<'a> {
             stats.newton_iterations += usize::from(i == 0);
             sys.rhs(t + C[i] * h_step, piece, &yi)
         };
-        let col = collocation(&mut stage, guess, fa, &norm, *tol, NEWTON_MAXITER);
+        let carried = carried_contraction(*contraction);
+        let col = collocation(&mut stage, guess, fa, &norm, *tol, carried, NEWTON_MAXITER);
         stats.newton_failures += usize::from(col.is_none());
+        if let Some(col) = &col {
+            *contraction = col.contraction(carried);
+        }
         col
     }
 
@@ -304,6 +314,7 @@ impl<'a> Run<'a> {
         self.factors = None;
         self.polynomial = None;
         self.last = None;
+        self.contraction = 1.0;
         self.s_dot = self.s.as_ref().map(|s| sensitivity_rate(self.sys, self.t, self.piece, &self.y, s));
     }
 }

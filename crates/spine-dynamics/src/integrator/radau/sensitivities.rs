@@ -61,8 +61,10 @@ pub(super) fn step_sensitivities(
         let norm = |dw: &Stages| dw.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs())) / scale;
         let guess: Stages = std::array::from_fn(|i| (0..n).map(|j| C[i] * h * sd0[(j, k)]).collect());
         // When the linear iteration does not converge (not seen in the tests: the stages' own
-        // iteration converged with the same matrices), the first-order guess `c_i h Ṡ₀` stands.
-        let dz = collocation(&mut stage, guess.clone(), factors, &norm, 1e-13, 60).map_or(guess, |c| c.z);
+        // iteration converged with the same matrices), the first-order guess `c_i h Ṡ₀` stands. No
+        // contraction is carried in (∞): it runs at least two iterations, to round-off.
+        let dz =
+            collocation(&mut stage, guess.clone(), factors, &norm, 1e-13, f64::INFINITY, 60).map_or(guess, |c| c.z);
         for j in 0..n {
             s1[(j, k)] += dz[2][j];
         }

@@ -73,15 +73,38 @@ pub(super) struct Collocation {
     pub(super) rate: Option<f64>,
 }
 
+impl Collocation {
+    /// The contraction factor `Θ/(1 − Θ)` to carry into the next step's first-iteration test
+    /// ([`collocation`]'s `carried`): this step's measured one, or, after a single iteration, the
+    /// one it was accepted with.
+    pub(super) fn contraction(&self, carried: f64) -> f64 {
+        match self.rate {
+            Some(r) if r < 1.0 => r / (1.0 - r),
+            _ => carried,
+        }
+    }
+}
+
+/// The contraction factor a step starts from: the last one carried, raised to the power 0.8
+/// (RADAU5's `FACCON = max(FACCON, UROUND)^0.8`, which lets it drift towards 1 while steps converge in one
+/// iteration and so no new rate is measured).
+pub(super) fn carried_contraction(last: f64) -> f64 {
+    last.max(f64::EPSILON).powf(0.8)
+}
+
 /// Simplified Newton in `W = T⁻¹ Z` on `Z_i = h Σ_j a_ij F_j(Z_j)`, `F_i = stage(i, Z_i)`. `norm`
 /// is the RMS norm of a correction over all stages; converged when the predicted remaining error
-/// `rate/(1 − rate) ‖ΔW‖` is below `tol`. `None` when it diverges, stalls or `F` is not finite.
+/// `rate/(1 − rate) ‖ΔW‖` is below `tol`, or, after the first iteration where no rate is measured
+/// yet, when `carried ‖ΔW‖` is (Hairer & Wanner's RADAU5: `carried` is the contraction factor of
+/// the previous step, [`carried_contraction`]). `None` when it diverges, stalls or `F` is not
+/// finite.
 pub(super) fn collocation(
     stage: &mut dyn FnMut(usize, &[f64]) -> Vec<f64>,
     z0: Stages,
     factors: &Factors,
     norm: &dyn Fn(&Stages) -> f64,
     tol: f64,
+    carried: f64,
     max_iterations: usize,
 ) -> Option<Collocation> {
     let n = z0[0].len();
@@ -145,7 +168,11 @@ pub(super) fn collocation(
         // Stalled at round-off, a correction a tenth of the tolerance, or a predicted remaining
         // error below it: done.
         let stalled = slow && noise;
-        if stalled || dw_norm <= 0.1 * tol || rate.is_some_and(|r| r < 1.0 && r / (1.0 - r) * dw_norm < tol) {
+        let predicted = match rate {
+            Some(r) => r < 1.0 && r / (1.0 - r) * dw_norm < tol,
+            None => carried * dw_norm <= tol,
+        };
+        if stalled || dw_norm <= 0.1 * tol || predicted {
             return Some(Collocation { z, iterations: k + 1, rate });
         }
         previous = Some(dw_norm);
