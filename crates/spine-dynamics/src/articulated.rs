@@ -46,8 +46,15 @@ type V3<D> = [D; 3];
 type M3<D> = [[D; 3]; 3];
 
 /// The articulated-body factorisation of `M(θ)` for one configuration `θ`: one record per link.
+/// The default is the factorisation of no links, storage for [`ArticulatedChain::refactor_from_trig`].
 pub struct ArticulatedChain<D> {
     links: Vec<Link<D>>,
+}
+
+impl<D> Default for ArticulatedChain<D> {
+    fn default() -> Self {
+        Self { links: Vec::new() }
+    }
 }
 
 /// One link's part of [`ArticulatedChain`].
@@ -99,9 +106,16 @@ impl<D: Scalar> ArticulatedChain<D> {
 
     /// [`Self::new`] from `(sin θ_k, cos θ_k)`.
     pub fn from_trig(lengths: &[f64], masses: &[f64], trig: &[(D, D)]) -> Option<Self> {
+        let mut chain = Self::default();
+        chain.refactor_from_trig(lengths, masses, trig).then_some(chain)
+    }
+
+    /// [`Self::from_trig`] into this factorisation's storage (no allocation once it has held as
+    /// many links); `false`, leaving it unusable, where `from_trig` gives `None`.
+    pub fn refactor_from_trig(&mut self, lengths: &[f64], masses: &[f64], trig: &[(D, D)]) -> bool {
         let shifts = trig.iter().zip(lengths).map(|(&(s, c), &l)| [-s * l, c * l]);
         let positive = |d: &D| d.re().partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
-        Self::factor(lengths, masses, shifts, None, &positive)
+        Self::factor_into(&mut self.links, lengths, masses, shifts, None, &positive)
     }
 }
 
@@ -121,19 +135,23 @@ impl<T: ChainNumber> ArticulatedChain<T> {
         pivot_ok: &dyn Fn(&T) -> bool,
     ) -> Option<Self> {
         let shifts = trig.iter().zip(lengths).map(|(&(s, c), &l)| [T::from(-s * l), T::from(c * l)]);
-        Self::factor(lengths, masses, shifts, Some((joint, body)), pivot_ok)
+        let mut links = Vec::new();
+        Self::factor_into(&mut links, lengths, masses, shifts, Some((joint, body)), pivot_ok).then_some(Self { links })
     }
 
-    /// The tip-to-base sweep from the links' shifts `r_k^⊥`.
-    fn factor(
+    /// The tip-to-base sweep from the links' shifts `r_k^⊥`, into `links` (overwritten); `false`
+    /// when a pivot fails `pivot_ok`.
+    fn factor_into(
+        links: &mut Vec<Link<T>>,
         lengths: &[f64],
         masses: &[f64],
         shifts: impl Iterator<Item = [T; 2]>,
         additions: Option<(&[T], &[T])>,
         pivot_ok: &dyn Fn(&T) -> bool,
-    ) -> Option<Self> {
+    ) -> bool {
         let zero = T::from(0.0);
-        let mut links: Vec<Link<T>> = shifts.map(|shift| Link { u: [zero; 3], d: zero, shift }).collect();
+        links.clear();
+        links.extend(shifts.map(|shift| Link { u: [zero; 3], d: zero, shift }));
         let n = links.len();
         // The reduced articulated inertia the outboard link hands inboard, at its own joint.
         let mut outboard: Option<M3<T>> = None;
@@ -165,7 +183,7 @@ impl<T: ChainNumber> ArticulatedChain<T> {
                 None => uk[0],
             };
             if !pivot_ok(&dk) {
-                return None;
+                return false;
             }
             // I^a = I^A − U Uᵀ / D: what the free joint passes on.
             let mut reduced = inertia;
@@ -177,7 +195,7 @@ impl<T: ChainNumber> ArticulatedChain<T> {
             (links[k].u, links[k].d) = (uk, dk);
             outboard = Some(reduced);
         }
-        Some(Self { links })
+        true
     }
 
     /// `x = M(θ)⁻¹ b` (`b` in N·m per absolute angle, `x` in rad/s²).

@@ -109,11 +109,24 @@ impl Dynamics {
 
     /// [`Self::velocity_terms`] from `(sin θ_i, cos θ_i)`.
     pub(crate) fn velocity_terms_from<D: Scalar>(&self, trig: &[(D, D)], omega: &[D]) -> Vec<D> {
+        let mut h = Vec::new();
+        self.velocity_terms_into(trig, omega, &mut Vec::new(), &mut h);
+        h
+    }
+
+    /// [`Self::velocity_terms_from`] into `h` (overwritten), `links` scratch.
+    fn velocity_terms_into<D: Scalar>(
+        &self,
+        trig: &[(D, D)],
+        omega: &[D],
+        links: &mut Vec<TipSums<D>>,
+        h: &mut Vec<D>,
+    ) {
         let n = self.n_links();
         // Per link, from the tip: μ_i = ½ m_i + Σ_{k>i} m_k ([`Self::inertia_coefficients`], the
         // same sums in the same order), w_i = L_i θ̇_i² (cos θ_i, sin θ_i) and the μ-weighted
         // suffix sum of w beyond link i.
-        let mut links: Vec<TipSums<D>> = Vec::with_capacity(n);
+        links.clear();
         let (mut beyond, mut sum) = (0.0, (D::zero(), D::zero()));
         for i in (0..n).rev() {
             if i + 1 < n {
@@ -127,18 +140,14 @@ impl Dynamics {
             sum = (sum.0 + w.0 * coupling, sum.1 + w.1 * coupling);
         }
         let mut before = (D::zero(), D::zero());
-        links
-            .iter()
-            .rev()
-            .enumerate()
-            .map(|(i, &TipSums { coupling, w, after })| {
-                let (s, c) = trig[i];
-                let a = before.0 * coupling + after.0;
-                let b = before.1 * coupling + after.1;
-                before = (before.0 + w.0, before.1 + w.1);
-                (s * a - c * b) * self.lengths[i]
-            })
-            .collect()
+        h.clear();
+        h.extend(links.iter().rev().enumerate().map(|(i, &TipSums { coupling, w, after })| {
+            let (s, c) = trig[i];
+            let a = before.0 * coupling + after.0;
+            let b = before.1 * coupling + after.1;
+            before = (before.0 + w.0, before.1 + w.1);
+            (s * a - c * b) * self.lengths[i]
+        }));
     }
 
     /// [`Self::velocity_terms`] by its defining double sum, `O(N²)`: the test oracle.
@@ -241,11 +250,27 @@ impl Dynamics {
     pub(crate) fn index1_terms<D: Scalar>(
         &self,
         loads: LoadsAt<'_>,
+        theta_trig: (&[D], &[(D, D)]),
+        omega: &[D],
+        damping: &[D],
+        mut h: Vec<D>,
+    ) -> (Vec<D>, Vec<D>, D) {
+        let mut g = Vec::new();
+        let b = self.index1_terms_into(loads, theta_trig, omega, damping, &mut h, &mut g);
+        (h, g, b)
+    }
+
+    /// [`Self::index1_terms`] in place: `h` overwritten with `Q`, `∇Φ` into `g`; returns the
+    /// `Φ̈ = 0` row's right-hand side.
+    fn index1_terms_into<D: Scalar>(
+        &self,
+        loads: LoadsAt<'_>,
         (theta, trig): (&[D], &[(D, D)]),
         omega: &[D],
         damping: &[D],
-        h: Vec<D>,
-    ) -> (Vec<D>, Vec<D>, D) {
+        h: &mut [D],
+        g: &mut Vec<D>,
+    ) -> D {
         let n = self.n_links();
         // The springs' and dampers' joint moments ([`joint_moments`], term by term in its order,
         // without its intermediate vectors).
@@ -258,8 +283,7 @@ impl Dynamics {
         };
         let l = &self.lengths;
         // P_i (eq. (48)), Q, ∇Φ_i = L_i cos θ_i and Σ L_i sin θ_i θ̇_i², from one sin/cos per link.
-        let mut q = h;
-        for (i, q) in q.iter_mut().enumerate() {
+        for (i, q) in h.iter_mut().enumerate() {
             let (s, c) = trig[i];
             let (vertical, axial) = loads.at(i);
             let p = (c * vertical - s * axial) * l[i];
@@ -267,9 +291,9 @@ impl Dynamics {
             let damper = moment(damping[i], damping[i + 1], &rate, i);
             *q = p - *q - damper - spring;
         }
-        let g = (0..n).map(|i| trig[i].1 * l[i]).collect();
-        let b: D = (0..n).map(|i| trig[i].0 * omega[i] * omega[i] * l[i]).sum();
-        (q, g, b)
+        g.clear();
+        g.extend((0..n).map(|i| trig[i].1 * l[i]));
+        (0..n).map(|i| trig[i].0 * omega[i] * omega[i] * l[i]).sum()
     }
 
     /// Accelerations `θ̈` (rad/s²) and reaction `λ` (N) at `(t, θ, θ̇)` with dampers `damping`, from
@@ -283,18 +307,39 @@ impl Dynamics {
 
     /// [`Self::acceleration`] with the loads given as [`LoadsAt`].
     fn acceleration_at<D: Scalar>(&self, loads: LoadsAt<'_>, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
-        let trig: Vec<(D, D)> = theta.iter().map(|t| t.sin_cos()).collect();
-        let h = self.velocity_terms_from(&trig, omega);
-        let (q, g, b) = self.index1_terms(loads, (theta, &trig), omega, damping, h);
+        let mut acc = vec![D::zero(); self.n_links()];
+        let lambda = self.acceleration_into(loads, theta, omega, damping, &mut acc, &mut Scratch::default());
+        (acc, lambda)
+    }
+
+    /// [`Self::acceleration_at`] with `θ̈` into `acc`, the intermediate vectors in `scratch`;
+    /// returns `λ`.
+    fn acceleration_into<D: Scalar>(
+        &self,
+        loads: LoadsAt<'_>,
+        theta: &[D],
+        omega: &[D],
+        damping: &[D],
+        acc: &mut [D],
+        scratch: &mut Scratch<D>,
+    ) -> D {
+        let Scratch { trig, tip, q, g, mg, chain } = scratch;
+        trig.clear();
+        trig.extend(theta.iter().map(|t| t.sin_cos()));
+        self.velocity_terms_into(trig, omega, tip, q);
+        let b = self.index1_terms_into(loads, (theta, trig), omega, damping, q, g);
         // M is positive definite for links with mass; a non-finite trial state (a diverging Newton
         // iterate) gives NaN accelerations, which the integrator rejects.
-        let Some(chain) = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig) else {
-            return nan_accelerations(self.n_links());
-        };
+        if !chain.refactor_from_trig(&self.lengths, &self.masses, trig) {
+            acc.fill(D::from(f64::NAN));
+            return D::from(f64::NAN);
+        }
         // M⁻¹Q and M⁻¹∇Φ in one pair of sweeps.
-        let (mut mq, mut mg) = (q, g.clone());
-        chain.solve_in_place([&mut mq, &mut mg]);
-        bordered(mq, &mg, &g, b)
+        acc.copy_from_slice(q);
+        mg.clear();
+        mg.extend_from_slice(g);
+        chain.solve_in_place([&mut *acc, mg]);
+        bordered_in_place(acc, mg, g, b)
     }
 
     /// [`Self::acceleration`] through the dense mass matrix ([`Self::mass_matrix`], Cholesky) and
@@ -317,11 +362,28 @@ impl Dynamics {
 
     /// Right-hand side of the first-order system in `y = (θ, θ̇)`: `(θ̇, θ̈)`.
     pub fn rhs<D: Scalar>(&self, t: f64, piece: f64, y: &[D], damping: &[D]) -> Vec<D> {
+        let mut out = vec![D::zero(); y.len()];
+        self.rhs_into(t, piece, y, damping, &mut out, &mut Scratch::default());
+        out
+    }
+
+    /// [`Self::rhs`] into `out` (of `y`'s length), with the buffers of the evaluation in `scratch`:
+    /// no allocation once `scratch` has served a chain of this size.
+    pub fn rhs_into<D: Scalar>(
+        &self,
+        t: f64,
+        piece: f64,
+        y: &[D],
+        damping: &[D],
+        out: &mut [D],
+        scratch: &mut Scratch<D>,
+    ) {
         let n = self.n_links();
         let (theta, omega) = y.split_at(n);
         let loads = LoadsAt::Blend { from: &self.passive, to: &self.loaded, s: self.forcing.factor(t, piece) };
-        let (acc, _) = self.acceleration_at(loads, theta, omega, damping);
-        omega.iter().copied().chain(acc).collect()
+        let (rate, acc) = out.split_at_mut(n);
+        rate.copy_from_slice(omega);
+        self.acceleration_into(loads, theta, omega, damping, acc, scratch);
     }
 
     /// Projects `y = (θ, θ̇)` onto `Φ(θ) = 0` (Gauss–Newton along `∇Φ`, a fixed number of sweeps so that
@@ -403,6 +465,31 @@ struct TipSums<D> {
     after: (D, D),
 }
 
+/// The buffers of one evaluation of the accelerations ([`Dynamics::rhs_into`]), kept from one
+/// evaluation to the next: `(sin θ_i, cos θ_i)`, the centrifugal sums, `Q`, `∇Φ`, `M⁻¹∇Φ` and the
+/// articulated-body factors of `M`.
+pub struct Scratch<D> {
+    trig: Vec<(D, D)>,
+    tip: Vec<TipSums<D>>,
+    q: Vec<D>,
+    g: Vec<D>,
+    mg: Vec<D>,
+    chain: ArticulatedChain<D>,
+}
+
+impl<D> Default for Scratch<D> {
+    fn default() -> Self {
+        Self {
+            trig: Vec::new(),
+            tip: Vec::new(),
+            q: Vec::new(),
+            g: Vec::new(),
+            mg: Vec::new(),
+            chain: ArticulatedChain::default(),
+        }
+    }
+}
+
 /// NaN accelerations and reaction: what a state without a regular mass matrix gives.
 fn nan_accelerations<D: Scalar>(n: usize) -> (Vec<D>, D) {
     (vec![D::from(f64::NAN); n], D::from(f64::NAN))
@@ -411,13 +498,19 @@ fn nan_accelerations<D: Scalar>(n: usize) -> (Vec<D>, D) {
 /// `θ̈ = M⁻¹Q + λ M⁻¹∇Φ` with `λ = (b − ∇Φᵀ M⁻¹Q) / (∇Φᵀ M⁻¹∇Φ)` (the Schur complement of the
 /// bordered system), from `mq = M⁻¹Q` (overwritten with `θ̈`) and `mg = M⁻¹∇Φ`.
 pub(crate) fn bordered<D: Scalar>(mut mq: Vec<D>, mg: &[D], g: &[D], b: D) -> (Vec<D>, D) {
-    let gmq: D = g.iter().zip(&mq).map(|(&a, &c)| a * c).sum();
+    let lambda = bordered_in_place(&mut mq, mg, g, b);
+    (mq, lambda)
+}
+
+/// [`bordered`] in place; returns `λ`.
+fn bordered_in_place<D: Scalar>(mq: &mut [D], mg: &[D], g: &[D], b: D) -> D {
+    let gmq: D = g.iter().zip(mq.iter()).map(|(&a, &c)| a * c).sum();
     let gmg: D = g.iter().zip(mg).map(|(&a, &c)| a * c).sum();
     let lambda = (b - gmq) / gmg;
     for (x, &m) in mq.iter_mut().zip(mg) {
         *x += m * lambda;
     }
-    (mq, lambda)
+    lambda
 }
 
 /// Gauss–Newton sweeps of [`Dynamics::project`]; the first leaves `|Φ|` at the square of the step's

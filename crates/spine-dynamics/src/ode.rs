@@ -10,6 +10,11 @@ pub trait OdeSystem {
     fn dim(&self) -> usize;
     /// `f(t, y)`. `piece` is a time inside the current smooth piece (see [`OdeSystem::breakpoints`]).
     fn rhs(&self, t: f64, piece: f64, y: &[f64]) -> Vec<f64>;
+    /// [`OdeSystem::rhs`] into `out` (of length [`OdeSystem::dim`]); the implicit stages call this
+    /// one, so an implementation can spare the allocation (default: through `rhs`).
+    fn rhs_into(&self, t: f64, piece: f64, y: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&self.rhs(t, piece, y));
+    }
     /// `∂f/∂y`, `dim × dim`.
     fn jacobian(&self, t: f64, piece: f64, y: &[f64]) -> DMatrix<f64>;
     /// `J̃ ≈ ∂f/∂y` at `(t, y)` for the Newton matrices of the implicit stages (default: the dense

@@ -2,7 +2,7 @@
 //! damper rates ([`Dynamics::rates_at`]: real factorisations and `O(N)` solves) and
 //! exact Jacobian–vector products (one [`num_dual::Dual64`] directional pass each).
 
-use crate::eom::Dynamics;
+use crate::eom::{Dynamics, Scratch};
 use crate::integrator::OdeSystem;
 use crate::linearization::Linearization;
 use crate::newton::ChainLinearization;
@@ -10,6 +10,7 @@ use crate::rates::{RatesAt, RatesIn};
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
+use std::cell::RefCell;
 
 /// The parameters `p` whose sensitivities `∂y/∂p` a [`SpineOde`] propagates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -80,6 +81,15 @@ impl OdeSystem for SpineOde<'_> {
 
     fn rhs(&self, t: f64, piece: f64, y: &[f64]) -> Vec<f64> {
         self.dynamics.rhs(t, piece, y, &self.dynamics.damping)
+    }
+
+    /// [`Dynamics::rhs_into`] with this thread's buffers ([`Scratch`], kept from call to call): the
+    /// stages' evaluations allocate nothing.
+    fn rhs_into(&self, t: f64, piece: f64, y: &[f64], out: &mut [f64]) {
+        thread_local! {
+            static SCRATCH: RefCell<Scratch<f64>> = RefCell::new(Scratch::default());
+        }
+        SCRATCH.with_borrow_mut(|scratch| self.dynamics.rhs_into(t, piece, y, &self.dynamics.damping, out, scratch));
     }
 
     /// `[0 I; ∂θ̈/∂θ ∂θ̈/∂θ̇]` from [`Dynamics::rates_at`] (real factorisations of

@@ -225,13 +225,13 @@ impl<'a> Run<'a> {
             (sum / (3 * n.max(1)) as f64).sqrt()
         };
         let mut yi = vec![0.0; n];
-        let mut stage = |i: usize, zi: &[f64]| {
+        let mut stage = |i: usize, zi: &[f64], fi: &mut [f64]| {
             for (v, (&a, &b)) in yi.iter_mut().zip(y.iter().zip(zi)) {
                 *v = a + b;
             }
             stats.rhs_evaluations += 1;
             stats.newton_iterations += usize::from(i == 0);
-            sys.rhs(t + C[i] * h_step, piece, &yi)
+            sys.rhs_into(t + C[i] * h_step, piece, &yi, fi);
         };
         let carried = carried_contraction(*contraction);
         let col = collocation(&mut stage, guess, fa, &norm, *tol, carried, NEWTON_MAXITER);

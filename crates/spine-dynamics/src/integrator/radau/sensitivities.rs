@@ -41,9 +41,9 @@ pub(super) fn step_sensitivities(
     let mut s1 = s0.clone();
     for k in 0..s0.ncols() {
         let s0k: Vec<f64> = s0.column(k).iter().copied().collect();
-        let mut stage = |i: usize, dz: &[f64]| -> Vec<f64> {
+        let mut stage = |i: usize, dz: &[f64], out: &mut [f64]| {
             let v: Vec<f64> = (0..n).map(|j| s0k[j] + dz[j]).collect();
-            let mut jv = match &dense {
+            let jv: Vec<f64> = match &dense {
                 Some(jac) => (&jac[i] * nalgebra::DVector::from_vec(v)).data.into(),
                 None => {
                     let (ti, yi) = &points[i];
@@ -51,8 +51,9 @@ pub(super) fn step_sensitivities(
                     sys.jacobian_times(*ti, piece, yi, &v)
                 }
             };
-            jv.iter_mut().enumerate().for_each(|(j, x)| *x += params[i][(j, k)]);
-            jv
+            for (j, (o, x)) in out.iter_mut().zip(jv).enumerate() {
+                *o = x + params[i][(j, k)];
+            }
         };
         // The linear iteration contracts like the stages' Newton iteration; it runs to round-off
         // relative to the size of the sensitivities.

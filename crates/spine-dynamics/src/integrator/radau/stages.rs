@@ -66,6 +66,9 @@ pub(super) fn factor(lin: &dyn Linearization, h: f64, stats: &mut Stats) -> Opti
 
 pub(super) type Stages = [Vec<f64>; 3];
 
+/// `stage(i, Z_i, F_i)`: writes the right-hand side `F_i` of stage `i` at the stage value `Z_i`.
+pub(super) type StageFunction<'a> = dyn FnMut(usize, &[f64], &mut [f64]) + 'a;
+
 /// Converged stages, with the iterations taken and the last contraction rate.
 pub(super) struct Collocation {
     pub(super) z: Stages,
@@ -92,14 +95,15 @@ pub(super) fn carried_contraction(last: f64) -> f64 {
     last.max(f64::EPSILON).powf(0.8)
 }
 
-/// Simplified Newton in `W = T⁻¹ Z` on `Z_i = h Σ_j a_ij F_j(Z_j)`, `F_i = stage(i, Z_i)`. `norm`
+/// Simplified Newton in `W = T⁻¹ Z` on `Z_i = h Σ_j a_ij F_j(Z_j)`, `stage(i, Z_i, F_i)` writing
+/// `F_i`. `norm`
 /// is the RMS norm of a correction over all stages; converged when the predicted remaining error
 /// `rate/(1 − rate) ‖ΔW‖` is below `tol`, or, after the first iteration where no rate is measured
 /// yet, when `carried ‖ΔW‖` is (Hairer & Wanner's RADAU5: `carried` is the contraction factor of
 /// the previous step, [`carried_contraction`]). `None` when it diverges, stalls or `F` is not
 /// finite.
 pub(super) fn collocation(
-    stage: &mut dyn FnMut(usize, &[f64]) -> Vec<f64>,
+    stage: &mut StageFunction<'_>,
     z0: Stages,
     factors: &Factors,
     norm: &dyn Fn(&Stages) -> f64,
@@ -121,14 +125,16 @@ pub(super) fn collocation(
     let mut w = zeros();
     transform(&TI, &z0, &mut w);
     let mut z = z0;
-    let (mut tf, mut dw) = (zeros(), zeros());
+    let (mut f, mut tf, mut dw) = (zeros(), zeros(), zeros());
     let mut real = vec![0.0; n];
     let mut complex = vec![Complex64::new(0.0, 0.0); n];
     let mut previous: Option<f64> = None;
     let mut rate;
     let (mu, mu_c) = (MU_REAL / h, Complex64::new(MU_ALPHA, -MU_BETA) / h);
     for k in 0..max_iterations {
-        let f: Stages = std::array::from_fn(|i| stage(i, &z[i]));
+        for (i, (fi, zi)) in f.iter_mut().zip(&z).enumerate() {
+            stage(i, zi, fi);
+        }
         if f.iter().flatten().any(|v| !v.is_finite()) {
             return None;
         }
