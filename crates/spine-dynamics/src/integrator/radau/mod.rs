@@ -35,6 +35,7 @@ use nalgebra::DMatrix;
 use sensitivities::step_sensitivities;
 use stages::{
     carried_contraction, collocation, factor, newton_tol, predict_factor, Collocation, Factors, Polynomial, Stages,
+    Workspace,
 };
 use stages::{C, E, NEWTON_MAXITER};
 
@@ -120,6 +121,8 @@ struct Run<'a> {
     /// The Newton iteration's contraction factor `Θ/(1 − Θ)` carried from step to step
     /// ([`stages::carried_contraction`]); 1 at the start and after a breakpoint.
     contraction: f64,
+    /// The collocation iteration's vectors, kept from step to step.
+    work: Workspace,
 }
 
 impl<'a> Run<'a> {
@@ -158,6 +161,7 @@ impl<'a> Run<'a> {
             h: course.initial_step(opts),
             last: None,
             contraction: 1.0,
+            work: Workspace::default(),
         }
     }
 
@@ -208,15 +212,12 @@ impl<'a> Run<'a> {
     /// The stages of a step of `h_step` from `(t, y)`, from the last polynomial's guess; `None`
     /// without factors or when the iteration fails.
     fn stages(&mut self, h_step: f64) -> Option<Collocation> {
-        let Self { sys, opts, tol, stats, t, y, piece, factors, polynomial, contraction, .. } = self;
+        let Self { sys, opts, tol, stats, t, y, piece, factors, polynomial, contraction, work, .. } = self;
         let fa = factors.as_ref()?;
         let n = y.len();
         let (t, piece) = (*t, *piece);
         let guess: Stages = match polynomial {
-            Some(p) => std::array::from_fn(|i| {
-                let v = p.value(t + C[i] * h_step);
-                (0..n).map(|j| v[j] - y[j]).collect()
-            }),
+            Some(p) => std::array::from_fn(|i| p.value_minus(t + C[i] * h_step, y)),
             None => std::array::from_fn(|_| vec![0.0; n]),
         };
         let scale: Vec<f64> = y.iter().map(|v| opts.atol + opts.rtol * v.abs()).collect();
@@ -234,7 +235,7 @@ impl<'a> Run<'a> {
             sys.rhs_into(t + C[i] * h_step, piece, &yi, fi);
         };
         let carried = carried_contraction(*contraction);
-        let col = collocation(&mut stage, guess, fa, &norm, *tol, carried, NEWTON_MAXITER);
+        let col = collocation(&mut stage, guess, fa, &norm, *tol, carried, NEWTON_MAXITER, work);
         stats.newton_failures += usize::from(col.is_none());
         if let Some(col) = &col {
             *contraction = col.contraction(carried);

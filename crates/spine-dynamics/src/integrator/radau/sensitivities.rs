@@ -4,7 +4,7 @@
 
 use super::super::options::Stats;
 use super::super::DENSE_AFTER;
-use super::stages::{collocation, Factors, Stages, A, C};
+use super::stages::{collocation, Factors, Stages, Workspace, A, C};
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 
@@ -39,6 +39,7 @@ pub(super) fn step_sensitivities(
         return s1;
     }
     let mut s1 = s0.clone();
+    let mut work = Workspace::default();
     for k in 0..s0.ncols() {
         let s0k: Vec<f64> = s0.column(k).iter().copied().collect();
         let mut stage = |i: usize, dz: &[f64], out: &mut [f64]| {
@@ -64,8 +65,8 @@ pub(super) fn step_sensitivities(
         // When the linear iteration does not converge (not seen in the tests: the stages' own
         // iteration converged with the same matrices), the first-order guess `c_i h Ṡ₀` stands. No
         // contraction is carried in (∞): it runs at least two iterations, to round-off.
-        let dz =
-            collocation(&mut stage, guess.clone(), factors, &norm, 1e-13, f64::INFINITY, 60).map_or(guess, |c| c.z);
+        let dz = collocation(&mut stage, guess.clone(), factors, &norm, 1e-13, f64::INFINITY, 60, &mut work)
+            .map_or(guess, |c| c.z);
         for j in 0..n {
             s1[(j, k)] += dz[2][j];
         }

@@ -69,6 +69,30 @@ pub(super) type Stages = [Vec<f64>; 3];
 /// `stage(i, Z_i, F_i)`: writes the right-hand side `F_i` of stage `i` at the stage value `Z_i`.
 pub(super) type StageFunction<'a> = dyn FnMut(usize, &[f64], &mut [f64]) + 'a;
 
+/// The vectors of [`collocation`]'s iteration, each overwritten before it is read: `W = T⁻¹ Z`,
+/// the stages' `F`, `T⁻¹ F`, the correction `ΔW` and the right-hand sides of the real and the
+/// complex Newton solve.
+#[derive(Default)]
+pub(super) struct Workspace {
+    w: Stages,
+    f: Stages,
+    tf: Stages,
+    dw: Stages,
+    real: Vec<f64>,
+    complex: Vec<Complex64>,
+}
+
+impl Workspace {
+    /// Every vector at length `n`.
+    fn fit(&mut self, n: usize) {
+        for v in self.w.iter_mut().chain(&mut self.f).chain(&mut self.tf).chain(&mut self.dw) {
+            v.resize(n, 0.0);
+        }
+        self.real.resize(n, 0.0);
+        self.complex.resize(n, Complex64::new(0.0, 0.0));
+    }
+}
+
 /// Converged stages, with the iterations taken and the last contraction rate.
 pub(super) struct Collocation {
     pub(super) z: Stages,
@@ -101,7 +125,9 @@ pub(super) fn carried_contraction(last: f64) -> f64 {
 /// `rate/(1 − rate) ‖ΔW‖` is below `tol`, or, after the first iteration where no rate is measured
 /// yet, when `carried ‖ΔW‖` is (Hairer & Wanner's RADAU5: `carried` is the contraction factor of
 /// the previous step, [`carried_contraction`]). `None` when it diverges, stalls or `F` is not
-/// finite.
+/// finite. `work` holds the iteration's vectors (kept from one call to the next, so that a step
+/// allocates nothing for them).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn collocation(
     stage: &mut StageFunction<'_>,
     z0: Stages,
@@ -110,9 +136,12 @@ pub(super) fn collocation(
     tol: f64,
     carried: f64,
     max_iterations: usize,
+    work: &mut Workspace,
 ) -> Option<Collocation> {
     let n = z0[0].len();
     let h = factors.h;
+    work.fit(n);
+    let Workspace { w, f, tf, dw, real, complex } = work;
     // `out = m x` stage by stage, into storage kept across the iterations.
     let transform = |m: &[[f64; 3]; 3], x: &Stages, out: &mut Stages| {
         for (r, row) in out.iter_mut().enumerate() {
@@ -121,13 +150,8 @@ pub(super) fn collocation(
             }
         }
     };
-    let zeros = || -> Stages { std::array::from_fn(|_| vec![0.0; n]) };
-    let mut w = zeros();
-    transform(&TI, &z0, &mut w);
+    transform(&TI, &z0, w);
     let mut z = z0;
-    let (mut f, mut tf, mut dw) = (zeros(), zeros(), zeros());
-    let mut real = vec![0.0; n];
-    let mut complex = vec![Complex64::new(0.0, 0.0); n];
     let mut previous: Option<f64> = None;
     let mut rate;
     let (mu, mu_c) = (MU_REAL / h, Complex64::new(MU_ALPHA, -MU_BETA) / h);
@@ -138,20 +162,20 @@ pub(super) fn collocation(
         if f.iter().flatten().any(|v| !v.is_finite()) {
             return None;
         }
-        transform(&TI, &f, &mut tf);
+        transform(&TI, f, tf);
         for (j, x) in real.iter_mut().enumerate() {
             *x = tf[0][j] - mu * w[0][j];
         }
         for (j, x) in complex.iter_mut().enumerate() {
             *x = Complex64::new(tf[1][j], tf[2][j]) - mu_c * Complex64::new(w[1][j], w[2][j]);
         }
-        factors.real.solve(&mut real);
-        factors.complex.solve(&mut complex);
-        dw[0].copy_from_slice(&real);
+        factors.real.solve(real);
+        factors.complex.solve(complex);
+        dw[0].copy_from_slice(real);
         for (j, c) in complex.iter().enumerate() {
             (dw[1][j], dw[2][j]) = (c.re, c.im);
         }
-        let dw_norm = norm(&dw);
+        let dw_norm = norm(dw);
         if !dw_norm.is_finite() {
             return None;
         }
@@ -167,10 +191,10 @@ pub(super) fn collocation(
         if slow && !noise {
             return None;
         }
-        for (wr, dr) in w.iter_mut().zip(&dw) {
+        for (wr, dr) in w.iter_mut().zip(dw.iter()) {
             wr.iter_mut().zip(dr).for_each(|(a, b)| *a += b);
         }
-        transform(&T, &w, &mut z);
+        transform(&T, w, &mut z);
         // Stalled at round-off, a correction a tenth of the tolerance, or a predicted remaining
         // error below it: done.
         let stalled = slow && noise;
@@ -202,9 +226,12 @@ impl Polynomial {
         Self { t0, h, y0: y0.to_vec(), q }
     }
 
-    pub(super) fn value(&self, t: f64) -> Vec<f64> {
+    /// `y(t) − y`.
+    pub(super) fn value_minus(&self, t: f64, y: &[f64]) -> Vec<f64> {
         let x = (t - self.t0) / self.h;
-        (0..self.y0.len()).map(|j| self.y0[j] + x * (self.q[0][j] + x * (self.q[1][j] + x * self.q[2][j]))).collect()
+        (0..self.y0.len())
+            .map(|j| (self.y0[j] + x * (self.q[0][j] + x * (self.q[1][j] + x * self.q[2][j]))) - y[j])
+            .collect()
     }
 }
 
@@ -253,7 +280,7 @@ mod tests {
         let z: Stages = [vec![1.0], vec![-2.0], vec![0.5]];
         let p = Polynomial::new(0.0, 1.0, &[0.0], &z);
         for i in 0..3 {
-            assert!((p.value(C[i])[0] - z[i][0]).abs() < 1e-12);
+            assert!((p.value_minus(C[i], &[0.25])[0] + 0.25 - z[i][0]).abs() < 1e-12);
         }
     }
 }
