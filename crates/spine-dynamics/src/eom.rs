@@ -392,13 +392,15 @@ impl Dynamics {
         let n = self.n_links();
         let (theta, omega) = y.split_at_mut(n);
         let mut trig: Vec<(D, D)> = Vec::with_capacity(n);
+        let mut g: Vec<D> = Vec::with_capacity(n);
         for _ in 0..PROJECTION_SWEEPS {
             // Φ ([`Self::constraint`]) and ∇Φ ([`Self::constraint_gradient`]) from one sin/cos per
             // link.
             trig.clear();
             trig.extend(theta.iter().map(|t| t.sin_cos()));
             let phi: D = trig.iter().zip(&self.lengths).map(|(&(s, _), &l)| s * l).sum();
-            let g: Vec<D> = trig.iter().zip(&self.lengths).map(|(&(_, c), &l)| c * l).collect();
+            g.clear();
+            g.extend(trig.iter().zip(&self.lengths).map(|(&(_, c), &l)| c * l));
             let gg: D = g.iter().map(|&v| v * v).sum();
             let step = phi / gg;
             for i in 0..n {

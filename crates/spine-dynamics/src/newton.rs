@@ -187,7 +187,9 @@ impl Linearization for ChainLinearization {
     }
 
     fn factor_complex(&self, shift: Complex64) -> Option<Box<dyn ShiftedSolve<Complex64>>> {
-        let ok = |d: &Complex64| d.is_finite() && d.norm() > f64::MIN_POSITIVE;
+        // A pivot is usable when its larger part is a normal number (`|d|` itself would cost a
+        // `hypot` per link).
+        let ok = |d: &Complex64| d.is_finite() && d.re.abs().max(d.im.abs()) > f64::MIN_POSITIVE;
         self.factor(shift, &ok).map(|f| Box::new(f) as Box<dyn ShiftedSolve<Complex64>>)
     }
 }

@@ -38,8 +38,8 @@ impl Interval {
     /// An accepted step from `(t0, y0, f0)` to `(t1, y1, f1)`; its sensitivities when propagated
     /// at both ends.
     pub(super) fn accepted(
-        (t0, y0, f0): (f64, &[f64], &[f64]),
-        (t1, y1, f1): (f64, &[f64], &[f64]),
+        (t0, y0, f0): (f64, Vec<f64>, Vec<f64>),
+        (t1, y1, f1): (f64, Vec<f64>, Vec<f64>),
         sensitivities: (Option<SensitivityEnd>, Option<SensitivityEnd>),
         collocation: Option<[Vec<f64>; 3]>,
     ) -> Self {
@@ -47,7 +47,7 @@ impl Interval {
             (Some((s0, sd0)), Some((s1, sd1))) => Some([s0, sd0, s1, sd1]),
             _ => None,
         };
-        Self { collocation, t0, t1, y0: y0.to_vec(), y1: y1.to_vec(), f0: f0.to_vec(), f1: f1.to_vec(), sens }
+        Self { collocation, t0, t1, y0, y1, f0, f1, sens }
     }
 
     fn weights(&self, t: f64) -> ([f64; 4], [f64; 4]) {

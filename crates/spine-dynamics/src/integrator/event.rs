@@ -46,7 +46,9 @@ pub fn first_event(
         }
         let at = run.end().to_vec();
         let dg = grad(&at);
-        let rate: f64 = dg.iter().zip(sys.rhs(t, piece, &at)).map(|(a, b)| a * b).sum();
+        let mut f = vec![0.0; at.len()];
+        sys.rhs_into(t, piece, &at, &mut f);
+        let rate: f64 = dg.iter().zip(f).map(|(a, b)| a * b).sum();
         let next = t - g(&at) / rate;
         last = Some((at, dg, rate));
         if !(next > step.t0 && next <= step.t1) {

@@ -294,7 +294,7 @@ impl Point {
         };
         let end_sens = self.s.clone().zip(self.s_dot.clone());
         stats.accepted_steps += 1;
-        Interval::accepted((t0, &y0, &f0), (t1, &self.y, &self.f), (start_sens, end_sens), None)
+        Interval::accepted((t0, y0, f0), (t1, self.y.clone(), self.f.clone()), (start_sens, end_sens), None)
     }
 }
 

@@ -138,7 +138,8 @@ impl<'a> Run<'a> {
         let mut y = y0.to_vec();
         sys.project(&mut y);
         let piece = course.piece(t0);
-        let f = sys.rhs(t0, piece, &y);
+        let mut f = vec![0.0; y.len()];
+        sys.rhs_into(t0, piece, &y, &mut f);
         stats.rhs_evaluations += 1;
         let lin = sys.linearize(t0, piece, &y);
         stats.jacobian_evaluations += 1;
@@ -256,7 +257,8 @@ impl<'a> Run<'a> {
         let mut err = weighted_rms(&error, y, &y_new, opts);
         if rejected && err > 1.0 {
             let shifted: Vec<f64> = (0..n).map(|j| y[j] + error[j]).collect();
-            let fs = self.sys.rhs(self.t, self.piece, &shifted);
+            let mut fs = vec![0.0; n];
+            self.sys.rhs_into(self.t, self.piece, &shifted, &mut fs);
             self.stats.rhs_evaluations += 1;
             error = (0..n).map(|j| fs[j] + ze[j]).collect();
             fa.real.solve(&mut error);
@@ -283,20 +285,21 @@ impl<'a> Run<'a> {
         }
         self.polynomial = Some(Polynomial::new(t, h_step, &self.y, &col.z));
         course.project(&mut y1, self.s.as_mut(), &mut self.stats);
-        let f1 = sys.rhs(t1, piece, &y1);
+        let mut f1 = vec![0.0; n];
+        sys.rhs_into(t1, piece, &y1, &mut f1);
         self.stats.rhs_evaluations += 1;
         let s_dot1 = self.s.as_ref().map(|s| sensitivity_rate(sys, t1, piece, &y1, s));
         let end_sens = self.s.clone().zip(s_dot1.clone());
         let collocation = self.polynomial.as_ref().map(|p| p.q.clone());
-        let interval = Interval::accepted((t, &self.y, &self.f), (t1, &y1, &f1), (start_sens, end_sens), collocation);
+        // The step's start moves into the interval; its end stays as the next step's start.
+        let (y0, f0) = (std::mem::replace(&mut self.y, y1.clone()), std::mem::replace(&mut self.f, f1.clone()));
+        let interval = Interval::accepted((t, y0, f0), (t1, y1, f1), (start_sens, end_sens), collocation);
         self.stats.accepted_steps += 1;
         let refresh = col.iterations > 2 && col.rate.is_some_and(|r| r > 1e-3);
         let factor = (safety * predict_factor(h_step, self.last, err)).min(10.0);
         self.last = Some((h_step, err));
         self.h = if refresh || factor >= 1.2 { h_step * factor } else { h_step };
         self.t = t1;
-        self.y = y1;
-        self.f = f1;
         self.s_dot = s_dot1;
         self.current = false;
         if refresh {
@@ -309,7 +312,7 @@ impl<'a> Run<'a> {
     /// At a breakpoint of the forcing: `f` and `J̃` of the new piece, and no history.
     fn enter_piece(&mut self, course: &Course<'_>) {
         self.piece = course.piece(self.t);
-        self.f = self.sys.rhs(self.t, self.piece, &self.y);
+        self.sys.rhs_into(self.t, self.piece, &self.y, &mut self.f);
         self.stats.rhs_evaluations += 1;
         self.relinearize();
         self.factors = None;
