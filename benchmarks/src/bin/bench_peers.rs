@@ -300,6 +300,7 @@ fn level_case(
     template: &spine_design::SolverSettings,
     start: &Design,
     warm: bool,
+    coarse: bool,
 ) -> serde_json::Value {
     let m = level.n_links();
     assert!(
@@ -308,7 +309,10 @@ fn level_case(
     );
     assert!(level.structure.actuation.p_x[..m].iter().all(|v| *v == 0.0), "axial load at the end only");
     let w = &template.warm_start;
-    let mut solver = json!({ "tolerance": template.tolerance, "constraint_tolerance": template.constraint_tolerance, "refine": "off" });
+    // Coarse levels to the warm start's coarse tolerance, as in our own refined runs.
+    let tolerance = if coarse { w.coarse_tolerance.max(template.tolerance) } else { template.tolerance };
+    let mut solver =
+        json!({ "tolerance": tolerance, "constraint_tolerance": template.constraint_tolerance, "refine": "off" });
     if warm {
         solver["ipopt_options"] =
             json!({ "mu_init": w.mu_init, "bound_push": w.bound_push, "bound_frac": w.bound_frac });
@@ -343,12 +347,14 @@ fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, Strin
     for &m in &ladder.levels(n) {
         let clock = Instant::now();
         let previous_level = previous.as_ref().map(|(p, d, s)| (p, d, s));
-        let setup = refine::prepare_level(problem, m, previous_level, &start, &settings.continuation, &mut Vec::new());
+        let restore = settings.warm_start.restore_end_displacement;
+        let setup =
+            refine::prepare_level(problem, m, previous_level, &start, restore, &settings.continuation, &mut Vec::new());
         let level = setup.problem(problem);
         let case_path = dir.join(format!("ladder-{n}-{m}.json"));
         let start_path = dir.join(format!("ladder-start-{n}-{m}.json"));
         let out_path = dir.join(format!("ladder-casadi-{n}-{m}.json"));
-        write(&case_path, &level_case(level, settings, &setup.design, previous.is_some()));
+        write(&case_path, &level_case(level, settings, &setup.design, previous.is_some(), m < n));
         let (passive, loaded) = &setup.states;
         let start = FullSpaceStart::from_states(level, &setup.design, passive, loaded);
         write(&start_path, &serde_json::to_value(&start).expect("JSON"));

@@ -3,10 +3,14 @@
 //! iteration and the optimum J. Each configuration runs `REPEATS` times and reports the fastest
 //! (machines here are shared and noisy).
 //!
-//! Usage: `design_scaling [--refine=off|auto|FROM] [--repeats=R] [N ...]` (default N: 5 10 20 50 100
-//! 200 500 1000; default refine: the solver's default, "auto"; FROM: a ladder from FROM links, factor 2).
+//! Usage: `design_scaling [--refine=off|auto|FROM] [--repeats=R] [--peers] [N ...]` (default N: 5 10
+//! 20 50 100 200 500 1000; default refine: the solver's default, "auto"; FROM: a ladder from FROM
+//! links, factor 2). `--peers` solves `bench_peers`' case files instead (its tolerances, 1e-8 and
+//! 1e-9 s²), with its ladder under `--refine=auto`; the full space only.
 #![forbid(unsafe_code)]
 
+use spine_benchmarks::peers;
+use spine_case::{Case, ValidCase};
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::refine::{Ladder, Refine, RefineMode};
 use spine_design::{solve_design, Formulation, SolverSettings};
@@ -19,7 +23,12 @@ fn main() {
     let mut settings = SolverSettings::default();
     let mut repeats = 3;
     let mut sizes: Vec<usize> = Vec::new();
+    let mut peers_cases = false;
     for arg in std::env::args().skip(1) {
+        if arg == "--peers" {
+            peers_cases = true;
+            continue;
+        }
         if let Some(mode) = arg.strip_prefix("--refine=") {
             settings.refine = match mode {
                 "off" => Refine::Mode(RefineMode::Off),
@@ -36,10 +45,27 @@ fn main() {
     println!("| N | formulation | status | iterations | wall time (s) | time per iteration (ms) | J (J) | clean |");
     println!("|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
-        let problem = scaled_family(n);
-        let s = n as f64 / 10.0;
-        let start = arch_start(n, 0.3, 1e3 * s * s);
+        let (problem, start, settings) = if peers_cases {
+            let case = Case::from_json(&peers::scaled_family_case(n).to_string())
+                .and_then(|c| c.validate())
+                .expect("the generated case is valid");
+            let ValidCase::Design(valid) = case else { unreachable!("a design case") };
+            let mut case_settings = valid.settings.clone();
+            case_settings.refine = match settings.refine {
+                Refine::Mode(RefineMode::Auto) => {
+                    peers::bench_ladder(n).map_or(Refine::Mode(RefineMode::Off), Refine::Ladder)
+                }
+                other => other,
+            };
+            (valid.problem, valid.start, case_settings)
+        } else {
+            let s = n as f64 / 10.0;
+            (scaled_family(n), arch_start(n, 0.3, 1e3 * s * s), settings.clone())
+        };
         for formulation in [Formulation::Full, Formulation::Reduced] {
+            if peers_cases && formulation == Formulation::Reduced {
+                continue;
+            }
             if formulation == Formulation::Reduced && n > REDUCED_MAX_N {
                 println!("| {n} | reduced | skipped (N > {REDUCED_MAX_N}) | | | | | |");
                 continue;

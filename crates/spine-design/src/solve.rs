@@ -215,6 +215,7 @@ fn solve_refined(
     let cold_options = settings.ipopt();
     let warm = settings.warm_start;
     let warm_options = settings.warm_ipopt(&warm);
+    let coarse_tolerance = warm.coarse_tolerance.max(settings.tolerance);
     let mut levels: Vec<LevelReport> = Vec::new();
     let mut previous: Option<(DesignProblem, Design, (State, State), Multipliers)> = None;
     let mut fell_back = false;
@@ -223,7 +224,8 @@ fn solve_refined(
         let m = if fell_back { n } else { sizes[next] };
         let clock = Instant::now();
         let previous_level = previous.as_ref().map(|(p, d, s, _)| (p, d, s));
-        let setup = refine::prepare_level(problem, m, previous_level, start, &settings.continuation, notes);
+        let restore = warm.restore_end_displacement;
+        let setup = refine::prepare_level(problem, m, previous_level, start, restore, &settings.continuation, notes);
         let (level, how, design, states) = (setup.problem(problem), setup.start, &setup.design, &setup.states);
         let start_seconds = clock.elapsed().as_secs_f64();
         let form = settings.state_variables.resolve(level, settings);
@@ -236,8 +238,14 @@ fn solve_refined(
             nlp.multipliers =
                 Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper));
         }
-        let options = if how == LevelStart::Cold { &cold_options } else { &warm_options };
-        let solution = spine_ipopt::solve(&mut nlp, options).map_err(DesignError::Setup)?;
+        // The coarse levels only prepare a start: solved to `warm.coarse_tolerance`.
+        let options = match (how == LevelStart::Cold, m < n) {
+            (true, false) => cold_options.clone(),
+            (false, false) => warm_options.clone(),
+            (true, true) => cold_options.clone().number("tol", coarse_tolerance),
+            (false, true) => warm_options.clone().number("tol", coarse_tolerance),
+        };
+        let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
         let (design, states) = refine::solution_parts(&nlp, &solution.x);
         levels.push(LevelReport {
             links: m,
@@ -246,6 +254,7 @@ fn solve_refined(
             optimal: solution.status.is_optimal(),
             iterations: solution.iterations,
             objective: solution.objective,
+            end_displacement_restored: setup.restored,
             start_seconds,
             wall_seconds: clock.elapsed().as_secs_f64(),
         });

@@ -102,6 +102,10 @@ pub struct LevelReport {
     pub iterations: usize,
     /// `J` of this level's (coarse) problem, J.
     pub objective: f64,
+    /// A warm level's end-displacement violation `|X_{N+1}(θ2) − L_x − δ_d|` (m) before and after
+    /// it was restored ([`crate::refine::restore_end_displacement`]); `None` when it was not.
+    #[serde(default)]
+    pub end_displacement_restored: Option<[f64; 2]>,
     /// Preparing the start (prolongation and equilibria), and the whole level, s.
     pub start_seconds: f64,
     pub wall_seconds: f64,

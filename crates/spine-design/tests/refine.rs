@@ -128,6 +128,53 @@ fn prolonged_design_meets_every_design_constraint() {
     }
 }
 
+/// The prolonged optimum of a coarse level misses the fine chain's end displacement by millimetres;
+/// one factor on every spring restores `δ_d` to 1e-10 relative, with both states exact equilibria
+/// of the restored design and every spring within its bounds.
+#[test]
+fn the_end_displacement_is_restored_on_the_prolonged_design() {
+    let fine = scaled_family(40);
+    let (coarse, nodes) = refine::coarsen(&fine, 20);
+    let continuation = SolverSettings::default().continuation;
+    let coarse_optimum = solve_design(
+        &coarse,
+        &refine::restrict(&fine, &coarse, &nodes, &start_of(40)),
+        Formulation::Full,
+        &settings(Refine::Mode(RefineMode::Off)),
+        &mut |_| true,
+    )
+    .unwrap();
+    let (p, l) = (coarse_optimum.passive.as_ref().unwrap(), coarse_optimum.loaded.as_ref().unwrap());
+    let states =
+        (State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda });
+    let (mut design, interpolated) = refine::prolong(&coarse, &fine, &coarse_optimum.design, &states);
+    let (mut states, how) = refine::warm_states(&fine, &design, interpolated, &continuation);
+    assert_eq!(how, LevelStart::Newton);
+    let before = design.clone();
+    let [miss, left] = refine::restore_end_displacement(&fine, &mut design, &mut states, &continuation).unwrap();
+    let delta = fine.delta_d.abs();
+    assert!(miss > 1e-5 * delta, "the prolonged design misses δ_d by {miss:.1e} m");
+    assert!(left <= 1e-10 * delta, "restored to {left:.1e} m");
+    let spans = &fine.structure.chain.spans;
+    let x = spine_model::kinematics::end_x(spans, &design.theta0, &states.1.theta);
+    assert!((x - fine.structure.chain.length_x() - fine.delta_d).abs() <= 1e-10 * delta);
+    // One factor on the springs, θ0 untouched, the bounds kept.
+    assert_eq!(design.theta0, before.theta0);
+    let c = design.stiffness[0] / before.stiffness[0];
+    let b = &fine.bounds;
+    for (j, (k, k0)) in design.stiffness.iter().zip(&before.stiffness).enumerate() {
+        assert!(*k >= b.stiffness_min[j] && *k <= b.stiffness_max[j]);
+        let free = (k0 * c).clamp(b.stiffness_min[j], b.stiffness_max[j]);
+        assert!((k - free).abs() <= 1e-12 * free, "spring {j}: {k} vs {free}");
+    }
+    // The states are the equilibria of the restored design.
+    let again = fine.equilibria_near(&design, &states.0, &states.1, &continuation).unwrap();
+    for (a, b) in [(&again.0, &states.0), (&again.1, &states.1)] {
+        let gap = a.theta.iter().zip(&b.theta).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(gap <= 1e-12, "state moved by {gap:.1e} rad on a re-solve");
+    }
+}
+
 /// Our full space started at `design`/states with a barrier close to zero: a KKT point stays put.
 fn stays_at(problem: &DesignProblem, design: &Design, states: (&State, &State)) -> (f64, usize, bool) {
     let mut s = SolverSettings::default();
@@ -162,6 +209,16 @@ fn refined_and_cold_solves_end_at_optima_of_the_same_nlp() {
         assert_eq!(sizes, ladder.levels(n), "N = {n}");
         assert_eq!(report.levels[0].start, LevelStart::Cold);
         assert!(report.levels[1..].iter().all(|l| l.start != LevelStart::Cold));
+        // Every warm level started with δ_d restored (the default), and says so.
+        for l in &report.levels[1..] {
+            let [before, after] = l.end_displacement_restored.expect("restored");
+            assert!(
+                after <= 1e-10 * problem.delta_d.abs() && after <= before,
+                "N = {n}, level {}: {before:.1e} → {after:.1e}",
+                l.links
+            );
+        }
+        assert!(report.levels[0].end_displacement_restored.is_none());
         assert!(!report.fell_back_to_cold);
         for r in [&cold, &refined] {
             assert!(r.solver.optimal && r.is_clean(), "N = {n}: {} {:?}", r.solver.status, r.warnings);

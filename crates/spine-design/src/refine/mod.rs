@@ -29,7 +29,7 @@ mod level;
 mod mesh;
 mod multipliers;
 
-pub use level::{prepare_level, solution_parts, warm_states, LevelSetup, LevelStart};
+pub use level::{prepare_level, restore_end_displacement, solution_parts, warm_states, LevelSetup, LevelStart};
 pub use mesh::{coarse_nodes, coarsen, prolong, restrict};
 pub use multipliers::prolong_multipliers;
 
@@ -155,11 +155,25 @@ pub struct WarmStart {
     /// `mult_bound_push`.
     pub multipliers: bool,
     pub mult_bound_push: f64,
+    /// Restore the end displacement `δ_d` on each prolonged design before Ipopt starts
+    /// ([`restore_end_displacement`]; default on).
+    pub restore_end_displacement: bool,
+    /// Ipopt's `tol` at the coarse levels, which only prepare the next start (default 1e-5; never
+    /// tighter than `solver.tolerance`). The chain itself is solved to `solver.tolerance`.
+    pub coarse_tolerance: f64,
 }
 
 impl Default for WarmStart {
     fn default() -> Self {
-        WarmStart { mu_init: 1e-6, bound_push: 1e-8, bound_frac: 1e-8, multipliers: false, mult_bound_push: 1e-8 }
+        WarmStart {
+            mu_init: 1e-6,
+            bound_push: 1e-8,
+            bound_frac: 1e-8,
+            multipliers: false,
+            mult_bound_push: 1e-8,
+            restore_end_displacement: true,
+            coarse_tolerance: 1e-5,
+        }
     }
 }
 
@@ -174,6 +188,9 @@ impl WarmStart {
         ] {
             require(v.is_finite() && v > 0.0 && v <= 0.5, name, || format!("must be a number in (0, 0.5], got {v}"))?;
         }
-        Ok(())
+        let tol = self.coarse_tolerance;
+        require(tol.is_finite() && tol > 0.0 && tol <= 1.0, "coarse_tolerance", || {
+            format!("must be a number in (0, 1], got {tol}")
+        })
     }
 }
