@@ -240,6 +240,14 @@ pub const IPOPT_VERSION: &str = env!("SPINE_IPOPT_VERSION");
 /// per process.
 static SOLVE_LOCK: Mutex<()> = Mutex::new(());
 
+/// How many times Ipopt has read its CPU clock through this crate's replacement of
+/// `Ipopt::CpuTime()` in this process (see `ffi.rs`: Debian's Ipopt 3.11 reads it about 70 times
+/// per iteration, each read a `getrusage` system call in the library's own clock). Zero when the
+/// library does not call the replacement.
+pub fn replaced_clock_reads() -> usize {
+    ffi::CPU_TIME_CALLS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// Solves `problem` with Ipopt.
 ///
 /// The options are passed to Ipopt as given, after defaults that keep the terminal quiet

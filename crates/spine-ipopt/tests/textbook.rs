@@ -129,6 +129,23 @@ fn hs071_exact_hessian_reaches_the_known_optimum() {
     assert!(solution.callback_time <= solution.wall_time);
 }
 
+/// Debian's Ipopt 3.11 reads its CPU clock (`Ipopt::CpuTime()`, a `getrusage` call in the library)
+/// about 70 times per iteration; the binding's definition of that function interposes the
+/// library's (`ffi.rs`), and the library calls it: the reads counted here. `max_cpu_time` still
+/// stops a run, on the replacement's clock.
+#[test]
+fn ipopt_3_11_reads_the_replaced_cpu_clock() {
+    let before = spine_ipopt::replaced_clock_reads();
+    let solution = solve(&mut Hs071::new(), &tight()).unwrap();
+    assert_eq!(solution.status, Status::SolveSucceeded);
+    let reads = spine_ipopt::replaced_clock_reads() - before;
+    if spine_ipopt::IPOPT_VERSION.starts_with("3.11") {
+        assert!(reads >= 10 * solution.iterations, "{reads} reads in {} iterations", solution.iterations);
+    }
+    let limited = solve(&mut Hs071::new(), &tight().number("max_cpu_time", 1e-9)).unwrap();
+    assert_eq!(limited.status, Status::MaximumCpuTimeExceeded);
+}
+
 /// Debian's Ipopt 3.11 with MUMPS aborts (and exits 0) when two solves overlap in one process;
 /// the binding serialises them. Four threads solve at once: every solve reaches the optimum.
 /// MUMPS solves from several threads are serialised by the wrapper's lock; the workspace's own
