@@ -310,7 +310,7 @@ fn level_case(
     assert!(level.structure.actuation.p_x[..m].iter().all(|v| *v == 0.0), "axial load at the end only");
     let w = &template.warm_start;
     // Coarse levels to the warm start's coarse tolerance, as in our own refined runs.
-    let tolerance = if coarse { w.coarse_tolerance.max(template.tolerance) } else { template.tolerance };
+    let tolerance = if coarse { template.coarse_tolerance() } else { template.tolerance };
     let mut solver =
         json!({ "tolerance": tolerance, "constraint_tolerance": template.constraint_tolerance, "refine": "off" });
     if warm {

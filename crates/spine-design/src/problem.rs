@@ -61,13 +61,25 @@ impl DesignProblem {
         loaded: &State,
         continuation: &ContinuationOptions,
     ) -> Option<(State, State)> {
+        Some((
+            self.equilibrium_near(design, self.passive_loads(), passive, continuation)?,
+            self.equilibrium_near(design, self.total_loads(), loaded, continuation)?,
+        ))
+    }
+
+    /// One equilibrium of `design` under `loads` by Newton's method at full load from the nearby
+    /// state `start` ([`Self::equilibria_near`]'s for one load state).
+    pub fn equilibrium_near(
+        &self,
+        design: &Design,
+        loads: LinkLoads,
+        start: &State,
+        continuation: &ContinuationOptions,
+    ) -> Option<State> {
         let spans = &self.structure.chain.spans;
-        let resolve = |loads: LinkLoads, start: &State| {
-            let path = spine_solve::LoadPath { spans, design, from: loads.clone(), to: loads, start: start.clone() };
-            let solution = spine_solve::solve_path(&path, continuation);
-            (solution.load_factor == 1.0).then_some(solution.state)
-        };
-        Some((resolve(self.passive_loads(), passive)?, resolve(self.total_loads(), loaded)?))
+        let path = spine_solve::LoadPath { spans, design, from: loads.clone(), to: loads, start: start.clone() };
+        let solution = spine_solve::solve_path(&path, continuation);
+        (solution.load_factor == 1.0).then_some(solution.state)
     }
 
     /// The problem as the equilibrium solver sees it, for one design.

@@ -338,6 +338,12 @@ impl SolverSettings {
 pub const MUMPS_PIVOT_ORDER: i64 = 5;
 
 impl SolverSettings {
+    /// Ipopt's `tol` at the coarse levels of mesh sequencing: [`WarmStart::coarse_tolerance`], never
+    /// tighter than [`Self::tolerance`].
+    pub fn coarse_tolerance(&self) -> f64 {
+        self.warm_start.coarse_tolerance.max(self.tolerance)
+    }
+
     /// The options of a warm level of mesh sequencing: these settings plus [`WarmStart`], unless
     /// the case sets those options itself.
     pub fn warm_ipopt(&self, warm: &WarmStart) -> Options {

@@ -215,7 +215,6 @@ fn solve_refined(
     let cold_options = settings.ipopt();
     let warm = settings.warm_start;
     let warm_options = settings.warm_ipopt(&warm);
-    let coarse_tolerance = warm.coarse_tolerance.max(settings.tolerance);
     let mut levels: Vec<LevelReport> = Vec::new();
     let mut previous: Option<(DesignProblem, Design, (State, State), Multipliers)> = None;
     let mut fell_back = false;
@@ -238,13 +237,9 @@ fn solve_refined(
             nlp.multipliers =
                 Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper));
         }
-        // The coarse levels only prepare a start: solved to `warm.coarse_tolerance`.
-        let options = match (how == LevelStart::Cold, m < n) {
-            (true, false) => cold_options.clone(),
-            (false, false) => warm_options.clone(),
-            (true, true) => cold_options.clone().number("tol", coarse_tolerance),
-            (false, true) => warm_options.clone().number("tol", coarse_tolerance),
-        };
+        let options = if how == LevelStart::Cold { &cold_options } else { &warm_options };
+        // The coarse levels only prepare a start: solved to the coarse tolerance.
+        let options = if m < n { options.clone().number("tol", settings.coarse_tolerance()) } else { options.clone() };
         let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
         let (design, states) = refine::solution_parts(&nlp, &solution.x);
         levels.push(LevelReport {

@@ -80,7 +80,9 @@ impl OdeSystem for SpineOde<'_> {
     }
 
     fn rhs(&self, t: f64, piece: f64, y: &[f64]) -> Vec<f64> {
-        self.dynamics.rhs(t, piece, y, &self.dynamics.damping)
+        let mut out = vec![0.0; y.len()];
+        self.rhs_into(t, piece, y, &mut out);
+        out
     }
 
     /// [`Dynamics::rhs_into`] with this thread's buffers ([`Scratch`], kept from call to call): the

@@ -74,7 +74,7 @@ pub fn restore_end_displacement(
     let spans = &problem.structure.chain.spans;
     let target = problem.structure.chain.length_x() + problem.delta_d;
     let residual =
-        |d: &Design, s: &(State, State)| spine_model::kinematics::end_x(spans, &d.theta0, &s.1.theta) - target;
+        |d: &Design, loaded: &State| spine_model::kinematics::end_x(spans, &d.theta0, &loaded.theta) - target;
     let scaled = |c: f64| {
         let mut d = design.clone();
         for (j, k) in d.stiffness.iter_mut().enumerate() {
@@ -82,8 +82,10 @@ pub fn restore_end_displacement(
         }
         d
     };
-    let r0 = residual(design, states);
-    let mut best: Option<(f64, Design, (State, State))> = None;
+    let r0 = residual(design, &states.1);
+    let loads = problem.total_loads();
+    // The secant iterates need the loaded state alone; the passive one follows for the best.
+    let mut best: Option<(f64, Design, State)> = None;
     let (mut c_prev, mut r_prev) = (1.0, r0);
     let mut c = (r0 + problem.delta_d) / problem.delta_d;
     for _ in 0..RESTORE_SOLVES {
@@ -91,12 +93,12 @@ pub fn restore_end_displacement(
             break;
         }
         let d = scaled(c);
-        let Some(s) = problem.equilibria_near(&d, &states.0, &states.1, continuation) else {
+        let Some(loaded) = problem.equilibrium_near(&d, loads.clone(), &states.1, continuation) else {
             break;
         };
-        let r = residual(&d, &s);
+        let r = residual(&d, &loaded);
         if best.as_ref().map_or(r0.abs(), |b| b.0.abs()) > r.abs() {
-            best = Some((r, d, s));
+            best = Some((r, d, loaded));
         }
         if r.abs() <= RESTORED * problem.delta_d.abs() || r == r_prev {
             break;
@@ -104,9 +106,10 @@ pub fn restore_end_displacement(
         let next = c - r * (c - c_prev) / (r - r_prev);
         (c_prev, r_prev, c) = (c, r, next);
     }
-    let (r, d, s) = best?;
+    let (r, d, loaded) = best?;
+    let passive = problem.equilibrium_near(&d, problem.passive_loads(), &states.0, continuation)?;
     *design = d;
-    *states = s;
+    *states = (passive, loaded);
     Some([r0.abs(), r.abs()])
 }
 
