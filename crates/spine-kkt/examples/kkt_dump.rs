@@ -1,7 +1,8 @@
 //! Factorises a matrix written by `SPINE_KKT_DUMP=FILE` (see `src/pardiso.rs`) and prints the
 //! best time of REPEATS factorisations and solves, the inertia, the front statistics and the
 //! result of one solve: `cargo run --release -p spine-kkt --example kkt_dump FILE [REPEATS]`
-//! (REPEATS, 20 by default, also serves `perf record`).
+//! (REPEATS, 20 by default, also serves `perf record`). With `KKT_SEARCH` set, every factorisation
+//! searches for its pivots instead of replaying those of the one before.
 use spine_kkt::{Dump, SymmetricSolver};
 fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
@@ -19,7 +20,13 @@ fn main() {
     let dump = Dump::parse(&std::fs::read_to_string(&path).expect("a readable file")).expect("a recorded system");
     let (n, a) = (dump.n, dump.a.clone());
     let mut solver = SymmetricSolver::new(dump.structure().expect("a valid structure"));
-    let (factor_time, inertia) = best_of(repeats, || solver.factorize(&a).unwrap());
+    let search = std::env::var_os("KKT_SEARCH").is_some();
+    let (factor_time, inertia) = best_of(repeats, || {
+        if search {
+            solver.forget_pivot_sequence();
+        }
+        solver.factorize(&a).unwrap()
+    });
     println!(
         "factorisation {:.3} ms, {:?} {:?} dense {} predicted {}",
         factor_time * 1e3,

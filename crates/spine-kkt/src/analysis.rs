@@ -67,6 +67,11 @@ impl Analysis {
         Self { structure, ordering, enter_start, enter, summed_start, summed, predicted_front }
     }
 
+    /// The variables (new numbering) that become fully summed at step `k`.
+    pub(crate) fn summed_at(&self, k: usize) -> &[usize] {
+        &self.summed[self.summed_start[k]..self.summed_start[k + 1]]
+    }
+
     /// The order `n` of the matrix.
     pub fn order(&self) -> usize {
         self.structure.order()

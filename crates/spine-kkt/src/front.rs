@@ -1,5 +1,7 @@
 //! The front of the sweep: a small dense symmetric matrix over the variables that have entered and
-//! are not yet eliminated, stored whole (both triangles) with a row stride that grows on demand.
+//! are not yet eliminated, stored by its lower triangle (slot `i` keeps `a_ij` for `j ≤ i`) with a
+//! row stride that grows on demand. The Schur updates, which are most of the work, touch one
+//! triangle only.
 
 /// Marks a variable that is not in the front.
 pub(crate) const ABSENT: usize = usize::MAX;
@@ -20,7 +22,8 @@ pub(crate) struct ColumnScan {
 #[derive(Debug)]
 pub(crate) struct Front {
     stride: usize,
-    /// Row-major `stride × stride`; only the leading `len × len` block is in use.
+    /// Row-major `stride × stride`; only the lower triangle of the leading `len × len` block is in
+    /// use.
     a: Vec<f64>,
     /// The variable (new numbering) of each slot.
     pub var: Vec<usize>,
@@ -30,6 +33,8 @@ pub(crate) struct Front {
     summed: Vec<bool>,
     /// The pivot rows during an elimination (kept to avoid an allocation per pivot).
     scratch: Vec<f64>,
+    /// The slots whose columns `scratch` holds.
+    loaded: Vec<usize>,
 }
 
 impl Front {
@@ -42,6 +47,7 @@ impl Front {
             summed: Vec::with_capacity(stride),
             slot_of: vec![ABSENT; n],
             scratch: Vec::new(),
+            loaded: Vec::new(),
         }
     }
 
@@ -51,12 +57,15 @@ impl Front {
 
     #[inline]
     pub fn at(&self, i: usize, j: usize) -> f64 {
+        let (i, j) = if i >= j { (i, j) } else { (j, i) };
         self.a[i * self.stride + j]
     }
 
-    /// Row `i` of the front, `len` entries.
-    pub fn row(&self, i: usize) -> &[f64] {
-        &self.a[i * self.stride..i * self.stride + self.len()]
+    /// Column `c` of the front, `len` entries: row `c` of the triangle up to the diagonal, then
+    /// column `c` below it.
+    fn column(&self, c: usize) -> impl Iterator<Item = f64> + '_ {
+        let s = self.stride;
+        self.a[c * s..c * s + c + 1].iter().copied().chain((c + 1..self.len()).map(move |i| self.a[i * s + c]))
     }
 
     /// Adds variable `v` with an empty row and column; returns its slot.
@@ -66,10 +75,7 @@ impl Front {
             self.grow();
         }
         let s = self.stride;
-        for j in 0..=slot {
-            self.a[slot * s + j] = 0.0;
-            self.a[j * s + slot] = 0.0;
-        }
+        self.a[slot * s..slot * s + slot + 1].fill(0.0);
         self.var.push(v);
         self.summed.push(false);
         self.slot_of[v] = slot;
@@ -90,21 +96,18 @@ impl Front {
     /// Adds `value` at `(i, j)` and `(j, i)` (once on the diagonal).
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, value: f64) {
-        let s = self.stride;
-        self.a[i * s + j] += value;
-        if i != j {
-            self.a[j * s + i] += value;
-        }
+        let (i, j) = if i >= j { (i, j) } else { (j, i) };
+        self.a[i * self.stride + j] += value;
     }
 
-    /// One pass over column `c` (read as row `c`: the front is stored whole) for the pivot tests:
+    /// One pass over column `c` for the pivot tests:
     /// the largest `|a_ic|` over rows `i ≠ c` whose variable is not below `border` (the dense
     /// rows, numbered first) and its first row; the last row of largest `|a_ic|` among those whose
     /// variable is fully summed; and the largest entry in the dense rows. Rows in `skip` are left
     /// out.
     pub fn scan(&self, c: usize, skip: usize, border: usize) -> ColumnScan {
         let mut scan = ColumnScan { largest: 0.0, row: None, summed_largest: 0.0, summed_row: None, border: 0.0 };
-        for (i, ((&x, &var), &summed)) in self.row(c).iter().zip(&self.var).zip(&self.summed).enumerate() {
+        for (i, ((x, &var), &summed)) in self.column(c).zip(&self.var).zip(&self.summed).enumerate() {
             let v = x.abs();
             if var < border {
                 scan.border = scan.border.max(v);
@@ -132,40 +135,85 @@ impl Front {
         self.summed[slot]
     }
 
-    /// `a_ij −= Σ_k l_ik · row_k[j]` for every `i` outside `pivots`, where `l_i = a_i,pivots ·
-    /// inverse` and `row_k` are the pivot rows: the Schur complement of a 1×1 or 2×2 pivot block.
-    /// Calls `store(variable, l_i)` for every row with a nonzero `l_i`.
+    /// Copies the columns of the pivot slots into the pivot rows that [`Front::loaded`] reads and
+    /// [`Front::eliminate`] uses.
+    pub fn load(&mut self, pivots: &[usize]) {
+        let (s, len) = (self.stride, self.len());
+        self.scratch.clear();
+        self.loaded.clear();
+        for &c in pivots {
+            self.scratch.extend_from_slice(&self.a[c * s..c * s + c + 1]);
+            self.scratch.extend((c + 1..len).map(|i| self.a[i * s + c]));
+            self.loaded.push(c);
+        }
+    }
+
+    /// The `k`-th column loaded by [`Front::load`], `len` entries.
+    pub fn loaded(&self, k: usize) -> &[f64] {
+        let len = self.len();
+        &self.scratch[k * len..(k + 1) * len]
+    }
+
+    /// The largest `|a_ic|` of a loaded column `c` over the rows `i ∉ {c, skip}` whose variable is
+    /// not below `border`, and the largest over the rows whose variable is (the dense rows).
+    pub fn loaded_maxima(&self, k: usize, skip: usize, border: usize) -> (f64, f64) {
+        let c = self.loaded[k];
+        let column = self.loaded(k);
+        // The dense rows are numbered first, so they enter first and keep the first slots until
+        // the last step. The values are finite, so a plain comparison is `f64::max`, and cheaper.
+        let dense_slots = self.var.iter().take_while(|&&v| v < border).count();
+        let largest_of = |values: &[f64]| values.iter().fold(0.0f64, |m, x| if x.abs() > m { x.abs() } else { m });
+        let dense = largest_of(&column[..dense_slots]);
+        let (c, skip) = (c.min(skip), c.max(skip));
+        let sparse = &column[dense_slots..];
+        let mut largest = 0.0f64;
+        // The rows outside {c, skip}: up to three runs.
+        let mut from = 0;
+        for cut in [c, skip] {
+            if cut >= dense_slots && cut < column.len() {
+                largest = largest.max(largest_of(&sparse[from..cut - dense_slots]));
+                from = cut - dense_slots + 1;
+            }
+        }
+        largest = largest.max(largest_of(&sparse[from.min(sparse.len())..]));
+        (largest, dense)
+    }
+
+    /// `a_ij −= Σ_k l_ik · row_k[j]` for every `i` outside `pivots` (and `j ≤ i`), where `l_i =
+    /// a_i,pivots · inverse` and `row_k` are the pivot rows: the Schur complement of a 1×1 or 2×2
+    /// pivot block. The pivots' columns must be loaded ([`Front::load`]). Calls `store(variable,
+    /// l_i)` for every row with a nonzero `l_i`.
     pub fn eliminate<const P: usize>(
         &mut self,
         pivots: [usize; P],
         inverse: [[f64; P]; P],
         mut store: impl FnMut(usize, [f64; P]),
     ) {
+        debug_assert_eq!(self.loaded, pivots, "eliminate the loaded pivots");
         let (s, len) = (self.stride, self.len());
-        let mut rows = std::mem::take(&mut self.scratch);
-        rows.clear();
-        for &p in &pivots {
-            rows.extend_from_slice(self.row(p));
-        }
+        let rows = std::mem::take(&mut self.scratch);
         for i in 0..len {
-            if pivots.contains(&i) {
-                continue;
-            }
-            let coupling: [f64; P] = std::array::from_fn(|k| self.a[i * s + pivots[k]]);
-            if coupling.iter().all(|&c| c == 0.0) {
+            let coupling: [f64; P] = std::array::from_fn(|k| rows[k * len + i]);
+            if coupling.iter().all(|&c| c == 0.0) || pivots.contains(&i) {
                 continue;
             }
             let l: [f64; P] = std::array::from_fn(|k| (0..P).map(|m| coupling[m] * inverse[m][k]).sum());
             store(self.var[i], l);
-            let row = &mut self.a[i * s..i * s + len];
-            for k in 0..P {
-                let lk = l[k];
-                for (x, &r) in row.iter_mut().zip(&rows[k * len..(k + 1) * len]) {
-                    *x -= lk * r;
+            let row = &mut self.a[i * s..i * s + i + 1];
+            if P == 2 {
+                // Both pivot rows in one pass.
+                let (first, second) = (&rows[..i + 1], &rows[len..len + i + 1]);
+                for ((x, &r1), &r2) in row.iter_mut().zip(first).zip(second) {
+                    *x -= l[0] * r1 + l[1] * r2;
+                }
+            } else {
+                for (x, &r) in row.iter_mut().zip(&rows[..i + 1]) {
+                    *x -= l[0] * r;
                 }
             }
         }
         self.scratch = rows;
+        self.loaded.clear();
         let mut gone = pivots;
         gone.sort_unstable();
         for &slot in gone.iter().rev() {
@@ -179,11 +227,12 @@ impl Front {
         let gone = self.var[slot];
         let last = self.len() - 1;
         if slot != last {
-            for j in 0..=last {
-                self.a[slot * s + j] = self.a[last * s + j];
-            }
-            for i in 0..=last {
-                self.a[i * s + slot] = self.a[i * s + last];
+            // Row `slot` (up to the diagonal) from row `last`; column `slot` below the diagonal from
+            // row `last` too (the entries `(i, last)` with `i < last` are stored as `(last, i)`).
+            self.a.copy_within(last * s..last * s + slot, slot * s);
+            self.a[slot * s + slot] = self.a[last * s + last];
+            for i in slot + 1..last {
+                self.a[i * s + slot] = self.a[last * s + i];
             }
             self.var[slot] = self.var[last];
             self.summed[slot] = self.summed[last];

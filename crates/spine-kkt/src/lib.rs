@@ -6,7 +6,8 @@
 //! * [`SymmetricSolver`]: the analysis (dense rows first, then reverse Cuthill–McKee, which finds
 //!   the band of a chain), the factorisation (a frontal sweep with Bunch–Kaufman pivoting among
 //!   the fully summed variables, delayed pivots, Ruiz scaling, no pivot perturbation, so the
-//!   inertia is exact) and solves with iterative refinement to round-off.
+//!   inertia is exact; from the second factorisation on, the pivots of the one before are replayed,
+//!   each tested again) and solves with iterative refinement to round-off.
 //! * [`install`]: makes this solver the `libpardiso.so` of the process, so that Debian's Ipopt
 //!   3.11 (or a 3.14) uses it with `linear_solver pardiso`; `spine-ipopt` does this for its
 //!   default linear solver `"spine"`.

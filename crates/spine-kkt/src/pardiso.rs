@@ -33,13 +33,17 @@ pub mod error {
 static FACTORIZATIONS: AtomicU64 = AtomicU64::new(0);
 static FACTOR_NANOS: AtomicU64 = AtomicU64::new(0);
 static SOLVES: AtomicU64 = AtomicU64::new(0);
+static REPLAYED: AtomicU64 = AtomicU64::new(0);
+static PIVOTS: AtomicU64 = AtomicU64::new(0);
 
 /// Process-wide counts of this solver's work (all threads): factorisations, their total time,
-/// solves.
+/// their pivots and those of them replayed from the factorisation before, solves.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     pub factorizations: u64,
     pub factor_nanos: u64,
+    pub pivots: u64,
+    pub replayed: u64,
     pub solves: u64,
 }
 
@@ -48,6 +52,8 @@ pub fn counters() -> Counters {
     Counters {
         factorizations: FACTORIZATIONS.load(Ordering::Relaxed),
         factor_nanos: FACTOR_NANOS.load(Ordering::Relaxed),
+        pivots: PIVOTS.load(Ordering::Relaxed),
+        replayed: REPLAYED.load(Ordering::Relaxed),
         solves: SOLVES.load(Ordering::Relaxed),
     }
 }
@@ -188,10 +194,12 @@ fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), Kk
         }
     }
     if let Some(stats) = solver.stats() {
+        REPLAYED.fetch_add(stats.replayed as u64, Ordering::Relaxed);
+        PIVOTS.fetch_add(stats.pivots as u64, Ordering::Relaxed);
         call.iparm[17] = (stats.factor_entries + call.n) as i32;
         if call.msglvl > 0 || trace() {
             eprintln!(
-                    "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L",
+                    "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L, {} of {} pivots replayed",
                     clock.elapsed().as_secs_f64() * 1e3,
                     call.n,
                     inertia.positive,
@@ -201,7 +209,9 @@ fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), Kk
                     solver.analysis().dense_rows(),
                     stats.two_by_two,
                     stats.delayed,
-                    stats.factor_entries
+                    stats.factor_entries,
+                    stats.replayed,
+                    stats.pivots
                 );
         }
     }

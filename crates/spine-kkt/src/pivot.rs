@@ -109,6 +109,56 @@ fn choose_sparse(front: &Front, p: usize, border: usize, u: f64) -> Result<(Choi
     }
 }
 
+/// How much the pivot in slot `p` (1×1) or slots `p, r` (2×2) lets entries grow: against the
+/// sparse rows `γ_p / |a_pp|` for a 1×1 pivot and Duff and Reid's `max |B⁻¹| (γ_p, γ_r)ᵀ` for a
+/// 2×2 block `B` (the test [`choose`] passes with `1/u`), and against the dense rows the inverse
+/// of the ratio [`choose`] tests. `None` for a (numerically) singular pivot. The pivots' columns
+/// must be loaded ([`Front::load`], `p` first).
+pub(crate) fn growth(front: &Front, p: usize, r: Option<usize>, border: usize) -> Option<Growth> {
+    match r {
+        None => {
+            let a_pp = front.at(p, p).abs();
+            let (largest, dense) = front.loaded_maxima(0, NONE, border);
+            (a_pp > SINGULAR).then(|| Growth { sparse: largest / a_pp, border: dense / a_pp })
+        }
+        Some(r) => {
+            let (a, b, c) = (front.at(p, p).abs(), front.at(r, p).abs(), front.at(r, r).abs());
+            let det = (front.at(p, p) * front.at(r, r) - front.at(r, p) * front.at(r, p)).abs();
+            if det <= SINGULAR * SINGULAR {
+                return None;
+            }
+            let ((gp, dense_p), (gr, dense_r)) = (front.loaded_maxima(0, r, border), front.loaded_maxima(1, p, border));
+            let size = a.max(b).max(c);
+            Some(Growth {
+                sparse: (c * gp + b * gr).max(b * gp + a * gr) / det,
+                border: dense_p.max(dense_r) * size / det,
+            })
+        }
+    }
+}
+
+/// The growth measures of one pivot ([`growth`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Growth {
+    pub sparse: f64,
+    pub border: f64,
+}
+
+impl Growth {
+    /// What a pivot search records for a pivot too small to measure: its replay must pass the
+    /// threshold test alone.
+    pub(crate) const THRESHOLD: Growth = Growth { sparse: 0.0, border: 0.0 };
+
+    /// Whether a pivot of this growth may replay one chosen with `limits` and growth `chosen`: a
+    /// growth within the threshold test, or within twice what the pivot search accepted (the
+    /// Bunch–Kaufman choices among fully summed variables bound the growth of the whole
+    /// factorisation, not of each pivot), and the test against the dense rows.
+    pub(crate) fn replays(self, chosen: Growth, limits: Thresholds, border: usize) -> bool {
+        self.sparse <= (1.0 / limits.sparse).max(2.0 * chosen.sparse)
+            && (border == 0 || limits.border == 0.0 || self.border * limits.border <= 1.0)
+    }
+}
+
 /// No row left out of a scan.
 const NONE: usize = usize::MAX;
 

@@ -53,6 +53,14 @@ impl SymmetricSolver {
         Ok(inertia)
     }
 
+    /// Makes the next factorisation search for its pivots instead of replaying those of the last
+    /// one (which it tests again and abandons where they fail).
+    pub fn forget_pivot_sequence(&mut self) {
+        if let Some(factor) = self.factor.as_mut() {
+            factor.forget_pivot_sequence();
+        }
+    }
+
     /// Statistics of the current factorisation.
     pub fn stats(&self) -> Option<FactorStats> {
         self.factor.as_ref().map(Factor::stats)

@@ -260,3 +260,84 @@ fn a_recorded_eq33_kkt_matrix_keeps_a_narrow_front_and_exact_inertia() {
     let report = solver.solve(&mut b).unwrap();
     assert!(report.normwise_error < 1e-15, "{report:?}");
 }
+
+/// Ipopt factorises matrices of one structure with new values at every iteration, and the solver
+/// replays the pivots of the factorisation before, each tested again. On a sequence of chain KKT
+/// matrices whose values drift, jump by a diagonal shift (Ipopt's inertia correction) and lose
+/// one pivot outright, every factorisation has the inertia of the dense eigenvalues and solves to
+/// round-off; the same values give the same factor to the bit, replayed or searched; a drift
+/// replays nearly every pivot; the lost pivot is searched for near it and the rest replayed.
+#[test]
+fn replayed_pivot_sequences_keep_exact_inertia_and_search_where_a_pivot_fails() {
+    let mut rng = Rng(23);
+    let base = chain_kkt(&mut rng, 60, 4, 3, 6.0);
+    let (structure, values) = base.structure();
+    let mut solver = SymmetricSolver::new(structure.clone());
+    let check = |solver: &mut SymmetricSolver, upper: &Upper, values: &[f64], rng: &mut Rng| {
+        let inertia = solver.factorize(values).unwrap();
+        let (pos, neg, zero) = inertia_reference(upper);
+        assert_eq!(zero, 0);
+        assert_eq!((inertia.positive, inertia.negative), (pos, neg));
+        let x_true: Vec<f64> = (0..upper.n).map(|_| rng.symmetric()).collect();
+        let mut b = vec![0.0; upper.n];
+        structure.multiply(values, &x_true, &mut b);
+        let report = solver.solve(&mut b).unwrap();
+        assert!(report.normwise_error < 1e-15, "{report:?}");
+        solver.stats().unwrap()
+    };
+    let first = check(&mut solver, &base, &values, &mut rng);
+    assert_eq!(first.replayed, 0, "nothing to replay at the first factorisation");
+
+    // The same values: every pivot replayed, and the factor is the searched one to the bit.
+    let again = check(&mut solver, &base, &values, &mut rng);
+    assert_eq!((again.replayed, again.pivots), (first.pivots, first.pivots));
+    let mut searched = SymmetricSolver::new(structure.clone());
+    searched.factorize(&values).unwrap();
+    let b: Vec<f64> = (0..base.n).map(|i| (i as f64).cos()).collect();
+    let (mut x_replayed, mut x_searched) = (b.clone(), b.clone());
+    solver.solve(&mut x_replayed).unwrap();
+    searched.solve(&mut x_searched).unwrap();
+    assert_eq!(x_replayed, x_searched);
+
+    // Drift, then diagonal shifts of the variables' block (as Ipopt's δ_w), then drift again.
+    let variables = 60 * 4;
+    let mut replayed = 0;
+    let mut pivots = 0;
+    for (t, shift) in [0.0, 0.0, 1e-4, 1.0, 1e2, 0.0, 0.0].into_iter().enumerate() {
+        let mut upper = base.clone();
+        for ((i, j), v) in upper.entries.iter_mut() {
+            *v *= 1.0 + 0.02 * rng.symmetric();
+            if i == j && *i < variables {
+                *v += shift;
+            }
+        }
+        let (_, values) = upper.structure();
+        let stats = check(&mut solver, &upper, &values, &mut rng);
+        if t < 2 {
+            assert!(
+                stats.replayed * 20 >= stats.pivots * 19,
+                "a 2 % drift: {} of {} replayed",
+                stats.replayed,
+                stats.pivots
+            );
+        }
+        replayed += stats.replayed;
+        pivots += stats.pivots;
+    }
+    assert!(replayed * 10 >= pivots * 9, "{replayed} of {pivots} pivots replayed");
+
+    // The pivots of the chain's middle lost: the couplings among four variables there scaled up
+    // by 1e4, so that no diagonal among them passes as a 1×1 pivot.
+    let (_, values) = base.structure();
+    check(&mut solver, &base, &values, &mut rng);
+    let mut upper = base.clone();
+    for ((i, j), v) in upper.entries.iter_mut() {
+        if i != j && (30 * 4..31 * 4).contains(i) && (30 * 4..31 * 4).contains(j) {
+            *v *= 1e4;
+        }
+    }
+    let (_, values) = upper.structure();
+    let stats = check(&mut solver, &upper, &values, &mut rng);
+    assert!(stats.replayed > 0 && stats.replayed < stats.pivots, "{} of {} replayed", stats.replayed, stats.pivots);
+    assert!(stats.replayed * 10 >= stats.pivots * 8, "{} of {} replayed", stats.replayed, stats.pivots);
+}
