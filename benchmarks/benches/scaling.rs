@@ -117,6 +117,8 @@ fn design(c: &mut Criterion) {
 
 /// One factorisation of a recorded eq. (33) KKT matrix by the workspace's `LDLᵀ` (spine-kkt, the
 /// default linear solver) and by MUMPS 5.5 (Debian's, with Ipopt's controls), same values.
+/// `spine` replays the pivots of the factorisation before (as in Ipopt's solves, where about 97 %
+/// of the pivots are replayed), `spine_search` searches for every pivot.
 fn kkt(c: &mut Criterion) {
     let mut g = c.benchmark_group("kkt_factorization");
     for links in spine_benchmarks::kkt::RECORDED_LINKS {
@@ -127,6 +129,12 @@ fn kkt(c: &mut Criterion) {
         let negative = spine.factorize(&dump.a).expect("nonsingular").negative;
         assert_eq!(mumps.factorize(&dump.a).expect("MUMPS factorisation"), negative, "N = {links}: inertia");
         g.bench_with_input(BenchmarkId::new("spine", links), &dump.a, |b, a| b.iter(|| spine.factorize(a)));
+        g.bench_with_input(BenchmarkId::new("spine_search", links), &dump.a, |b, a| {
+            b.iter(|| {
+                spine.forget_pivot_sequence();
+                spine.factorize(a)
+            })
+        });
         g.bench_with_input(BenchmarkId::new("mumps", links), &dump.a, |b, a| b.iter(|| mumps.factorize(a)));
     }
     g.finish();

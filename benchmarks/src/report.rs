@@ -204,11 +204,19 @@ pub fn targets(measurements: &[Measurement], peers: &[PeerRow]) -> Vec<Target> {
     }
     let (spine, mumps) = (by_name.get("kkt_factorization/spine"), by_name.get("kkt_factorization/mumps"));
     if let (Some(spine), Some(mumps)) = (spine, mumps) {
-        let ratios = ratios(spine, mumps);
-        let at_1000 = ratios.iter().find(|(n, _)| *n == 1000).map(|r| r.1);
+        let replayed = ratios(spine, mumps);
+        let at_1000 = replayed.iter().find(|(n, _)| *n == 1000).map(|r| r.1);
+        let mut measured = replayed.iter().map(|(n, r)| format!("N={n}: {r:.2}×")).collect::<Vec<_>>().join(", ");
+        if let Some(search) = by_name.get("kkt_factorization/spine_search") {
+            let searched = ratios(search, mumps);
+            measured += &format!(
+                " (pivots replayed); every pivot searched: {}",
+                searched.iter().map(|(n, r)| format!("N={n}: {r:.2}×")).collect::<Vec<_>>().join(", ")
+            );
+        }
         out.push(Target {
             statement: "one KKT factorisation at N = 1000 at most 0.3 × MUMPS's on the same matrix".into(),
-            measured: ratios.iter().map(|(n, r)| format!("N={n}: {r:.2}×")).collect::<Vec<_>>().join(", "),
+            measured,
             met: at_1000.map(|r| r <= 0.3),
         });
     }

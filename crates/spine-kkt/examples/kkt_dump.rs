@@ -7,11 +7,13 @@ use spine_kkt::{Dump, SymmetricSolver};
 fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
     let mut out = run();
+    let all = std::time::Instant::now();
     for _ in 0..repeats {
         let clock = std::time::Instant::now();
         out = run();
         best = best.min(clock.elapsed().as_secs_f64());
     }
+    eprintln!("mean {:.3} ms", all.elapsed().as_secs_f64() * 1e3 / repeats as f64);
     (best, out)
 }
 fn main() {

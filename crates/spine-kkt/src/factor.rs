@@ -91,8 +91,23 @@ pub struct Factor {
     lower: Vec<f64>,
     inertia: Inertia,
     stats: FactorStats,
-    /// The pivot sequence of the factorisation that chose its pivots, replayed by the next.
+    /// The pivot sequence of this factorisation, replayed by the next.
     schedule: Vec<Scheduled>,
+    /// The sweep's storage, kept for the next factorisation.
+    work: Workspace,
+}
+
+/// The working storage of a sweep, kept from one factorisation to the next: at N = 1000 it is
+/// about 0.3 MB, which fresh pages would cost at every factorisation.
+#[derive(Clone, Debug, Default)]
+struct Workspace {
+    front: Option<Front>,
+    /// The step at which each variable became fully summed.
+    since: Vec<usize>,
+    waiting: Waiting,
+    candidates: Vec<usize>,
+    /// The step after which the recorded sweep had eliminated each variable.
+    recorded_step: Vec<usize>,
 }
 
 /// One pivot of a recorded sweep: the step after which it was taken, its variable(s) and the
@@ -109,6 +124,7 @@ struct Scheduled {
 /// The bookkeeping of the variables that wait: a waiting variable is tested again only when its
 /// column, a fully summed partner's column or its threshold changed (skipping a test only delays a
 /// pivot, which is always allowed).
+#[derive(Clone, Debug, Default)]
 struct Waiting {
     /// Whether the variable (new numbering) must be tested at its next chance.
     stale: Vec<bool>,
@@ -182,6 +198,7 @@ impl Factor {
             inertia: Inertia::default(),
             stats: FactorStats::default(),
             schedule: Vec::new(),
+            work: Workspace::default(),
         });
         // A pivot sequence recorded on another order cannot be replayed.
         if factor.order != analysis.ordering.order {
@@ -189,7 +206,9 @@ impl Factor {
         }
         factor.reset(analysis, &s);
         let recorded = std::mem::take(&mut factor.schedule);
-        let swept = factor.sweep(analysis, values, &recorded);
+        let mut work = std::mem::take(&mut factor.work);
+        let swept = factor.sweep(analysis, values, &recorded, &mut work);
+        factor.work = work;
         factor.stats.factor_entries = factor.index.len();
         factor.stats.pivots = factor.pivots.len();
         swept.map(|()| factor)
@@ -227,14 +246,27 @@ impl Factor {
     /// one that fails, it searches; once the front holds again what the recorded sweep's held after
     /// the same step (a change of values usually changes a few pivots near one place of the chain),
     /// it goes back to replaying.
-    fn sweep(&mut self, analysis: &Analysis, values: &[f64], recorded: &[Scheduled]) -> Result<(), KktError> {
+    fn sweep(
+        &mut self,
+        analysis: &Analysis,
+        values: &[f64],
+        recorded: &[Scheduled],
+        work: &mut Workspace,
+    ) -> Result<(), KktError> {
         let n = analysis.order();
-        let mut front = Front::new(n, analysis.predicted_front + 4);
-        let mut since = vec![0usize; n];
-        let mut waiting = Waiting { stale: vec![true; n], period: vec![0; n], gone: Vec::new() };
-        let mut candidates: Vec<usize> = Vec::new();
+        let front = work.front.get_or_insert_with(|| Front::new(n, analysis.predicted_front + 4));
+        front.clear(n);
+        let Workspace { since, waiting, candidates, recorded_step, .. } = work;
+        since.clear();
+        since.resize(n, 0);
+        waiting.stale.clear();
+        waiting.stale.resize(n, true);
+        waiting.period.clear();
+        waiting.period.resize(n, 0);
+        candidates.clear();
         // The step after which the recorded sweep had eliminated each variable (`n`: never).
-        let mut recorded_step = vec![n; if recorded.is_empty() { 0 } else { n }];
+        recorded_step.clear();
+        recorded_step.resize(if recorded.is_empty() { 0 } else { n }, n);
         for pivot in recorded {
             recorded_step[pivot.p] = pivot.step;
             if let Some(r) = pivot.r {
@@ -245,14 +277,14 @@ impl Factor {
         let mut replaying = !recorded.is_empty();
         for k in 0..n {
             let stale = &mut waiting.stale;
-            self.enter(analysis, values, &mut front, k, |j| stale[j] = true);
+            self.enter(analysis, values, front, k, |j| stale[j] = true);
             for &v in analysis.summed_at(k) {
                 let slot_v = front.slot_of[v];
                 front.mark_summed(slot_v);
                 since[v] = k;
                 if !replaying {
                     // A new fully summed partner may let a waiting variable pass.
-                    for &w in &candidates {
+                    for &w in candidates.iter() {
                         if front.at(front.slot_of[w], slot_v) != 0.0 {
                             waiting.stale[w] = true;
                         }
@@ -267,7 +299,7 @@ impl Factor {
             let border = if k + 1 == n { 0 } else { analysis.ordering.dense };
             if replaying {
                 while let Some(&pivot) = recorded.get(next).filter(|pivot| pivot.step == k) {
-                    if !self.replay(&mut front, pivot, border) {
+                    if !self.replay(front, pivot, border) {
                         replaying = false;
                         break;
                     }
@@ -280,14 +312,14 @@ impl Factor {
                     candidates.clear();
                     candidates
                         .extend((0..front.len()).filter(|&slot| front.is_summed(slot)).map(|slot| front.var[slot]));
-                    for &v in &candidates {
+                    for &v in candidates.iter() {
                         waiting.stale[v] = true;
                     }
                 }
             }
             if !replaying {
                 let waited = |v: usize| (k - since[v]) / PATIENCE;
-                self.eliminate_candidates(&mut front, &mut candidates, &mut waiting, border, waited, k)?;
+                self.eliminate_candidates(front, candidates, waiting, border, waited, k)?;
                 self.stats.delayed += candidates.len();
                 while let Some(pivot) = recorded.get(next).filter(|pivot| pivot.step <= k) {
                     next += 1;

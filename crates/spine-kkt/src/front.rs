@@ -19,7 +19,7 @@ pub(crate) struct ColumnScan {
     pub border: f64,
 }
 
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Front {
     stride: usize,
     /// Row-major `stride × stride`; only the lower triangle of the leading `len × len` block is in
@@ -49,6 +49,14 @@ impl Front {
             scratch: Vec::new(),
             loaded: Vec::new(),
         }
+    }
+
+    /// Empties the front for a sweep of order `n`.
+    pub fn clear(&mut self, n: usize) {
+        self.var.clear();
+        self.summed.clear();
+        self.slot_of.clear();
+        self.slot_of.resize(n, ABSENT);
     }
 
     pub fn len(&self) -> usize {
