@@ -6,13 +6,16 @@
 //! Usage: `design_scaling [--refine=off|auto|FROM] [--repeats=R] [--peers] [N ...]` (default N: 5 10
 //! 20 50 100 200 500 1000; default refine: the solver's default, "auto"; FROM: a ladder from FROM
 //! links, factor 2). `--peers` solves `bench_peers`' case files instead (its tolerances, 1e-8 and
-//! 1e-9 s²), with its ladder under `--refine=auto`; the full space only.
+//! 1e-9 s²), with its ladder under `--refine=auto`; the full space only. `--ipopt=NAME=VALUE`
+//! (repeatable) adds an Ipopt option to every solve, as the case file's `solver.ipopt_options`;
+//! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false).
 #![forbid(unsafe_code)]
 
 use spine_benchmarks::peers;
 use spine_case::{Case, ValidCase};
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::refine::{Ladder, Refine, RefineMode};
+use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, Formulation, SolverSettings};
 
 /// Largest N for the reduced space: its finite-difference Hessian costs 2(2N + 1) equilibrium
@@ -24,7 +27,22 @@ fn main() {
     let mut repeats = 3;
     let mut sizes: Vec<usize> = Vec::new();
     let mut peers_cases = false;
+    let mut extra = Vec::new();
+    let mut warm = Vec::new();
     for arg in std::env::args().skip(1) {
+        if let Some(field) = arg.strip_prefix("--warm=") {
+            let (name, value) = field.split_once('=').expect("--warm=FIELD=VALUE");
+            let value: serde_json::Value =
+                serde_json::from_str(value).expect("--warm=FIELD=VALUE: a number or true/false");
+            warm.push((name.to_string(), value));
+            continue;
+        }
+        if let Some(option) = arg.strip_prefix("--ipopt=") {
+            let (name, value) = option.split_once('=').expect("--ipopt=NAME=VALUE");
+            let parsed = value.parse().map(ExtraOption::Int).or_else(|_| value.parse().map(ExtraOption::Num));
+            extra.push((name.to_string(), parsed.unwrap_or_else(|_| ExtraOption::Str(value.to_string()))));
+            continue;
+        }
         if arg == "--peers" {
             peers_cases = true;
             continue;
@@ -62,6 +80,14 @@ fn main() {
             let s = n as f64 / 10.0;
             (scaled_family(n), arch_start(n, 0.3, 1e3 * s * s), settings.clone())
         };
+        let mut settings = settings;
+        settings.ipopt_options.extend(extra.iter().cloned());
+        let mut warm_start = serde_json::to_value(settings.warm_start).expect("serialisable");
+        for (name, value) in &warm {
+            assert!(warm_start.get(name).is_some(), "--warm: no field {name} in solver.warm_start");
+            warm_start[name] = value.clone();
+        }
+        settings.warm_start = serde_json::from_value(warm_start).expect("--warm: a valid value");
         for formulation in [Formulation::Full, Formulation::Reduced] {
             if peers_cases && formulation == Formulation::Reduced {
                 continue;
