@@ -50,7 +50,9 @@ pub use factor::{
     THRESHOLD,
 };
 pub use install::install;
-pub use solver::{SolveReport, SymmetricSolver, BACKWARD_ERROR, GMRES_ITERATIONS, KRYLOV_AFTER, MAX_REFINEMENT};
+pub use solver::{
+    SolveReport, SymmetricSolver, BACKWARD_ERROR, COMPONENTWISE_ERROR, GMRES_ITERATIONS, KRYLOV_AFTER, MAX_REFINEMENT,
+};
 pub use symmetric::Structure;
 
 /// Why a factorisation or solve could not be done.

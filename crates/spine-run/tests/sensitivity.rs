@@ -138,7 +138,7 @@ fn every_static_figure_run_matches_differences_of_re_solves() {
     let names: Vec<String> = ["delta_d", "loads.scale"].iter().map(|s| s.to_string()).collect();
     let mut overrides = Overrides::default();
     overrides.design.starts = Some(0);
-    let (mut two_sided, mut one_sided, mut runs) = (0, 0, 0);
+    let (mut two_sided, mut one_sided, mut runs, mut saddles) = (0, 0, 0, 0);
     for text in [
         include_str!("../../../paper-cases/fig3.json"),
         include_str!("../../../paper-cases/fig4.json"),
@@ -158,12 +158,22 @@ fn every_static_figure_run_matches_differences_of_re_solves() {
             let Some(Case::Design(c)) = valid.iter().find(|v| v.name == run.name).map(|v| &v.case) else {
                 panic!("{} is a design run", run.name)
             };
-            let s = run
-                .result
-                .sensitivity
-                .as_ref()
-                .unwrap_or_else(|| panic!("{} {}: {:?}", figure.figure, run.name, run.result.no_sensitivity));
             let start = run.result.design.result.design.clone();
+            let Some(s) = run.result.sensitivity.as_ref() else {
+                // Refused only where the tight re-solve leaves the point for a lower J: then the
+                // point Ipopt reported at its tolerance is not a local minimum (fig8's, since
+                // 2026-11-26: J 7.28338e-3, and the re-solve descends to 7.27044e-3).
+                let reason = run.result.no_sensitivity.as_deref().unwrap_or_default();
+                assert!(reason.contains("another optimum"), "{} {}: {reason}", figure.figure, run.name);
+                let reported = run.result.design.result.objective;
+                let valid = c.validate().unwrap();
+                let polished =
+                    polish(&valid.problem, &start, &valid.settings).unwrap().check(&valid.problem, &valid.settings);
+                assert!(polished.is_clean(), "{} {}: {}", figure.figure, run.name, polished.solver.status);
+                assert!(polished.objective < reported * (1.0 - 1e-6), "{} {}: {reason}", figure.figure, run.name);
+                saddles += 1;
+                continue;
+            };
             for p in &s.parameters {
                 let at = format!("{} {} {}", figure.figure, run.name, p.name);
                 let h = 1e-4 * p.value.abs().max(1e-2);
@@ -208,7 +218,10 @@ fn every_static_figure_run_matches_differences_of_re_solves() {
             }
         }
     }
-    eprintln!("{runs} static runs: {two_sided} two-sided and {one_sided} one-sided derivatives checked");
+    eprintln!(
+        "{runs} static runs: {two_sided} two-sided and {one_sided} one-sided derivatives checked, {saddles} not minima"
+    );
     assert_eq!(runs, 12);
+    assert!(saddles <= 1, "{saddles} reported points are not local minima");
     assert!(two_sided >= 12 && one_sided >= 2, "{two_sided} two-sided, {one_sided} one-sided");
 }
