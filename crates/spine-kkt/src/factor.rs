@@ -159,9 +159,9 @@ fn equilibrate(analysis: &Analysis, values: &[f64]) -> Vec<f64> {
             largest[r] = lr;
         }
         for (si, &m) in s.iter_mut().zip(&largest) {
-            if m > 0.0 && m.is_finite() {
-                *si /= m.sqrt();
-            }
+            // Branch-free (so that it vectorises): rows without a finite nonzero keep their scale.
+            let m = if m > 0.0 && m.is_finite() { m } else { 1.0 };
+            *si /= m.sqrt();
         }
     }
     s
@@ -230,11 +230,11 @@ impl Factor {
     /// Brings variable `k` into the front with the entries that enter with it; calls
     /// `on_entry(j)` for every variable `j` whose column changed.
     fn enter(&self, analysis: &Analysis, values: &[f64], front: &mut Front, k: usize, mut on_entry: impl FnMut(usize)) {
-        let slot_k = front.push(k);
+        front.push(k);
         for &(j, e) in &analysis.enter[analysis.enter_start[k]..analysis.enter_start[k + 1]] {
             let slot_j = front.slot_of[j];
             debug_assert_ne!(slot_j, ABSENT, "an entering entry's partner is still in the front");
-            front.add(slot_k, slot_j, values[e] * self.scale[j] * self.scale[k]);
+            front.add_to_last(slot_j, values[e] * self.scale[j] * self.scale[k]);
             on_entry(j);
         }
     }
@@ -254,8 +254,9 @@ impl Factor {
         work: &mut Workspace,
     ) -> Result<(), KktError> {
         let n = analysis.order();
-        let front = work.front.get_or_insert_with(|| Front::new(n, analysis.predicted_front + 4));
-        front.clear(n);
+        let front =
+            work.front.get_or_insert_with(|| Front::new(n, analysis.predicted_front + 4, analysis.ordering.dense));
+        front.clear(n, analysis.ordering.dense);
         let Workspace { since, waiting, candidates, recorded_step, .. } = work;
         since.clear();
         since.resize(n, 0);

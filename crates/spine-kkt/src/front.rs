@@ -35,10 +35,16 @@ pub(crate) struct Front {
     scratch: Vec<f64>,
     /// The slots whose columns `scratch` holds.
     loaded: Vec<usize>,
+    /// Whether no dense row (variables numbered below the `border` of the tests, which enter
+    /// first) has left the front: then they hold the first slots.
+    dense_first: bool,
+    /// The number of dense rows.
+    dense: usize,
 }
 
 impl Front {
-    pub fn new(n: usize, capacity: usize) -> Self {
+    /// A front for a sweep of order `n` whose first `dense` variables are the dense rows.
+    pub fn new(n: usize, capacity: usize, dense: usize) -> Self {
         let stride = capacity.max(4);
         Self {
             stride,
@@ -48,11 +54,16 @@ impl Front {
             slot_of: vec![ABSENT; n],
             scratch: Vec::new(),
             loaded: Vec::new(),
+            dense_first: true,
+            dense,
         }
     }
 
-    /// Empties the front for a sweep of order `n`.
-    pub fn clear(&mut self, n: usize) {
+    /// Empties the front for a sweep of order `n` whose first `dense` variables are the dense
+    /// rows.
+    pub fn clear(&mut self, n: usize, dense: usize) {
+        self.dense_first = true;
+        self.dense = dense;
         self.var.clear();
         self.summed.clear();
         self.slot_of.clear();
@@ -101,11 +112,11 @@ impl Front {
         self.stride = stride;
     }
 
-    /// Adds `value` at `(i, j)` and `(j, i)` (once on the diagonal).
+    /// Adds `value` at `(last, j)` and `(j, last)` (once on the diagonal), `last` the newest slot.
     #[inline]
-    pub fn add(&mut self, i: usize, j: usize, value: f64) {
-        let (i, j) = if i >= j { (i, j) } else { (j, i) };
-        self.a[i * self.stride + j] += value;
+    pub fn add_to_last(&mut self, j: usize, value: f64) {
+        let last = self.len() - 1;
+        self.a[last * self.stride + j] += value;
     }
 
     /// One pass over column `c` for the pivot tests:
@@ -167,10 +178,23 @@ impl Front {
     pub fn loaded_maxima(&self, k: usize, skip: usize, border: usize) -> (f64, f64) {
         let c = self.loaded[k];
         let column = self.loaded(k);
-        // The dense rows are numbered first, so they enter first and keep the first slots until
-        // the last step. The values are finite, so a plain comparison is `f64::max`, and cheaper.
-        let dense_slots = self.var.iter().take_while(|&&v| v < border).count();
         let largest_of = |values: &[f64]| values.iter().fold(0.0f64, |m, x| if x.abs() > m { x.abs() } else { m });
+        if !self.dense_first {
+            let (mut largest, mut dense) = (0.0f64, 0.0f64);
+            for (i, (&x, &var)) in column.iter().zip(&self.var).enumerate() {
+                let v = x.abs();
+                if var < border {
+                    dense = dense.max(v);
+                } else if i != c && i != skip {
+                    largest = largest.max(v);
+                }
+            }
+            return (largest, dense);
+        }
+        // The dense rows enter first and hold the first slots: runs of the column, no test per
+        // entry. The values are finite, so a plain comparison is `f64::max`, and cheaper.
+        debug_assert!(border == 0 || border == self.dense, "the border is the dense rows or none");
+        let dense_slots = border.min(column.len());
         let dense = largest_of(&column[..dense_slots]);
         let (c, skip) = (c.min(skip), c.max(skip));
         let sparse = &column[dense_slots..];
@@ -233,6 +257,9 @@ impl Front {
     fn remove(&mut self, slot: usize) {
         let s = self.stride;
         let gone = self.var[slot];
+        if gone < self.dense {
+            self.dense_first = false;
+        }
         let last = self.len() - 1;
         if slot != last {
             // Row `slot` (up to the diagonal) from row `last`; column `slot` below the diagonal from
