@@ -80,11 +80,17 @@ impl Front {
         self.a[i * self.stride + j]
     }
 
-    /// Column `c` of the front, `len` entries: row `c` of the triangle up to the diagonal, then
-    /// column `c` below it.
-    fn column(&self, c: usize) -> impl Iterator<Item = f64> + '_ {
+    /// Column `c` of the front, `len` entries, in its two stored pieces: row `c` of the triangle up
+    /// to the diagonal, then column `c` below it.
+    fn column_parts(&self, c: usize) -> (&[f64], impl Iterator<Item = f64> + '_) {
         let s = self.stride;
-        self.a[c * s..c * s + c + 1].iter().copied().chain((c + 1..self.len()).map(move |i| self.a[i * s + c]))
+        (&self.a[c * s..c * s + c + 1], (c + 1..self.len()).map(move |i| self.a[i * s + c]))
+    }
+
+    /// Column `c` of the front, `len` entries.
+    fn column(&self, c: usize) -> impl Iterator<Item = f64> + '_ {
+        let (upper, below) = self.column_parts(c);
+        upper.iter().copied().chain(below)
     }
 
     /// Adds variable `v` with an empty row and column; returns its slot.
@@ -157,14 +163,16 @@ impl Front {
     /// Copies the columns of the pivot slots into the pivot rows that [`Front::loaded`] reads and
     /// [`Front::eliminate`] uses.
     pub fn load(&mut self, pivots: &[usize]) {
-        let (s, len) = (self.stride, self.len());
-        self.scratch.clear();
+        let mut scratch = std::mem::take(&mut self.scratch);
+        scratch.clear();
         self.loaded.clear();
         for &c in pivots {
-            self.scratch.extend_from_slice(&self.a[c * s..c * s + c + 1]);
-            self.scratch.extend((c + 1..len).map(|i| self.a[i * s + c]));
+            let (upper, below) = self.column_parts(c);
+            scratch.extend_from_slice(upper);
+            scratch.extend(below);
             self.loaded.push(c);
         }
+        self.scratch = scratch;
     }
 
     /// The `k`-th column loaded by [`Front::load`], `len` entries.
