@@ -128,6 +128,57 @@ pub(super) fn midpoints(spans: &[f64]) -> Vec<f64> {
     x.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect()
 }
 
+/// The stretch of chain whose flexibility the spring at each node stands for, `[from, to]` in m:
+/// half a span on either side of the node (a whole span centred on an end node, as in
+/// [`node_spans`], whose lengths these are).
+fn node_intervals(spans: &[f64]) -> Vec<(f64, f64)> {
+    let x = node_x(spans);
+    let h = node_spans(spans);
+    let n = spans.len();
+    (0..=n)
+        .map(|j| {
+            let left = if j == 0 { 0.5 * h[0] } else { 0.5 * spans[j - 1] };
+            let right = if j == n { 0.5 * h[n] } else { 0.5 * spans[j] };
+            (x[j] - left, x[j] + right)
+        })
+        .collect()
+}
+
+/// Fine springs with the coarse chain's flexibility (N·m/rad): the coarse spring at node `c`
+/// spreads the compliance `1/K_c` evenly over its interval ([`node_intervals`]), and each fine
+/// spring gathers the compliance over its own interval, `1/K_j = Σ_c |I_j ∩ I_c| / (K_c |I_c|)`.
+/// Total compliance is kept; aligned with a halving, a fine spring at a coarse node gets `2 K_c`
+/// and one between coarse nodes `c`, `c + 1` twice their harmonic mean. A zero coarse spring (no
+/// spring) makes every fine spring it covers zero.
+///
+/// Why compliance and not `k`: linear interpolation of `k` between a soft and a stiff coarse
+/// spring (bounds 1e2 s² and 1e4 s² are both common at an optimum) gives a spring near the stiff
+/// one, so the prolonged chain was stiffer than its coarse optimum; restoring `δ_d` by scaling
+/// every spring then raised J by up to 70 % before Ipopt started (docs/design.md, "Warm levels").
+fn prolong_compliance(coarse_spans: &[f64], coarse_stiffness: &[f64], fine_spans: &[f64]) -> Vec<f64> {
+    let coarse = node_intervals(coarse_spans);
+    let mut c = 0;
+    node_intervals(fine_spans)
+        .into_iter()
+        .map(|(from, to)| {
+            while c + 1 < coarse.len() && coarse[c].1 <= from {
+                c += 1;
+            }
+            let mut compliance = 0.0;
+            for (&(c_from, c_to), &k) in coarse[c..].iter().zip(&coarse_stiffness[c..]) {
+                if c_from >= to {
+                    break;
+                }
+                let overlap = to.min(c_to) - from.max(c_from);
+                if overlap > 0.0 {
+                    compliance += overlap / ((c_to - c_from) * k);
+                }
+            }
+            1.0 / compliance
+        })
+        .collect()
+}
+
 /// A fine start from a coarse solution: the design (exactly feasible for the design constraints)
 /// and interpolated states (not yet equilibria: see [`warm_states`]).
 pub fn prolong(
@@ -145,13 +196,65 @@ pub fn prolong(
         .map(|(i, w)| ((heights[i + 1] - heights[i]) / (w[1] - w[0])).atan())
         .map(|t| t.clamp(-fine.bounds.theta0_max, fine.bounds.theta0_max))
         .collect();
-    let k: Vec<f64> = design.stiffness.iter().map(|s| s / coarse.stiffness_scale).collect();
-    let stiffness = interpolate(&coarse_x, &k, &fine_x)
+    let stiffness = prolong_compliance(&coarse.structure.chain.spans, &design.stiffness, &fine.structure.chain.spans)
         .into_iter()
         .enumerate()
-        .map(|(j, k)| (k * fine.stiffness_scale).clamp(fine.bounds.stiffness_min[j], fine.bounds.stiffness_max[j]))
+        .map(|(j, k)| k.clamp(fine.bounds.stiffness_min[j], fine.bounds.stiffness_max[j]))
         .collect();
     let (coarse_mid, fine_mid) = (midpoints(&coarse.structure.chain.spans), midpoints(&fine.structure.chain.spans));
     let state = |s: &State| State { theta: interpolate(&coarse_mid, &s.theta, &fine_mid), lambda: s.lambda };
     (Design { theta0, stiffness }, (state(&states.0), state(&states.1)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * b.abs().max(1e-300)
+    }
+
+    /// A uniform bending stiffness `EI` (`K = EI / h` at every node, `h` its node span) is a
+    /// uniform compliance density: every fine spring must get `EI / h_fine`, at any ratio of
+    /// sizes and with unequal spans.
+    #[test]
+    fn a_uniform_bending_stiffness_is_kept_at_any_ratio() {
+        let ei = 3.7;
+        let fine_spans: Vec<f64> = (0..10).map(|i| 0.08 + 0.005 * i as f64).collect();
+        for m in [1, 3, 5, 7, 9] {
+            let nodes = coarse_nodes(10, m);
+            let coarse_spans: Vec<f64> = nodes.windows(2).map(|w| fine_spans[w[0]..w[1]].iter().sum()).collect();
+            let coarse_k: Vec<f64> = node_spans(&coarse_spans).iter().map(|h| ei / h).collect();
+            let fine_k = prolong_compliance(&coarse_spans, &coarse_k, &fine_spans);
+            for (j, (k, h)) in fine_k.iter().zip(node_spans(&fine_spans)).enumerate() {
+                assert!(close(*k, ei / h), "M = {m}, node {j}: {k} against {}", ei / h);
+            }
+        }
+    }
+
+    /// Halving: a fine spring at a coarse node gets `2 K_c`, one between coarse nodes twice
+    /// their harmonic mean (a soft and a stiff spring in series), not their mean.
+    #[test]
+    fn halving_puts_springs_in_series() {
+        let coarse_spans = [0.5, 0.5];
+        let coarse_k = [100.0, 1e4, 300.0];
+        let fine_k = prolong_compliance(&coarse_spans, &coarse_k, &[0.25; 4]);
+        let series = |a: f64, b: f64| 2.0 / (1.0 / a + 1.0 / b);
+        let expected = [200.0, 2.0 * series(100.0, 1e4), 2e4, 2.0 * series(1e4, 300.0), 600.0];
+        for (j, (k, e)) in fine_k.iter().zip(expected).enumerate() {
+            assert!(close(*k, e), "node {j}: {k} against {e}");
+        }
+        // 2 × 198 N·m/rad where the mean of k would have given 2 × 5050.
+        assert!(fine_k[1] < 400.0);
+    }
+
+    /// A coarse node without a spring (K = 0) leaves every fine node it covers without one;
+    /// the others are untouched by it.
+    #[test]
+    fn no_spring_stays_no_spring() {
+        let fine_k = prolong_compliance(&[0.5, 0.5], &[0.0, 50.0, 50.0], &[0.25; 4]);
+        assert_eq!(fine_k[0], 0.0);
+        assert_eq!(fine_k[1], 0.0);
+        assert!(close(fine_k[2], 100.0) && close(fine_k[4], 100.0));
+    }
 }

@@ -19,8 +19,10 @@
 //! # Prolongation ([`prolong`])
 //! The coarse optimum becomes a fine start that satisfies every design constraint: fine node
 //! heights interpolate the coarse ones linearly in `X`, so each fine `θ0` equals its coarse link's
-//! angle, `Φ(θ0) = 0` holds and no bound or relative angle is exceeded; `k` is interpolated
-//! linearly between coarse nodes; states are interpolated at link midpoints and then made exact
+//! angle, `Φ(θ0) = 0` holds and no bound or relative angle is exceeded; the springs keep the
+//! coarse chain's compliance (each coarse `1/K` spread over its node's stretch of chain and
+//! gathered again over the fine nodes' stretches, so springs between a soft and a stiff coarse
+//! one act in series); states are interpolated at link midpoints and then made exact
 //! equilibria of the fine design by Newton's method at full load (falling back to load
 //! continuation from `θ0`). Each warm level starts Ipopt close to the boundary
 //! (`mu_init`, `bound_push`, `bound_frac`: [`WarmStart`]).
