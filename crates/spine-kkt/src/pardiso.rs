@@ -199,7 +199,7 @@ fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), Kk
         call.iparm[17] = (stats.factor_entries + call.n) as i32;
         if call.msglvl > 0 || trace() {
             eprintln!(
-                    "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L, {} of {} pivots replayed",
+                    "spine-kkt: {:.3} ms, order {}, inertia (+{}, -{}), front {} (predicted {}), {} dense rows, {} 2x2 pivots, {} delays, {} entries in L, {} of {} pivots replayed, {} scaling passes",
                     clock.elapsed().as_secs_f64() * 1e3,
                     call.n,
                     inertia.positive,
@@ -211,7 +211,8 @@ fn factorize(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), Kk
                     stats.delayed,
                     stats.factor_entries,
                     stats.replayed,
-                    stats.pivots
+                    stats.pivots,
+                    stats.scaling_passes
                 );
         }
     }

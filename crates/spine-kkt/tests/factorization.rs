@@ -288,11 +288,15 @@ fn replayed_pivot_sequences_keep_exact_inertia_and_search_where_a_pivot_fails() 
     let first = check(&mut solver, &base, &values, &mut rng);
     assert_eq!(first.replayed, 0, "nothing to replay at the first factorisation");
 
-    // The same values: every pivot replayed, and the factor is the searched one to the bit.
+    // The same values: every pivot replayed, and the factor is the searched one to the bit (the
+    // searched one with the same history, as the scaling starts from the factorisation before).
     let again = check(&mut solver, &base, &values, &mut rng);
     assert_eq!((again.replayed, again.pivots), (first.pivots, first.pivots));
     let mut searched = SymmetricSolver::new(structure.clone());
     searched.factorize(&values).unwrap();
+    searched.forget_pivot_sequence();
+    searched.factorize(&values).unwrap();
+    assert_eq!(searched.stats().unwrap().replayed, 0);
     let b: Vec<f64> = (0..base.n).map(|i| (i as f64).cos()).collect();
     let (mut x_replayed, mut x_searched) = (b.clone(), b.clone());
     solver.solve(&mut x_replayed).unwrap();
@@ -340,6 +344,43 @@ fn replayed_pivot_sequences_keep_exact_inertia_and_search_where_a_pivot_fails() 
     let stats = check(&mut solver, &upper, &values, &mut rng);
     assert!(stats.replayed > 0 && stats.replayed < stats.pivots, "{} of {} replayed", stats.replayed, stats.pivots);
     assert!(stats.replayed * 10 >= stats.pivots * 8, "{} of {} replayed", stats.replayed, stats.pivots);
+}
+
+/// The scaling starts from the factorisation before; where the values' magnitudes jump (rows
+/// and columns scaled by 1e6 and 1e-6, which keeps the inertia by Sylvester's law), the passes
+/// continue until it has settled: the inertia stays exact and solves reach round-off.
+#[test]
+fn the_scaling_follows_a_jump_in_magnitudes() {
+    let mut rng = Rng(5);
+    let base = chain_kkt(&mut rng, 40, 4, 3, 6.0);
+    let (structure, values) = base.structure();
+    let mut solver = SymmetricSolver::new(structure.clone());
+    let (pos, neg, _) = inertia_reference(&base);
+    let first = solver.factorize(&values).unwrap();
+    assert_eq!((first.positive, first.negative), (pos, neg));
+    assert_eq!(solver.stats().unwrap().scaling_passes, 3, "from S = I");
+    solver.factorize(&values).unwrap();
+    assert_eq!(solver.stats().unwrap().scaling_passes, 1, "the same values: settled after one pass");
+    let d = |i: usize| match i % 7 {
+        0 => 1e6,
+        3 => 1e-6,
+        _ => 1.0,
+    };
+    for round in 0..3 {
+        let mut upper = base.clone();
+        for ((i, j), v) in upper.entries.iter_mut() {
+            *v *= d(*i + round) * d(*j + round);
+        }
+        let (_, values) = upper.structure();
+        let inertia = solver.factorize(&values).unwrap();
+        assert_eq!((inertia.positive, inertia.negative), (pos, neg), "round {round}");
+        let x_true: Vec<f64> = (0..upper.n).map(|_| rng.symmetric()).collect();
+        let mut b = vec![0.0; upper.n];
+        structure.multiply(&values, &x_true, &mut b);
+        let report = solver.solve(&mut b).unwrap();
+        assert!(report.normwise_error < 1e-15, "round {round}: {report:?}");
+        assert!(solver.stats().unwrap().scaling_passes > 1, "round {round}: a jump takes more than one pass");
+    }
 }
 
 proptest::proptest! {
