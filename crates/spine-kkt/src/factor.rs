@@ -43,8 +43,9 @@ use crate::KktError;
 const SCALING_PASSES: usize = 3;
 /// From the scaling of the factorisation before (Ipopt's matrices change a little from one
 /// factorisation to the next, so it is a close start), Ruiz's passes stop once a pass has changed
-/// no scale factor by more than this factor (at most [`SCALING_PASSES`] passes). At N = 1000 one
-/// pass is usually enough, and a factorisation takes 9 % less time than with three.
+/// no scale factor by more than this factor (at most [`SCALING_PASSES`] passes). In eq. (33)'s
+/// solves (N = 200, 1000) half the factorisations take one pass and a twentieth three, 1.6 on
+/// average; a pass takes about 0.1 ms at N = 1000 (a fourteenth of a replayed factorisation).
 const SCALING_SETTLED: f64 = 10.0;
 
 /// The numbers of positive, negative and zero eigenvalues.
@@ -159,12 +160,10 @@ fn equilibrate(analysis: &Analysis, values: &[f64], mut s: Vec<f64>, until_settl
             let (sr, mut lr) = (s[r], largest[r]);
             for (e, &c) in positions.zip(columns) {
                 let v = (values[e] * sr * s[c]).abs();
-                if v > lr {
-                    lr = v;
-                }
-                if c != r && v > largest[c] {
-                    largest[c] = v;
-                }
+                lr = if v > lr { v } else { lr };
+                // Branch-free; on the diagonal (c = r) harmless, as `lr` holds it too.
+                let lc = largest[c];
+                largest[c] = if v > lc { v } else { lc };
             }
             largest[r] = lr;
         }
@@ -476,6 +475,8 @@ impl Factor {
         }
         let (start, first) = (self.index.len(), self.lower.len());
         let (index, lower) = (&mut self.index, &mut self.lower);
+        index.reserve(front.len());
+        lower.reserve(front.len());
         front.eliminate([slot], [[1.0 / d]], |v, [l]| {
             index.push(v);
             lower.push(l);
@@ -498,6 +499,8 @@ impl Factor {
         let (p, r) = (front.var[sp], front.var[sr]);
         let (start, first) = (self.index.len(), self.lower.len());
         let (index, lower) = (&mut self.index, &mut self.lower);
+        index.reserve(front.len());
+        lower.reserve(2 * front.len());
         front.eliminate([sp, sr], inverse, |v, [l1, l2]| {
             index.push(v);
             lower.push(l1);
