@@ -110,8 +110,8 @@ fn main() {
             if let Some(refinement) = &r.refinement {
                 for l in &refinement.levels {
                     eprintln!(
-                        "  N = {n} level {}: {:?} {} after {} iterations, J = {:.9e}, {:.3} s (start {:.3} s)",
-                        l.links, l.start, l.status, l.iterations, l.objective, l.wall_seconds, l.start_seconds
+                        "  N = {n} level {}: {:?} {} after {} iterations ({} restarts), J = {:.9e}, {:.3} s (start {:.3} s)",
+                        l.links, l.start, l.status, l.iterations, l.restarts, l.objective, l.wall_seconds, l.start_seconds
                     );
                 }
             }

@@ -5,7 +5,7 @@ use crate::full_space::Multipliers;
 use crate::problem::start_states;
 use crate::problem::DesignProblem;
 use crate::reduced_space::ReducedSpaceNlp;
-use crate::refine::{self, LevelStart};
+use crate::refine::{self, LevelStart, MAX_RESTARTS};
 use crate::result::{DesignResult, LevelReport, RefinementReport, SolverReport};
 use crate::settings::{Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};
@@ -198,6 +198,27 @@ pub fn resolve_from(
     Ok(run.into_run(&solution, options, design, Some(states), notes, None))
 }
 
+/// Stops a level's Ipopt run after `after` iterations so that it can be restarted
+/// ([`refine::WarmStart::restart_after`]); every iteration first goes to the caller's observer,
+/// whose stop is final.
+struct RestartBudget {
+    after: usize,
+    reached: bool,
+}
+
+impl RestartBudget {
+    fn watch(&mut self, info: &IterationInfo, observer: &mut dyn FnMut(&IterationInfo) -> bool) -> bool {
+        if !observer(info) {
+            return false;
+        }
+        if info.iteration >= self.after && !info.restoration {
+            self.reached = true;
+            return false;
+        }
+        true
+    }
+}
+
 /// Eq. (33) in the full space through the ladder of chain sizes (see [`crate::refine`]). Returns
 /// the solution of the last level (the problem itself) and every level's report. A coarse level
 /// that does not converge ends the ladder: the problem itself is then solved cold, and the report
@@ -228,8 +249,13 @@ fn solve_refined(
         let (level, how, design, states) = (setup.problem(problem), setup.start, &setup.design, &setup.states);
         let start_seconds = clock.elapsed().as_secs_f64();
         let form = settings.state_variables.resolve(level, settings);
+        // The finest warm level is restarted after `restart_after` iterations (docs/design.md).
+        let restart_after =
+            if m == n && how != LevelStart::Cold && warm.restart_after > 0 { warm.restart_after } else { usize::MAX };
+        let mut budget = RestartBudget { after: restart_after, reached: false };
+        let mut watched = |info: &IterationInfo| budget.watch(info, &mut *observer);
         let mut nlp = FullSpaceNlp::new(level, form, design, &states.0, &states.1);
-        nlp.on_iteration = Some(&mut *observer);
+        nlp.on_iteration = Some(&mut watched);
         if let (Some((coarser, _, _, multipliers)), true) = (&previous, warm.multipliers) {
             let size = nlp.layout.num_variables();
             let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; size], vec![f64::INFINITY; size]);
@@ -240,14 +266,32 @@ fn solve_refined(
         let options = if how == LevelStart::Cold { &cold_options } else { &warm_options };
         // The coarse levels only prepare a start: solved to the coarse tolerance.
         let options = if m < n { options.clone().number("tol", settings.coarse_tolerance()) } else { options.clone() };
-        let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
-        let (design, states) = refine::solution_parts(&nlp, &solution.x);
+        let mut solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
+        let (mut design, mut states) = refine::solution_parts(&nlp, &solution.x);
+        drop(nlp);
+        let (mut iterations, mut restarts) = (solution.iterations, 0);
+        let restart_options = options.clone().number("mu_init", settings.tolerance / 10.0);
+        while budget.reached {
+            restarts += 1;
+            budget = RestartBudget {
+                after: if restarts < MAX_RESTARTS { restart_after } else { usize::MAX },
+                reached: false,
+            };
+            let mut watched = |info: &IterationInfo| budget.watch(info, &mut *observer);
+            let mut nlp = FullSpaceNlp::new(level, form, &design, &states.0, &states.1);
+            nlp.on_iteration = Some(&mut watched);
+            solution = spine_ipopt::solve(&mut nlp, &restart_options).map_err(DesignError::Setup)?;
+            (design, states) = refine::solution_parts(&nlp, &solution.x);
+            iterations += solution.iterations;
+        }
+        solution.iterations = iterations;
         levels.push(LevelReport {
             links: m,
             start: how,
             status: solution.status,
             optimal: solution.status.is_optimal(),
-            iterations: solution.iterations,
+            iterations,
+            restarts,
             objective: solution.objective,
             end_displacement_restored: setup.restored,
             start_seconds,

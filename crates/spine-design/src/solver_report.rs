@@ -99,7 +99,11 @@ pub struct LevelReport {
     /// Ipopt's status at this level; `optimal`: `solve_succeeded`.
     pub status: spine_ipopt::Status,
     pub optimal: bool,
+    /// Ipopt iterations at this level, over all its restarts.
     pub iterations: usize,
+    /// Times the level was restarted ([`crate::refine::WarmStart::restart_after`]).
+    #[serde(default)]
+    pub restarts: usize,
     /// `J` of this level's (coarse) problem, J.
     pub objective: f64,
     /// A warm level's end-displacement violation `|X_{N+1}(θ2) − L_x − δ_d|` (m) before and after

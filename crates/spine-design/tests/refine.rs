@@ -330,3 +330,62 @@ fn warm_levels_may_start_from_the_prolonged_multipliers() {
     assert_eq!(broken, v.passive_equilibrium.max(v.loaded_equilibrium) > s.constraint_tolerance, "{:?}", r.warnings);
     assert!(r.passive.as_ref().unwrap().stability.stable && r.loaded.as_ref().unwrap().stability.stable);
 }
+
+/// The finest level restarts after `restart_after` iterations from its current iterate (fresh
+/// multipliers and filter): the level reports its restarts and all its iterations, and the
+/// restarted run ends at a clean optimum of the same NLP as the run without restarts. A stop asked
+/// for by the caller's observer is final: no restart follows it.
+#[test]
+fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it() {
+    let n = 40;
+    let problem = scaled_family(n);
+    let ladder = Refine::Ladder(Ladder { from: 20, factor: 2.0 });
+    let mut plain = settings(ladder);
+    plain.warm_start.restart_after = 0;
+    let r0 = solve_design(&problem, &start_of(n), Formulation::Full, &plain, &mut |_| true).unwrap();
+    let last0 = r0.refinement.as_ref().unwrap().levels.last().unwrap().clone();
+    assert!(r0.solver.converged && last0.restarts == 0, "{} {last0:?}", r0.solver.status);
+    assert!(last0.iterations > 6, "the finest level takes {} iterations: too few to restart", last0.iterations);
+
+    let mut restarting = plain.clone();
+    restarting.warm_start.restart_after = 3;
+    let mut seen = 0;
+    let r = solve_design(&problem, &start_of(n), Formulation::Full, &restarting, &mut |_| {
+        seen += 1;
+        true
+    })
+    .unwrap();
+    let levels = &r.refinement.as_ref().unwrap().levels;
+    let last = levels.last().unwrap();
+    assert!(last.restarts >= 1, "{last:?}");
+    assert!(levels[..levels.len() - 1].iter().all(|l| l.restarts == 0), "only the finest level restarts");
+    assert!(last.iterations >= 3 * last.restarts, "{last:?}");
+    assert_eq!(r.solver.iterations, last.iterations);
+    // The observer saw every iteration of every run of every level (each run's start point
+    // included; Ipopt may report an iteration twice, as on entering its restoration phase).
+    let runs: usize = levels.iter().map(|l| 1 + l.restarts).sum();
+    let iterations: usize = levels.iter().map(|l| l.iterations).sum();
+    assert!(
+        seen >= iterations + runs && seen <= iterations + 2 * runs,
+        "{seen} calls, {iterations} iterations, {runs} runs"
+    );
+    assert!(r.is_clean(), "{} {:?}", r.solver.status, r.warnings);
+    // A KKT point of the same NLP: a barely started resolve from it stays put.
+    let (p, l) = (r.passive.as_ref().unwrap(), r.loaded.as_ref().unwrap());
+    let states =
+        (State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda });
+    let (j, iterations, converged) = stays_at(&problem, &r.design, (&states.0, &states.1));
+    assert!(converged && iterations <= 10 && (j - r.objective).abs() <= 1e-7 * r.objective, "{j} {iterations}");
+
+    // The caller stops the finest level at its second iteration: no restart.
+    let coarse_calls: usize = levels[..levels.len() - 1].iter().map(|l| l.iterations + 1).sum();
+    let mut calls = 0;
+    let stopped = solve_design(&problem, &start_of(n), Formulation::Full, &restarting, &mut |_| {
+        calls += 1;
+        calls != coarse_calls + 3
+    })
+    .unwrap();
+    let last = stopped.refinement.as_ref().unwrap().levels.last().unwrap().clone();
+    assert_eq!((last.restarts, last.iterations), (0, 2), "{last:?}");
+    assert!(!stopped.solver.converged, "{}", stopped.solver.status);
+}

@@ -163,7 +163,15 @@ pub struct WarmStart {
     /// Ipopt's `tol` at the coarse levels, which only prepare the next start (default 1e-5; never
     /// tighter than `solver.tolerance`). The chain itself is solved to `solver.tolerance`.
     pub coarse_tolerance: f64,
+    /// Iterations after which the finest level, not yet converged, is restarted from its current
+    /// iterate with fresh multipliers and a fresh filter (`mu_init` = `solver.tolerance`/10), at
+    /// most [`MAX_RESTARTS`] times; 0: never (default 100). See docs/design.md, "Mesh sequencing".
+    pub restart_after: usize,
 }
+
+/// Most restarts of the finest level ([`WarmStart::restart_after`]); the last one runs to
+/// Ipopt's own end.
+pub const MAX_RESTARTS: usize = 20;
 
 impl Default for WarmStart {
     fn default() -> Self {
@@ -175,6 +183,7 @@ impl Default for WarmStart {
             mult_bound_push: 1e-8,
             restore_end_displacement: true,
             coarse_tolerance: 1e-5,
+            restart_after: 100,
         }
     }
 }
