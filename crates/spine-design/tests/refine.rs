@@ -128,28 +128,40 @@ fn prolonged_design_meets_every_design_constraint() {
     }
 }
 
+/// The passive and loaded states of a result.
+fn states_of(r: &spine_design::DesignResult) -> (State, State) {
+    let (p, l) = (r.passive.as_ref().unwrap(), r.loaded.as_ref().unwrap());
+    (State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda })
+}
+
+/// `fine` coarsened to `m` links and solved cold there, then prolonged: the coarse optimum, the
+/// prolonged design and its exact equilibria (by Newton).
+fn prolonged_coarse_optimum(fine: &DesignProblem, m: usize) -> (spine_design::DesignResult, Design, (State, State)) {
+    let (coarse, nodes) = refine::coarsen(fine, m);
+    let optimum = solve_design(
+        &coarse,
+        &refine::restrict(fine, &coarse, &nodes, &start_of(fine.n_links())),
+        Formulation::Full,
+        &settings(Refine::Mode(RefineMode::Off)),
+        &mut |_| true,
+    )
+    .unwrap();
+    assert!(optimum.solver.status.is_optimal(), "{m} links: {}", optimum.solver.status);
+    let (design, interpolated) = refine::prolong(&coarse, fine, &optimum.design, &states_of(&optimum));
+    let continuation = SolverSettings::default().continuation;
+    let (states, how) = refine::warm_states(fine, &design, interpolated, &continuation);
+    assert_eq!(how, LevelStart::Newton);
+    (optimum, design, states)
+}
+
 /// The prolonged optimum of a coarse level misses the fine chain's end displacement by millimetres;
 /// one factor on every spring restores `δ_d` to 1e-10 relative, with both states exact equilibria
 /// of the restored design and every spring within its bounds.
 #[test]
 fn the_end_displacement_is_restored_on_the_prolonged_design() {
     let fine = scaled_family(40);
-    let (coarse, nodes) = refine::coarsen(&fine, 20);
     let continuation = SolverSettings::default().continuation;
-    let coarse_optimum = solve_design(
-        &coarse,
-        &refine::restrict(&fine, &coarse, &nodes, &start_of(40)),
-        Formulation::Full,
-        &settings(Refine::Mode(RefineMode::Off)),
-        &mut |_| true,
-    )
-    .unwrap();
-    let (p, l) = (coarse_optimum.passive.as_ref().unwrap(), coarse_optimum.loaded.as_ref().unwrap());
-    let states =
-        (State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda });
-    let (mut design, interpolated) = refine::prolong(&coarse, &fine, &coarse_optimum.design, &states);
-    let (mut states, how) = refine::warm_states(&fine, &design, interpolated, &continuation);
-    assert_eq!(how, LevelStart::Newton);
+    let (_, mut design, mut states) = prolonged_coarse_optimum(&fine, 20);
     let before = design.clone();
     let [miss, left] = refine::restore_end_displacement(&fine, &mut design, &mut states, &continuation).unwrap();
     let delta = fine.delta_d.abs();
@@ -184,22 +196,7 @@ fn the_prolonged_optimum_keeps_the_coarse_flexibility() {
     let continuation = SolverSettings::default().continuation;
     for (n, m) in [(100, 50), (50, 40)] {
         let fine = scaled_family(n);
-        let (coarse, nodes) = refine::coarsen(&fine, m);
-        let optimum = solve_design(
-            &coarse,
-            &refine::restrict(&fine, &coarse, &nodes, &start_of(n)),
-            Formulation::Full,
-            &settings(Refine::Mode(RefineMode::Off)),
-            &mut |_| true,
-        )
-        .unwrap();
-        assert!(optimum.solver.status.is_optimal(), "{m} links: {}", optimum.solver.status);
-        let (p, l) = (optimum.passive.as_ref().unwrap(), optimum.loaded.as_ref().unwrap());
-        let states =
-            (State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda });
-        let (mut design, interpolated) = refine::prolong(&coarse, &fine, &optimum.design, &states);
-        let (mut states, how) = refine::warm_states(&fine, &design, interpolated, &continuation);
-        assert_eq!(how, LevelStart::Newton);
+        let (optimum, mut design, mut states) = prolonged_coarse_optimum(&fine, m);
         let [miss, _] = refine::restore_end_displacement(&fine, &mut design, &mut states, &continuation).unwrap();
         let j = spine_model::energy::strain_energy(&states.0.theta, &design.theta0, &design.stiffness);
         let (miss, change) = (miss / fine.delta_d.abs(), j / optimum.objective - 1.0);
@@ -263,9 +260,7 @@ fn refined_and_cold_solves_end_at_optima_of_the_same_nlp() {
         // stationary point that the restart leaves for a lower J).
         let rel = (cold.objective - refined.objective).abs() / cold.objective;
         for (k, r) in [&cold, &refined].into_iter().enumerate() {
-            let (p, l) = (r.passive.as_ref().unwrap(), r.loaded.as_ref().unwrap());
-            let s1 = State { theta: p.theta.clone(), lambda: p.lambda };
-            let s2 = State { theta: l.theta.clone(), lambda: l.lambda };
+            let (s1, s2) = states_of(r);
             let (j, iterations, optimal) = stays_at(&problem, &r.design, (&s1, &s2));
             eprintln!("N = {n}: restart at J = {:.9e}: {iterations} iterations to J = {j:.9e}", r.objective);
             assert!(optimal, "N = {n}: restart did not converge");
@@ -371,9 +366,7 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     );
     assert!(r.is_clean(), "{} {:?}", r.solver.status, r.warnings);
     // A KKT point of the same NLP: a barely started resolve from it stays put.
-    let (p, l) = (r.passive.as_ref().unwrap(), r.loaded.as_ref().unwrap());
-    let states =
-        (State { theta: p.theta.clone(), lambda: p.lambda }, State { theta: l.theta.clone(), lambda: l.lambda });
+    let states = states_of(&r);
     let (j, iterations, converged) = stays_at(&problem, &r.design, (&states.0, &states.1));
     assert!(converged && iterations <= 10 && (j - r.objective).abs() <= 1e-7 * r.objective, "{j} {iterations}");
 

@@ -261,6 +261,25 @@ fn a_recorded_eq33_kkt_matrix_keeps_a_narrow_front_and_exact_inertia() {
     assert!(report.normwise_error < 1e-15, "{report:?}");
 }
 
+/// Factorises `values` (of `upper`) with `solver`, keeping what it recorded before: the inertia
+/// must be `(positive, negative)` and a solve must reach round-off. Returns the statistics.
+fn refactorize_checked(
+    solver: &mut SymmetricSolver,
+    upper: &Upper,
+    values: &[f64],
+    (positive, negative): (usize, usize),
+    rng: &mut Rng,
+) -> spine_kkt::FactorStats {
+    let inertia = solver.factorize(values).unwrap();
+    assert_eq!((inertia.positive, inertia.negative), (positive, negative));
+    let x_true: Vec<f64> = (0..upper.n).map(|_| rng.symmetric()).collect();
+    let mut b = vec![0.0; upper.n];
+    upper.structure().0.multiply(values, &x_true, &mut b);
+    let report = solver.solve(&mut b).unwrap();
+    assert!(report.normwise_error < 1e-15, "{report:?}");
+    solver.stats().unwrap()
+}
+
 /// Ipopt factorises matrices of one structure with new values at every iteration, and the solver
 /// replays the pivots of the factorisation before, each tested again. On a sequence of chain KKT
 /// matrices whose values drift, jump by a diagonal shift (Ipopt's inertia correction) and lose
@@ -274,16 +293,9 @@ fn replayed_pivot_sequences_keep_exact_inertia_and_search_where_a_pivot_fails() 
     let (structure, values) = base.structure();
     let mut solver = SymmetricSolver::new(structure.clone());
     let check = |solver: &mut SymmetricSolver, upper: &Upper, values: &[f64], rng: &mut Rng| {
-        let inertia = solver.factorize(values).unwrap();
         let (pos, neg, zero) = inertia_reference(upper);
         assert_eq!(zero, 0);
-        assert_eq!((inertia.positive, inertia.negative), (pos, neg));
-        let x_true: Vec<f64> = (0..upper.n).map(|_| rng.symmetric()).collect();
-        let mut b = vec![0.0; upper.n];
-        structure.multiply(values, &x_true, &mut b);
-        let report = solver.solve(&mut b).unwrap();
-        assert!(report.normwise_error < 1e-15, "{report:?}");
-        solver.stats().unwrap()
+        refactorize_checked(solver, upper, values, (pos, neg), rng)
     };
     let first = check(&mut solver, &base, &values, &mut rng);
     assert_eq!(first.replayed, 0, "nothing to replay at the first factorisation");
@@ -372,14 +384,8 @@ fn the_scaling_follows_a_jump_in_magnitudes() {
             *v *= d(*i + round) * d(*j + round);
         }
         let (_, values) = upper.structure();
-        let inertia = solver.factorize(&values).unwrap();
-        assert_eq!((inertia.positive, inertia.negative), (pos, neg), "round {round}");
-        let x_true: Vec<f64> = (0..upper.n).map(|_| rng.symmetric()).collect();
-        let mut b = vec![0.0; upper.n];
-        structure.multiply(&values, &x_true, &mut b);
-        let report = solver.solve(&mut b).unwrap();
-        assert!(report.normwise_error < 1e-15, "round {round}: {report:?}");
-        assert!(solver.stats().unwrap().scaling_passes > 1, "round {round}: a jump takes more than one pass");
+        let stats = refactorize_checked(&mut solver, &upper, &values, (pos, neg), &mut rng);
+        assert!(stats.scaling_passes > 1, "round {round}: a jump takes more than one pass");
     }
 }
 
