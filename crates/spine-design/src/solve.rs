@@ -269,7 +269,7 @@ fn solve_refined(
         let mut solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
         let (mut design, mut states) = refine::solution_parts(&nlp, &solution.x);
         drop(nlp);
-        let (mut iterations, mut restarts) = (solution.iterations, 0);
+        let mut restarts = 0;
         let restart_options = options.clone().number("mu_init", settings.tolerance / 10.0);
         while budget.reached {
             restarts += 1;
@@ -280,17 +280,17 @@ fn solve_refined(
             let mut watched = |info: &IterationInfo| budget.watch(info, &mut *observer);
             let mut nlp = FullSpaceNlp::new(level, form, &design, &states.0, &states.1);
             nlp.on_iteration = Some(&mut watched);
-            solution = spine_ipopt::solve(&mut nlp, &restart_options).map_err(DesignError::Setup)?;
-            (design, states) = refine::solution_parts(&nlp, &solution.x);
-            iterations += solution.iterations;
+            let mut again = spine_ipopt::solve(&mut nlp, &restart_options).map_err(DesignError::Setup)?;
+            (design, states) = refine::solution_parts(&nlp, &again.x);
+            again.continues(&solution);
+            solution = again;
         }
-        solution.iterations = iterations;
         levels.push(LevelReport {
             links: m,
             start: how,
             status: solution.status,
             optimal: solution.status.is_optimal(),
-            iterations,
+            iterations: solution.iterations,
             restarts,
             objective: solution.objective,
             end_displacement_restored: setup.restored,

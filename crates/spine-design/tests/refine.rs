@@ -356,6 +356,13 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     assert!(levels[..levels.len() - 1].iter().all(|l| l.restarts == 0), "only the finest level restarts");
     assert!(last.iterations >= 3 * last.restarts, "{last:?}");
     assert_eq!(r.solver.iterations, last.iterations);
+    // The report counts the evaluations of every run: one Hessian per iteration (Ipopt 3.11 skips
+    // the one at a run's last point).
+    let hessians = r.solver.evaluations.hessian;
+    assert!(
+        hessians + 1 + last.restarts >= last.iterations && hessians <= last.iterations + 1 + last.restarts,
+        "{hessians} Hessians"
+    );
     // The observer saw every iteration of every run of every level (each run's start point
     // included; Ipopt may report an iteration twice, as on entering its restoration phase).
     let runs: usize = levels.iter().map(|l| 1 + l.restarts).sum();

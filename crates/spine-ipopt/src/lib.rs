@@ -174,6 +174,22 @@ pub struct Solution {
     pub callback_time: Duration,
 }
 
+impl Solution {
+    /// Counts an earlier run of the same problem that this one continued from (a restart): its
+    /// iterations, evaluations and times are added to this run's.
+    pub fn continues(&mut self, earlier: &Solution) {
+        self.iterations += earlier.iterations;
+        let (e, a) = (&mut self.evaluations, &earlier.evaluations);
+        e.objective += a.objective;
+        e.gradient += a.gradient;
+        e.constraints += a.constraints;
+        e.jacobian += a.jacobian;
+        e.hessian += a.hessian;
+        self.wall_time += earlier.wall_time;
+        self.callback_time += earlier.callback_time;
+    }
+}
+
 /// How often Ipopt called each evaluation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct EvaluationCounts {

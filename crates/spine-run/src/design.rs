@@ -264,9 +264,14 @@ impl std::fmt::Display for DesignCaseResult {
         )?;
         if let Some(refinement) = &r.refinement {
             for l in &refinement.levels {
+                let restarts = match l.restarts {
+                    0 => String::new(),
+                    1 => " (1 restart)".to_string(),
+                    r => format!(" ({r} restarts)"),
+                };
                 writeln!(
                     f,
-                    "  level {:>5} links ({} start): {} after {} iterations, J = {:.10e} J",
+                    "  level {:>5} links ({} start): {} after {} iterations{restarts}, J = {:.10e} J",
                     l.links, l.start, l.status, l.iterations, l.objective
                 )?;
             }
