@@ -219,6 +219,35 @@ impl RestartBudget {
     }
 }
 
+/// One Ipopt run of a ladder level from a design and its states.
+struct LevelRun<'a> {
+    level: &'a DesignProblem,
+    form: crate::full_space::StateForm,
+    design: &'a Design,
+    states: &'a (State, State),
+}
+
+impl LevelRun<'_> {
+    /// Solves with `options`, every iteration watched by `budget` and the caller's `observer`,
+    /// Ipopt started from the multipliers `multipliers` gives for the NLP (if any). Returns the
+    /// solution with its design and states.
+    fn solve(
+        &self,
+        options: &spine_ipopt::Options,
+        budget: &mut RestartBudget,
+        observer: &mut dyn FnMut(&IterationInfo) -> bool,
+        multipliers: impl FnOnce(&FullSpaceNlp<'_>) -> Option<Multipliers>,
+    ) -> Result<(Solution, Design, (State, State)), DesignError> {
+        let mut watched = |info: &IterationInfo| budget.watch(info, &mut *observer);
+        let mut nlp = FullSpaceNlp::new(self.level, self.form, self.design, &self.states.0, &self.states.1);
+        nlp.multipliers = multipliers(&nlp);
+        nlp.on_iteration = Some(&mut watched);
+        let solution = spine_ipopt::solve(&mut nlp, options).map_err(DesignError::Setup)?;
+        let (design, states) = refine::solution_parts(&nlp, &solution.x);
+        Ok((solution, design, states))
+    }
+}
+
 /// Eq. (33) in the full space through the ladder of chain sizes (see [`crate::refine`]). Returns
 /// the solution of the last level (the problem itself) and every level's report. A coarse level
 /// that does not converge ends the ladder: the problem itself is then solved cold, and the report
@@ -253,22 +282,19 @@ fn solve_refined(
         let restart_after =
             if m == n && how != LevelStart::Cold && warm.restart_after > 0 { warm.restart_after } else { usize::MAX };
         let mut budget = RestartBudget { after: restart_after, reached: false };
-        let mut watched = |info: &IterationInfo| budget.watch(info, &mut *observer);
-        let mut nlp = FullSpaceNlp::new(level, form, design, &states.0, &states.1);
-        nlp.on_iteration = Some(&mut watched);
-        if let (Some((coarser, _, _, multipliers)), true) = (&previous, warm.multipliers) {
-            let size = nlp.layout.num_variables();
-            let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; size], vec![f64::INFINITY; size]);
-            spine_ipopt::Problem::variable_bounds(&nlp, &mut lower, &mut upper);
-            nlp.multipliers =
-                Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper));
-        }
         let options = if how == LevelStart::Cold { &cold_options } else { &warm_options };
         // The coarse levels only prepare a start: solved to the coarse tolerance.
         let options = if m < n { options.clone().number("tol", settings.coarse_tolerance()) } else { options.clone() };
-        let mut solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
-        let (mut design, mut states) = refine::solution_parts(&nlp, &solution.x);
-        drop(nlp);
+        let prolonged_multipliers = |nlp: &FullSpaceNlp<'_>| {
+            let (coarser, _, _, multipliers) = previous.as_ref().filter(|_| warm.multipliers)?;
+            let size = nlp.layout.num_variables();
+            let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; size], vec![f64::INFINITY; size]);
+            spine_ipopt::Problem::variable_bounds(nlp, &mut lower, &mut upper);
+            Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper))
+        };
+        let start = LevelRun { level, form, design, states };
+        let (mut solution, mut design, mut states) =
+            start.solve(&options, &mut budget, &mut *observer, prolonged_multipliers)?;
         let mut restarts = 0;
         let restart_options = options.clone().number("mu_init", settings.tolerance / 10.0);
         while budget.reached {
@@ -277,13 +303,10 @@ fn solve_refined(
                 after: if restarts < MAX_RESTARTS { restart_after } else { usize::MAX },
                 reached: false,
             };
-            let mut watched = |info: &IterationInfo| budget.watch(info, &mut *observer);
-            let mut nlp = FullSpaceNlp::new(level, form, &design, &states.0, &states.1);
-            nlp.on_iteration = Some(&mut watched);
-            let mut again = spine_ipopt::solve(&mut nlp, &restart_options).map_err(DesignError::Setup)?;
-            (design, states) = refine::solution_parts(&nlp, &again.x);
+            let from = LevelRun { level, form, design: &design, states: &states };
+            let (mut again, d, s) = from.solve(&restart_options, &mut budget, &mut *observer, |_| None)?;
             again.continues(&solution);
-            solution = again;
+            (solution, design, states) = (again, d, s);
         }
         levels.push(LevelReport {
             links: m,

@@ -203,8 +203,10 @@ impl Factor {
         if let Some(e) = values.iter().position(|v| !v.is_finite()) {
             return Err(KktError::Input(format!("value {e} is not finite")));
         }
-        // The scaling of the factorisation before, when it was of this order, is the start.
-        let previous = old.as_ref().filter(|f| f.order == analysis.ordering.order && f.scale.len() == n).map(|f| {
+        // The factorisation before, when it was of this order, gives the scaling's start and the
+        // pivot sequence to replay.
+        let same_order = old.as_ref().is_some_and(|f| f.order == analysis.ordering.order);
+        let previous = old.as_ref().filter(|_| same_order).map(|f| {
             let mut s = vec![1.0; n];
             for (&v, &sv) in f.order.iter().zip(&f.scale) {
                 s[v] = sv;
@@ -227,7 +229,7 @@ impl Factor {
             work: Workspace::default(),
         });
         // A pivot sequence recorded on another order cannot be replayed.
-        if factor.order != analysis.ordering.order {
+        if !same_order {
             factor.schedule.clear();
         }
         factor.reset(analysis, &s);
