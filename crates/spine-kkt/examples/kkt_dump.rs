@@ -2,7 +2,8 @@
 //! best time of REPEATS factorisations and solves, the inertia, the front statistics and the
 //! result of one solve: `cargo run --release -p spine-kkt --example kkt_dump FILE [REPEATS]`
 //! (REPEATS, 20 by default, also serves `perf record`). With `KKT_SEARCH` set, every factorisation
-//! searches for its pivots instead of replaying those of the one before.
+//! searches for its pivots instead of replaying those of the one before; with `KKT_FACTOR_ONLY`
+//! set, it stops after the factorisations (for `perf record` of the factorisation alone).
 use spine_kkt::{Dump, SymmetricSolver};
 fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
@@ -37,6 +38,9 @@ fn main() {
         solver.analysis().dense_rows(),
         solver.analysis().predicted_front()
     );
+    if std::env::var_os("KKT_FACTOR_ONLY").is_some() {
+        return;
+    }
     let b: Vec<f64> = dump.rhs.clone().unwrap_or_else(|| (0..n).map(|i| (i as f64).sin()).collect());
     let (solve_time, report) = best_of(repeats, || {
         let mut x = b.clone();

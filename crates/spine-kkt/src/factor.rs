@@ -93,6 +93,8 @@ pub struct Factor {
     order: Vec<usize>,
     /// `S` in the new numbering.
     scale: Vec<f64>,
+    /// `S` in the original numbering (the next factorisation's start).
+    original_scale: Vec<f64>,
     pivots: Vec<Pivot>,
     /// Row (new numbering) of each stored entry of `L`.
     index: Vec<usize>,
@@ -117,6 +119,8 @@ struct Workspace {
     candidates: Vec<usize>,
     /// The step after which the recorded sweep had eliminated each variable.
     recorded_step: Vec<usize>,
+    /// The storage of the schedule before the one replayed.
+    spare_schedule: Vec<Scheduled>,
 }
 
 /// One pivot of a recorded sweep: the step after which it was taken, its variable(s) and the
@@ -205,14 +209,9 @@ impl Factor {
         }
         // The factorisation before, when it was of this order, gives the scaling's start and the
         // pivot sequence to replay.
+        let mut old = old;
         let same_order = old.as_ref().is_some_and(|f| f.order == analysis.ordering.order);
-        let previous = old.as_ref().filter(|_| same_order).map(|f| {
-            let mut s = vec![1.0; n];
-            for (&v, &sv) in f.order.iter().zip(&f.scale) {
-                s[v] = sv;
-            }
-            s
-        });
+        let previous = old.as_mut().filter(|_| same_order).map(|f| std::mem::take(&mut f.original_scale));
         let (s, passes) = match previous {
             Some(start) => equilibrate(analysis, values, start, true),
             None => equilibrate(analysis, values, vec![1.0; n], false),
@@ -220,6 +219,7 @@ impl Factor {
         let mut factor = old.unwrap_or_else(|| Factor {
             order: Vec::with_capacity(n),
             scale: Vec::with_capacity(n),
+            original_scale: Vec::new(),
             pivots: Vec::with_capacity(n),
             index: Vec::new(),
             lower: Vec::new(),
@@ -232,10 +232,15 @@ impl Factor {
         if !same_order {
             factor.schedule.clear();
         }
-        factor.reset(analysis, &s);
-        let recorded = std::mem::take(&mut factor.schedule);
+        factor.reset(analysis, &s, same_order);
+        factor.original_scale = s;
         let mut work = std::mem::take(&mut factor.work);
+        // The new schedule is written into the storage of the one before last (no growth).
+        let mut recorded = std::mem::replace(&mut factor.schedule, std::mem::take(&mut work.spare_schedule));
+        factor.schedule.clear();
         let swept = factor.sweep(analysis, values, &recorded, &mut work);
+        recorded.clear();
+        work.spare_schedule = recorded;
         factor.work = work;
         factor.stats.factor_entries = factor.index.len();
         factor.stats.pivots = factor.pivots.len();
@@ -244,15 +249,17 @@ impl Factor {
     }
 
     /// Empties the factor and sets the order and scaling for a new sweep.
-    fn reset(&mut self, analysis: &Analysis, s: &[f64]) {
-        self.order.clear();
+    fn reset(&mut self, analysis: &Analysis, s: &[f64], same_order: bool) {
+        if !same_order {
+            self.order.clear();
+            self.order.extend_from_slice(&analysis.ordering.order);
+        }
         self.scale.clear();
         self.pivots.clear();
         self.index.clear();
         self.lower.clear();
         self.inertia = Inertia::default();
         self.stats = FactorStats::default();
-        self.order.extend_from_slice(&analysis.ordering.order);
         self.scale.extend(analysis.ordering.order.iter().map(|&v| s[v]));
     }
 
@@ -287,24 +294,35 @@ impl Factor {
             work.front.get_or_insert_with(|| Front::new(n, analysis.predicted_front + 4, analysis.ordering.dense));
         front.clear(n, analysis.ordering.dense);
         let Workspace { since, waiting, candidates, recorded_step, .. } = work;
-        since.clear();
+        // Every variable's `since` is set when it becomes fully summed, before it is read.
         since.resize(n, 0);
-        waiting.stale.clear();
+        // What only the search reads is set up when it first takes over (at the start, or where
+        // a replayed pivot first fails: most replayed sweeps never search).
         waiting.stale.resize(n, true);
-        waiting.period.clear();
-        waiting.period.resize(n, 0);
-        candidates.clear();
-        // The step after which the recorded sweep had eliminated each variable (`n`: never).
-        recorded_step.clear();
-        recorded_step.resize(if recorded.is_empty() { 0 } else { n }, n);
-        for pivot in recorded {
-            recorded_step[pivot.p] = pivot.step;
-            if let Some(r) = pivot.r {
-                recorded_step[r] = pivot.step;
+        let mut search_ready = false;
+        let mut ready_search = |waiting: &mut Waiting, recorded_step: &mut Vec<usize>| {
+            if std::mem::replace(&mut search_ready, true) {
+                return;
             }
-        }
+            waiting.stale.fill(true);
+            waiting.period.clear();
+            waiting.period.resize(n, 0);
+            // The step after which the recorded sweep had eliminated each variable (`n`: never).
+            recorded_step.clear();
+            recorded_step.resize(if recorded.is_empty() { 0 } else { n }, n);
+            for pivot in recorded {
+                recorded_step[pivot.p] = pivot.step;
+                if let Some(r) = pivot.r {
+                    recorded_step[r] = pivot.step;
+                }
+            }
+        };
+        candidates.clear();
         let (mut next, mut recorded_gone) = (0, 0);
         let mut replaying = !recorded.is_empty();
+        if !replaying {
+            ready_search(waiting, recorded_step);
+        }
         for k in 0..n {
             let stale = &mut waiting.stale;
             self.enter(analysis, values, front, k, |j| stale[j] = true);
@@ -339,6 +357,7 @@ impl Factor {
                 if !replaying || (k + 1 == n && front.len() > 0) {
                     // The search takes over, with every fully summed variable of the front.
                     replaying = false;
+                    ready_search(waiting, recorded_step);
                     candidates.clear();
                     candidates
                         .extend((0..front.len()).filter(|&slot| front.is_summed(slot)).map(|slot| front.var[slot]));

@@ -64,9 +64,13 @@ impl Front {
     pub fn clear(&mut self, n: usize, dense: usize) {
         self.dense_first = true;
         self.dense = dense;
+        // `slot_of` is `ABSENT` except for the variables in the front (after a complete sweep:
+        // none).
+        for &v in &self.var {
+            self.slot_of[v] = ABSENT;
+        }
         self.var.clear();
         self.summed.clear();
-        self.slot_of.clear();
         self.slot_of.resize(n, ABSENT);
     }
 
