@@ -148,13 +148,15 @@ fn backward_error(structure: &spine_kkt::Structure, a: &[f64], x: &[f64], b: &[f
 }
 
 /// The factorisation the benchmark times against MUMPS gives MUMPS's inertia on the same recorded
-/// KKT matrices (N = 100 and 1000), and both solutions are backward stable and agree.
+/// KKT matrices (N = 100 and 1000; N = 1000's sweep is split in two halves and a root), and both
+/// solutions are backward stable and agree.
 #[test]
 fn spine_kkt_and_mumps_agree_on_recorded_kkt_matrices() {
     for links in spine_benchmarks::kkt::RECORDED_LINKS {
         let dump = spine_benchmarks::kkt::recorded(links).unwrap();
         let structure = dump.structure().unwrap();
         let mut spine = spine_kkt::SymmetricSolver::new(structure.clone());
+        assert_eq!(spine.analysis().is_split(), dump.n >= spine_kkt::SPLIT_FROM, "N = {links}");
         let inertia = spine.factorize(&dump.a).unwrap();
         let coordinates = spine_benchmarks::kkt::coordinates(&dump).unwrap();
         let mut mumps = spine_mumps::Mumps::analyse(dump.n, &coordinates, &dump.a).unwrap();

@@ -9,7 +9,15 @@ fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
     let mut out = run();
     let all = std::time::Instant::now();
-    for _ in 0..repeats {
+    // `KKT_COLD=MB`: write MB megabytes between runs (untimed), as Ipopt's own work does between
+    // two factorisations, so that each run starts with cold caches.
+    let cold: usize = std::env::var("KKT_COLD").ok().and_then(|mb| mb.parse().ok()).unwrap_or(0);
+    let mut flush = vec![0u8; cold << 20];
+    for round in 0..repeats {
+        for (i, byte) in flush.iter_mut().enumerate().step_by(64) {
+            *byte = byte.wrapping_add((i + round) as u8);
+        }
+        std::hint::black_box(&flush);
         let clock = std::time::Instant::now();
         out = run();
         best = best.min(clock.elapsed().as_secs_f64());

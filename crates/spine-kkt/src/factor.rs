@@ -33,7 +33,7 @@
 //! matrix singular. The relaxed thresholds allow growth; the solver's iterative refinement and, where
 //! that stalls, one GMRES correction ([`crate::SymmetricSolver::solve`]) repair the solution.
 
-use crate::analysis::Analysis;
+use crate::analysis::{Analysis, Stage};
 use crate::front::{Front, ABSENT};
 use crate::pivot::{choose, growth, Choice, Growth, Thresholds};
 pub use crate::pivot::{BORDER_THRESHOLD, LAST_RESORT_THRESHOLD, PATIENCE, RELAXED_THRESHOLD, SINGULAR, THRESHOLD};
@@ -95,6 +95,16 @@ pub struct Factor {
     scale: Vec<f64>,
     /// `S` in the original numbering (the next factorisation's start).
     original_scale: Vec<f64>,
+    /// One per stage of the analysis, and after a split the root's: the pivots of one sweep.
+    stages: Vec<StageFactor>,
+    inertia: Inertia,
+    stats: FactorStats,
+}
+
+/// The pivots of one sweep (a stage of the analysis, or the root of a split) and what it needs
+/// to run again.
+#[derive(Clone, Debug, Default)]
+struct StageFactor {
     pivots: Vec<Pivot>,
     /// Row (new numbering) of each stored entry of `L`.
     index: Vec<usize>,
@@ -102,7 +112,7 @@ pub struct Factor {
     lower: Vec<f64>,
     inertia: Inertia,
     stats: FactorStats,
-    /// The pivot sequence of this factorisation, replayed by the next.
+    /// The pivot sequence of this sweep, replayed by the next.
     schedule: Vec<Scheduled>,
     /// The sweep's storage, kept for the next factorisation.
     work: Workspace,
@@ -132,6 +142,15 @@ struct Scheduled {
     r: Option<usize>,
     limits: Thresholds,
     growth: Growth,
+}
+
+/// Where a sweep is: its step, the border of the pivot tests there (the dense rows, or none at the
+/// step that ends the factorisation), and whether it is that step.
+#[derive(Clone, Copy, Debug)]
+struct Step {
+    index: usize,
+    border: usize,
+    last: bool,
 }
 
 /// The bookkeeping of the variables that wait: a waiting variable is tested again only when its
@@ -189,13 +208,20 @@ fn equilibrate(analysis: &Analysis, values: &[f64], mut s: Vec<f64>, until_settl
 impl Factor {
     /// Factorises the matrix with these values (in the order of the analysed structure).
     pub fn new(analysis: &Analysis, values: &[f64]) -> Result<Self, KktError> {
-        Self::reusing(analysis, values, None)
+        Self::reusing(analysis, values, None, false)
     }
 
     /// [`Factor::new`], writing into the storage of an earlier factorisation (Ipopt factorises
     /// matrices of one structure hundreds of times; at N = 1000 `L` takes about 2 MB, and fresh
     /// pages cost a tenth of the factorisation).
-    pub fn reusing(analysis: &Analysis, values: &[f64], old: Option<Factor>) -> Result<Self, KktError> {
+    /// With `two_threads`, the two halves of a split sweep at once (the factor is the same to the
+    /// bit either way).
+    pub fn reusing(
+        analysis: &Analysis,
+        values: &[f64],
+        old: Option<Factor>,
+        two_threads: bool,
+    ) -> Result<Self, KktError> {
         let n = analysis.order();
         if values.len() != analysis.structure.stored() {
             return Err(KktError::Input(format!(
@@ -220,30 +246,29 @@ impl Factor {
             order: Vec::with_capacity(n),
             scale: Vec::with_capacity(n),
             original_scale: Vec::new(),
-            pivots: Vec::with_capacity(n),
-            index: Vec::new(),
-            lower: Vec::new(),
+            stages: Vec::new(),
             inertia: Inertia::default(),
             stats: FactorStats::default(),
-            schedule: Vec::new(),
-            work: Workspace::default(),
         });
-        // A pivot sequence recorded on another order cannot be replayed.
+        // Pivot sequences recorded on another order cannot be replayed.
         if !same_order {
-            factor.schedule.clear();
+            factor.stages.clear();
         }
+        factor.stages.resize_with(analysis.stages.len() + usize::from(analysis.is_split()), StageFactor::default);
         factor.reset(analysis, &s, same_order);
         factor.original_scale = s;
-        let mut work = std::mem::take(&mut factor.work);
-        // The new schedule is written into the storage of the one before last (no growth).
-        let mut recorded = std::mem::replace(&mut factor.schedule, std::mem::take(&mut work.spare_schedule));
-        factor.schedule.clear();
-        let swept = factor.sweep(analysis, values, &recorded, &mut work);
-        recorded.clear();
-        work.spare_schedule = recorded;
-        factor.work = work;
-        factor.stats.factor_entries = factor.index.len();
-        factor.stats.pivots = factor.pivots.len();
+        let swept = factor.sweep_stages(analysis, values, two_threads);
+        for stage in &factor.stages {
+            let (sum, part) = (&mut factor.stats, stage.stats);
+            sum.largest_front = sum.largest_front.max(part.largest_front);
+            sum.two_by_two += part.two_by_two;
+            sum.delayed += part.delayed;
+            sum.factor_entries += part.factor_entries;
+            sum.replayed += part.replayed;
+            sum.pivots += part.pivots;
+            factor.inertia.positive += stage.inertia.positive;
+            factor.inertia.negative += stage.inertia.negative;
+        }
         factor.stats.scaling_passes = passes;
         swept.map(|()| factor)
     }
@@ -255,22 +280,86 @@ impl Factor {
             self.order.extend_from_slice(&analysis.ordering.order);
         }
         self.scale.clear();
-        self.pivots.clear();
-        self.index.clear();
-        self.lower.clear();
         self.inertia = Inertia::default();
         self.stats = FactorStats::default();
         self.scale.extend(analysis.ordering.order.iter().map(|&v| s[v]));
     }
 
-    /// Brings variable `k` into the front with the entries that enter with it; calls
+    /// Runs the stages: one sweep; or the two halves of a split (on two threads with
+    /// `two_threads`), then the root.
+    fn sweep_stages(&mut self, analysis: &Analysis, values: &[f64], two_threads: bool) -> Result<(), KktError> {
+        let scale = &self.scale;
+        let sweep = |factor: &mut StageFactor, s: usize| {
+            factor.run(|f, recorded, work| f.sweep(analysis, &analysis.stages[s], values, scale, recorded, work))
+        };
+        match self.stages.as_mut_slice() {
+            [single] => sweep(single, 0),
+            [first, second, root] => {
+                let (one, two) = if two_threads {
+                    std::thread::scope(|scope| {
+                        let one = scope.spawn(|| sweep(first, 0));
+                        let two = sweep(second, 1);
+                        // A panic of the first half's thread goes on in this one.
+                        (one.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)), two)
+                    })
+                } else {
+                    (sweep(first, 0), sweep(second, 1))
+                };
+                one?;
+                two?;
+                let halves = [&first.work.front, &second.work.front];
+                root.run(|f, recorded, work| f.root(analysis, halves, values, scale, recorded, work))
+            }
+            _ => Err(KktError::Input(format!(
+                "{} stages for an analysis of {}",
+                self.stages.len(),
+                analysis.stages.len()
+            ))),
+        }
+    }
+}
+
+impl StageFactor {
+    /// Empties the stage's factor, then runs `sweep` with the pivot sequence recorded by the
+    /// last run (to replay) and the stage's storage; the new sequence is written into the storage
+    /// of the one before (no growth).
+    fn run(
+        &mut self,
+        sweep: impl FnOnce(&mut Self, &[Scheduled], &mut Workspace) -> Result<(), KktError>,
+    ) -> Result<(), KktError> {
+        self.pivots.clear();
+        self.index.clear();
+        self.lower.clear();
+        self.inertia = Inertia::default();
+        self.stats = FactorStats::default();
+        let mut work = std::mem::take(&mut self.work);
+        let mut recorded = std::mem::replace(&mut self.schedule, std::mem::take(&mut work.spare_schedule));
+        self.schedule.clear();
+        let swept = sweep(self, &recorded, &mut work);
+        recorded.clear();
+        work.spare_schedule = recorded;
+        self.work = work;
+        self.stats.factor_entries = self.index.len();
+        self.stats.pivots = self.pivots.len();
+        swept
+    }
+
+    /// Brings the variable of step `t` into the front with the entries that enter with it; calls
     /// `on_entry(j)` for every variable `j` whose column changed.
-    fn enter(&self, analysis: &Analysis, values: &[f64], front: &mut Front, k: usize, mut on_entry: impl FnMut(usize)) {
+    fn enter(
+        stage: &Stage,
+        t: usize,
+        values: &[f64],
+        scale: &[f64],
+        front: &mut Front,
+        mut on_entry: impl FnMut(usize),
+    ) {
+        let k = stage.vars[t];
         front.push(k);
-        for &(j, e) in &analysis.enter[analysis.enter_start[k]..analysis.enter_start[k + 1]] {
+        for &(j, e) in stage.entering(t) {
             let slot_j = front.slot_of[j];
             debug_assert_ne!(slot_j, ABSENT, "an entering entry's partner is still in the front");
-            front.add_to_last(slot_j, values[e] * self.scale[j] * self.scale[k]);
+            front.add_to_last(slot_j, values[e] * scale[j] * scale[k]);
             on_entry(j);
         }
     }
@@ -285,11 +374,16 @@ impl Factor {
     fn sweep(
         &mut self,
         analysis: &Analysis,
+        stage: &Stage,
         values: &[f64],
+        scale: &[f64],
         recorded: &[Scheduled],
         work: &mut Workspace,
     ) -> Result<(), KktError> {
         let n = analysis.order();
+        let steps = stage.len();
+        // The step that ends the factorisation, if this stage's last one does.
+        let last_step = if stage.ends { steps.checked_sub(1) } else { None };
         let front =
             work.front.get_or_insert_with(|| Front::new(n, analysis.predicted_front + 4, analysis.ordering.dense));
         front.clear(n, analysis.ordering.dense);
@@ -323,10 +417,10 @@ impl Factor {
         if !replaying {
             ready_search(waiting, recorded_step);
         }
-        for k in 0..n {
+        for k in 0..steps {
             let stale = &mut waiting.stale;
-            self.enter(analysis, values, front, k, |j| stale[j] = true);
-            for &v in analysis.summed_at(k) {
+            Self::enter(stage, k, values, scale, front, |j| stale[j] = true);
+            for &v in stage.summed_at(k) {
                 let slot_v = front.slot_of[v];
                 front.mark_summed(slot_v);
                 since[v] = k;
@@ -344,7 +438,8 @@ impl Factor {
             // Until the last step the dense rows (numbered first) stay out of the pivot tests: they
             // are summed only at the end, and a variable whose largest entry is in a dense row
             // would otherwise wait for it. The last step tests against every row.
-            let border = if k + 1 == n { 0 } else { analysis.ordering.dense };
+            let last = last_step == Some(k);
+            let border = if last { 0 } else { analysis.ordering.dense };
             if replaying {
                 while let Some(&pivot) = recorded.get(next).filter(|pivot| pivot.step == k) {
                     if !self.replay(front, pivot, border) {
@@ -354,7 +449,7 @@ impl Factor {
                     next += 1;
                     recorded_gone += 1 + usize::from(pivot.r.is_some());
                 }
-                if !replaying || (k + 1 == n && front.len() > 0) {
+                if !replaying || (last && front.len() > 0) {
                     // The search takes over, with every fully summed variable of the front.
                     replaying = false;
                     ready_search(waiting, recorded_step);
@@ -368,7 +463,7 @@ impl Factor {
             }
             if !replaying {
                 let waited = |v: usize| (k - since[v]) / PATIENCE;
-                self.eliminate_candidates(front, candidates, waiting, border, waited, k)?;
+                self.eliminate_candidates(front, candidates, waiting, Step { index: k, border, last }, waited)?;
                 self.stats.delayed += candidates.len();
                 while let Some(pivot) = recorded.get(next).filter(|pivot| pivot.step <= k) {
                     next += 1;
@@ -384,7 +479,58 @@ impl Factor {
                 }
             }
         }
-        debug_assert_eq!(front.len(), 0);
+        debug_assert!(!stage.ends || front.len() == 0, "the last step eliminates every variable");
+        Ok(())
+    }
+
+    /// The root of a split: the fronts the two halves left (the dense rows, the variables coupled
+    /// across the cut, and any pivots they delayed) summed into one, the entries across the cut
+    /// entered, and everything eliminated as at a sweep's last step (the recorded pivots replayed
+    /// while they pass, the rest searched).
+    fn root(
+        &mut self,
+        analysis: &Analysis,
+        halves: [&Option<Front>; 2],
+        values: &[f64],
+        scale: &[f64],
+        recorded: &[Scheduled],
+        work: &mut Workspace,
+    ) -> Result<(), KktError> {
+        let (n, dense) = (analysis.order(), analysis.ordering.dense);
+        let width = halves.iter().map(|half| half.as_ref().map_or(0, Front::len)).sum::<usize>();
+        let front = work.front.get_or_insert_with(|| Front::new(n, width + 4, dense));
+        front.clear(n, dense);
+        for half in halves.into_iter().flatten() {
+            front.absorb(half);
+        }
+        for &(i, j, e) in &analysis.crossing {
+            let (slot_i, slot_j) = (front.slot_of[i], front.slot_of[j]);
+            debug_assert!(slot_i != ABSENT && slot_j != ABSENT, "an entry across the cut joins two root variables");
+            front.add(slot_i, slot_j, values[e] * scale[i] * scale[j]);
+        }
+        for slot in 0..front.len() {
+            front.mark_summed(slot);
+        }
+        self.stats.largest_front = front.len();
+        for &pivot in recorded {
+            if !self.replay(front, pivot, 0) {
+                break;
+            }
+        }
+        if front.len() > 0 {
+            let Workspace { waiting, candidates, .. } = work;
+            candidates.clear();
+            candidates.extend(front.var.iter().copied());
+            waiting.stale.resize(n, true);
+            waiting.period.resize(n, 0);
+            for &v in candidates.iter() {
+                waiting.stale[v] = true;
+                waiting.period[v] = 0;
+            }
+            self.eliminate_candidates(front, candidates, waiting, Step { index: 0, border: 0, last: true }, |_| 0)?;
+            self.stats.delayed += candidates.len();
+        }
+        debug_assert_eq!(front.len(), 0, "the root eliminates every variable");
         Ok(())
     }
 
@@ -419,11 +565,9 @@ impl Factor {
         front: &mut Front,
         candidates: &mut Vec<usize>,
         waiting: &mut Waiting,
-        border: usize,
+        Step { index: step, border, last }: Step,
         waited: impl Fn(usize) -> usize,
-        step: usize,
     ) -> Result<(), KktError> {
-        let last = step + 1 == self.order.len();
         // One pass over the candidates per step; at the last step, passes until all are gone (a
         // pivot changes the front, so a variable that waited may pass on the next pass).
         let gone = &mut waiting.gone;
@@ -531,28 +675,8 @@ impl Factor {
         self.pivots.push(Pivot::Two { p, r, inverse, start, end: self.index.len(), lower: first });
     }
 
-    /// Drops the recorded pivot sequence, so that the next factorisation reusing this one searches
-    /// for its pivots.
-    pub fn forget_pivot_sequence(&mut self) {
-        self.schedule.clear();
-    }
-
-    /// The inertia of the matrix.
-    pub fn inertia(&self) -> Inertia {
-        self.inertia
-    }
-
-    /// Front sizes, pivots and fill.
-    pub fn stats(&self) -> FactorStats {
-        self.stats
-    }
-
-    /// Overwrites `b` (original numbering) with `A⁻¹ b`; `work` is scratch of any length.
-    pub fn solve_in_place(&self, b: &mut [f64], work: &mut Vec<f64>) {
-        let n = self.order.len();
-        work.clear();
-        work.extend(self.order.iter().zip(&self.scale).map(|(&v, &s)| b[v] * s));
-        let y = &mut work[..n];
+    /// `y ← L⁻¹ y` for this stage's pivots.
+    fn forward(&self, y: &mut [f64]) {
         for pivot in &self.pivots {
             match *pivot {
                 Pivot::One { p, start, end, lower, .. } => {
@@ -570,6 +694,10 @@ impl Factor {
                 }
             }
         }
+    }
+
+    /// `y ← D⁻¹ y` for this stage's pivots.
+    fn diagonal(&self, y: &mut [f64]) {
         for pivot in &self.pivots {
             match *pivot {
                 Pivot::One { p, inverse, .. } => y[p] *= inverse,
@@ -580,6 +708,10 @@ impl Factor {
                 }
             }
         }
+    }
+
+    /// `y ← L⁻ᵀ y` for this stage's pivots.
+    fn backward(&self, y: &mut [f64]) {
         for pivot in self.pivots.iter().rev() {
             match *pivot {
                 Pivot::One { p, start, end, lower, .. } => {
@@ -598,6 +730,44 @@ impl Factor {
                     y[r] -= sr;
                 }
             }
+        }
+    }
+}
+
+impl Factor {
+    /// Drops the recorded pivot sequences, so that the next factorisation reusing this one
+    /// searches for its pivots.
+    pub fn forget_pivot_sequence(&mut self) {
+        for stage in &mut self.stages {
+            stage.schedule.clear();
+        }
+    }
+
+    /// The inertia of the matrix.
+    pub fn inertia(&self) -> Inertia {
+        self.inertia
+    }
+
+    /// Front sizes, pivots and fill.
+    pub fn stats(&self) -> FactorStats {
+        self.stats
+    }
+
+    /// Overwrites `b` (original numbering) with `A⁻¹ b`; `work` is scratch of any length. The
+    /// stages' pivots come in the order of the sweeps (the halves of a split before the root).
+    pub fn solve_in_place(&self, b: &mut [f64], work: &mut Vec<f64>) {
+        let n = self.order.len();
+        work.clear();
+        work.extend(self.order.iter().zip(&self.scale).map(|(&v, &s)| b[v] * s));
+        let y = &mut work[..n];
+        for stage in &self.stages {
+            stage.forward(y);
+        }
+        for stage in &self.stages {
+            stage.diagonal(y);
+        }
+        for stage in self.stages.iter().rev() {
+            stage.backward(y);
         }
         for ((&v, &s), &yk) in self.order.iter().zip(&self.scale).zip(y.iter()) {
             b[v] = yk * s;

@@ -122,6 +122,28 @@ impl Front {
         self.stride = stride;
     }
 
+    /// Adds `value` at `(i, j)` and `(j, i)` (once on the diagonal).
+    pub fn add(&mut self, i: usize, j: usize, value: f64) {
+        let (i, j) = if i >= j { (i, j) } else { (j, i) };
+        self.a[i * self.stride + j] += value;
+    }
+
+    /// Sums `other` into this front (an extend-add): its variables that are not here yet join,
+    /// its entries are added, and a variable fully summed in either is fully summed here.
+    pub fn absorb(&mut self, other: &Front) {
+        let mut slots = Vec::with_capacity(other.len());
+        for (i, &v) in other.var.iter().enumerate() {
+            let slot = if self.slot_of[v] == ABSENT { self.push(v) } else { self.slot_of[v] };
+            self.summed[slot] |= other.summed[i];
+            slots.push(slot);
+        }
+        for (i, &slot_i) in slots.iter().enumerate() {
+            for (j, &slot_j) in slots[..=i].iter().enumerate() {
+                self.add(slot_i, slot_j, other.a[i * other.stride + j]);
+            }
+        }
+    }
+
     /// Adds `value` at `(last, j)` and `(j, last)` (once on the diagonal), `last` the newest slot.
     #[inline]
     pub fn add_to_last(&mut self, j: usize, value: f64) {

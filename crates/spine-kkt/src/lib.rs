@@ -7,7 +7,9 @@
 //!   the band of a chain), the factorisation (a frontal sweep with Bunch–Kaufman pivoting among
 //!   the fully summed variables, delayed pivots, Ruiz scaling, no pivot perturbation, so the
 //!   inertia is exact; from the second factorisation on, the pivots of the one before are replayed,
-//!   each tested again) and solves with iterative refinement to round-off.
+//!   each tested again) and solves with iterative refinement to round-off. From [`SPLIT_FROM`]
+//!   variables on, the chain is cut in two halves swept at once on two threads toward a root front
+//!   where they meet ([`SweepOptions`]; the factor is the same to the bit on one thread).
 //! * [`install`]: makes this solver the `libpardiso.so` of the process, so that Debian's Ipopt
 //!   3.11 (or a 3.14) uses it with `linear_solver pardiso`; `spine-ipopt` does this for its
 //!   default linear solver `"spine"`.
@@ -43,7 +45,7 @@ mod pivot;
 mod solver;
 mod symmetric;
 
-pub use analysis::Analysis;
+pub use analysis::{Analysis, ROOT_LIMIT, SPLIT_FROM};
 pub use dump::Dump;
 pub use factor::{
     Factor, FactorStats, Inertia, BORDER_THRESHOLD, LAST_RESORT_THRESHOLD, PATIENCE, RELAXED_THRESHOLD, SINGULAR,
@@ -51,7 +53,8 @@ pub use factor::{
 };
 pub use install::install;
 pub use solver::{
-    SolveReport, SymmetricSolver, BACKWARD_ERROR, COMPONENTWISE_ERROR, GMRES_ITERATIONS, KRYLOV_AFTER, MAX_REFINEMENT,
+    SolveReport, SweepOptions, SymmetricSolver, BACKWARD_ERROR, COMPONENTWISE_ERROR, GMRES_ITERATIONS, KRYLOV_AFTER,
+    MAX_REFINEMENT,
 };
 pub use symmetric::Structure;
 

@@ -27,6 +27,8 @@ pub struct Ordering {
     pub position: Vec<usize>,
     /// How many dense rows lead the order.
     pub dense: usize,
+    /// In a split order ([`Ordering::split`]), where the second half starts.
+    pub split: Option<usize>,
 }
 
 impl Ordering {
@@ -34,6 +36,18 @@ impl Ordering {
     /// rest, one connected component after another, with the leaves postponed from
     /// [`POSTPONE_LEAVES_FROM`] variables on.
     pub fn new(adjacent: &[Vec<usize>]) -> Self {
+        Self::build(adjacent, false)
+    }
+
+    /// [`Ordering::new`] cut in two halves for two sweeps from the two ends of the chain toward
+    /// its middle: the dense rows, then the first half of the reverse Cuthill–McKee order, then the
+    /// second half reversed (so that it, too, starts at an end of the band), each with its leaves
+    /// postponed; `split` is where the second half starts.
+    pub fn split(adjacent: &[Vec<usize>]) -> Self {
+        Self::build(adjacent, true)
+    }
+
+    fn build(adjacent: &[Vec<usize>], split: bool) -> Self {
         let n = adjacent.len();
         let mut degrees: Vec<usize> = adjacent.iter().map(Vec::len).collect();
         degrees.sort_unstable();
@@ -58,7 +72,14 @@ impl Ordering {
             cuthill_mckee(&sparse, start, &mut placed, &mut rest);
         }
         rest.reverse();
-        if n >= POSTPONE_LEAVES_FROM {
+        let mut halves = None;
+        if split && rest.len() >= 2 {
+            let mut second = rest.split_off(rest.len() / 2);
+            second.reverse();
+            order.extend(postpone_leaves(&sparse, rest));
+            halves = Some(order.len());
+            order.extend(postpone_leaves(&sparse, second));
+        } else if n >= POSTPONE_LEAVES_FROM {
             order.extend(postpone_leaves(&sparse, rest));
         } else {
             order.extend(rest);
@@ -67,7 +88,7 @@ impl Ordering {
         for (k, &v) in order.iter().enumerate() {
             position[v] = k;
         }
-        Self { order, position, dense }
+        Self { order, position, dense, split: halves }
     }
 }
 
@@ -76,14 +97,17 @@ impl Ordering {
 /// neighbours. The neighbour then becomes fully summed at the step the leaf enters, so the two can
 /// be a pivot at once; in the reverse Cuthill–McKee order the leaf (whose largest entry is in that
 /// row when its own diagonal is small) would wait for the row: 13 steps per slack in a KKT matrix
-/// of eq. (33) at N = 1000, two thirds of all waits.
+/// of eq. (33) at N = 1000, two thirds of all waits. `order` may be part of the graph (one half
+/// of a split order): a leaf whose row is outside it stays where it is, and only the row's
+/// neighbours inside it count.
 fn postpone_leaves(sparse: &[Vec<usize>], order: Vec<usize>) -> Vec<usize> {
     let n = sparse.len();
-    let is_leaf = |v: usize| sparse[v].len() == 1 && sparse[sparse[v][0]].len() > 1;
     let mut position = vec![usize::MAX; n];
     for (k, &v) in order.iter().enumerate() {
         position[v] = k;
     }
+    let inside = |v: usize| position[v] != usize::MAX;
+    let is_leaf = |v: usize| sparse[v].len() == 1 && sparse[sparse[v][0]].len() > 1 && inside(sparse[v][0]);
     // `after[v]`: the leaves placed right after `v`.
     let mut after: Vec<Vec<usize>> = vec![Vec::new(); n];
     for &leaf in &order {
@@ -92,7 +116,7 @@ fn postpone_leaves(sparse: &[Vec<usize>], order: Vec<usize>) -> Vec<usize> {
             let last = sparse[parent]
                 .iter()
                 .copied()
-                .filter(|&u| !is_leaf(u))
+                .filter(|&u| !is_leaf(u) && inside(u))
                 .chain(std::iter::once(parent))
                 .max_by_key(|&u| position[u])
                 .unwrap_or(parent);
@@ -193,6 +217,44 @@ mod tests {
             let (a, b) = (ordering.position[label(i)], ordering.position[label(i + 1)]);
             assert_eq!(a.abs_diff(b), 1, "path neighbours {i}, {} are not adjacent in the order", i + 1);
         }
+    }
+
+    /// A split order of a path with a hub: the hub first, then the first half of the path from one
+    /// end to the middle, then the second half from the other end to the middle; each half keeps
+    /// path neighbours next to each other, and the last variables of the two halves are the two
+    /// sides of the cut.
+    #[test]
+    fn a_split_order_sweeps_each_half_of_a_path_from_its_end_to_the_middle() {
+        let n = 5001;
+        let hub = n - 1;
+        let mut adjacent = vec![Vec::new(); n];
+        for i in 0..n - 2 {
+            adjacent[i].push(i + 1);
+            adjacent[i + 1].push(i);
+        }
+        for v in 0..hub {
+            adjacent[v].push(hub);
+            adjacent[hub].push(v);
+        }
+        let ordering = Ordering::split(&adjacent);
+        assert_eq!((ordering.dense, ordering.order[0]), (1, hub));
+        let split = ordering.split.expect("a split order");
+        assert_eq!(split, 1 + (n - 1) / 2);
+        // Each half starts at an end of the path (an end is a leaf, postponed past its neighbour's
+        // other neighbour), then follows the path.
+        let starts = [&ordering.order[1..4], &ordering.order[split..split + 3]];
+        let at_end = |end: usize| starts.iter().position(|start| start.contains(&end));
+        assert!(at_end(0).is_some() && at_end(n - 2).is_some() && at_end(0) != at_end(n - 2), "{starts:?}");
+        for half in [4..split, split + 3..n] {
+            for pair in ordering.order[half].windows(2) {
+                assert_eq!(pair[0].abs_diff(pair[1]), 1, "{pair:?} are not path neighbours");
+            }
+        }
+        assert_eq!(ordering.order[split - 1].abs_diff(ordering.order[n - 1]), 1, "the halves meet at the cut");
+        let mut sorted = ordering.order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "a permutation");
+        assert_eq!(Ordering::new(&adjacent).split, None);
     }
 
     /// A path of rows, each with a leaf (a slack) hanging on it: from [`POSTPONE_LEAVES_FROM`]

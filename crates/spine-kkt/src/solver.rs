@@ -23,6 +23,35 @@ pub struct SymmetricSolver {
     analysis: Analysis,
     values: Vec<f64>,
     factor: Option<Factor>,
+    options: SweepOptions,
+}
+
+/// How the frontal sweep may be cut and run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SweepOptions {
+    /// Split an order of at least [`crate::SPLIT_FROM`] variables (when the cut is narrow) into two
+    /// halves swept from the two ends of the chain and a root front where they meet. The split
+    /// changes the pivots, and with them the rounding.
+    pub split: bool,
+    /// Sweep the two halves of a split at once, on two threads. The factor is the same to the bit
+    /// on one thread or two.
+    pub two_threads: bool,
+}
+
+impl Default for SweepOptions {
+    /// Split unless the environment variable `SPINE_KKT_SPLIT` is `0`; two threads unless
+    /// `SPINE_KKT_THREADS` is `1`, when the machine has two cores or more.
+    fn default() -> Self {
+        static DEFAULT: std::sync::OnceLock<SweepOptions> = std::sync::OnceLock::new();
+        *DEFAULT.get_or_init(|| {
+            let unless = |name: &str, off: &str| std::env::var(name).map(|v| v.trim() != off);
+            SweepOptions {
+                split: unless("SPINE_KKT_SPLIT", "0").unwrap_or(true),
+                two_threads: unless("SPINE_KKT_THREADS", "1")
+                    .unwrap_or_else(|_| std::thread::available_parallelism().is_ok_and(|cores| cores.get() >= 2)),
+            }
+        })
+    }
 }
 
 /// What one solve did.
@@ -41,7 +70,12 @@ pub struct SolveReport {
 impl SymmetricSolver {
     /// Orders the structure (the symbolic phase).
     pub fn new(structure: Structure) -> Self {
-        Self { analysis: Analysis::new(structure), values: Vec::new(), factor: None }
+        Self::with_options(structure, SweepOptions::default())
+    }
+
+    /// [`SymmetricSolver::new`] with these options.
+    pub fn with_options(structure: Structure, options: SweepOptions) -> Self {
+        Self { analysis: Analysis::new(structure, options.split), values: Vec::new(), factor: None, options }
     }
 
     /// The analysis of the structure.
@@ -52,7 +86,7 @@ impl SymmetricSolver {
     /// Factorises the matrix with these values (in the structure's stored order) and returns its
     /// inertia. A singular matrix is an error and leaves no factorisation.
     pub fn factorize(&mut self, values: &[f64]) -> Result<Inertia, KktError> {
-        let factor = Factor::reusing(&self.analysis, values, self.factor.take())?;
+        let factor = Factor::reusing(&self.analysis, values, self.factor.take(), self.options.two_threads)?;
         self.values.clear();
         self.values.extend_from_slice(values);
         let inertia = factor.inertia();

@@ -4,7 +4,7 @@
 
 use faer::{Mat, Side};
 use spine_kkt::pardiso::{self, error, Call, State, PARAMETERS};
-use spine_kkt::{Dump, KktError, Structure, SymmetricSolver};
+use spine_kkt::{Dump, KktError, Structure, SweepOptions, SymmetricSolver, SPLIT_FROM};
 
 /// SplitMix64, for reproducible random matrices.
 struct Rng(u64);
@@ -147,6 +147,49 @@ fn fronts_stay_narrow_on_long_chains() {
     let stats = solver.stats().unwrap();
     assert_eq!(solver.analysis().dense_rows(), 5);
     assert!(stats.largest_front < 40, "front {} for a chain of 2000 links", stats.largest_front);
+}
+
+/// From [`SPLIT_FROM`] variables on, the sweep of a chain is cut in two halves, swept from the
+/// two ends, and a root where they meet. On a chain KKT matrix of order 10 005 whose values drift
+/// (so that the later factorisations replay the pivots of the one before): the split has the
+/// inertia of the single sweep (both are exact) and solves to round-off; on one thread or two, the
+/// same statistics and the same solutions to the bit; and its fronts (the root's too) stay narrow.
+#[test]
+fn a_split_sweep_agrees_with_one_sweep_and_is_the_same_on_one_thread_or_two() {
+    let mut rng = Rng(13);
+    let base = chain_kkt(&mut rng, 2000, 4, 5, 6.0);
+    assert!(base.n >= SPLIT_FROM);
+    let structure = base.structure().0;
+    let solver =
+        |split, two_threads| SymmetricSolver::with_options(structure.clone(), SweepOptions { split, two_threads });
+    let (mut single, mut one, mut two) = (solver(false, false), solver(true, false), solver(true, true));
+    assert!(!single.analysis().is_split() && one.analysis().is_split() && two.analysis().is_split());
+    for round in 0..3 {
+        let mut upper = base.clone();
+        for v in upper.entries.values_mut() {
+            *v *= 1.0 + 0.05 * f64::from(round) * rng.symmetric();
+        }
+        let values = upper.structure().1;
+        let inertia = single.factorize(&values).unwrap();
+        let x_true: Vec<f64> = (0..upper.n).map(|_| rng.symmetric()).collect();
+        let mut b = vec![0.0; upper.n];
+        structure.multiply(&values, &x_true, &mut b);
+        let mut solutions = Vec::new();
+        for solver in [&mut single, &mut one, &mut two] {
+            assert_eq!(solver.factorize(&values).unwrap(), inertia, "round {round}");
+            let mut x = b.clone();
+            let report = solver.solve(&mut x).unwrap();
+            assert!(report.normwise_error < 1e-15, "round {round}: {report:?}");
+            solutions.push(x);
+        }
+        assert_eq!(solutions[1], solutions[2], "round {round}: one thread and two");
+        let (stats_one, stats_two) = (one.stats().unwrap(), two.stats().unwrap());
+        assert_eq!(stats_one, stats_two, "round {round}");
+        assert!(stats_two.largest_front < 40, "round {round}: front {}", stats_two.largest_front);
+        if round > 0 {
+            assert!(stats_two.replayed * 10 > stats_two.pivots * 9, "round {round}: {stats_two:?}");
+        }
+    }
 }
 
 #[test]
