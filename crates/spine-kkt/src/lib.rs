@@ -43,6 +43,7 @@ pub mod ordering;
 pub mod pardiso;
 mod pivot;
 mod solver;
+mod sweep;
 mod symmetric;
 
 pub use analysis::{Analysis, ROOT_LIMIT, SPLIT_FROM};
