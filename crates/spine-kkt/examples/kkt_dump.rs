@@ -3,7 +3,9 @@
 //! result of one solve: `cargo run --release -p spine-kkt --example kkt_dump FILE [REPEATS]`
 //! (REPEATS, 20 by default, also serves `perf record`). With `KKT_SEARCH` set, every factorisation
 //! searches for its pivots instead of replaying those of the one before; with `KKT_FACTOR_ONLY`
-//! set, it stops after the factorisations (for `perf record` of the factorisation alone).
+//! set, it stops after the factorisations (for `perf record` of the factorisation alone); with
+//! `KKT_TIMES` set, it prints every factorisation's time; with `KKT_COLD=MB`, it writes MB
+//! megabytes between two factorisations (untimed), so that each starts with cold caches.
 use spine_kkt::{Dump, SymmetricSolver};
 fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
@@ -21,6 +23,9 @@ fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
         let clock = std::time::Instant::now();
         out = run();
         best = best.min(clock.elapsed().as_secs_f64());
+        if std::env::var_os("KKT_TIMES").is_some() {
+            eprintln!("time {:.3}", clock.elapsed().as_secs_f64() * 1e3);
+        }
     }
     eprintln!("mean {:.3} ms", all.elapsed().as_secs_f64() * 1e3 / repeats as f64);
     (best, out)

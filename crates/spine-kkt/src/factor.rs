@@ -167,18 +167,26 @@ impl Factor {
         match self.stages.as_mut_slice() {
             [single] => sweep(single, 0),
             [first, second, root] => {
-                let (one, two) = if two_threads {
-                    std::thread::scope(|scope| {
-                        let one = scope.spawn(|| sweep(first, 0));
+                if two_threads {
+                    // The first half goes to whichever thread takes it first: the helper, or this
+                    // thread once the second half is done (a new thread can take a few tenths of
+                    // a millisecond to start on a machine whose other core is idle).
+                    let unclaimed = std::sync::Mutex::new(Some(&mut *first));
+                    let claim = || unclaimed.lock().ok().and_then(|mut half| half.take());
+                    let (one, two) = std::thread::scope(|scope| {
+                        let helper = scope.spawn(|| claim().map(|half| sweep(half, 0)));
                         let two = sweep(second, 1);
-                        // A panic of the first half's thread goes on in this one.
-                        (one.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)), two)
-                    })
+                        let here = claim().map(|half| sweep(half, 0));
+                        // A panic of the helper goes on in this thread.
+                        let helped = helper.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                        (here.or(helped), two)
+                    });
+                    one.unwrap_or(Ok(()))?;
+                    two?;
                 } else {
-                    (sweep(first, 0), sweep(second, 1))
-                };
-                one?;
-                two?;
+                    sweep(first, 0)?;
+                    sweep(second, 1)?;
+                }
                 let halves = [first.front(), second.front()];
                 root.run(|f, recorded, work| f.root(analysis, halves, values, scale, recorded, work))
             }
