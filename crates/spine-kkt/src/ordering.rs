@@ -63,19 +63,25 @@ impl Ordering {
             .map(|(v, a)| if is_dense[v] { Vec::new() } else { a.iter().copied().filter(|&u| !is_dense[u]).collect() })
             .collect();
         let mut placed = is_dense.clone();
+        // Each variable's breadth-first level in its component's Cuthill–McKee order.
+        let mut level = vec![0; n];
         let mut rest = Vec::with_capacity(n - dense);
         for seed in 0..n {
             if placed[seed] {
                 continue;
             }
             let start = peripheral_node(&sparse, seed);
-            cuthill_mckee(&sparse, start, &mut placed, &mut rest);
+            cuthill_mckee(&sparse, start, &mut placed, &mut rest, &mut level);
         }
         rest.reverse();
         let mut halves = None;
         if split && rest.len() >= 2 {
-            let mut second = rest.split_off(rest.len() / 2);
-            second.reverse();
+            // The second half runs from its end of the band to the cut level by level, each level
+            // in the order the first half (and one sweep) has its levels.
+            let second = rest.split_off(rest.len() / 2);
+            let mut levels: Vec<&[usize]> = second.chunk_by(|&a, &b| level[a] == level[b]).collect();
+            levels.reverse();
+            let second = levels.concat();
             order.extend(postpone_leaves(&sparse, rest));
             halves = Some(order.len());
             order.extend(postpone_leaves(&sparse, second));
@@ -173,8 +179,15 @@ fn peripheral_node(adjacent: &[Vec<usize>], seed: usize) -> usize {
 }
 
 /// Cuthill–McKee from `start`: breadth first, neighbours by increasing degree.
-fn cuthill_mckee(adjacent: &[Vec<usize>], start: usize, placed: &mut [bool], order: &mut Vec<usize>) {
+fn cuthill_mckee(
+    adjacent: &[Vec<usize>],
+    start: usize,
+    placed: &mut [bool],
+    order: &mut Vec<usize>,
+    level: &mut [usize],
+) {
     placed[start] = true;
+    level[start] = 0;
     let mut head = order.len();
     order.push(start);
     let mut next = Vec::new();
@@ -186,6 +199,7 @@ fn cuthill_mckee(adjacent: &[Vec<usize>], start: usize, placed: &mut [bool], ord
         next.sort_unstable_by_key(|&u| (adjacent[u].len(), u));
         for &u in &next {
             placed[u] = true;
+            level[u] = level[v] + 1;
             order.push(u);
         }
     }
@@ -255,6 +269,45 @@ mod tests {
         sorted.sort_unstable();
         assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "a permutation");
         assert_eq!(Ordering::new(&adjacent).split, None);
+    }
+
+    /// The second half of a split ladder (two rails joined by rungs) runs toward the cut one
+    /// breadth-first level after another, and keeps each level in the order the unsplit order has
+    /// it (a plain reversal would reverse it too, and with it which of two coupled variables
+    /// becomes a pivot first).
+    #[test]
+    fn the_second_half_of_a_split_order_keeps_each_level_in_the_unsplit_order() {
+        let rungs = 1500;
+        let n = 2 * rungs;
+        let mut adjacent = vec![Vec::new(); n];
+        let mut join = |a: usize, b: usize| {
+            adjacent[a].push(b);
+            adjacent[b].push(a);
+        };
+        for i in 0..rungs {
+            join(2 * i, 2 * i + 1);
+            if i + 1 < rungs {
+                join(2 * i, 2 * i + 2);
+                join(2 * i + 1, 2 * i + 3);
+            }
+        }
+        let (split, unsplit) = (Ordering::split(&adjacent), Ordering::new(&adjacent));
+        let cut = split.split.expect("a split order");
+        // Levels from where the unsplit Cuthill–McKee order starts (the reverse order's end).
+        let (mut level, mut placed, mut order) = (vec![0; n], vec![false; n], Vec::new());
+        cuthill_mckee(&adjacent, unsplit.order[n - 1], &mut placed, &mut order, &mut level);
+        let second = &unsplit.order[cut..];
+        let mut same_level = 0;
+        for pair in second.windows(2) {
+            if level[pair[0]] == level[pair[1]] {
+                assert!(split.position[pair[0]] < split.position[pair[1]], "{pair:?} swapped");
+                same_level += 1;
+            }
+        }
+        assert!(same_level >= rungs / 2 - 2, "{same_level} pairs in one level");
+        // Level by level toward the cut: the levels of the split's second half never decrease.
+        let levels: Vec<usize> = split.order[cut..].iter().map(|&v| level[v]).collect();
+        assert!(levels.windows(2).all(|w| w[0] <= w[1]), "the second half does not run toward the cut");
     }
 
     /// A path of rows, each with a leaf (a slack) hanging on it: from [`POSTPONE_LEAVES_FROM`]

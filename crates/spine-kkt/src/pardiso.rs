@@ -33,11 +33,13 @@ pub mod error {
 static FACTORIZATIONS: AtomicU64 = AtomicU64::new(0);
 static FACTOR_NANOS: AtomicU64 = AtomicU64::new(0);
 static SOLVES: AtomicU64 = AtomicU64::new(0);
+static SOLVE_NANOS: AtomicU64 = AtomicU64::new(0);
 static REPLAYED: AtomicU64 = AtomicU64::new(0);
 static PIVOTS: AtomicU64 = AtomicU64::new(0);
 
 /// Process-wide counts of this solver's work (all threads): factorisations, their total time,
-/// their pivots and those of them replayed from the factorisation before, solves.
+/// their pivots and those of them replayed from the factorisation before, solves and their total
+/// time.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     pub factorizations: u64,
@@ -45,6 +47,7 @@ pub struct Counters {
     pub pivots: u64,
     pub replayed: u64,
     pub solves: u64,
+    pub solve_nanos: u64,
 }
 
 /// The counters so far; subtract two readings to measure one run.
@@ -55,6 +58,7 @@ pub fn counters() -> Counters {
         pivots: PIVOTS.load(Ordering::Relaxed),
         replayed: REPLAYED.load(Ordering::Relaxed),
         solves: SOLVES.load(Ordering::Relaxed),
+        solve_nanos: SOLVE_NANOS.load(Ordering::Relaxed),
     }
 }
 
@@ -227,6 +231,7 @@ fn recorded(call: &Call<'_>, rhs: Option<Vec<f64>>) -> crate::Dump {
 /// Phase 33: solves for the `nrhs` right-hand sides in `b` into `x` (and over `b` when `iparm[5]`
 /// asks for it); the refinement steps go to `iparm[6]`.
 fn solve(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), KktError> {
+    let clock = Instant::now();
     let n = call.n;
     let (mut steps, mut worst, mut krylov) = (0, 0.0f64, false);
     // The solution goes to `x`, and over `b` too when `iparm[5]` asks for it (Ipopt does).
@@ -245,6 +250,7 @@ fn solve(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), KktErr
         }
     }
     SOLVES.fetch_add(call.nrhs as u64, Ordering::Relaxed);
+    SOLVE_NANOS.fetch_add(clock.elapsed().as_nanos() as u64, Ordering::Relaxed);
     // Diagnostics: `SPINE_KKT_DUMP_BAD=FILE` writes the first system (matrix and
     // right-hand side) whose solve ends with a normwise backward error above 1e-8.
     if let Some(path) = dump_bad {
@@ -253,7 +259,10 @@ fn solve(solver: &mut SymmetricSolver, call: &mut Call<'_>) -> Result<(), KktErr
         }
     }
     if trace() {
-        eprintln!("spine-kkt: solve, GMRES {krylov}, {steps} refinement steps, normwise backward error {worst:.1e}");
+        eprintln!(
+            "spine-kkt: solve {:.3} ms, GMRES {krylov}, {steps} refinement steps, normwise backward error {worst:.1e}",
+            clock.elapsed().as_secs_f64() * 1e3
+        );
     }
     call.iparm[6] = steps as i32;
     Ok(())
