@@ -9,11 +9,13 @@
 use crate::ordering::Ordering;
 use crate::symmetric::Structure;
 
-/// Orders of at least this many variables are split in two halves (N ≥ 400 links in eq. (33),
-/// whose KKT matrix has order 10 N + 3); below it one sweep's factorisation takes at most about
-/// half a millisecond, and starting a thread would eat much of what the split saves. The paper's
-/// cases (N ≤ 50) are never split.
-pub const SPLIT_FROM: usize = 4000;
+/// Orders of at least this many variables are split in two halves (N ≥ 600 links in eq. (33),
+/// whose KKT matrix has order 10 N + 3). Measured in a refined N = 1000 solve, factorisations and
+/// solves together: at the 400-link level (order 4003) the split saved in the factorisations what
+/// it lost in the solves (73 ms against 74), at the 800- and 1000-link levels 8 % (the solves
+/// lose because the split's `L` is larger and half of it was written by the other core). The
+/// paper's cases (N ≤ 50) are never split.
+pub const SPLIT_FROM: usize = 6000;
 /// A split whose root front would hold more variables than this (the dense rows and those coupled
 /// across the cut; the root costs the cube of its width) is not taken.
 pub const ROOT_LIMIT: usize = 64;
