@@ -174,11 +174,14 @@ impl Factor {
                     let unclaimed = std::sync::Mutex::new(Some(&mut *first));
                     let claim = || unclaimed.lock().ok().and_then(|mut half| half.take());
                     let (one, two) = std::thread::scope(|scope| {
-                        let helper = scope.spawn(|| claim().map(|half| sweep(half, 0)));
+                        // Where no thread can be started, this thread takes both halves.
+                        let helper =
+                            std::thread::Builder::new().spawn_scoped(scope, || claim().map(|half| sweep(half, 0))).ok();
                         let two = sweep(second, 1);
                         let here = claim().map(|half| sweep(half, 0));
                         // A panic of the helper goes on in this thread.
-                        let helped = helper.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                        let helped = helper
+                            .and_then(|helper| helper.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
                         (here.or(helped), two)
                     });
                     one.unwrap_or(Ok(()))?;
