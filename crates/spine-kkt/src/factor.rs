@@ -184,7 +184,7 @@ impl Factor {
                             .and_then(|helper| helper.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
                         (here.or(helped), two)
                     });
-                    one.unwrap_or(Ok(()))?;
+                    one.unwrap_or_else(|| Err(KktError::Internal("the first half of the split was not swept".into())))?;
                     two?;
                 } else {
                     sweep(first, 0)?;
@@ -193,7 +193,7 @@ impl Factor {
                 let halves = [first.front(), second.front()];
                 root.run(|f, recorded, work| f.root(analysis, halves, values, scale, recorded, work))
             }
-            _ => Err(KktError::Input(format!(
+            _ => Err(KktError::Internal(format!(
                 "{} stages for an analysis of {}",
                 self.stages.len(),
                 analysis.stages.len()

@@ -74,4 +74,7 @@ pub enum KktError {
     /// The shim library could not be written or loaded.
     #[error("cannot load the Pardiso shim: {0}")]
     Load(String),
+    /// A step of the factorisation did not happen (a broken invariant: a bug of this crate).
+    #[error("internal error: {0}")]
+    Internal(String),
 }

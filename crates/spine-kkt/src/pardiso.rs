@@ -139,7 +139,7 @@ impl State {
             Ok(()) => error::NONE,
             Err(KktError::Singular { .. }) => error::ZERO_PIVOT,
             Err(KktError::Input(_) | KktError::NotFactorized) => error::INPUT,
-            Err(KktError::Load(_)) => error::INTERNAL,
+            Err(KktError::Load(_) | KktError::Internal(_)) => error::INTERNAL,
         }
     }
 
