@@ -3,9 +3,9 @@
 //! iteration and the optimum J. Each configuration runs `REPEATS` times and reports the fastest
 //! (machines here are shared and noisy).
 //!
-//! Usage: `design_scaling [--refine=off|auto|FROM] [--repeats=R] [--peers] [N ...]` (default N: 5 10
-//! 20 50 100 200 500 1000; default refine: the solver's default, "auto"; FROM: a ladder from FROM
-//! links, factor 2). `--peers` solves `bench_peers`' case files instead (its tolerances, 1e-8 and
+//! Usage: `design_scaling [--refine=off|auto|FROM[:FACTOR]] [--repeats=R] [--peers] [N ...]`
+//! (default N: 5 10 20 50 100 200 500 1000; default refine: the solver's default, "auto"; FROM: a
+//! ladder from FROM links, factor FACTOR or 2). `--peers` solves `bench_peers`' case files instead (its tolerances, 1e-8 and
 //! 1e-9 s²), with its ladder under `--refine=auto`; the full space only. `--ipopt=NAME=VALUE`
 //! (repeatable) adds an Ipopt option to every solve, as the case file's `solver.ipopt_options`;
 //! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false).
@@ -14,7 +14,7 @@
 use spine_benchmarks::peers;
 use spine_case::{Case, ValidCase};
 use spine_design::fixtures::{arch_start, scaled_family};
-use spine_design::refine::{Ladder, Refine, RefineMode};
+use spine_design::refine::{Refine, RefineMode};
 use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, Formulation, SolverSettings};
 
@@ -48,11 +48,7 @@ fn main() {
             continue;
         }
         if let Some(mode) = arg.strip_prefix("--refine=") {
-            settings.refine = match mode {
-                "off" => Refine::Mode(RefineMode::Off),
-                "auto" => Refine::Mode(RefineMode::Auto),
-                from => Refine::Ladder(Ladder { from: from.parse().expect("--refine=off|auto|FROM"), factor: 2.0 }),
-            };
+            settings.refine = mode.parse().expect("--refine=off|auto|FROM|FROM:FACTOR");
         } else if let Some(r) = arg.strip_prefix("--repeats=") {
             repeats = r.parse().expect("--repeats=R");
         } else {
