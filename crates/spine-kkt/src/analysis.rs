@@ -170,9 +170,8 @@ fn lay_out(structure: &Structure, ordering: &Ordering) -> (Vec<Stage>, Vec<(usiz
             step[s][v] = t;
         }
     }
-    // Per stage: entries per step; the last step at which each variable's entries enter; whether
-    // a variable has entries outside the stage.
-    let mut count: Vec<Vec<usize>> = vars.iter().map(|list| vec![0usize; list.len() + 1]).collect();
+    // Per stage, the last step at which each variable's entries enter; whether a variable has
+    // entries outside the stage.
     let mut last: Vec<Vec<usize>> = step.clone();
     let mut elsewhere = vec![0usize; n];
     let mut crossing = Vec::new();
@@ -182,7 +181,6 @@ fn lay_out(structure: &Structure, ordering: &Ordering) -> (Vec<Stage>, Vec<(usiz
         match stage_of(lo, hi) {
             Some(s) => {
                 let t = step[s][hi];
-                count[s][t + 1] += 1;
                 last[s][lo] = last[s][lo].max(t);
                 last[s][hi] = last[s][hi].max(t);
                 elsewhere[lo] |= 1 << (s + 1);
@@ -200,41 +198,44 @@ fn lay_out(structure: &Structure, ordering: &Ordering) -> (Vec<Stage>, Vec<(usiz
         .iter()
         .enumerate()
         .map(|(s, list)| {
-            let enter_start = prefix_sums(&count[s]);
-            let mut next = enter_start.clone();
-            let mut enter = vec![(0, 0); enter_start[list.len()]];
-            for (r, c, e) in structure.entries() {
-                let (pr, pc) = (ordering.position[r], ordering.position[c]);
-                if stage_of(pr.min(pc), pr.max(pc)) == Some(s) {
-                    let t = step[s][pr.max(pc)];
-                    enter[next[t]] = (pr.min(pc), e);
-                    next[t] += 1;
-                }
-            }
+            // An entry enters with the later of its two variables.
+            let entries = || {
+                structure.entries().filter_map(|(r, c, e)| {
+                    let (pr, pc) = (ordering.position[r], ordering.position[c]);
+                    let (lo, hi) = (pr.min(pc), pr.max(pc));
+                    (stage_of(lo, hi) == Some(s)).then(|| (step[s][hi], (lo, e)))
+                })
+            };
+            let (enter_start, enter) = group_by_step(list.len(), entries);
             // Fully summed in this stage: every entry here (and, after a split, not a dense row).
             let summable = |v: usize| !split || (v >= dense && elsewhere[v] & !(1 << (s + 1)) == 0);
-            let mut by_last = vec![0usize; list.len() + 1];
-            for &v in list.iter().filter(|&&v| summable(v)) {
-                by_last[last[s][v] + 1] += 1;
-            }
-            let summed_start = prefix_sums(&by_last);
-            let mut next = summed_start.clone();
-            let mut summed = vec![0; summed_start[list.len()]];
-            for &v in list.iter().filter(|&&v| summable(v)) {
-                let t = last[s][v];
-                summed[next[t]] = v;
-                next[t] += 1;
-            }
+            let finished = || list.iter().filter(|&&v| summable(v)).map(|&v| (last[s][v], v));
+            let (summed_start, summed) = group_by_step(list.len(), finished);
             Stage { vars: list.clone(), enter_start, enter, summed_start, summed, ends: !split }
         })
         .collect();
     (stages, crossing)
 }
 
-fn prefix_sums(count: &[usize]) -> Vec<usize> {
-    let mut sums = count.to_vec();
-    for i in 1..sums.len() {
-        sums[i] += sums[i - 1];
+/// The `(step, item)` pairs that `items` gives (twice) grouped by step `0..steps` (a stable
+/// counting sort): where each step's group starts, and the items, step after step, each step's in
+/// the order given.
+fn group_by_step<T: Copy + Default, I: Iterator<Item = (usize, T)>>(
+    steps: usize,
+    items: impl Fn() -> I,
+) -> (Vec<usize>, Vec<T>) {
+    let mut start = vec![0usize; steps + 1];
+    for (t, _) in items() {
+        start[t + 1] += 1;
     }
-    sums
+    for t in 0..steps {
+        start[t + 1] += start[t];
+    }
+    let mut next = start.clone();
+    let mut grouped = vec![T::default(); start[steps]];
+    for (t, item) in items() {
+        grouped[next[t]] = item;
+        next[t] += 1;
+    }
+    (start, grouped)
 }
