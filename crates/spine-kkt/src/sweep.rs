@@ -142,6 +142,16 @@ struct Waiting {
     gone: Vec<bool>,
 }
 
+/// The search takes over: every fully summed variable of the front is a candidate, to be tested
+/// at its next chance.
+fn take_over(front: &Front, candidates: &mut Vec<usize>, stale: &mut [bool]) {
+    candidates.clear();
+    candidates.extend((0..front.len()).filter(|&slot| front.is_summed(slot)).map(|slot| front.var[slot]));
+    for &v in candidates.iter() {
+        stale[v] = true;
+    }
+}
+
 impl StageFactor {
     /// The front the sweep left: after a half of a split, what goes to the root.
     pub(crate) fn front(&self) -> &Option<Front> {
@@ -278,15 +288,9 @@ impl StageFactor {
                     recorded_gone += 1 + usize::from(pivot.r.is_some());
                 }
                 if !replaying || (last && front.len() > 0) {
-                    // The search takes over, with every fully summed variable of the front.
                     replaying = false;
                     ready_search(waiting, recorded_step);
-                    candidates.clear();
-                    candidates
-                        .extend((0..front.len()).filter(|&slot| front.is_summed(slot)).map(|slot| front.var[slot]));
-                    for &v in candidates.iter() {
-                        waiting.stale[v] = true;
-                    }
+                    take_over(front, candidates, &mut waiting.stale);
                 }
             }
             if !replaying {
@@ -347,14 +351,11 @@ impl StageFactor {
         }
         if front.len() > 0 {
             let Workspace { waiting, candidates, .. } = work;
-            candidates.clear();
-            candidates.extend(front.var.iter().copied());
+            // Sized for the tests; at the root, as at a sweep's last step, every candidate is
+            // tested on every pass whatever its marks.
             waiting.stale.resize(n, true);
             waiting.period.resize(n, 0);
-            for &v in candidates.iter() {
-                waiting.stale[v] = true;
-                waiting.period[v] = 0;
-            }
+            take_over(front, candidates, &mut waiting.stale);
             self.eliminate_candidates(front, candidates, waiting, Step { index: 0, border: 0, last: true }, |_| 0)?;
             self.stats.delayed += candidates.len();
         }
