@@ -78,7 +78,8 @@ fn equilibrate(analysis: &Analysis, values: &[f64], mut s: Vec<f64>, until_settl
 }
 
 impl Factor {
-    /// Factorises the matrix with these values (in the order of the analysed structure).
+    /// Factorises the matrix with these values (in the order of the analysed structure), on one
+    /// thread.
     pub fn new(analysis: &Analysis, values: &[f64]) -> Result<Self, KktError> {
         Self::reusing(analysis, values, None, false)
     }
@@ -86,6 +87,7 @@ impl Factor {
     /// [`Factor::new`], writing into the storage of an earlier factorisation (Ipopt factorises
     /// matrices of one structure hundreds of times; at N = 1000 `L` takes about 2 MB, and fresh
     /// pages cost a tenth of the factorisation).
+    ///
     /// With `two_threads`, the two halves of a split sweep at once (the factor is the same to the
     /// bit either way).
     pub fn reusing(
@@ -200,9 +202,7 @@ impl Factor {
             ))),
         }
     }
-}
 
-impl Factor {
     /// Drops the recorded pivot sequences, so that the next factorisation reusing this one
     /// searches for its pivots.
     pub fn forget_pivot_sequence(&mut self) {
