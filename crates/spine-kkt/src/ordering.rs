@@ -209,21 +209,31 @@ fn cuthill_mckee(
 mod tests {
     use super::*;
 
+    /// The adjacency lists of a graph of `n` nodes with these edges.
+    fn graph(n: usize, edges: impl IntoIterator<Item = (usize, usize)>) -> Vec<Vec<usize>> {
+        let mut adjacent = vec![Vec::new(); n];
+        for (a, b) in edges {
+            adjacent[a].push(b);
+            adjacent[b].push(a);
+        }
+        adjacent
+    }
+
+    /// Whether `order` holds each of `0..n` once.
+    fn is_permutation(order: &[usize]) -> bool {
+        let mut sorted = order.to_vec();
+        sorted.sort_unstable();
+        sorted.iter().copied().eq(0..order.len())
+    }
+
     /// A path 0–1–…–9 given in a scrambled numbering, with one node joined to all others.
     #[test]
     fn finds_the_band_of_a_scrambled_path_and_puts_the_dense_node_first() {
         let n = 40;
         let label = |i: usize| (i * 17) % (n - 1); // a permutation of 0..n-1
         let hub = n - 1;
-        let mut adjacent = vec![Vec::new(); n];
-        for i in 0..n - 2 {
-            adjacent[label(i)].push(label(i + 1));
-            adjacent[label(i + 1)].push(label(i));
-        }
-        for v in 0..n - 1 {
-            adjacent[v].push(hub);
-            adjacent[hub].push(v);
-        }
+        let path = (0..n - 2).map(|i| (label(i), label(i + 1)));
+        let adjacent = graph(n, path.chain((0..hub).map(|v| (v, hub))));
         let ordering = Ordering::new(&adjacent);
         assert_eq!(ordering.dense, 1);
         assert_eq!(ordering.order[0], hub);
@@ -241,15 +251,7 @@ mod tests {
     fn a_split_order_sweeps_each_half_of_a_path_from_its_end_to_the_middle() {
         let n = 5001;
         let hub = n - 1;
-        let mut adjacent = vec![Vec::new(); n];
-        for i in 0..n - 2 {
-            adjacent[i].push(i + 1);
-            adjacent[i + 1].push(i);
-        }
-        for v in 0..hub {
-            adjacent[v].push(hub);
-            adjacent[hub].push(v);
-        }
+        let adjacent = graph(n, (0..n - 2).map(|i| (i, i + 1)).chain((0..hub).map(|v| (v, hub))));
         let ordering = Ordering::split(&adjacent);
         assert_eq!((ordering.dense, ordering.order[0]), (1, hub));
         let split = ordering.split.expect("a split order");
@@ -265,9 +267,7 @@ mod tests {
             }
         }
         assert_eq!(ordering.order[split - 1].abs_diff(ordering.order[n - 1]), 1, "the halves meet at the cut");
-        let mut sorted = ordering.order.clone();
-        sorted.sort_unstable();
-        assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "a permutation");
+        assert!(is_permutation(&ordering.order), "a permutation");
         assert_eq!(Ordering::new(&adjacent).split, None);
     }
 
@@ -279,18 +279,8 @@ mod tests {
     fn the_second_half_of_a_split_order_keeps_each_level_in_the_unsplit_order() {
         let rungs = 1500;
         let n = 2 * rungs;
-        let mut adjacent = vec![Vec::new(); n];
-        let mut join = |a: usize, b: usize| {
-            adjacent[a].push(b);
-            adjacent[b].push(a);
-        };
-        for i in 0..rungs {
-            join(2 * i, 2 * i + 1);
-            if i + 1 < rungs {
-                join(2 * i, 2 * i + 2);
-                join(2 * i + 1, 2 * i + 3);
-            }
-        }
+        let rails = (0..2 * rungs - 2).map(|v| (v, v + 2));
+        let adjacent = graph(n, (0..rungs).map(|i| (2 * i, 2 * i + 1)).chain(rails));
         let (split, unsplit) = (Ordering::split(&adjacent), Ordering::new(&adjacent));
         let cut = split.split.expect("a split order");
         // Levels from where the unsplit Cuthill–McKee order starts (the reverse order's end).
@@ -317,17 +307,7 @@ mod tests {
     fn leaves_follow_the_last_neighbour_of_their_row_in_large_orders() {
         for rows in [300, 600] {
             let n = 2 * rows;
-            let mut adjacent = vec![Vec::new(); n];
-            let mut join = |a: usize, b: usize| {
-                adjacent[a].push(b);
-                adjacent[b].push(a);
-            };
-            for i in 0..rows {
-                if i + 1 < rows {
-                    join(i, i + 1);
-                }
-                join(i, rows + i);
-            }
+            let adjacent = graph(n, (0..rows - 1).map(|i| (i, i + 1)).chain((0..rows).map(|i| (i, rows + i))));
             let ordering = Ordering::new(&adjacent);
             let p = &ordering.position;
             let leaves_last = (0..rows).all(|i| {
@@ -335,9 +315,7 @@ mod tests {
                 adjacent[i].iter().filter(|&&u| u != leaf).chain([&i]).all(|&u| p[u] < p[leaf])
             });
             assert_eq!(leaves_last, n >= POSTPONE_LEAVES_FROM, "{n} variables");
-            let mut sorted = ordering.order.clone();
-            sorted.sort_unstable();
-            assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "a permutation");
+            assert!(is_permutation(&ordering.order), "a permutation");
         }
     }
 }
