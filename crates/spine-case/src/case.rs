@@ -189,6 +189,19 @@ impl FigureCase {
                 return Err(CaseError::invalid(format!("{at}.case.kind"), "a figure's run cannot be a figure"));
             }
             let valid = case.validate().map_err(|e| e.under(&format!("{at}.case")))?;
+            if let ValidCase::Design(d) = &valid {
+                if d.multistart.starts > 0 {
+                    // A figure draws a run against its own start; a multi-start's best optimum
+                    // comes from another start. Refused rather than silently run from one start.
+                    return Err(CaseError::invalid(
+                        format!("{at}.case.multistart.starts"),
+                        format!(
+                            "a figure draws each design run from its own start: 0 or leave it out (got {}); run multi-starts with `spine design`",
+                            d.multistart.starts
+                        ),
+                    ));
+                }
+            }
             runs.push(ValidRun { name: run.name, label: run.label, case, valid });
         }
         Ok(runs)

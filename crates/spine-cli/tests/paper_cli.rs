@@ -185,12 +185,16 @@ fn bad_figure_input_exits_2_names_the_field_and_writes_nothing() {
     // Issue 28: a name too long for the file names it makes is refused before any run.
     let mut long_name = good.clone();
     long_name["runs"][0]["name"] = json!("n".repeat(300));
+    // A figure draws a design run against its own start: a multi-start is refused, not ignored.
+    let mut multistart = good.clone();
+    multistart["runs"][1]["case"]["multistart"] = json!({ "starts": 8 });
     for (tag, case, field) in [
         ("unknown", unknown, "figure"),
         ("badrun", bad_run, "runs[1].case.chain.links"),
         ("dup", duplicate, "runs[1].name"),
         ("field", unknown_field, "runs[0].case"),
         ("long", long_name, "runs[0].name: must be 1 to 64 letters"),
+        ("multistart", multistart, "runs[1].case.multistart.starts: a figure draws each design run from its own start"),
     ] {
         let dir = tmpdir(&format!("paper-bad-{tag}"));
         let o = run_case(&case, &dir, &[]);
