@@ -5,8 +5,8 @@
 //!
 //! Usage: `design_scaling [--refine=off|auto|FROM[:FACTOR]] [--repeats=R] [--peers] [N ...]`
 //! (default N: 5 10 20 50 100 200 500 1000; default refine: the solver's default, "auto"; FROM: a
-//! ladder from FROM links, factor FACTOR or 2). `--peers` solves `bench_peers`' case files instead (its tolerances, 1e-8 and
-//! 1e-9 s²), with its ladder under `--refine=auto`; the full space only. `--ipopt=NAME=VALUE`
+//! ladder from FROM links, factor FACTOR or 2). `--peers` solves `bench_peers`' case files instead
+//! (its tolerances, 1e-8 and 1e-9 s²), with its ladder under `--refine=auto`; the full space only. `--ipopt=NAME=VALUE`
 //! (repeatable) adds an Ipopt option to every solve, as the case file's `solver.ipopt_options`;
 //! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false).
 #![forbid(unsafe_code)]

@@ -158,24 +158,21 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
             None => optima.push(Optimum { count: 1, starts: vec![k], clean: r.is_clean(), mirror_of: None, result: r }),
         }
     }
-    // A mirror pair's two `J` agree only to round-off, so which member comes first would depend on
-    // rounding (the linear solver, its pivot order). Both members are ranked by the pair's lower
-    // `J`, and within the pair the one reached from the earlier start comes first.
-    let partner: Vec<Option<usize>> = (0..optima.len())
-        .map(|k| {
-            let mirrored = mirror(&optima[k].result.design);
-            (0..optima.len()).find(|&m| m != k && same_optimum(&optima[m].result, &optima[k].result, &mirrored.theta0))
-        })
-        .collect();
-    let rank: Vec<f64> = (0..optima.len())
-        .map(|k| partner[k].map_or(optima[k].objective(), |m| optima[k].objective().min(optima[m].objective())))
-        .collect();
-    let mut ranked: Vec<(f64, Optimum)> = rank.into_iter().zip(optima).collect();
-    ranked.sort_by(|(ra, a), (rb, b)| b.clean.cmp(&a.clean).then(ra.total_cmp(rb)).then(a.starts[0].cmp(&b.starts[0])));
-    let mut optima: Vec<Optimum> = ranked.into_iter().map(|(_, o)| o).collect();
+    optima.sort_by(|a, b| b.clean.cmp(&a.clean).then(a.objective().total_cmp(&b.objective())));
     for k in 1..optima.len() {
         let mirrored = mirror(&optima[k].result.design);
         optima[k].mirror_of = (0..k).find(|&m| same_optimum(&optima[m].result, &optima[k].result, &mirrored.theta0));
+    }
+    // A mirror pair's two `J` agree only to round-off, so which member comes first would depend on
+    // rounding (the linear solver, its pivot order): the pair keeps the place of its lower `J`,
+    // with the member reached from the earlier start first.
+    for k in 1..optima.len() {
+        if let Some(m) = optima[k].mirror_of {
+            if optima[k].starts[0] < optima[m].starts[0] {
+                optima.swap(m, k);
+                (optima[m].mirror_of, optima[k].mirror_of) = (None, Some(m));
+            }
+        }
     }
     let census = estimate(optima.iter().filter(|o| o.clean).map(|o| o.count).collect());
     MultiStartSummary { starts, seed, converged, optima, failed, census }

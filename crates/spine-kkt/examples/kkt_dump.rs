@@ -15,6 +15,7 @@ fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
     // two factorisations, so that each run starts with cold caches.
     let cold: usize = std::env::var("KKT_COLD").ok().and_then(|mb| mb.parse().ok()).unwrap_or(0);
     let mut flush = vec![0u8; cold << 20];
+    let each = std::env::var_os("KKT_TIMES").is_some();
     for round in 0..repeats {
         for (i, byte) in flush.iter_mut().enumerate().step_by(64) {
             *byte = byte.wrapping_add((i + round) as u8);
@@ -23,7 +24,7 @@ fn best_of<T>(repeats: usize, mut run: impl FnMut() -> T) -> (f64, T) {
         let clock = std::time::Instant::now();
         out = run();
         best = best.min(clock.elapsed().as_secs_f64());
-        if std::env::var_os("KKT_TIMES").is_some() {
+        if each {
             eprintln!("time {:.3}", clock.elapsed().as_secs_f64() * 1e3);
         }
     }
