@@ -282,6 +282,10 @@ impl DynamicsCase {
         for (i, t) in dd.targets.iter().enumerate() {
             let field = format!("damping_design.targets[{i}]");
             positive(&field, *t, "s")?;
+            if let Some(j) = dd.targets[..i].iter().position(|u| u == t) {
+                let message = format!("equal to targets[{j}] ({}); give each target once", spine_check::short(*t));
+                return Err(CaseError::invalid(field, message));
+            }
             if *t > MAX_T_END / 3.0 {
                 let message = format!("at most {} s (each design simulates 3 T_d), got {t}", MAX_T_END / 3.0);
                 return Err(CaseError::invalid(field, message));

@@ -27,6 +27,7 @@ pub mod fuzz;
 mod parameter;
 mod parse;
 mod per_item;
+mod read;
 mod specs;
 mod twolink_case;
 
@@ -41,5 +42,6 @@ pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MA
 pub use parameter::LOAD_SCALE;
 pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;
+pub use read::{read_text, ReadError};
 pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};
 pub use twolink_case::{TwoLinkCase, ValidTwoLink};

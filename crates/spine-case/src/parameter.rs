@@ -35,10 +35,41 @@ fn split(name: &str) -> Result<(&str, Option<usize>), CaseError> {
     }
 }
 
+/// The fields that are numbers of the physics (loads, geometry, masses, gravity, bounds, δ_d,
+/// C_K): what a sensitivity or a sweep may change. Counts (`chain.links`), the start, the
+/// multi-start's seed and the solver's settings are not parameters of eq. (33).
+const PHYSICS: [&str; 15] = [
+    "delta_d",
+    "stiffness_scale",
+    "loads.p_y",
+    "loads.p_x",
+    "chain.length_x",
+    "chain.spans",
+    "chain.masses",
+    "chain.gravity",
+    "bounds.theta0_max",
+    "bounds.relative_angle_max",
+    "bounds.stiffness_min",
+    "bounds.stiffness_max",
+    "bounds.height_min",
+    "bounds.height_max",
+    LOAD_SCALE,
+];
+
 /// The number at the field path `name` of the case's JSON (`links`: the case's `N`, for the length
 /// of a per-item field given as one number).
 fn number(json: &Value, name: &str, links: usize) -> Result<f64, CaseError> {
     let (field, index) = split(name)?;
+    if !PHYSICS.contains(&field) {
+        return Err(CaseError::invalid(
+            "--param",
+            format!(
+                "`{}` is not a parameter of eq. (33); allowed: {} (a list field with an index, e.g. loads.p_y[2])",
+                spine_check::shown(name),
+                PHYSICS.join(", ")
+            ),
+        ));
+    }
     let value = field.split('.').try_fold(json, |v, key| v.get(key)).filter(|v| !v.is_null());
     let number = match (value, index) {
         (Some(Value::Number(x)), None) => x.as_f64(),
@@ -149,7 +180,9 @@ mod tests {
         assert_eq!(scaled.structure.passive.p_y[4], 2.0 * original.structure.passive.p_y[4]);
         assert_eq!(case.with_parameter("delta_d", -0.03).unwrap().validate().unwrap().problem.delta_d, -0.03);
         assert!(case.default_parameters().contains(&"chain.length_x".to_string()));
-        for bad in ["nothing", "loads.p_y[9]", "loads.p_y[x]", "title"] {
+        for bad in
+            ["nothing", "loads.p_y[9]", "loads.p_y[x]", "title", "start.theta0[0]", "chain.links", "multistart.seed"]
+        {
             let err = case.parameter_value(bad).unwrap_err().to_string();
             assert!(err.contains("--param"), "{bad}: {err}");
         }

@@ -18,9 +18,11 @@
 #![forbid(unsafe_code)]
 
 /// A value outside what is allowed: the field's path (`chain.links`, `runs[1].case.delta_d`) and
-/// what is allowed, with what was given.
+/// what is allowed, with what was given. Shown on one line, the path shortened to
+/// [`FIELD_CHARS`] and the message to [`MESSAGE_CHARS`] characters, control characters escaped
+/// ([`shown_within`]): a case file's key or value never clears a terminal or fills a log.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{field}: {message}")]
+#[error("{}: {}", shown_within(field, FIELD_CHARS), shown_within(message, MESSAGE_CHARS))]
 pub struct FieldError {
     /// The field's path as a case file spells it (empty: the whole object).
     pub field: String,
@@ -55,6 +57,65 @@ pub fn require(ok: bool, field: &str, message: impl FnOnce() -> String) -> Resul
     }
 }
 
+/// Longest field path an error shows, in characters.
+pub const FIELD_CHARS: usize = 120;
+/// Longest message an error shows, in characters.
+pub const MESSAGE_CHARS: usize = 400;
+
+/// `text` as a one-line message quotes it: at most 60 characters ([`shown_within`]).
+pub fn shown(text: &str) -> String {
+    shown_within(text, 60)
+}
+
+/// `text` on one line: control characters (newlines, escape sequences) written as escapes
+/// (`\n`, `\u{1b}`), and cut to its first and last characters around ` … ` when longer than
+/// `max` characters (with the number of characters left out).
+///
+/// ```
+/// assert_eq!(spine_check::shown_within("a\u{1b}[2Jb", 40), "a\\u{1b}[2Jb");
+/// let long = "x".repeat(1000);
+/// assert_eq!(spine_check::shown_within(&long, 20).chars().count() < 60, true);
+/// ```
+pub fn shown_within(text: &str, max: usize) -> String {
+    let escaped = |c: char| -> String {
+        if c.is_control() {
+            c.escape_default().collect()
+        } else {
+            c.to_string()
+        }
+    };
+    let count = text.chars().count();
+    if count <= max {
+        return text.chars().map(escaped).collect();
+    }
+    let head: String = text.chars().take(max / 2).map(escaped).collect();
+    let tail: String = text.chars().skip(count - max / 2).map(escaped).collect();
+    format!("{head} … ({} characters left out) … {tail}", count - 2 * (max / 2))
+}
+
+/// A number in a short form for a message: as Rust prints it when that is at most 10
+/// characters, else in scientific form with 6 significant digits and no trailing zeros.
+///
+/// ```
+/// assert_eq!(spine_check::short(0.25), "0.25");
+/// assert_eq!(spine_check::short(1e-322), "1e-322");
+/// assert_eq!(spine_check::short(1.0 / 3.0), "3.33333e-1");
+/// assert_eq!(spine_check::short(-1e300), "-1e300");
+/// ```
+pub fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 10 {
+        return plain;
+    }
+    let sci = format!("{x:.5e}");
+    match sci.split_once('e') {
+        Some((mantissa, exponent)) if mantissa.contains('.') => {
+            format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => sci,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +128,15 @@ mod tests {
         assert_eq!(FieldError::new("", "m").under("forcing").field, "forcing");
         assert_eq!(e.under("").field, "rtol");
         assert!(require(true, "x", || unreachable!()).is_ok());
+    }
+
+    #[test]
+    fn errors_show_on_one_short_line() {
+        let key = format!("\u{1b}[2J{}", "k".repeat(10_000));
+        let e = FieldError::new(key, format!("unknown field; allowed a, b\n{}", "v".repeat(10_000)));
+        let text = e.to_string();
+        assert!(!text.contains('\n') && !text.contains('\u{1b}'), "{text}");
+        assert!(text.chars().count() < FIELD_CHARS + MESSAGE_CHARS + 120, "{}", text.len());
+        assert!(text.contains("\\u{1b}[2J") && text.contains("characters left out"), "{text}");
     }
 }

@@ -79,13 +79,9 @@ fn main() -> ExitCode {
 
 /// Reads and parses a case file (refusing an oversized one before reading it): its text and case.
 fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failure> {
-    let path = file.display().to_string();
-    let size = std::fs::metadata(file).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?.len();
-    if size > spine_case::MAX_CASE_BYTES as u64 {
-        let max = spine_case::MAX_CASE_BYTES;
-        return Err(Failure::Input(format!("{path}: case file: {size} bytes; at most {max} are accepted")));
-    }
-    let text = std::fs::read_to_string(file).map_err(|e| Failure::Input(format!("{path}: cannot read: {e}")))?;
+    let path = spine_check::shown_within(&file.display().to_string(), 200);
+    let text = spine_case::read_text(file, "case file", spine_case::MAX_CASE_BYTES)
+        .map_err(|e| Failure::Input(e.to_string()))?;
     let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     Ok((text, case))
 }
@@ -94,6 +90,8 @@ fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failu
 /// `DIR/shard.json` (exit 3 when a time limit left it incomplete: `spine merge` refuses it).
 fn shard(args: &RunArgs, overrides: spine_run::Overrides, spec: spine_run::shard::ShardSpec) -> Result<bool, Failure> {
     let path = args.case.display().to_string();
+    let out = output::Output::new(&args.out, args.deterministic);
+    out.check(&[&args.case])?;
     let (text, _) = read_case(&args.case)?;
     let mut bars = progress::Bars::default();
     let (shard, _) = spine_stop::with_time_limit(args.time_limit, || {
@@ -102,7 +100,7 @@ fn shard(args: &RunArgs, overrides: spine_run::Overrides, spec: spine_run::shard
     bars.clear();
     let shard = shard.map_err(|e| failure(&path, e))?;
     let json = serde_json::to_string(&shard).expect("shards serialise") + "\n";
-    output::Output::new(&args.out, args.deterministic).write_text("shard.json", &json)?;
+    out.write_files(&[("shard.json", json.as_bytes())])?;
     output::say(&format!(
         "shard {}/{}: {} runs{}; wrote {}\n",
         spec.index,
@@ -116,16 +114,19 @@ fn shard(args: &RunArgs, overrides: spine_run::Overrides, spec: spine_run::shard
 
 /// `spine merge DIR…`: the shards' runs checked and combined into the single run's result.
 fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
+    let files: Vec<_> = a.shards.iter().map(|d| if d.is_dir() { d.join("shard.json") } else { d.clone() }).collect();
+    let out = output::Output::new(&a.out, a.deterministic);
+    out.check(&files.iter().map(|f| f.as_path()).collect::<Vec<_>>())?;
     let mut shards = Vec::new();
-    for dir in &a.shards {
-        let file = if dir.is_dir() { dir.join("shard.json") } else { dir.clone() };
-        let name = file.display().to_string();
-        let text = std::fs::read_to_string(&file).map_err(|e| Failure::Input(format!("{name}: cannot read: {e}")))?;
+    for file in &files {
+        let name = spine_check::shown_within(&file.display().to_string(), 200);
+        let text = spine_case::read_text(file, "shard", spine_run::shard::MAX_SHARD_BYTES)
+            .map_err(|e| Failure::Input(e.to_string()))?;
         let shard = serde_json::from_str(&text).map_err(|e| Failure::Input(format!("{name}: not a shard: {e}")))?;
         shards.push(shard);
     }
     let result = spine_run::shard::merge(shards).map_err(|e| failure("merge", e))?;
-    let (path, _) = output::Output::new(&a.out, a.deterministic).write_result(&result)?;
+    let (path, _) = out.write_result(&result)?;
     output::say(&format!("{result}wrote {}\n", path.display()));
     Ok(result.is_clean())
 }
@@ -181,6 +182,8 @@ fn run(
 ) -> Result<bool, Failure> {
     overrides.time_limit = args.time_limit;
     let path = args.case.display().to_string();
+    let out = output::Output::new(&args.out, args.deterministic);
+    out.check(&[&args.case])?;
     let (_, case) = read_case(&args.case)?;
     if let Some(kind) = expect.filter(|k| *k != case.kind()) {
         let msg = format!(
@@ -203,7 +206,6 @@ fn run(
     if spine_stop::interrupt_requested() {
         return Err(Failure::Interrupted);
     }
-    let out = output::Output::new(&args.out, args.deterministic);
     let (path, files) = out.write_result(&result)?;
     let beside = match files {
         0 => String::new(),

@@ -29,9 +29,26 @@ impl Output {
         Ok(self.0.write_result(result)?)
     }
 
-    /// One text file, old or new, never a part ([`Folder::write_text`]).
+    /// Whether the folder may be written, before any work ([`Folder::check`]): never the working
+    /// directory, a folder holding an input, or a folder holding files the program did not write.
+    pub fn check(&self, inputs: &[&Path]) -> Result<(), Failure> {
+        Ok(self.0.check(inputs)?)
+    }
+
+    /// Files as one new folder, all or nothing ([`Folder::write_files`]).
+    pub fn write_files(&self, files: &[(&str, &[u8])]) -> Result<(), Failure> {
+        Ok(self.0.write_files(files)?)
+    }
+
+    /// One text file, old or new, never a part, and never over a file the program did not write
+    /// ([`Folder::write_text`]).
     pub fn write_text(&self, name: &str, text: &str) -> Result<(), Failure> {
         Ok(self.0.write_text(name, text)?)
+    }
+
+    /// Whether [`Output::write_text`] may write `name` ([`Folder::check_text`]).
+    pub fn check_text(&self, name: &str) -> Result<(), Failure> {
+        Ok(self.0.check_text(name)?)
     }
 }
 

@@ -8,6 +8,9 @@ use spine_paper::report::{report, report_html, FolderResult};
 
 /// `Ok(true)` when every case had a result.
 pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
+    let out = Output::new(&a.results, false);
+    out.check_text("REPORT.md")?;
+    out.check_text("report.html")?;
     let errata = std::fs::read_to_string(&a.errata)
         .map_err(|e| Failure::Input(format!("{}: cannot read: {e}", a.errata.display())))?;
     let mut results = Vec::new();
@@ -22,7 +25,6 @@ pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
             None => missing.push(name.clone()),
         }
     }
-    let out = Output::new(&a.results, false);
     out.write_text("REPORT.md", &report(&results, &errata, &missing))?;
     out.write_text("report.html", &report_html(&results, &errata, &missing))?;
     say(&format!(

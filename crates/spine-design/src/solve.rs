@@ -54,6 +54,26 @@ pub struct SolverRun {
 }
 
 impl SolverRun {
+    /// Whether a run read from elsewhere (a shard, a worker's answer) fits `problem`: its design
+    /// and states have the chain's lengths (`N` angles, `N + 1` stiffnesses) and finite values.
+    /// Checked before [`SolverRun::check`], which indexes them by the chain.
+    pub fn fits(&self, problem: &DesignProblem) -> Result<(), spine_check::FieldError> {
+        let n = problem.n_links();
+        let vector = |field: &str, v: &[f64], len: usize| {
+            spine_check::require(v.len() == len, field, || format!("{len} values expected, got {}", v.len()))?;
+            spine_check::require(v.iter().all(|x| x.is_finite()), field, || "every value must be finite".into())
+        };
+        vector("design.theta0", &self.design.theta0, n)?;
+        vector("design.stiffness", &self.design.stiffness, n + 1)?;
+        if let Some((passive, loaded)) = &self.states {
+            for (k, state) in [passive, loaded].into_iter().enumerate() {
+                vector(&format!("states[{k}].theta"), &state.theta, n)?;
+                vector(&format!("states[{k}].lambda"), &[state.lambda], 1)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Recomputes and checks everything the result reports from the design and states
     /// ([`DesignResult::check`]).
     pub fn check(self, problem: &DesignProblem, settings: &SolverSettings) -> DesignResult {

@@ -313,7 +313,9 @@ pub fn design_by_gradient(
     eq37.energy_scale = eq37.point(&start).map_or(1.0, |p| p.energy.abs().max(1e-300));
     let options = spine_ipopt::Options::new()
         .number("tol", gradient.tolerance)
-        .number("constr_viol_tol", 1e-3 * settings.tolerance)
+        // Ipopt needs a positive value; a band as narrow as the case format allows (1e-322)
+        // would give 0 here.
+        .number("constr_viol_tol", (1e-3 * settings.tolerance).max(1e-300))
         .integer("max_iter", gradient.max_iterations as i64)
         .string("hessian_approximation", "limited-memory")
         .string("mu_strategy", "adaptive");

@@ -28,18 +28,8 @@ pub fn case_text(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<String> {
         None
     };
     match path {
-        Some(path) => {
-            let name = path.display().to_string();
-            let size =
-                std::fs::metadata(&path).map_err(|e| PyValueError::new_err(format!("{name}: cannot read: {e}")))?.len();
-            if size > spine_case::MAX_CASE_BYTES as u64 {
-                let max = spine_case::MAX_CASE_BYTES;
-                return Err(PyValueError::new_err(format!(
-                    "{name}: case file: {size} bytes; at most {max} are accepted"
-                )));
-            }
-            std::fs::read_to_string(&path).map_err(|e| PyValueError::new_err(format!("{name}: cannot read: {e}")))
-        }
+        Some(path) => spine_case::read_text(&path, "case file", spine_case::MAX_CASE_BYTES)
+            .map_err(|e| PyValueError::new_err(e.to_string())),
         // `allow_nan=False`: a NaN or infinity is not JSON, and the case format refuses it.
         None => {
             let kwargs = PyDict::new(py);

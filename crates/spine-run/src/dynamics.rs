@@ -338,8 +338,19 @@ impl DynamicsResult {
         if let Some(r) = &self.periodic_response {
             files.push(csv("response.csv".into(), &r.samples));
         }
+        // A target's name in short form (`0.2`, `1e-300`), or in full where two targets share it.
+        let targets: Vec<f64> = self.damping_designs.iter().flatten().map(|d| d.design.target_rise_time).collect();
+        let name = |t: f64| {
+            let short = spine_check::short(t);
+            let shared = targets.iter().filter(|&&u| spine_check::short(u) == short).count() > 1;
+            if shared {
+                format!("{t:e}")
+            } else {
+                short
+            }
+        };
         for d in self.damping_designs.iter().flatten() {
-            let target = d.design.target_rise_time;
+            let target = name(d.design.target_rise_time);
             files.push(csv(format!("response_T{target}.csv"), &d.design.response.samples));
             if let Some(p) = &d.periodic_response {
                 files.push(csv(format!("periodic_T{target}.csv"), &p.samples));

@@ -94,12 +94,7 @@ pub fn run_case(
                 let mut valid = c.validate()?;
                 overrides.design.apply(&mut valid);
                 let mut result = run_design_case(c, &valid, overrides.workers.as_ref(), progress)?;
-                if overrides.design.sensitivity && result.result.is_clean() {
-                    let names = c.default_parameters();
-                    let (report, _) =
-                        crate::sensitivity::differentiate(c, &valid, &overrides.design, &names, &result.result)?;
-                    result.sensitivity = report.ok();
-                }
+                crate::sensitivity::attach(c, &valid, &overrides.design, &mut result)?;
                 KindResult::Design(result)
             }
             Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
@@ -146,6 +141,15 @@ pub fn run_sensitivity(
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
+    // The same parameter given twice is reported once.
+    let mut unique: Vec<String> = Vec::new();
+    for name in names {
+        if !unique.contains(name) {
+            unique.push(name.clone());
+        }
+    }
+    let names = unique.as_slice();
+    crate::sensitivity::check_names(case, names)?;
     limited(overrides, || {
         let workers = overrides.workers.as_ref();
         match case {

@@ -145,6 +145,46 @@ pub fn differentiate(
     Ok((Ok(report), polish_seconds))
 }
 
+/// With `spine design --sensitivity` (`overrides.sensitivity`): the derivatives of `result`'s
+/// reported optimum, when it is clean, in its `sensitivity` block (the single run and a merge of
+/// its shards both call this).
+pub(crate) fn attach(
+    c: &DesignCase,
+    valid: &ValidDesign,
+    overrides: &DesignOverrides,
+    result: &mut crate::design::DesignCaseResult,
+) -> Result<(), RunError> {
+    if overrides.sensitivity && result.result.is_clean() {
+        let names = c.default_parameters();
+        let (report, _) = differentiate(c, valid, overrides, &names, &result.result)?;
+        result.sensitivity = report.ok();
+    }
+    Ok(())
+}
+
+/// Refuses, before any work, a parameter that is not a number of a design case's physics, or two
+/// parameters whose CSV files would have one name (`loads.p_y[2]` and `loads.p_y[02]`).
+pub(crate) fn check_names(case: &spine_case::Case, names: &[String]) -> Result<(), RunError> {
+    if let spine_case::Case::Design(c) = case {
+        for name in names {
+            c.parameter_value(name)?;
+        }
+    }
+    let mut files: Vec<(String, &String)> = names.iter().map(|n| (csv_name(n), n)).collect();
+    files.sort();
+    if let Some(w) = files.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(RunError::Case(CaseError::invalid(
+            "--param",
+            format!(
+                "`{}` and `{}` name the same parameter; give it once",
+                spine_check::shown(w[0].1),
+                spine_check::shown(w[1].1)
+            ),
+        )));
+    }
+    Ok(())
+}
+
 /// `sensitivity_<name>.csv`, with the path's punctuation as `_`.
 fn csv_name(name: &str) -> String {
     let stem: String = name.chars().map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' }).collect();

@@ -17,6 +17,9 @@ use serde::{Deserialize, Serialize};
 use spine_design::multistart::feasible_starts;
 use spine_design::SolverRun;
 
+/// Largest `shard.json` read, bytes (a 10⁵-start shard of a 10-link case is about 200 MB).
+pub const MAX_SHARD_BYTES: usize = 512 << 20;
+
 /// The format tag of `shard.json`.
 pub const SHARD_FORMAT: &str = "spine-shard-1";
 
@@ -111,7 +114,23 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
     let first = shards.first().ok_or(MergeError::Empty)?.clone();
     for s in &shards {
         if s.format != SHARD_FORMAT {
-            return Err(MergeError::Mismatch(format!("shard format {:?}, expected {SHARD_FORMAT:?}", s.format)).into());
+            let format = spine_check::shown(&s.format);
+            return Err(MergeError::Mismatch(format!("shard format \"{format}\", expected \"{SHARD_FORMAT}\"")).into());
+        }
+        let ShardSpec { index, count } = s.shard;
+        if !(1..=spine_case::MAX_STARTS).contains(&count) || !(1..=count).contains(&index) {
+            return Err(MergeError::Mismatch(format!(
+                "shard.index {index} of shard.count {count}: 1 ≤ index ≤ count ≤ {} expected",
+                spine_case::MAX_STARTS
+            ))
+            .into());
+        }
+        if let Some(starts) = s.overrides.starts.filter(|&n| n > spine_case::MAX_STARTS) {
+            return Err(MergeError::Mismatch(format!(
+                "overrides.starts {starts}: at most {} expected",
+                spine_case::MAX_STARTS
+            ))
+            .into());
         }
         if s.case != first.case {
             return Err(MergeError::Mismatch(format!(
@@ -137,13 +156,21 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
     let count = first.shard.count;
     shards.sort_by_key(|s| s.shard.index);
     let indices: Vec<usize> = shards.iter().map(|s| s.shard.index).collect();
-    if indices != (1..=count).collect::<Vec<_>>() {
-        let missing: Vec<usize> = (1..=count).filter(|k| !indices.contains(k)).collect();
-        let twice: Vec<usize> = indices.windows(2).filter(|w| w[0] == w[1]).map(|w| w[0]).collect();
-        return Err(MergeError::Incomplete(format!(
-            "{count} shards expected; missing {missing:?}, given more than once {twice:?}"
-        ))
-        .into());
+    let twice: Vec<usize> = indices.windows(2).filter(|w| w[0] == w[1]).map(|w| w[0]).collect();
+    if !twice.is_empty() || indices.len() != count {
+        let mut distinct = indices.clone();
+        distinct.dedup();
+        // Every index is in 1..=count (checked above), at most 10⁵ of them.
+        let missing: Vec<usize> = (1..=count).filter(|k| distinct.binary_search(k).is_err()).take(10).collect();
+        let missing_count = count - distinct.len();
+        let mut parts = Vec::new();
+        if missing_count > 0 {
+            parts.push(format!("missing {} ({} of them)", crate::text::numbers(&missing), missing_count));
+        }
+        if !twice.is_empty() {
+            parts.push(format!("given more than once {}", crate::text::numbers(&twice)));
+        }
+        return Err(MergeError::Incomplete(format!("{count} shards expected; {}", parts.join("; "))).into());
     }
     let case = design_case(&first.case).map_err(|e| MergeError::Case(e.to_string()))?;
     let mut valid = case.validate().map_err(|e| MergeError::Case(e.to_string()))?;
@@ -162,11 +189,17 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
             ))
             .into());
         }
+        for (start, run) in &s.runs {
+            run.fits(&valid.problem)
+                .map_err(|e| MergeError::Mismatch(format!("shard {}/{count}, start {start}: {e}", s.shard.index)))?;
+        }
         runs.extend(s.runs);
     }
     runs.sort_by_key(|(i, _)| *i);
     let results = runs.into_iter().map(|(_, run)| run.check(&valid.problem, &valid.settings)).collect();
-    Ok(KindResult::Design(census(&case, &valid, results)).into())
+    let mut result = census(&case, &valid, results);
+    crate::sensitivity::attach(&case, &valid, &first.overrides, &mut result)?;
+    Ok(KindResult::Design(result).into())
 }
 
 #[cfg(test)]

@@ -80,9 +80,13 @@ fn sweep_error(e: SweepError) -> RunError {
 }
 
 impl SweepCaseResult {
-    /// Clean: every point followed or jumped to a clean optimum (a failed point is not clean).
+    /// Clean: every point computed (no stop), followed or jumped to a clean optimum (a failed
+    /// point is not clean), every census complete.
     pub fn is_clean(&self) -> bool {
-        self.sweep.points.iter().all(|p| p.status != PointStatus::Failed)
+        self.sweep.stopped.is_none()
+            && self.sweep.points.len() == self.sweep.settings.points
+            && self.sweep.points.iter().all(|p| p.status != PointStatus::Failed)
+            && self.census.iter().all(|c| c.stopped.is_none())
     }
 
     /// `sweep.csv` and the figure.
@@ -165,6 +169,18 @@ impl std::fmt::Display for SweepCaseResult {
                 s.parameter, e.parameter, e.bracket[0], e.bracket[1], e.kind, e.what
             )?;
         }
+        if let Some(reason) = s.stopped {
+            let last = s.points.last().map_or("before its first point".into(), |p| {
+                format!(
+                    "after {} of {} points, at {} = {:.6e}",
+                    s.points.len(),
+                    s.settings.points,
+                    s.parameter,
+                    p.parameter
+                )
+            });
+            writeln!(f, "STOPPED ({}) {last}: only the points computed are written", reason.name())?;
+        }
         if let (Some(first), Some(last)) = (s.points.first(), s.points.last()) {
             writeln!(f, "J* from {:.6e} J to {:.6e} J", first.objective, last.objective)?;
         }
@@ -182,6 +198,9 @@ impl std::fmt::Display for SweepCaseResult {
                     .and_then(|e| e.probability_better_unseen)
                     .map_or(String::new(), |p| { format!("; P(a better one unseen) {p:.3}") })
             )?;
+            if let Some(reason) = c.stopped {
+                writeln!(f, "    this census was cut short ({}): fewer starts than planned", reason.name())?;
+            }
         }
         Ok(())
     }

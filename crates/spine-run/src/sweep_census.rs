@@ -30,6 +30,10 @@ pub struct CensusPoint {
     /// The followed optimum is the best known (`J*` within 1e-6 relative of the best, or below).
     pub followed_is_best: bool,
     pub estimate: Option<CensusEstimate>,
+    /// Why this census was cut short (the time limit, an interrupt): it ran fewer starts than
+    /// planned (`estimate.runs` says how many), so `followed_is_best` rests on fewer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<spine_stop::StopReason>,
 }
 
 /// The case with `name` set to `value`, validated, with the overrides.
@@ -56,6 +60,10 @@ pub(crate) fn census(
 ) -> Result<Vec<CensusPoint>, RunError> {
     let mut out = Vec::new();
     for (k, point) in followed.points.iter().enumerate().step_by(plan.every.max(1)) {
+        // A stop ends the census: the points after it have no entry (the result's `stopped` says why).
+        if spine_stop::check().is_some() {
+            break;
+        }
         let overrides = DesignOverrides { starts: Some(plan.starts), ..*overrides };
         let valid = case_at(c, &overrides, name, point.parameter)?;
         let run = run_design_case(c, &valid, workers, progress)?;
@@ -70,6 +78,7 @@ pub(crate) fn census(
             followed_objective,
             followed_is_best: followed_is_best && point.status != PointStatus::Failed,
             estimate: run.multistart.map(|m| m.census),
+            stopped: spine_stop::check(),
         });
     }
     Ok(out)

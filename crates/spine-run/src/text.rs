@@ -28,3 +28,12 @@ pub fn list(values: &[f64], decimals: usize) -> String {
     text.push(']');
     text
 }
+
+/// Whole numbers as `3, 5, 7`.
+///
+/// ```
+/// assert_eq!(spine_run::text::numbers(&[3, 5]), "3, 5");
+/// ```
+pub fn numbers(values: &[usize]) -> String {
+    values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(", ")
+}

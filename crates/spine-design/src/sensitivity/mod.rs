@@ -33,6 +33,7 @@ use crate::DesignProblem;
 use derivative::{derivative, one_sided, weak_candidates};
 use point::Evaluation;
 use rates::rates;
+pub use rates::Difference;
 use serde::Serialize;
 use system::{ActiveSystem, Matrices};
 
@@ -114,6 +115,8 @@ pub struct ParameterSensitivity {
     pub value: f64,
     /// The step `h` of the differences in `p` of the NLP's functions.
     pub step: f64,
+    /// Central, or one-sided where `p ± h` would leave what the case allows.
+    pub difference: Difference,
     /// Whether the NLP's functions and bounds are affine in `p` (then exact to round-off).
     pub affine: bool,
     /// The derivative where the conditions hold.
@@ -186,6 +189,7 @@ pub fn sensitivities(
             name: parameter.name.clone(),
             value: parameter.value,
             step,
+            difference: rates.difference,
             affine: rates.affine,
             derivative,
             increase,

@@ -1,6 +1,7 @@
 //! The rates of the NLP's data (Lagrangian gradient, constraints, objective, bounds) in one
-//! parameter at the optimum, by central differences of the problem rebuilt at `p ± h` with the
-//! exact AD first derivatives, and whether the dependence is affine.
+//! parameter at the optimum, by differences of the problem rebuilt at `p ± h` (one-sided at the
+//! edge of what the case allows) with the exact AD first derivatives, and whether the dependence
+//! is affine.
 
 use super::point::Evaluation;
 use super::{Optimum, Parameter, SensitivityError};
@@ -17,10 +18,37 @@ pub(crate) struct Rates {
     pub row_upper: Vec<f64>,
     pub stiffness_scale: f64,
     pub affine: bool,
+    pub difference: Difference,
 }
 
-/// The rates of the NLP's data in the parameter by central differences of the rebuilt problem at
-/// `p ± h`, and whether they are affine (the second difference at round-off).
+/// Which three points the rates were differenced on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Difference {
+    /// `p − h, p, p + h`: the case allows both sides.
+    Central,
+    /// `p, p + h, p + 2h`: `p − h` is outside what the case allows (a bound at its edge, e.g.
+    /// `bounds.stiffness_min` = 0).
+    Forward,
+    /// `p − 2h, p − h, p`: `p + h` is outside what the case allows.
+    Backward,
+}
+
+impl Difference {
+    /// The points' offsets in steps of `h`, and the weights of the derivative at `p` (over `2h`)
+    /// of the parabola through them.
+    fn stencil(self) -> ([f64; 3], [f64; 3]) {
+        match self {
+            Self::Central => ([-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]),
+            Self::Forward => ([0.0, 1.0, 2.0], [-3.0, 4.0, -1.0]),
+            Self::Backward => ([-2.0, -1.0, 0.0], [1.0, -4.0, 3.0]),
+        }
+    }
+}
+
+/// The rates of the NLP's data in the parameter by differences of the rebuilt problem on three
+/// points `h` apart, central where the case allows `p ± h`, else one-sided (second order either
+/// way), and whether they are affine (the second difference at round-off).
 pub(crate) fn rates(
     optimum: &Optimum<'_>,
     at: &Evaluation,
@@ -36,39 +64,59 @@ pub(crate) fn rates(
         }
         Ok(problem)
     };
-    let (plus_problem, minus_problem) = (build(parameter.value + h)?, build(parameter.value - h)?);
-    let (layout, x) = (optimum.layout, optimum.x);
-    let (plus, minus) = (Evaluation::at(&plus_problem, layout, x), Evaluation::at(&minus_problem, layout, x));
-    let lambda = &optimum.multipliers.constraints;
-    let (gp, g0, gm) = (
-        plus.lagrangian_gradient(pattern, lambda),
-        at.lagrangian_gradient(pattern, lambda),
-        minus.lagrangian_gradient(pattern, lambda),
-    );
-    let rate = |p: &[f64], m: &[f64]| -> Vec<f64> {
-        p.iter().zip(m).map(|(a, b)| if a == b { 0.0 } else { (a - b) / (2.0 * h) }).collect()
+    let stencil = |difference: Difference| -> Result<Vec<Option<DesignProblem>>, SensitivityError> {
+        let (offsets, _) = difference.stencil();
+        offsets.iter().map(|&o| if o == 0.0 { Ok(None) } else { build(parameter.value + o * h).map(Some) }).collect()
     };
+    let central = stencil(Difference::Central);
+    let (difference, problems) = match central {
+        Ok(p) => (Difference::Central, p),
+        Err(e) => match (stencil(Difference::Forward), stencil(Difference::Backward)) {
+            (Ok(p), _) => (Difference::Forward, p),
+            (_, Ok(p)) => (Difference::Backward, p),
+            _ => return Err(e),
+        },
+    };
+    let (layout, x) = (optimum.layout, optimum.x);
+    let (_, weights) = difference.stencil();
+    let evaluations: Vec<Evaluation> =
+        problems.iter().map(|p| Evaluation::at(p.as_ref().unwrap_or(optimum.problem), layout, x)).collect();
+    let scales: Vec<f64> = problems.iter().map(|p| p.as_ref().unwrap_or(optimum.problem).stiffness_scale).collect();
+    let lambda = &optimum.multipliers.constraints;
+    let gradients: Vec<Vec<f64>> = evaluations.iter().map(|e| e.lagrangian_gradient(pattern, lambda)).collect();
+    let scalar = |v: [f64; 3]| -> f64 {
+        if v[0] == v[1] && v[1] == v[2] {
+            0.0
+        } else {
+            (weights[0] * v[0] + weights[1] * v[1] + weights[2] * v[2]) / (2.0 * h)
+        }
+    };
+    let rate = |a: &[f64], b: &[f64], c: &[f64]| -> Vec<f64> {
+        a.iter().zip(b).zip(c).map(|((&a, &b), &c)| scalar([a, b, c])).collect()
+    };
+    let e = &evaluations;
     // The size of the terms that cancel in `∇f + Jᵀλ` (zero at the optimum): its round-off.
     let terms = at.gradient.iter().fold(0.0f64, |m, g| m.max(g.abs()))
         + lambda.iter().fold(0.0f64, |m, l| m.max(l.abs())) * at.jacobian.iter().fold(0.0f64, |m, j| m.max(j.abs()));
     let affine = [
-        (&gp, &g0, &gm, terms),
-        (&plus.constraints, &at.constraints, &minus.constraints, 0.0),
-        (&plus.lower, &at.lower, &minus.lower, 0.0),
-        (&plus.upper, &at.upper, &minus.upper, 0.0),
+        (&gradients[2], &gradients[1], &gradients[0], terms),
+        (&e[2].constraints, &e[1].constraints, &e[0].constraints, 0.0),
+        (&e[2].lower, &e[1].lower, &e[0].lower, 0.0),
+        (&e[2].upper, &e[1].upper, &e[0].upper, 0.0),
     ]
     .iter()
     .all(|(p, z, m, terms)| second_difference_at_round_off(p, z, m, *terms));
     let rates = Rates {
-        lagrangian_gradient: rate(&gp, &gm),
-        constraints: rate(&plus.constraints, &minus.constraints),
-        objective: (plus.objective - minus.objective) / (2.0 * h),
-        lower: rate(&plus.lower, &minus.lower),
-        upper: rate(&plus.upper, &minus.upper),
-        row_lower: rate(&plus.row_lower, &minus.row_lower),
-        row_upper: rate(&plus.row_upper, &minus.row_upper),
-        stiffness_scale: (plus_problem.stiffness_scale - minus_problem.stiffness_scale) / (2.0 * h),
+        lagrangian_gradient: rate(&gradients[0], &gradients[1], &gradients[2]),
+        constraints: rate(&e[0].constraints, &e[1].constraints, &e[2].constraints),
+        objective: scalar([e[0].objective, e[1].objective, e[2].objective]),
+        lower: rate(&e[0].lower, &e[1].lower, &e[2].lower),
+        upper: rate(&e[0].upper, &e[1].upper, &e[2].upper),
+        row_lower: rate(&e[0].row_lower, &e[1].row_lower, &e[2].row_lower),
+        row_upper: rate(&e[0].row_upper, &e[1].row_upper, &e[2].row_upper),
+        stiffness_scale: scalar([scales[0], scales[1], scales[2]]),
         affine,
+        difference,
     };
     Ok((h, rates))
 }

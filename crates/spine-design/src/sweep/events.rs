@@ -65,6 +65,9 @@ impl Sweep<'_> {
         let mut lower: Option<Station> = None;
         let mut upper = end;
         for _ in 0..self.settings.bisections {
+            if spine_stop::check().is_some() {
+                break;
+            }
             let from = lower.as_ref().unwrap_or(a);
             let middle = 0.5 * (from.parameter + upper);
             let station = self.counted(self.settle(middle, &from.predict(middle)))?;

@@ -162,6 +162,16 @@ pub struct SweepResult {
     pub solves: usize,
     pub iterations: usize,
     pub rejected_steps: usize,
+    /// Why the sweep ended before `settings.to` (the time limit, an interrupt): `points` holds
+    /// only the points computed, the last one before the stop.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<spine_stop::StopReason>,
+}
+
+/// How [`Sweep::advance`] ended: at its target, or stopped on the way.
+enum Advance {
+    Reached(Station, PointStatus),
+    Stopped(spine_stop::StopReason),
 }
 
 /// A sweep of one problem family along one parameter.
@@ -194,31 +204,53 @@ impl<'a> Sweep<'a> {
     }
 
     /// Follows the optimum `start` (an optimum of the problem at `settings.from`) to `settings.to`.
+    /// A stop ([`spine_stop::check`]: the time limit, an interrupt), seen before each corrector
+    /// solve, ends the sweep with the points computed so far and [`SweepResult::stopped`] set; a
+    /// solve the stop cut short is not reported as a point.
     pub fn follow(&self, start: &Design) -> Result<SweepResult, SweepError> {
+        let mut result = SweepResult {
+            parameter: self.name.to_string(),
+            settings: self.settings,
+            points: Vec::new(),
+            events: Vec::new(),
+            solves: 0,
+            iterations: 0,
+            rejected_steps: 0,
+            stopped: spine_stop::check(),
+        };
+        if result.stopped.is_some() {
+            return Ok(result);
+        }
         let first = self.counted(self.restart(self.settings.from, start))?;
+        if let Some(reason) = spine_stop::check() {
+            result.stopped = Some(reason);
+            return Ok(self.finish(result));
+        }
         if !first.clean() {
             return Err(SweepError::Start(first.result.solver.status.name().to_string()));
         }
-        let mut points = vec![self.point(&first, PointStatus::Followed)];
-        let mut events = Vec::new();
-        let mut rejected = 0;
+        result.points.push(self.point(&first, PointStatus::Followed));
         let mut current = first;
         for k in 1..self.settings.points {
             let target = self.settings.value(k);
-            let (next, status) = self.advance(current, target, &mut events, &mut rejected)?;
-            points.push(self.point(&next, status));
-            current = next;
+            match self.advance(current, target, &mut result.events, &mut result.rejected_steps)? {
+                Advance::Reached(next, status) => {
+                    result.points.push(self.point(&next, status));
+                    current = next;
+                }
+                Advance::Stopped(reason) => {
+                    result.stopped = Some(reason);
+                    break;
+                }
+            }
         }
-        let (solves, iterations) = self.counters.get();
-        Ok(SweepResult {
-            parameter: self.name.to_string(),
-            settings: self.settings,
-            points,
-            events,
-            solves,
-            iterations,
-            rejected_steps: rejected,
-        })
+        Ok(self.finish(result))
+    }
+
+    /// The result with the solve counters.
+    fn finish(&self, mut result: SweepResult) -> SweepResult {
+        (result.solves, result.iterations) = self.counters.get();
+        result
     }
 
     /// From `current` to `target` in accepted steps (halved where the corrector leaves the
@@ -232,14 +264,21 @@ impl<'a> Sweep<'a> {
         target: f64,
         events: &mut Vec<SweepEvent>,
         rejected: &mut usize,
-    ) -> Result<(Station, PointStatus), SweepError> {
+    ) -> Result<Advance, SweepError> {
         let mut status = PointStatus::Followed;
         let mut step = target - current.parameter;
         let mut halvings = 0;
         while current.parameter != target {
+            if let Some(reason) = spine_stop::check() {
+                return Ok(Advance::Stopped(reason));
+            }
             let p = if (target - current.parameter).abs() <= step.abs() { target } else { current.parameter + step };
             let prediction = current.predict(p);
             let next = self.counted(self.settle(p, &prediction))?;
+            if let Some(reason) = spine_stop::check() {
+                // The corrector may have been cut short: not a point.
+                return Ok(Advance::Stopped(reason));
+            }
             let accepted = next.clean() && self.distance(&next, &prediction) <= self.settings.branch_tolerance;
             if !accepted && halvings < self.settings.halvings {
                 *rejected += 1;
@@ -255,8 +294,11 @@ impl<'a> Sweep<'a> {
                 (false, clean) => {
                     let to = if clean { p } else { target };
                     let next = if clean { next } else { self.counted(self.restart(target, &current.result.design))? };
+                    if let Some(reason) = spine_stop::check() {
+                        return Ok(Advance::Stopped(reason));
+                    }
                     if !next.clean() {
-                        return Ok((next, PointStatus::Failed));
+                        return Ok(Advance::Reached(next, PointStatus::Failed));
                     }
                     let bracket = [current.parameter, to];
                     let parameter = 0.5 * (bracket[0] + bracket[1]);
@@ -269,7 +311,7 @@ impl<'a> Sweep<'a> {
             halvings = 0;
             step = target - current.parameter;
         }
-        Ok((current, status))
+        Ok(Advance::Reached(current, status))
     }
 
     /// Counts a corrector's solve and iterations.

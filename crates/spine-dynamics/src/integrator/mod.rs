@@ -69,6 +69,17 @@ pub fn integrate(
     }
 }
 
+/// Memory the stored steps of one run may take, bytes: a run keeps every accepted step (its dense
+/// output), so a long span with a small `max_step` would otherwise grow until the process aborts.
+pub const STEP_MEMORY_BUDGET: usize = 4 << 30;
+
+/// Most steps a run of a system of dimension `dim` may store within [`STEP_MEMORY_BUDGET`] (seven
+/// vectors of `dim` values per step: both ends, their derivatives, the collocation polynomial, plus
+/// the bookkeeping); the run ends with [`Outcome::StepLimit`] there, as at `max_steps`.
+pub fn steps_within_memory(dim: usize) -> usize {
+    STEP_MEMORY_BUDGET / (7 * 8 * dim.max(1) + 256)
+}
+
 /// The span `[t0, t_end]` cut at the system's breakpoints, and where the driver is in it.
 pub(super) struct Course<'a> {
     span: f64,
@@ -91,7 +102,8 @@ impl<'a> Course<'a> {
         let mut breaks = sys.breakpoints(t0, t_end);
         breaks.push(t_end);
         let replay = steps.map(|st| st.iter().copied().filter(|&x| x > t0).collect::<Vec<_>>().into_iter());
-        Self { span: t_end - t0, breaks, next_break: 0, replay, max_steps: opts.max_steps, sys }
+        let max_steps = opts.max_steps.min(steps_within_memory(sys.dim()));
+        Self { span: t_end - t0, breaks, next_break: 0, replay, max_steps, sys }
     }
 
     /// A time inside the current smooth piece of `f`.
