@@ -203,9 +203,9 @@ impl Folder {
     /// The folder's entries against its marker.
     fn contents(&self) -> Result<Existing, WriteError> {
         let dir = &self.dir;
-        let entries = std::fs::read_dir(dir).map_err(|e| refuse(dir, format!("cannot read the folder: {e}")))?;
+        let listing = std::fs::read_dir(dir).map_err(|e| refuse(dir, format!("cannot read the folder: {e}")))?;
         let mut names = Vec::new();
-        for entry in entries {
+        for entry in listing {
             let entry = entry.map_err(|e| refuse(dir, format!("cannot read the folder: {e}")))?;
             names.push(entry.file_name().to_string_lossy().into_owned());
         }
