@@ -29,7 +29,7 @@ pub struct RunArgs {
     /// Wall-clock limit of the run, in seconds (0 < SECONDS ≤ 1e6). When it passes, the solvers
     /// stop at their next check and the result reached so far is written, marked
     /// `"stopped": "time_limit"` (exit code 3).
-    #[arg(long, value_name = "SECONDS", value_parser = parse_time_limit)]
+    #[arg(long, value_name = "SECONDS", value_parser = parse_time_limit, allow_hyphen_values = true)]
     pub time_limit: Option<std::time::Duration>,
 }
 
@@ -49,7 +49,7 @@ pub struct AnimateArgs {
     pub frame_width: Option<u32>,
     /// Factor on the displacements drawn (> 0, ≤ 1e6; default: a round number that makes the
     /// largest one 15 % of the chain's extent, or 1).
-    #[arg(long, value_name = "FACTOR", value_parser = parse_magnify)]
+    #[arg(long, value_name = "FACTOR", value_parser = parse_magnify, allow_hyphen_values = true)]
     pub magnify: Option<f64>,
 }
 
@@ -159,7 +159,7 @@ pub struct StudyArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// The C_K values; default 1 to 10⁴ in half-decades.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub values: Option<Vec<f64>>,
     /// Worker processes for the study's eq. (33) solves, 1..=256 (default: the number of cores);
     /// the rows are the same, byte for byte.
@@ -200,10 +200,10 @@ pub struct SweepArgs {
     #[arg(long = "param", value_name = "NAME")]
     pub param: String,
     /// The parameter's first value (the optimum found there is followed).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub from: f64,
     /// The parameter's last value.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub to: f64,
     /// Reported points, equally spaced from --from to --to (rows of sweep.csv), 2..=100000.
     #[arg(long, default_value_t = 21)]
@@ -357,7 +357,10 @@ impl StudyArgs {
     pub fn values(&self) -> Result<Vec<f64>, crate::Failure> {
         let values = self.values.clone().unwrap_or_else(spine_run::study::half_decades);
         match values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-            Some(v) => Err(crate::Failure::Input(format!("--values: every C_K must be finite and > 0, got {v}"))),
+            Some(v) => Err(crate::Failure::Input(format!(
+                "--values: every C_K must be finite and > 0, got {}",
+                spine_check::short(*v)
+            ))),
             None => Ok(values),
         }
     }
@@ -370,7 +373,7 @@ const MAX_TIME_LIMIT: f64 = 1e6;
 fn parse_time_limit(text: &str) -> Result<std::time::Duration, String> {
     let s: f64 = text.parse().map_err(|e| format!("{e}"))?;
     if !(s > 0.0 && s <= MAX_TIME_LIMIT) {
-        return Err(format!("seconds must be > 0 and at most {MAX_TIME_LIMIT:e}, got {text}"));
+        return Err(format!("seconds must be > 0 and at most {MAX_TIME_LIMIT:e}, got {}", spine_check::shown(text)));
     }
     Ok(std::time::Duration::from_secs_f64(s))
 }

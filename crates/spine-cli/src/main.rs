@@ -30,7 +30,26 @@ pub enum Failure {
 const GRACE_SECONDS: u64 = 3;
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if matches!(e.kind(), clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion) => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+        // One line a person can act on (clap's first line, the value shortened and escaped),
+        // not the usage block.
+        Err(e) => {
+            let text = e.render().to_string();
+            let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("error: bad arguments");
+            let first = first.strip_prefix("error: ").unwrap_or(first);
+            eprintln!("error: {} (see --help)", spine_check::shown_within(first, 300));
+            return ExitCode::from(2);
+        }
+    };
     let _ = ctrlc::set_handler(|| {
         spine_stop::request_interrupt();
         std::thread::sleep(std::time::Duration::from_secs(GRACE_SECONDS));

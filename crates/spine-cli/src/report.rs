@@ -6,18 +6,24 @@ use crate::output::{say, Output};
 use crate::Failure;
 use spine_paper::report::{report, report_html, FolderResult};
 
+/// Largest errata file read, bytes.
+const MAX_ERRATA_BYTES: usize = 16 << 20;
+/// Largest `result.json` read, bytes.
+const MAX_RESULT_BYTES: usize = 512 << 20;
+
 /// `Ok(true)` when every case had a result.
 pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
     let out = Output::new(&a.results, false);
     out.check_text("REPORT.md")?;
     out.check_text("report.html")?;
-    let errata = std::fs::read_to_string(&a.errata)
-        .map_err(|e| Failure::Input(format!("{}: cannot read: {e}", a.errata.display())))?;
+    let errata =
+        spine_case::read_text(&a.errata, "errata", MAX_ERRATA_BYTES).map_err(|e| Failure::Input(e.to_string()))?;
     let mut results = Vec::new();
     let mut missing = Vec::new();
     for name in &a.cases {
         let file = a.results.join(name).join("result.json");
-        match std::fs::read_to_string(&file).ok().and_then(|t| serde_json::from_str(&t).ok()) {
+        match spine_case::read_text(&file, "result", MAX_RESULT_BYTES).ok().and_then(|t| serde_json::from_str(&t).ok())
+        {
             Some(value) => {
                 let assets = assets(&a.results.join(name), &value);
                 results.push(FolderResult { name: name.clone(), value, assets })

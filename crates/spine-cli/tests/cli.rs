@@ -194,10 +194,15 @@ fn output_folders_are_all_or_nothing_even_when_two_runs_race() {
     std::fs::write(&case, GOOD).unwrap();
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
-    std::fs::write(out.join("stale.csv"), "from an older run").unwrap();
+    // Issue 49: a file the program did not write is never removed: refused before any work.
+    std::fs::write(out.join("stale.csv"), "a user's file").unwrap();
+    let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(files_in(&out), vec!["stale.csv"]);
+    std::fs::remove_file(out.join("stale.csv")).unwrap();
     let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(files_in(&out), vec!["result.json"], "the folder holds exactly the new run's files");
+    assert_eq!(files_in(&out), vec![".spine-output", "result.json"], "the folder holds exactly the new run's files");
     let expected = std::fs::read(out.join("result.json")).unwrap();
 
     let runs: Vec<_> = (0..6)
@@ -212,7 +217,7 @@ fn output_folders_are_all_or_nothing_even_when_two_runs_race() {
     for mut r in runs {
         assert!(r.wait().unwrap().success());
     }
-    assert_eq!(files_in(&out), vec!["result.json"]);
+    assert_eq!(files_in(&out), vec![".spine-output", "result.json"]);
     assert_eq!(std::fs::read(out.join("result.json")).unwrap(), expected);
     assert_eq!(files_in(&dir), vec!["case.json", "out"], "no staging folder left behind");
 }
@@ -243,7 +248,7 @@ fn an_interrupted_run_leaves_the_previous_result_untouched() {
     assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stderr).contains("interrupted"));
     assert_eq!(std::fs::read(out.join("result.json")).unwrap(), before, "the previous result is untouched");
-    assert_eq!(files_in(&out), vec!["result.json"]);
+    assert_eq!(files_in(&out), vec![".spine-output", "result.json"]);
     assert_eq!(files_in(&dir), vec!["out"], "nothing partial beside it");
 }
 
@@ -308,4 +313,51 @@ fn an_interrupted_search_stops_at_its_next_step() {
     assert!(clock.elapsed().as_secs_f64() < 2.0, "took {:?} to stop", clock.elapsed());
     assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!out.exists());
+}
+
+/// Issue 49: a followed sweep stops on its time limit and on Ctrl-C within about a step: exit 3
+/// with only the computed points written (their count in `result.json` and `sweep.csv`, none
+/// with a zero objective), and exit 130 with nothing written.
+#[test]
+fn a_long_sweep_stops_on_its_time_limit_and_on_ctrl_c() {
+    let dir = tmpdir("sweep-stop");
+    let case = workspace().join("paper-cases/design5.json");
+    let out = dir.join("limited");
+    let sweep = |out: &std::path::Path, extra: &[&str]| {
+        let mut args = vec!["sweep", case.to_str().unwrap(), "--param", "loads.p_y", "--from", "-10", "--to", "-30"];
+        args.extend(["--points", "100000", "--census", "3", "--census-every", "2", "--out", out.to_str().unwrap()]);
+        args.extend(extra);
+        std::process::Command::new(env!("CARGO_BIN_EXE_spine"))
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let clock = std::time::Instant::now();
+    let o = sweep(&out, &["--time-limit", "0.5"]).wait_with_output().unwrap();
+    let took = clock.elapsed().as_secs_f64();
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(took < 2.5, "took {took} s for a 0.5 s limit");
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    assert_eq!(result["stopped"], "time_limit");
+    assert_eq!(result["sweep"]["stopped"], "time_limit");
+    let points = result["sweep"]["points"].as_array().unwrap();
+    assert!(!points.is_empty() && points.len() < 100_000, "{}", points.len());
+    assert!(points.iter().all(|p| p["objective"].as_f64().unwrap() > 0.0 && p["status"] != "failed"));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), points.len() + 1);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("STOPPED (time_limit) after"));
+    // Ctrl-C: the loop sees the stop flag at its next step.
+    let interrupted = dir.join("interrupted");
+    let child = sweep(&interrupted, &[]);
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    assert!(std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let clock = std::time::Instant::now();
+    let o = child.wait_with_output().unwrap();
+    assert!(clock.elapsed().as_secs_f64() < 1.5, "took {:?} to stop", clock.elapsed());
+    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!interrupted.exists());
+    let _ = std::fs::remove_dir_all(&dir);
 }

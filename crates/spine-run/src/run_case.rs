@@ -141,11 +141,11 @@ pub fn run_sensitivity(
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    // The same parameter given twice is reported once.
+    // The same parameter given twice (`loads.p_y[2]`, `loads.p_y[02]`) is reported once.
     let mut unique: Vec<String> = Vec::new();
-    for name in names {
-        if !unique.contains(name) {
-            unique.push(name.clone());
+    for name in names.iter().map(|n| crate::sensitivity::canonical(n)) {
+        if !unique.contains(&name) {
+            unique.push(name);
         }
     }
     let names = unique.as_slice();

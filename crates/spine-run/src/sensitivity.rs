@@ -162,6 +162,15 @@ pub(crate) fn attach(
     Ok(())
 }
 
+/// A parameter's name with its index written plainly (`loads.p_y[02]` is `loads.p_y[2]`).
+pub(crate) fn canonical(name: &str) -> String {
+    let index = name.split_once('[').and_then(|(f, rest)| Some((f, rest.strip_suffix(']')?.parse::<usize>().ok()?)));
+    match index {
+        Some((field, i)) => format!("{field}[{i}]"),
+        None => name.to_string(),
+    }
+}
+
 /// Refuses, before any work, a parameter that is not a number of a design case's physics, or two
 /// parameters whose CSV files would have one name (`loads.p_y[2]` and `loads.p_y[02]`).
 pub(crate) fn check_names(case: &spine_case::Case, names: &[String]) -> Result<(), RunError> {
