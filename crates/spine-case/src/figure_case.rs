@@ -96,7 +96,10 @@ impl FigureCase {
     /// [`FigureCase::validate`], beside the dispatcher.)
     pub fn merged_runs(&self) -> Result<Vec<MergedRun>, CaseError> {
         if !FIGURES.contains(&self.figure.as_str()) {
-            return Err(CaseError::invalid("figure", format!("unknown figure {:?}; one of {FIGURES:?}", self.figure)));
+            return Err(CaseError::invalid(
+                "figure",
+                format!("unknown figure \"{}\"; one of {}", spine_check::shown(&self.figure), FIGURES.join(", ")),
+            ));
         }
         if self.runs.is_empty() {
             return Err(CaseError::invalid("runs", "give at least one run"));

@@ -19,8 +19,73 @@ pub(crate) fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, 
                 message = msg.to_string();
             }
         }
-        CaseError::parse(field, message)
+        CaseError::parse(field, plain(&message))
     })
+}
+
+/// serde's wording for a person: `invalid type: null, expected f64` becomes `a number is
+/// expected, got null`; `invalid value: integer `-1`, expected usize` becomes `a whole number ≥ 0
+/// is expected, got -1`; `unknown field `x`, expected one of `a`, `b`` becomes `unknown field;
+/// allowed: a, b`. Other messages are kept.
+pub(crate) fn plain(message: &str) -> String {
+    let expected = |what: &str| -> String {
+        let what = what.trim();
+        match what {
+            "f64" | "f32" => "a number".into(),
+            "usize" | "u64" | "u32" | "u16" | "u8" => "a whole number ≥ 0".into(),
+            "i64" | "i32" => "a whole number".into(),
+            "a boolean" | "bool" => "true or false".into(),
+            "a sequence" => "a list".into(),
+            "a string" | "a map" => what.into(),
+            w if w.starts_with("struct ") || w.starts_with("a map") => "an object".into(),
+            w if w.starts_with("a sequence") => "a list".into(),
+            w => w.replace('`', ""),
+        }
+    };
+    let given = |what: &str| -> String {
+        let what = what.trim();
+        let unquoted = |w: &str| w.split('`').nth(1).map(String::from).unwrap_or_else(|| w.to_string());
+        match what {
+            "sequence" => "a list".into(),
+            "map" => "an object".into(),
+            w if w.starts_with("integer ") || w.starts_with("floating point ") => unquoted(w),
+            w if w.starts_with("string ") => w.trim_start_matches("string ").to_string(),
+            w if w.starts_with("boolean ") => unquoted(w),
+            w => w.to_string(),
+        }
+    };
+    for prefix in ["invalid type: ", "invalid value: "] {
+        if let Some(rest) = message.strip_prefix(prefix) {
+            if let Some((got, want)) = rest.rsplit_once(", expected ") {
+                return format!("{} is expected, got {}", expected(want), given(got));
+            }
+        }
+    }
+    if let Some(rest) = message.strip_prefix("unknown field `") {
+        if let Some((name, allowed)) = rest.split_once("`, expected one of ") {
+            return format!("unknown field `{name}`; allowed: {}", allowed.replace('`', ""));
+        }
+        if let Some((name, allowed)) = rest.split_once("`, expected ") {
+            return format!("unknown field `{name}`; allowed: {}", allowed.replace('`', ""));
+        }
+        if let Some(name) = rest.strip_suffix("`, there are no fields") {
+            return format!("unknown field `{name}`; this section has no fields");
+        }
+    }
+    if let Some(rest) = message.strip_prefix("unknown variant `") {
+        if let Some((name, allowed)) = rest.split_once("`, expected one of ") {
+            return format!("\"{name}\" is not allowed; allowed: {}", allowed.replace('`', "\""));
+        }
+        if let Some((name, allowed)) = rest.split_once("`, expected ") {
+            return format!("\"{name}\" is not allowed; allowed: {}", allowed.replace('`', "\""));
+        }
+    }
+    if let Some(rest) = message.strip_prefix("missing field `") {
+        if let Some(name) = rest.strip_suffix('`') {
+            return format!("missing: give `{name}`");
+        }
+    }
+    message.to_string()
 }
 
 /// Largest case file accepted, bytes (the paper's cases are under 10 kB; a million-link design
@@ -104,5 +169,24 @@ impl<'de> serde::de::Visitor<'de> for NoDuplicateKeysVisitor {
             map.next_value::<NoDuplicateKeys>()?;
         }
         Ok(NoDuplicateKeys)
+    }
+}
+
+#[cfg(test)]
+mod plain_tests {
+    use super::plain;
+
+    #[test]
+    fn serde_wording_becomes_plain() {
+        assert_eq!(plain("invalid type: null, expected f64"), "a number is expected, got null");
+        assert_eq!(plain("invalid value: integer `-1`, expected usize"), "a whole number ≥ 0 is expected, got -1");
+        assert_eq!(plain("invalid type: string \"5\", expected usize"), "a whole number ≥ 0 is expected, got \"5\"");
+        assert_eq!(plain("invalid type: sequence, expected f64"), "a number is expected, got a list");
+        assert_eq!(plain("unknown field `q`, expected one of `p_y`, `p_x`"), "unknown field `q`; allowed: p_y, p_x");
+        assert_eq!(
+            plain("unknown variant `x`, expected `full` or `reduced`"),
+            "\"x\" is not allowed; allowed: \"full\" or \"reduced\""
+        );
+        assert_eq!(plain("something else"), "something else");
     }
 }

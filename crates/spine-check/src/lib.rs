@@ -22,7 +22,7 @@
 /// [`FIELD_CHARS`] and the message to [`MESSAGE_CHARS`] characters, control characters escaped
 /// ([`shown_within`]): a case file's key or value never clears a terminal or fills a log.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{}: {}", shown_within(field, FIELD_CHARS), shown_within(message, MESSAGE_CHARS))]
+#[error("{}: {}", shown_within(field, FIELD_CHARS), shown_within(&short_numbers(message), MESSAGE_CHARS))]
 pub struct FieldError {
     /// The field's path as a case file spells it (empty: the whole object).
     pub field: String,
@@ -91,6 +91,48 @@ pub fn shown_within(text: &str, max: usize) -> String {
     let head: String = text.chars().take(max / 2).map(escaped).collect();
     let tail: String = text.chars().skip(count - max / 2).map(escaped).collect();
     format!("{head} … ({} characters left out) … {tail}", count - 2 * (max / 2))
+}
+
+/// `text` with every number longer than 12 characters in [`short`] form (`got
+/// 0.000…0003086` becomes `got 3.08642e-202`): a value echoed from a case file never fills a
+/// message with digits.
+///
+/// ```
+/// let long = format!("got {}", 3.086419725308642e-202);
+/// assert_eq!(spine_check::short_numbers(&long), "got 3.08642e-202");
+/// assert_eq!(spine_check::short_numbers("runs[1].x: got 0.25"), "runs[1].x: got 0.25");
+/// ```
+pub fn short_numbers(text: &str) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < chars.len() {
+        let starts = chars[i].is_ascii_digit()
+            || (chars[i] == '-' && chars.get(i + 1).is_some_and(|c| c.is_ascii_digit()))
+                && (i == 0 || !chars[i - 1].is_alphanumeric());
+        if !starts || (i > 0 && (chars[i - 1].is_alphanumeric() || chars[i - 1] == '_')) {
+            out.push(chars[i]);
+            i += 1;
+            continue;
+        }
+        let mut j = i + 1;
+        while j < chars.len() {
+            let c = chars[j];
+            let sign_after_e = (c == '-' || c == '+') && matches!(chars[j - 1], 'e' | 'E');
+            if c.is_ascii_digit() || c == '.' || c == 'e' || c == 'E' || sign_after_e {
+                j += 1;
+            } else {
+                break;
+            }
+        }
+        let token: String = chars[i..j].iter().collect();
+        match token.parse::<f64>() {
+            Ok(x) if token.len() > 12 => out.push_str(&short(x)),
+            _ => out.push_str(&token),
+        }
+        i = j;
+    }
+    out
 }
 
 /// A number in a short form for a message: as Rust prints it when that is at most 10

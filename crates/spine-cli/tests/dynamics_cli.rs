@@ -65,7 +65,7 @@ fn bad_dynamic_input_exits_2_names_the_field_and_writes_nothing() {
         (
             "simulate",
             Box::new(|c| c["simulation"]["integrator"] = json!({"method": "rk4"})),
-            "unknown variant `rk4`, expected `radau5` or `trbdf2`",
+            "\"rk4\" is not allowed; allowed: \"radau5\" or \"trbdf2\"",
         ),
         // Issue 19: extreme but well-formed values are refused with their range, not run.
         ("simulate", Box::new(|c| c["simulation"]["samples"] = json!(1e15 as u64)), "simulation.samples"),

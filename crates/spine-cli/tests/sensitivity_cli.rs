@@ -100,7 +100,7 @@ fn sweep_writes_one_row_per_point_a_figure_and_the_events() {
     assert_eq!(json["sweep"]["points"].as_array().unwrap().len(), 5);
     assert!(json["sweep"]["events"].as_array().is_some_and(|e| !e.is_empty()), "stiffness bounds become active");
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(stdout.contains("5 followed") && stdout.contains("BoundActive"), "{stdout}");
+    assert!(stdout.contains("5 followed") && stdout.contains("bound_active"), "{stdout}");
 }
 
 #[test]

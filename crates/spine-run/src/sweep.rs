@@ -118,8 +118,7 @@ impl SweepCaseResult {
                 let _ = write!(text, ",{v:e}");
             });
             let best = self.census.iter().find(|c| c.point == k).and_then(|c| c.best_objective);
-            let status =
-                serde_json::to_value(p.status).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default();
+            let status = p.status.name();
             let _ = writeln!(
                 text,
                 ",{},{status},{}",
@@ -165,8 +164,13 @@ impl std::fmt::Display for SweepCaseResult {
         for e in &s.events {
             writeln!(
                 f,
-                "  event at {} = {:.6e} (in [{:.6e}, {:.6e}]): {:?} {}",
-                s.parameter, e.parameter, e.bracket[0], e.bracket[1], e.kind, e.what
+                "  event at {} = {:.6e} (in [{:.6e}, {:.6e}]): {} {}",
+                s.parameter,
+                e.parameter,
+                e.bracket[0],
+                e.bracket[1],
+                e.kind.name(),
+                e.what
             )?;
         }
         if let Some(reason) = s.stopped {

@@ -63,7 +63,9 @@ impl GaSettings {
             format!("must be in [0, 1], got {}", self.crossover_probability)
         })?;
         let m = self.mutation_probability;
-        require(m.is_none_or(unit), "mutation_probability", || format!("must be in [0, 1], got {m:?}"))?;
+        require(m.is_none_or(unit), "mutation_probability", || {
+            format!("must be in [0, 1], got {}", m.map_or("none".into(), spine_check::short))
+        })?;
         for (field, eta) in [("crossover_eta", self.crossover_eta), ("mutation_eta", self.mutation_eta)] {
             require(eta.is_finite() && eta > 0.0, field, || format!("must be a finite number > 0, got {eta}"))?;
         }

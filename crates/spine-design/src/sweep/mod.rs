@@ -104,6 +104,17 @@ pub enum PointStatus {
     Failed,
 }
 
+impl PointStatus {
+    /// The snake_case name written in results (`followed`, `jumped`, `failed`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Followed => "followed",
+            Self::Jumped => "jumped",
+            Self::Failed => "failed",
+        }
+    }
+}
+
 /// One reported point of the sweep.
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepPoint {
@@ -138,6 +149,21 @@ pub enum EventKind {
     StabilityRestored,
     /// The branch could not be followed with the smallest step: it ended or the corrector left it.
     Jump,
+}
+
+impl EventKind {
+    /// The snake_case name written in results (`bound_active`, `fold`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::BoundActive => "bound_active",
+            Self::BoundInactive => "bound_inactive",
+            Self::Fold => "fold",
+            Self::SecondOrderRestored => "second_order_restored",
+            Self::StabilityLost => "stability_lost",
+            Self::StabilityRestored => "stability_restored",
+            Self::Jump => "jump",
+        }
+    }
 }
 
 /// An event of the sweep.
@@ -338,6 +364,24 @@ impl<'a> Sweep<'a> {
             second_order_sufficient: s.second_order(),
             stable: s.stable(),
             tangent: s.tangent(self.settings.to - self.settings.from).cloned(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names written by hand agree with the names serde writes into `result.json`.
+    #[test]
+    fn names_agree_with_the_serialised_ones() {
+        use PointStatus::*;
+        for s in [Followed, Jumped, Failed] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.name());
+        }
+        use EventKind::*;
+        for k in [BoundActive, BoundInactive, Fold, SecondOrderRestored, StabilityLost, StabilityRestored, Jump] {
+            assert_eq!(serde_json::to_value(k).unwrap(), k.name());
         }
     }
 }
