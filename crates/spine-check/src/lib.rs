@@ -135,8 +135,8 @@ pub fn short_numbers(text: &str) -> String {
     out
 }
 
-/// A number in a short form for a message: as Rust prints it when that is at most 10
-/// characters, else in scientific form with 6 significant digits and no trailing zeros.
+/// A number in a short form for a message: as Rust prints it (plainly or in scientific form) when
+/// that is at most 10 characters, else in scientific form with 6 significant digits and no trailing zeros.
 ///
 /// ```
 /// assert_eq!(spine_check::short(0.25), "0.25");
@@ -148,6 +148,10 @@ pub fn short(x: f64) -> String {
     let plain = format!("{x}");
     if plain.len() <= 10 {
         return plain;
+    }
+    let exact = format!("{x:e}");
+    if exact.len() <= 10 {
+        return exact;
     }
     let sci = format!("{x:.5e}");
     match sci.split_once('e') {
