@@ -155,3 +155,34 @@ fn sensitivity_of_a_figure_case_differentiates_each_design_run() {
     assert!(stderr.contains("runs") && stderr.contains("no design runs"), "{stderr}");
     assert!(!out.join("result.json").exists());
 }
+
+/// Issue 49: a parameter at the edge of its allowed range (`bounds.stiffness_min` = 0) is
+/// differentiated one-sided instead of refused; the others stay central.
+#[test]
+fn a_parameter_at_the_edge_of_its_range_is_differenced_one_sided() {
+    let dir = tmpdir("one-sided");
+    let mut case: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/design5.json")).unwrap()).unwrap();
+    case["bounds"] = serde_json::json!({"stiffness_min": 0});
+    let file = dir.join("case.json");
+    std::fs::write(&file, case.to_string()).unwrap();
+    let out = dir.join("out");
+    let o = spine(&[
+        "sensitivity",
+        file.to_str().unwrap(),
+        "--param",
+        "bounds.stiffness_min",
+        "--param",
+        "delta_d",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.code() == Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let parameters = json["sensitivity"]["parameters"].as_array().unwrap();
+    assert_eq!(parameters[0]["name"], "bounds.stiffness_min");
+    assert_eq!(parameters[0]["difference"], "forward");
+    assert_eq!(parameters[1]["difference"], "central");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -52,7 +52,21 @@ pub fn run_design_sweep(
         case_at(c, overrides, name, v).map(|valid| valid.problem).map_err(|e| e.to_string())
     };
     let sweep = Sweep::new(name, &problem_at, &first.settings, settings).map_err(sweep_error)?;
-    let followed = sweep.follow(&start.result.design).map_err(sweep_error)?;
+    // A start that is not clean is the start run's finding (exit 3 with its result), as `spine
+    // design` reports it, not bad input.
+    let followed = if !start.result.is_clean() {
+        let why = format!("the optimum at the sweep's start is not clean ({})", start.result.solver.status);
+        SweepResult::unfollowed(name, settings, why)
+    } else {
+        match sweep.follow(&start.result.design) {
+            Err(SweepError::Start(status)) => SweepResult::unfollowed(
+                name,
+                settings,
+                format!("the tight re-solve of the start optimum did not end clean ({status})"),
+            ),
+            other => other.map_err(sweep_error)?,
+        }
+    };
     let sweep_seconds = clock.elapsed().as_secs_f64() - solve_seconds;
     let census = match plan {
         Some(plan) => census(c, overrides, workers, name, &followed, plan, progress)?,
@@ -172,6 +186,9 @@ impl std::fmt::Display for SweepCaseResult {
                 e.kind.name(),
                 e.what
             )?;
+        }
+        if let Some(why) = &s.not_followed {
+            writeln!(f, "NOT FOLLOWED: {why}")?;
         }
         if let Some(reason) = s.stopped {
             let last = s.points.last().map_or("before its first point".into(), |p| {

@@ -192,6 +192,26 @@ pub struct SweepResult {
     /// only the points computed, the last one before the stop.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stopped: Option<spine_stop::StopReason>,
+    /// Why nothing was followed (the optimum at the sweep's start is not clean): `points` is empty.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_followed: Option<String>,
+}
+
+impl SweepResult {
+    /// A sweep that followed nothing, and why.
+    pub fn unfollowed(parameter: &str, settings: SweepSettings, why: String) -> Self {
+        SweepResult {
+            parameter: parameter.to_string(),
+            settings,
+            points: Vec::new(),
+            events: Vec::new(),
+            solves: 0,
+            iterations: 0,
+            rejected_steps: 0,
+            stopped: None,
+            not_followed: Some(why),
+        }
+    }
 }
 
 /// How [`Sweep::advance`] ended: at its target, or stopped on the way.
@@ -245,6 +265,7 @@ impl<'a> Sweep<'a> {
             iterations: 0,
             rejected_steps: 0,
             stopped: spine_stop::check(),
+            not_followed: None,
         };
         if result.stopped.is_some() {
             return Ok(result);
