@@ -118,6 +118,22 @@ def test_write_gives_the_cli_folder_and_series_are_the_csv_columns(tmp_path):
     assert 0 <= reached - r["step_response"]["rise_time"] <= t[1] - t[0] + 1e-12
 
 
+def test_write_never_removes_a_users_files(tmp_path):
+    """Issue 49: Result.write follows the CLI's --out rule: a folder holding files the program did
+    not write is refused (ValueError) and left as it was; a folder it wrote is replaced."""
+    r = flexspine.run_case(CASES / "arch10.json")
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("a user's notes")
+    with pytest.raises(ValueError, match="did not write"):
+        r.write(mine)
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    out = tmp_path / "out"
+    r.write(out)
+    r.write(out)
+    assert sorted(p.name for p in out.iterdir()) == [".spine-output", "result.json"]
+
+
 @pytest.mark.parametrize(
     "edit, field",
     [
