@@ -37,7 +37,7 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            let _ = e.print();
+            eprintln!("error: a command is needed: spine equilibrium|twolink|design|merge|simulate|damping|periodic|case|study|sensitivity|sweep|report … (see --help)");
             return ExitCode::from(2);
         }
         // One line a person can act on (clap's first line, the value shortened and escaped),
@@ -78,15 +78,15 @@ fn main() -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(3),
         Err(Failure::Input(msg)) => {
-            eprintln!("error: {msg}");
+            eprintln!("error: {}", one_line(&msg));
             ExitCode::from(2)
         }
         Err(Failure::Other(msg)) => {
-            eprintln!("error: {msg}");
+            eprintln!("error: {}", one_line(&msg));
             ExitCode::from(1)
         }
         Err(Failure::TimeLimit(msg)) => {
-            eprintln!("error: {msg}");
+            eprintln!("error: {}", one_line(&msg));
             ExitCode::from(3)
         }
         Err(Failure::Interrupted) => {
@@ -94,6 +94,12 @@ fn main() -> ExitCode {
             ExitCode::from(130)
         }
     }
+}
+
+/// An error message on one line a terminal shows as written: control characters escaped, at
+/// most 1000 characters (every message is built to be shorter; this is the last guard).
+fn one_line(msg: &str) -> String {
+    spine_check::shown_within(msg.trim_end(), 1000)
 }
 
 /// Reads and parses a case file (refusing an oversized one before reading it): its text and case.

@@ -13,6 +13,21 @@ const MAX_RESULT_BYTES: usize = 512 << 20;
 
 /// `Ok(true)` when every case had a result.
 pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
+    // Names of sub-folders of RESULTS only: the report reads nothing outside it.
+    if let Some(bad) = a.cases.iter().find(|n| {
+        n.is_empty()
+            || *n == "."
+            || *n == ".."
+            || n.contains('/')
+            || n.contains('\\')
+            || n.chars().any(char::is_control)
+    }) {
+        return Err(Failure::Input(format!(
+            "--cases: \"{}\" is not the name of a folder in {}; give names such as fig6,study-ck",
+            spine_check::shown(bad),
+            spine_check::shown(&a.results.display().to_string())
+        )));
+    }
     let out = Output::new(&a.results, false);
     out.check_text("REPORT.md")?;
     out.check_text("report.html")?;
