@@ -114,8 +114,8 @@ enum Existing {
     Absent,
     /// An empty folder (a plain rename replaces it: nothing is lost).
     Empty,
-    /// A folder the program wrote, holding only these files (and the marker).
-    Ours(Vec<String>),
+    /// A folder the program wrote, holding only the files its marker lists.
+    Ours,
 }
 
 /// The absolute form of `path` with every link resolved, also for a path whose last components do
@@ -241,7 +241,7 @@ impl Folder {
                 return Err(refuse(dir, format!("{} is not a file an earlier run wrote", spine_check::shown(name))));
             }
         }
-        Ok(Existing::Ours(names.into_iter().filter(|n| n != MARKER).collect()))
+        Ok(Existing::Ours)
     }
 
     /// Writes the result's files and `result.json` ([`result_json`]) as one new folder in place
@@ -305,7 +305,7 @@ impl Folder {
         // Checked again just before the swap: a user's file may have arrived during the run.
         match self.existing(&[])? {
             Existing::Absent | Existing::Empty => std::fs::rename(&stage.path, dir).map_err(&io)?,
-            Existing::Ours(old) => {
+            Existing::Ours => {
                 rustix::fs::renameat_with(
                     rustix::fs::CWD,
                     &stage.path,
@@ -314,10 +314,15 @@ impl Folder {
                     rustix::fs::RenameFlags::EXCHANGE,
                 )
                 .map_err(|e| io(e.into()))?;
-                // The old folder is now at the staging path: only what the marker listed goes.
+                // The old folder is now at the staging path: only what its own marker lists goes
+                // (read again: another run may have swapped in its folder since the check).
                 stage.committed = true;
+                let old = read_marker(&stage.path).unwrap_or_default();
                 for name in old.iter().map(String::as_str).chain([MARKER]) {
-                    let _ = std::fs::remove_file(stage.path.join(name));
+                    let plain = !name.contains('/') && name != "." && name != "..";
+                    if plain && std::fs::symlink_metadata(stage.path.join(name)).is_ok_and(|m| m.is_file()) {
+                        let _ = std::fs::remove_file(stage.path.join(name));
+                    }
                 }
                 if std::fs::remove_dir(&stage.path).is_err() {
                     // Something arrived between the check and the swap: kept, under a visible name.
