@@ -39,7 +39,7 @@ pub use dynamics_case::{
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
 pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MAX_RUN_NAME};
-pub use parameter::LOAD_SCALE;
+pub use parameter::{canonical_parameter, LOAD_SCALE};
 pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;
 pub use read::{read_text, ReadError};

@@ -35,6 +35,20 @@ fn split(name: &str) -> Result<(&str, Option<usize>), CaseError> {
     }
 }
 
+/// A parameter's name with its index written plainly (`loads.p_y[02]` is `loads.p_y[2]`); a name
+/// that is not `field[i]` is returned as it is.
+///
+/// ```
+/// assert_eq!(spine_case::canonical_parameter("loads.p_y[02]"), "loads.p_y[2]");
+/// assert_eq!(spine_case::canonical_parameter("delta_d"), "delta_d");
+/// ```
+pub fn canonical_parameter(name: &str) -> String {
+    match split(name) {
+        Ok((field, Some(i))) => format!("{field}[{i}]"),
+        _ => name.to_string(),
+    }
+}
+
 /// The fields that are numbers of the physics (loads, geometry, masses, gravity, bounds, δ_d,
 /// C_K): what a sensitivity or a sweep may change. Counts (`chain.links`), the start, the
 /// multi-start's seed and the solver's settings are not parameters of eq. (33).

@@ -35,8 +35,6 @@ pub(crate) fn plain(message: &str) -> String {
             "usize" | "u64" | "u32" | "u16" | "u8" => "a whole number ≥ 0".into(),
             "i64" | "i32" => "a whole number".into(),
             "a boolean" | "bool" => "true or false".into(),
-            "a sequence" => "a list".into(),
-            "a string" | "a map" => what.into(),
             w if w.starts_with("struct ") || w.starts_with("a map") => "an object".into(),
             w if w.starts_with("a sequence") => "a list".into(),
             w => w.replace('`', ""),
@@ -61,24 +59,21 @@ pub(crate) fn plain(message: &str) -> String {
             }
         }
     }
+    // `NAME`, expected one of `a`, `b`  or  `NAME`, expected `a` or `b`: the name and the list.
+    let named = |rest: &'_ str| -> Option<(String, String)> {
+        let (name, allowed) = rest.split_once("`, expected one of ").or_else(|| rest.split_once("`, expected "))?;
+        Some((name.to_string(), allowed.to_string()))
+    };
     if let Some(rest) = message.strip_prefix("unknown field `") {
-        if let Some((name, allowed)) = rest.split_once("`, expected one of ") {
-            return format!("unknown field `{name}`; allowed: {}", allowed.replace('`', ""));
-        }
-        if let Some((name, allowed)) = rest.split_once("`, expected ") {
+        if let Some((name, allowed)) = named(rest) {
             return format!("unknown field `{name}`; allowed: {}", allowed.replace('`', ""));
         }
         if let Some(name) = rest.strip_suffix("`, there are no fields") {
             return format!("unknown field `{name}`; this section has no fields");
         }
     }
-    if let Some(rest) = message.strip_prefix("unknown variant `") {
-        if let Some((name, allowed)) = rest.split_once("`, expected one of ") {
-            return format!("\"{name}\" is not allowed; allowed: {}", allowed.replace('`', "\""));
-        }
-        if let Some((name, allowed)) = rest.split_once("`, expected ") {
-            return format!("\"{name}\" is not allowed; allowed: {}", allowed.replace('`', "\""));
-        }
+    if let Some((name, allowed)) = message.strip_prefix("unknown variant `").and_then(named) {
+        return format!("\"{name}\" is not allowed; allowed: {}", allowed.replace('`', "\""));
     }
     if let Some(rest) = message.strip_prefix("missing field `") {
         if let Some(name) = rest.strip_suffix('`') {

@@ -141,15 +141,7 @@ pub fn run_sensitivity(
     names: &[String],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    // The same parameter given twice (`loads.p_y[2]`, `loads.p_y[02]`) is reported once.
-    let mut unique: Vec<String> = Vec::new();
-    for name in names.iter().map(|n| crate::sensitivity::canonical(n)) {
-        if !unique.contains(&name) {
-            unique.push(name);
-        }
-    }
-    let names = unique.as_slice();
-    crate::sensitivity::check_names(case, names)?;
+    let names = &crate::sensitivity::parameter_names(case, names)?;
     limited(overrides, || {
         let workers = overrides.workers.as_ref();
         match case {

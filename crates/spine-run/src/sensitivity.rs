@@ -162,20 +162,19 @@ pub(crate) fn attach(
     Ok(())
 }
 
-/// A parameter's name with its index written plainly (`loads.p_y[02]` is `loads.p_y[2]`).
-pub(crate) fn canonical(name: &str) -> String {
-    let index = name.split_once('[').and_then(|(f, rest)| Some((f, rest.strip_suffix(']')?.parse::<usize>().ok()?)));
-    match index {
-        Some((field, i)) => format!("{field}[{i}]"),
-        None => name.to_string(),
+/// The parameters to differentiate by: each name written plainly
+/// ([`spine_case::canonical_parameter`]) and given once (`loads.p_y[2]` twice, or as
+/// `loads.p_y[02]`, is one parameter). Refuses, before any work, a parameter that is not a number
+/// of a design case's physics, or two whose CSV files would have one name.
+pub(crate) fn parameter_names(case: &spine_case::Case, given: &[String]) -> Result<Vec<String>, RunError> {
+    let mut names: Vec<String> = Vec::new();
+    for name in given.iter().map(|n| spine_case::canonical_parameter(n)) {
+        if !names.contains(&name) {
+            names.push(name);
+        }
     }
-}
-
-/// Refuses, before any work, a parameter that is not a number of a design case's physics, or two
-/// parameters whose CSV files would have one name (`loads.p_y[2]` and `loads.p_y[02]`).
-pub(crate) fn check_names(case: &spine_case::Case, names: &[String]) -> Result<(), RunError> {
     if let spine_case::Case::Design(c) = case {
-        for name in names {
+        for name in &names {
             c.parameter_value(name)?;
         }
     }
@@ -191,7 +190,7 @@ pub(crate) fn check_names(case: &spine_case::Case, names: &[String]) -> Result<(
             ),
         )));
     }
-    Ok(())
+    Ok(names)
 }
 
 /// `sensitivity_<name>.csv`, with the path's punctuation as `_`.

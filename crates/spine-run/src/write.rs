@@ -133,6 +133,28 @@ fn resolved(path: &Path) -> Option<PathBuf> {
     }
 }
 
+/// The folder `dir` sits in (`.` for a bare name).
+fn parent_of(dir: &Path) -> PathBuf {
+    dir.parent().filter(|p| !p.as_os_str().is_empty()).map_or(PathBuf::from("."), Path::to_path_buf)
+}
+
+/// `dir`'s last component, for the names of its staging folder and of a kept old folder.
+fn name_of(dir: &Path) -> String {
+    dir.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned())
+}
+
+/// Refuses `dir` unless `folder` (the folder it will be written into) is a folder this process
+/// can write into.
+fn writable(dir: &Path, folder: &Path) -> Result<(), WriteError> {
+    if !std::fs::metadata(folder).is_ok_and(|m| m.is_dir()) {
+        return Err(refuse(dir, format!("{} is not a folder", shown(folder))));
+    }
+    if rustix::fs::access(folder, rustix::fs::Access::WRITE_OK).is_err() {
+        return Err(refuse(dir, format!("{} is not writable", shown(folder))));
+    }
+    Ok(())
+}
+
 /// The deepest existing ancestor of `path` (itself included).
 fn existing_ancestor(path: &Path) -> PathBuf {
     let mut head = path.to_path_buf();
@@ -189,14 +211,9 @@ impl Folder {
         };
         let parent = match existing {
             Existing::Absent => existing_ancestor(dir),
-            _ => dir.parent().filter(|p| !p.as_os_str().is_empty()).map_or(PathBuf::from("."), Path::to_path_buf),
+            _ => parent_of(dir),
         };
-        if !std::fs::metadata(&parent).is_ok_and(|m| m.is_dir()) {
-            return Err(refuse(dir, format!("{} is not a folder", shown(&parent))));
-        }
-        if rustix::fs::access(&parent, rustix::fs::Access::WRITE_OK).is_err() {
-            return Err(refuse(dir, format!("{} is not writable", shown(&parent))));
-        }
+        writable(dir, &parent)?;
         Ok(existing)
     }
 
@@ -213,23 +230,21 @@ impl Folder {
             return Ok(Existing::Empty);
         }
         names.sort();
-        let Some(listed) = read_marker(dir) else {
-            let first = names.first().map(String::as_str).unwrap_or_default();
-            return Err(refuse(
-                dir,
-                format!(
-                    "holds {} this program did not write (first: {}); give a new folder or an empty one",
-                    entries(names.len()),
-                    spine_check::shown(first)
-                ),
-            ));
+        // Without a marker every entry is foreign; with one, every entry it does not list.
+        let listed = read_marker(dir);
+        let foreign: Vec<&String> = match &listed {
+            None => names.iter().collect(),
+            Some(listed) => names.iter().filter(|n| *n != MARKER && !listed.contains(n)).collect(),
         };
-        let foreign: Vec<&String> = names.iter().filter(|n| *n != MARKER && !listed.contains(n)).collect();
         if let Some(first) = foreign.first() {
+            let (whose, what_to_do) = match listed {
+                None => ("this program", "give a new folder or an empty one"),
+                Some(_) => ("an earlier run", "move them or give a new folder"),
+            };
             return Err(refuse(
                 dir,
                 format!(
-                    "holds {} an earlier run did not write (first: {}); move them or give a new folder",
+                    "holds {} {whose} did not write (first: {}); {what_to_do}",
                     entries(foreign.len()),
                     spine_check::shown(first)
                 ),
@@ -304,7 +319,10 @@ impl Folder {
         sync(&stage.path).map_err(&io)?;
         // Checked again just before the swap: a user's file may have arrived during the run.
         match self.existing(&[])? {
-            Existing::Absent | Existing::Empty => std::fs::rename(&stage.path, dir).map_err(&io)?,
+            Existing::Absent | Existing::Empty => {
+                std::fs::rename(&stage.path, dir).map_err(&io)?;
+                stage.committed = true;
+            }
             Existing::Ours => {
                 rustix::fs::renameat_with(
                     rustix::fs::CWD,
@@ -314,8 +332,9 @@ impl Folder {
                     rustix::fs::RenameFlags::EXCHANGE,
                 )
                 .map_err(|e| io(e.into()))?;
-                // The old folder is now at the staging path: only what its own marker lists goes
-                // (read again: another run may have swapped in its folder since the check).
+                // The old folder is now at the staging path (never to be removed as a whole):
+                // only what its own marker lists goes (read again: another run may have swapped
+                // in its folder since the check).
                 stage.committed = true;
                 let old = read_marker(&stage.path).unwrap_or_default();
                 for name in old.iter().map(String::as_str).chain([MARKER]) {
@@ -326,17 +345,12 @@ impl Folder {
                 }
                 if std::fs::remove_dir(&stage.path).is_err() {
                     // Something arrived between the check and the swap: kept, under a visible name.
-                    let kept = stage.path.with_file_name(format!("{}.kept-{}", self.name(), unique_suffix()));
+                    let kept = stage.path.with_file_name(format!("{}.kept-{}", name_of(dir), unique_suffix()));
                     let _ = std::fs::rename(&stage.path, kept);
                 }
             }
         }
-        stage.committed = true;
         Ok(())
-    }
-
-    fn name(&self) -> String {
-        self.dir.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned())
     }
 
     /// Writes one text file into `dir` (created if needed; a folder of others' files too, e.g.
@@ -379,11 +393,7 @@ impl Folder {
                 )));
             }
         }
-        let ancestor = existing_ancestor(dir);
-        if rustix::fs::access(&ancestor, rustix::fs::Access::WRITE_OK).is_err() {
-            return Err(refuse(dir, format!("{} is not writable", shown(&ancestor))));
-        }
-        Ok(())
+        writable(dir, &existing_ancestor(dir))
     }
 
     fn replace_file(&self, name: &str, text: &str) -> Result<(), WriteError> {
@@ -437,10 +447,9 @@ fn create_new(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 impl Stage {
     fn new(dir: &Path) -> Result<Self, WriteError> {
         let io = io_error(dir);
-        let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        std::fs::create_dir_all(parent).map_err(&io)?;
-        let name = dir.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned());
-        let path = parent.join(format!(".{name}.staging-{}", unique_suffix()));
+        let parent = parent_of(dir);
+        std::fs::create_dir_all(&parent).map_err(&io)?;
+        let path = parent.join(format!(".{}.staging-{}", name_of(dir), unique_suffix()));
         std::fs::create_dir(&path).map_err(&io)?;
         Ok(Stage { path, committed: false })
     }
