@@ -11,6 +11,8 @@
 //!   result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
+//! * [`certificate`]: the second-order certificate of an optimum, and [`certificate::settle`], which
+//!   reports a certified minimum.
 //! * [`sensitivity`]: derivatives of an optimum with respect to the problem's parameters.
 //!
 //! ```
@@ -29,6 +31,7 @@
 pub mod adjoint;
 pub mod assembly;
 pub mod census;
+pub mod certificate;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod full_space;

@@ -4,7 +4,10 @@
 
 use crate::census::{estimate, CensusEstimate};
 use crate::problem::DesignProblem;
+use crate::certificate::settle;
 use crate::result::DesignResult;
+use crate::solve::{DesignError, SolverRun};
+use crate::SolverSettings;
 use serde::Serialize;
 use spine_model::rng::SplitMix64;
 use spine_model::Design;
@@ -132,6 +135,37 @@ fn same_optimum(a: &DesignResult, b: &DesignResult, b_theta0: &[f64]) -> bool {
     a.is_clean() == b.is_clean()
         && (a.objective - b.objective).abs() <= 1e-6 * a.objective.abs().max(1e-12)
         && a.design.theta0.iter().zip(b_theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
+}
+
+/// The checked, certified results of `runs` (in start order): the runs are checked and grouped as
+/// [`cluster`] groups them, and the first run of each group is settled
+/// ([`crate::certificate::settle`]: certified, and left for a lower minimum where it is not one);
+/// every run of the group then reports that settled result. One certificate per distinct point
+/// (at Ipopt's default tolerance a point's weakly active bounds cannot be told apart, so each
+/// certificate costs a tight re-solve), and the same results whatever order or process the runs
+/// came from.
+pub fn settle_all(
+    problem: &DesignProblem,
+    runs: Vec<SolverRun>,
+    settings: &SolverSettings,
+) -> Result<Vec<DesignResult>, DesignError> {
+    let checked: Vec<DesignResult> = runs.iter().map(|r| r.clone().check(problem, settings)).collect();
+    let mut settled: Vec<Option<DesignResult>> = vec![None; runs.len()];
+    let mut representatives: Vec<usize> = Vec::new();
+    for (k, run) in runs.into_iter().enumerate() {
+        let r = &checked[k];
+        let converged = r.solver.converged && r.objective.is_finite();
+        match representatives.iter().find(|&&f| converged && same_optimum(&checked[f], r, &r.design.theta0)) {
+            Some(&f) => settled[k] = settled[f].clone(),
+            None => {
+                if converged {
+                    representatives.push(k);
+                }
+                settled[k] = Some(settle(problem, run, settings)?);
+            }
+        }
+    }
+    Ok(settled.into_iter().map(|r| r.expect("every run is settled")).collect())
 }
 
 /// Groups converged results: two belong to the same optimum when both are clean or both are

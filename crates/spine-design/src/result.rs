@@ -90,6 +90,12 @@ pub struct DesignResult {
     /// The levels of a mesh-sequenced run (absent for a single solve).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refinement: Option<RefinementReport>,
+    /// The second-order certificate of the reported point ([`crate::certificate`]); `None` for a
+    /// run that did not converge (no first-order point to certify) or was not certified.
+    pub certificate: Option<crate::certificate::Certificate>,
+    /// Points left on the way here because they were not minima ([`crate::certificate::settle`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub escapes: Vec<crate::certificate::Escape>,
 }
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -184,6 +190,8 @@ impl DesignResult {
             start_notes,
             warnings,
             refinement: None,
+            certificate: None,
+            escapes: Vec::new(),
         }
     }
 

@@ -24,7 +24,9 @@ pub enum DesignError {
 /// Solves eq. (33) from `start` (projected into the bounds first) in the given formulation; in the
 /// full space through the mesh-sequencing ladder of `settings.refine` when it applies.
 /// `observer` sees every Ipopt iteration (of every level) and may stop the run by returning `false`.
-/// The same as [`run_solver`] then [`SolverRun::check`].
+/// The same as [`run_solver`] then [`crate::certificate::settle`]: the result is checked, carries
+/// its second-order certificate, and is never a point that is not a minimum where a lower one can
+/// be reached from it.
 pub fn solve_design(
     problem: &DesignProblem,
     start: &Design,
@@ -32,7 +34,7 @@ pub fn solve_design(
     settings: &SolverSettings,
     observer: &mut dyn FnMut(&IterationInfo) -> bool,
 ) -> Result<DesignResult, DesignError> {
-    Ok(run_solver(problem, start, formulation, settings, observer)?.check(problem, settings))
+    crate::certificate::settle(problem, run_solver(problem, start, formulation, settings, observer)?, settings)
 }
 
 /// What Ipopt returned for eq. (33), before it is checked: the design, the states, the solver's

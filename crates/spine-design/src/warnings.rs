@@ -29,6 +29,9 @@ pub enum DesignWarning {
     /// Ipopt's status alone does not show this: it judges its own last iterate, which a bound
     /// clipping after the solve (`honor_original_bounds`) or an "acceptable" stop can leave.
     ConstraintViolated { part: &'static str, violation: f64, allowed: f64 },
+    /// The second-order certificate found negative curvature on the critical face and no lower
+    /// minimum was reached from it ([`crate::certificate`]): its smallest curvature, where computed.
+    NotAMinimum { curvature: Option<f64> },
 }
 
 impl std::fmt::Display for DesignWarning {
@@ -51,6 +54,11 @@ impl std::fmt::Display for DesignWarning {
             Self::ConstraintViolated { part, violation, allowed } => write!(
                 f,
                 "the reported design violates eq. (33): {part} {violation:.3e} (allowed {allowed:.1e}); its numbers are not those of an optimum"
+            ),
+            Self::NotAMinimum { curvature } => write!(
+                f,
+                "the point is not a minimum: negative curvature{} on the null space of the active constraints (a saddle of eq. (33))",
+                curvature.map_or(String::new(), |c| format!(" {c:.3e}"))
             ),
         }
     }

@@ -8,7 +8,8 @@ use crate::workers::{solve_starts, Task, Workers};
 use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
-use spine_design::multistart::{cluster, feasible_starts, MultiStartSummary};
+use spine_design::certificate::settle;
+use spine_design::multistart::{cluster, feasible_starts, settle_all, MultiStartSummary};
 use spine_design::refine::Refine;
 use spine_design::{run_solver, DesignProblem, DesignResult, Formulation, SolverRun};
 use spine_model::{Design, State};
@@ -35,7 +36,17 @@ pub(crate) fn states(result: &DesignResult) -> Option<(State, State)> {
 /// Eq. (33) from `start`. Ipopt stops at its next iteration when a stop is requested (the run
 /// returns [`RunError::Interrupted`]) or the time limit passes (its status says `time_limit`).
 fn solve(valid: &ValidDesign, start: &Design) -> Result<DesignResult, RunError> {
-    Ok(solve_unchecked(valid, start)?.check(&valid.problem, &valid.settings))
+    settled(valid, solve_unchecked(valid, start)?)
+}
+
+/// The optimum a run reports: checked, certified to second order, and left for a lower minimum
+/// where it is not one ([`spine_design::certificate::settle`]).
+pub(crate) fn settled(valid: &ValidDesign, run: SolverRun) -> Result<DesignResult, RunError> {
+    let result = settle(&valid.problem, run, &valid.settings).map_err(RunError::Design)?;
+    if spine_stop::interrupt_requested() {
+        return Err(RunError::Interrupted);
+    }
+    Ok(result)
 }
 
 /// Eq. (33) from `start`, before the result's check ([`SolverRun::check`]); an interrupt is
@@ -117,12 +128,11 @@ pub fn run_design_case(
     workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
-    let own = solve(valid, &valid.start)?;
+    let own = solve_unchecked(valid, &valid.start)?;
     let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);
-    let runs = solve_all(valid, &seeded, workers, progress)?;
-    let mut results = vec![own];
-    results.extend(runs.into_iter().map(|run| run.check(&valid.problem, &valid.settings)));
-    Ok(census(case, valid, results))
+    let mut runs = vec![own];
+    runs.extend(solve_all(valid, &seeded, workers, progress)?);
+    census(case, valid, runs)
 }
 
 /// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with
@@ -160,21 +170,25 @@ pub fn solve_all(
     Ok(runs)
 }
 
-/// The result of a design case from its checked runs in start order (`results[0]` from the case's
-/// own start): the run itself without multi-start, else the census headed by the best clean
-/// optimum.
-pub fn census(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignResult>) -> DesignCaseResult {
+/// The result of a design case from its runs in start order (`runs[0]` from the case's own
+/// start), each checked and certified ([`settle_all`]): the run itself without multi-start, else
+/// the census headed by the best clean optimum.
+pub fn census(case: &DesignCase, valid: &ValidDesign, runs: Vec<SolverRun>) -> Result<DesignCaseResult, RunError> {
+    let mut results = settle_all(&valid.problem, runs, &valid.settings).map_err(RunError::Design)?;
+    if spine_stop::interrupt_requested() {
+        return Err(RunError::Interrupted);
+    }
     let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
     if valid.multistart.starts == 0 && results.len() == 1 {
         let result = results.remove(0);
-        return DesignCaseResult {
+        return Ok(DesignCaseResult {
             kind: "design",
             title,
             reported_start: 0,
             result,
             multistart: None,
             sensitivity: None,
-        };
+        });
     }
     let own = results[0].clone();
     let summary = cluster(results, valid.multistart.seed);
@@ -182,7 +196,7 @@ pub fn census(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignRes
         Some(best) => (best.starts[0], best.result.clone()),
         None => (0, own),
     };
-    DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary), sensitivity: None }
+    Ok(DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary), sensitivity: None })
 }
 
 impl DesignCaseResult {
@@ -297,6 +311,30 @@ impl std::fmt::Display for DesignCaseResult {
                     if s.stability.stable { "stable" } else { "UNSTABLE" }
                 )?;
             }
+        }
+        match &r.certificate {
+            Some(c) => writeln!(
+                f,
+                "second-order certificate: {} ({} free variables, {} active rows, null space {}, {} weakly active; smallest curvature {}; reduced KKT inertia {})",
+                c.status,
+                c.free_variables,
+                c.active_rows,
+                c.null_space_dimension,
+                c.weakly_active,
+                c.smallest_curvature.map_or("none (a vertex or too large to form)".into(), |v| format!("{v:.3e}")),
+                c.reduced_kkt_inertia.map_or("n/a".into(), |i| format!("{i:?}"))
+            )?,
+            None => writeln!(f, "second-order certificate: none (the run did not converge)")?,
+        }
+        for e in &r.escapes {
+            writeln!(
+                f,
+                "NOTE: left a point that is not a minimum (J = {:.10e} J, certificate {}) by {}; reached J = {:.10e} J",
+                e.objective,
+                e.status.map_or("none", |s| s.name()),
+                e.how.name(),
+                e.reached
+            )?;
         }
         writeln!(f, "θ0 (rad) = {}", list(&r.design.theta0, 6))?;
         writeln!(f, "K (N·m/rad) = {}", list(&r.design.stiffness, 3))?;

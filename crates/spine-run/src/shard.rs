@@ -196,8 +196,7 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
         runs.extend(s.runs);
     }
     runs.sort_by_key(|(i, _)| *i);
-    let results = runs.into_iter().map(|(_, run)| run.check(&valid.problem, &valid.settings)).collect();
-    let mut result = census(&case, &valid, results);
+    let mut result = census(&case, &valid, runs.into_iter().map(|(_, run)| run).collect())?;
     crate::sensitivity::attach(&case, &valid, &first.overrides, &mut result)?;
     Ok(KindResult::Design(result).into())
 }

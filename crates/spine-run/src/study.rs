@@ -31,6 +31,11 @@ pub struct CkRow {
     pub iterations: usize,
     /// `J`, J.
     pub objective: f64,
+    /// The second-order certificate's verdict on the reported point (`None`: not converged), and
+    /// `J` at each point left on the way because it was not a minimum.
+    pub certificate: Option<spine_design::certificate::MinimumStatus>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub left: Vec<f64>,
     pub change: DesignChange,
     pub theta0: Vec<f64>,
     pub stiffness: Vec<f64>,
@@ -80,6 +85,8 @@ pub fn ck_study(
             clean: r.is_clean(),
             iterations: r.solver.iterations,
             objective: r.objective,
+            certificate: r.certificate.as_ref().map(|c| c.status),
+            left: r.escapes.iter().map(|e| e.objective).collect(),
             change: DesignChange::new(&r.design, &start),
             theta0: r.design.theta0.clone(),
             stiffness: r.design.stiffness.clone(),
@@ -94,7 +101,7 @@ pub fn ck_study(
             let runs = solve_starts(w, &tasks, &mut |k| progress(k, total))?;
             for (task, run) in tasks.iter().zip(runs) {
                 let valid = task.case(case);
-                rows.push(row(task, &run.check(&valid.problem, &valid.settings)));
+                rows.push(row(task, &crate::design::settled(&valid, run)?));
             }
         }
         None => {

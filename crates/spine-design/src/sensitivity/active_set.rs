@@ -64,6 +64,8 @@ struct Inequality {
     z_lower: f64,
     z_upper: f64,
     scale: f64,
+    /// The multiplier, as a fraction of `scale`, below which a bound at zero gap is weak.
+    weak: f64,
 }
 
 /// Classifies one inequality: active (`true`), weakly active (`false`) or inactive (`None`).
@@ -84,7 +86,7 @@ fn classify(q: Inequality) -> Option<(Bound, bool)> {
     // degenerate: the second case is a bound in a flat valley (a spring whose links deflect alike,
     // whose stationarity terms are themselves near zero), which the relative test cannot see.
     let zero_gap = gap <= WEAK_GAP * at.abs().max(1.0);
-    if zero_gap && (multiplier <= WEAK_MULTIPLIER * q.scale || multiplier <= gap) {
+    if zero_gap && (multiplier <= q.weak * q.scale || multiplier <= gap) {
         Some((bound, false))
     } else {
         (multiplier > gap).then_some((bound, true))
@@ -95,6 +97,17 @@ impl ActiveSet {
     /// Reads the active set from the point's bounds and Ipopt's multipliers (`z_lower`, `z_upper`
     /// for the variables; the sign of `λ` for the rows: positive at an upper bound).
     pub(crate) fn identify(x: &[f64], at: &Evaluation, pattern: &[(usize, usize)], multipliers: &Multipliers) -> Self {
+        Self::identify_with(x, at, pattern, multipliers, WEAK_MULTIPLIER)
+    }
+
+    /// [`ActiveSet::identify`] with `weak` in place of [`WEAK_MULTIPLIER`].
+    pub(crate) fn identify_with(
+        x: &[f64],
+        at: &Evaluation,
+        pattern: &[(usize, usize)],
+        multipliers: &Multipliers,
+        weak: f64,
+    ) -> Self {
         let lambda = &multipliers.constraints;
         let mut terms: Vec<f64> = at.gradient.iter().map(|g| g.abs()).collect();
         for (&(r, c), &j) in pattern.iter().zip(&at.jacobian) {
@@ -109,13 +122,13 @@ impl ActiveSet {
         for i in 0..x.len() {
             let (value, lower, upper) = (x[i], at.lower[i], at.upper[i]);
             let (z_lower, z_upper) = (multipliers.z_lower[i].abs(), multipliers.z_upper[i].abs());
-            let found = classify(Inequality { index: i, value, lower, upper, z_lower, z_upper, scale: terms[i] });
+            let found = classify(Inequality { index: i, value, lower, upper, z_lower, z_upper, scale: terms[i], weak });
             set.record(found, true, value, lower, upper);
         }
         for r in 0..at.constraints.len() {
             let (value, lower, upper) = (at.constraints[r], at.row_lower[r], at.row_upper[r]);
             let (z_lower, z_upper) = (lambda[r].min(0.0).abs(), lambda[r].max(0.0));
-            let found = classify(Inequality { index: r, value, lower, upper, z_lower, z_upper, scale: largest_lambda });
+            let found = classify(Inequality { index: r, value, lower, upper, z_lower, z_upper, scale: largest_lambda, weak });
             set.record(found, false, value, lower, upper);
         }
         set
@@ -155,7 +168,7 @@ mod tests {
     use super::*;
 
     fn upper(value: f64, z_upper: f64, scale: f64) -> Option<(Bound, bool)> {
-        classify(Inequality { index: 0, value, lower: 1.0, upper: 100.0, z_lower: 0.0, z_upper, scale })
+        classify(Inequality { index: 0, value, lower: 1.0, upper: 100.0, z_lower: 0.0, z_upper, scale, weak: WEAK_MULTIPLIER })
     }
 
     #[test]

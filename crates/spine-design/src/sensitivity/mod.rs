@@ -31,11 +31,11 @@ pub use polish::{polish, POLISH_TOLERANCE};
 use crate::full_space::{assemble, Layout, Multipliers};
 use crate::DesignProblem;
 use derivative::{derivative, one_sided, weak_candidates};
-use point::Evaluation;
+pub(crate) use point::Evaluation;
 use rates::rates;
 pub use rates::Difference;
 use serde::Serialize;
-use system::{ActiveSystem, Matrices};
+pub(crate) use system::{licq, ActiveSystem, Matrices};
 
 /// At most this many weakly active bounds are enumerated for one-sided derivatives (2^k systems).
 pub const MAX_WEAK: usize = 8;

@@ -132,6 +132,9 @@ pub struct SweepPoint {
     pub active: Vec<String>,
     pub second_order_sufficient: bool,
     pub stable: [bool; 2],
+    /// The second-order certificate of the point ([`crate::certificate`]; computed at the
+    /// corrector's tight solution).
+    pub certificate: Option<crate::certificate::Certificate>,
     /// The tangent `dx*/dp` (two-sided, or one-sided in the direction of travel).
     pub tangent: Option<Derivative>,
 }
@@ -384,6 +387,7 @@ impl<'a> Sweep<'a> {
             active: s.active(),
             second_order_sufficient: s.second_order(),
             stable: s.stable(),
+            certificate: r.certificate.clone(),
             tangent: s.tangent(self.settings.to - self.settings.from).cloned(),
         }
     }

@@ -3,6 +3,7 @@
 //! set, second-order sufficiency and the stability of its equilibria.
 
 use super::{Sweep, SweepError};
+use crate::certificate::{certify_run, CertifiedPoint};
 use crate::full_space::{Layout, Multipliers, StateForm};
 use crate::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport, POLISH_TOLERANCE};
 use crate::settings::ExtraOption;
@@ -144,7 +145,10 @@ impl Sweep<'_> {
 
     /// A converged run checked, and differentiated with respect to the swept parameter where clean.
     fn station(&self, parameter: f64, problem: &DesignProblem, run: SolverRun) -> Result<Station, SweepError> {
-        let result = run.clone().check(problem, self.solver);
+        let mut result = run.clone().check(problem, self.solver);
+        if result.solver.converged {
+            result.certificate = certify_run(problem, &run, CertifiedPoint::Run).map(|(c, _)| c);
+        }
         let report = match (&run.multipliers, &run.states, result.is_clean()) {
             (Some(multipliers), Some((passive, loaded)), true) => {
                 let layout =

@@ -1,0 +1,389 @@
+//! Second-order certificate of an eq. (33) optimum: is the first-order point Ipopt returned a
+//! local minimum?
+//!
+//! At a KKT point `x*` with multipliers `λ*`, let `A` be the strictly active constraints (the
+//! equalities, the equilibrium rows, the bounds whose multiplier is not negligible:
+//! [`crate::sensitivity::ActiveSet`]) and `Z` an orthonormal basis of their null space on the free
+//! variables. `H` is the Hessian of the Lagrangian. Then (Nocedal & Wright, Thms. 12.5–12.6):
+//!
+//! The second-order conditions are about the **critical cone**: directions `d` with `A d = 0` that
+//! move each weakly active bound (multiplier and gap both negligible) only to its feasible side.
+//! With `m` the smallest `dᵀHd` over the cone's unit directions:
+//!
+//! * `m > 0` ⇒ **strict local minimum** (second-order sufficiency);
+//! * `m < 0` ⇒ **not a minimum**: the minimising `d` is a feasible direction (to second order) along
+//!   which `J` decreases ([`NegativeCurvature`]);
+//! * `m = 0` (below [`ZERO_CURVATURE`] of the spectrum's scale) ⇒ **weak minimum**: the necessary
+//!   conditions hold, sufficiency is not proven (a flat valley, e.g. a spring whose two links
+//!   deflect alike).
+//!
+//! Without weakly active bounds the cone is the null space `Z` of the active rows and `m` the
+//! smallest eigenvalue of `ZᵀHZ`. With `w` of them, `m`'s minimiser is an eigenvector of `ZᵀHZ` on
+//! the face where the bounds it moves are released and the others held, so the `2^w` faces are
+//! searched (`w ≤` [`crate::sensitivity::MAX_WEAK`]).
+//!
+//! The eigenvalues of `ZᵀHZ` are computed densely up to [`MAX_DENSE_FREE`] free variables; above,
+//! the inertia of the reduced KKT matrix `[H_FF A_Fᵀ; A_F 0]` (one sparse `LDLᵀ`, the factorisation
+//! [`crate::sensitivity`] uses) decides: `free` positive and one negative eigenvalue per active row
+//! is `ZᵀHZ ≻ 0` (Gould 1985) with the weak bounds released (sufficient), more negative ones than
+//! rows with them held is negative curvature on the cone. The inertia is reported at every size.
+//!
+//! [`settle`] turns a solver's run into a reported optimum: it certifies the run, re-solves it
+//! tightly or leaves it along a direction of negative curvature when the certificate does not say
+//! `strict_minimum`, and reports the minimum it reaches with the points it left.
+
+mod settle;
+
+pub use settle::{certify_run, same_optimum, settle, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
+
+use crate::full_space::{assemble, Layout, Multipliers};
+use crate::sensitivity::{ActiveSet, ActiveSystem, Bound, Evaluation, Matrices};
+use crate::DesignProblem;
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+/// Most free variables for which `ZᵀHZ` is formed and its eigenvalues computed densely (about
+/// 0.1 s at this size); above, the inertia alone decides.
+pub const MAX_DENSE_FREE: usize = 600;
+
+/// A bound at zero gap is weakly active for the certificate when its multiplier is below this
+/// fraction of the terms it balances: a multiplier above protects the bound to first order
+/// (moving off it raises `J` by `z·gap`), however small beside the sensitivities' threshold
+/// ([`crate::sensitivity::WEAK_MULTIPLIER`], which asks whether a derivative may switch sides).
+pub const CERTIFICATE_WEAK_MULTIPLIER: f64 = 1e-7;
+
+/// A curvature below this fraction of the Hessian's scale (its largest entry on the free
+/// variables) counts as zero: at Ipopt's default tolerance the multipliers, and with them `H`, are
+/// accurate to about 1e-8 relative, and a bound whose gap is not yet resolved leaves a nearly flat
+/// direction (J is nearly linear in a stiffness at its bound).
+pub const ZERO_CURVATURE: f64 = 1e-8;
+
+/// What the certificate proves about a first-order point of eq. (33).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MinimumStatus {
+    /// Second-order sufficiency holds: positive curvature on the null space of the active
+    /// constraints.
+    StrictMinimum,
+    /// No negative curvature on the critical face, but a zero eigenvalue (a flat valley, e.g. a
+    /// spring whose links deflect alike) or a negative one only off the face of the weakly
+    /// active bounds: a minimum to second order, not a proven strict one.
+    WeakMinimum,
+    /// Negative curvature on the critical face: a saddle or a maximum along a feasible direction.
+    NotAMinimum,
+}
+
+impl MinimumStatus {
+    /// The name written in results (`strict_minimum`, `weak_minimum`, `not_a_minimum`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::StrictMinimum => "strict_minimum",
+            Self::WeakMinimum => "weak_minimum",
+            Self::NotAMinimum => "not_a_minimum",
+        }
+    }
+
+    /// Whether the point may be reported as an optimum (not `not_a_minimum`).
+    pub fn is_minimum(self) -> bool {
+        self != Self::NotAMinimum
+    }
+}
+
+impl std::fmt::Display for MinimumStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The second-order certificate of one point, with the numbers that show it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Certificate {
+    pub status: MinimumStatus,
+    /// Variables fixed by a strictly active bound, free variables, strictly active rows (the
+    /// equalities included), weakly active bounds.
+    pub fixed_variables: usize,
+    pub free_variables: usize,
+    pub active_rows: usize,
+    pub weakly_active: usize,
+    /// Dimension of the null space of the independent active rows on the free variables (0: the
+    /// active constraints fix the point, a vertex; with strict complementarity a strict minimum).
+    pub null_space_dimension: usize,
+    /// Inertia `[positive, negative, zero]` of the reduced KKT matrix `[H_FF A_Fᵀ; A_F 0]`
+    /// (weakly active bounds free); a strict minimum has `[free, active_rows, 0]` (`None` where
+    /// the factorisation failed).
+    pub reduced_kkt_inertia: Option<[usize; 3]>,
+    /// The smallest curvature `dᵀHd` over unit directions `d` of the critical cone (the null space
+    /// of the active rows, moving each weakly active bound only to its feasible side), in the
+    /// NLP's variables (`θ` in rad, `K/C_K`, `λ` in N, heights in m), and the largest magnitude
+    /// of an entry of `H` on the free variables (the scale [`ZERO_CURVATURE`] is taken of). `None` above
+    /// [`MAX_DENSE_FREE`] free variables or [`crate::sensitivity::MAX_WEAK`] weak bounds (the
+    /// inertia decides there), and for a vertex (no direction).
+    pub smallest_curvature: Option<f64>,
+    pub curvature_scale: Option<f64>,
+    /// `J` at the point certified, J, and whether that point is the run's own (`run`) or the
+    /// run re-solved tightly from it (`polished`, `J` within 1e-6 relative).
+    pub objective: f64,
+    pub point: CertifiedPoint,
+}
+
+/// Which point a certificate was computed at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CertifiedPoint {
+    /// The solver's own solution and multipliers.
+    Run,
+    /// The solution re-solved from itself with `tol` 1e-12 ([`crate::sensitivity::polish`]).
+    Polished,
+}
+
+/// A direction of negative curvature in the full-space variables (layout order), unit length,
+/// oriented into the feasible side of every weakly active bound it moves.
+pub struct NegativeCurvature {
+    pub direction: Vec<f64>,
+    pub curvature: f64,
+}
+
+/// The spectrum of `ZᵀHZ` on one face: its eigenvalues (ascending) and eigenvectors `Z y` in the
+/// full-space variables.
+struct Spectrum {
+    values: Vec<f64>,
+    vectors: Vec<Vec<f64>>,
+    /// The largest magnitude of an entry of `H` on the free variables.
+    hessian_scale: f64,
+}
+
+/// `ZᵀHZ`'s spectrum on the variables not fixed by `fixed`, for the active `rows` (independent
+/// ones): the symmetric matrix `P H P + c (I − P)` with `P = I − QQᵀ` the projector onto the null
+/// space (`Q` from a QR of `A_Fᵀ`) and `c` above every eigenvalue of `H` has `ZᵀHZ`'s eigenvalues
+/// and `c` for the rest. `None` above [`MAX_DENSE_FREE`] free variables.
+fn spectrum(n: usize, fixed: &[Bound], rows: &[Bound], matrices: &Matrices) -> Option<Spectrum> {
+    let mut position = vec![Some(0usize); n];
+    for b in fixed {
+        position[b.index] = None;
+    }
+    let mut free_vars = Vec::new();
+    for (i, slot) in position.iter_mut().enumerate() {
+        if slot.is_some() {
+            *slot = Some(free_vars.len());
+            free_vars.push(i);
+        }
+    }
+    let free = free_vars.len();
+    if free > MAX_DENSE_FREE {
+        return None;
+    }
+    let mut h = DMatrix::<f64>::zeros(free, free);
+    for (&(a, b), &v) in matrices.hessian_pattern.iter().zip(&matrices.hessian) {
+        if let (Some(p), Some(q)) = (position[a], position[b]) {
+            h[(p, q)] += v;
+            if p != q {
+                h[(q, p)] += v;
+            }
+        }
+    }
+    let hessian_scale = h.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if rows.len() >= free {
+        return Some(Spectrum { values: Vec::new(), vectors: Vec::new(), hessian_scale });
+    }
+    let row_position: std::collections::HashMap<usize, usize> =
+        rows.iter().enumerate().map(|(k, b)| (b.index, k)).collect();
+    let mut at = DMatrix::<f64>::zeros(free, rows.len());
+    for (&(r, c), &v) in matrices.jacobian_pattern.iter().zip(&matrices.jacobian) {
+        if let (Some(&k), Some(p)) = (row_position.get(&r), position[c]) {
+            at[(p, k)] += v;
+        }
+    }
+    let identity = DMatrix::<f64>::identity(free, free);
+    let projector = if rows.is_empty() {
+        identity.clone()
+    } else {
+        let q = at.qr().q();
+        &identity - &q * q.transpose()
+    };
+    let lift = hessian_scale * free as f64 + 1.0;
+    let m = &projector * &h * &projector + (&identity - &projector) * lift;
+    let eigen = ((&m + m.transpose()) * 0.5).symmetric_eigen();
+    // The range's directions sit at `lift`; the null space's are the lowest `free − rows`.
+    let mut order: Vec<usize> = (0..free).collect();
+    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+    order.truncate(free - rows.len());
+    let vectors = order
+        .iter()
+        .map(|&k| {
+            let mut v = vec![0.0; n];
+            for (p, &i) in free_vars.iter().enumerate() {
+                v[i] = eigen.eigenvectors[(p, k)];
+            }
+            v
+        })
+        .collect();
+    Some(Spectrum { values: order.iter().map(|&k| eigen.eigenvalues[k]).collect(), vectors, hessian_scale })
+}
+
+/// A weakly active bound as a linear form on directions, positive on its feasible side.
+struct WeakForm {
+    bound: Bound,
+    row: bool,
+}
+
+impl WeakForm {
+    fn value(&self, d: &[f64], matrices: &Matrices) -> f64 {
+        let raw = if self.row {
+            matrices.jacobian_pattern.iter().zip(&matrices.jacobian).filter(|((r, _), _)| *r == self.bound.index).map(|((_, c), j)| j * d[*c]).sum()
+        } else {
+            d[self.bound.index]
+        };
+        if self.bound.side == crate::sensitivity::Side::Upper {
+            -raw
+        } else {
+            raw
+        }
+    }
+}
+
+/// Rows of `rows` independent of the earlier ones on the free variables of `fixed`.
+fn independent(layout: Layout, fixed: &[Bound], rows: Vec<Bound>, matrices: &Matrices) -> Vec<Bound> {
+    let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
+    match crate::sensitivity::licq(layout.num_variables(), fixed, &rows, jacobian) {
+        Some((_, dependent)) => rows.into_iter().filter(|b| !dependent.contains(&b.index)).collect(),
+        None => rows,
+    }
+}
+
+/// The smallest curvature on the critical cone `{d : A d = 0, ℓ_b(d) ≥ 0 for each weakly active
+/// bound b}` and its direction: the minimum of `dᵀHd` on the cone's unit sphere is an eigenpair of
+/// `ZᵀHZ` on the face where the bounds with `ℓ_b(d) > 0` are released and the others held, so
+/// every face (2^w of them) is searched for eigenvectors that point into the cone. `None` where a
+/// face is too large to form densely.
+fn cone_minimum(layout: Layout, set: &ActiveSet, matrices: &Matrices) -> Option<(f64, f64, Option<Vec<f64>>)> {
+    let n = layout.num_variables();
+    let weak: Vec<WeakForm> = set
+        .weak_variables
+        .iter()
+        .map(|b| WeakForm { bound: *b, row: false })
+        .chain(set.weak_rows.iter().map(|b| WeakForm { bound: *b, row: true }))
+        .collect();
+    let faces: usize = 1 << weak.len();
+    let (mut minimum, mut scale, mut direction): (f64, f64, Option<Vec<f64>>) = (f64::INFINITY, 0.0, None);
+    for released in 0..faces {
+        let mut fixed = set.variables.clone();
+        let mut rows = set.rows.clone();
+        for (k, w) in weak.iter().enumerate() {
+            if released & (1 << k) == 0 {
+                if w.row {
+                    rows.push(w.bound);
+                } else {
+                    fixed.push(w.bound);
+                }
+            }
+        }
+        rows.sort_by_key(|b| b.index);
+        let rows = independent(layout, &fixed, rows, matrices);
+        let face = spectrum(n, &fixed, &rows, matrices)?;
+        scale = scale.max(face.hessian_scale);
+        for (value, vector) in face.values.iter().zip(&face.vectors) {
+            if *value >= minimum {
+                break;
+            }
+            let forms: Vec<f64> = weak
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| released & (1 << k) != 0)
+                .map(|(_, w)| w.value(vector, matrices))
+                .collect();
+            let sign = if forms.iter().all(|f| *f > SIGN_TOLERANCE) {
+                1.0
+            } else if forms.iter().all(|f| *f < -SIGN_TOLERANCE) {
+                -1.0
+            } else {
+                continue;
+            };
+            minimum = *value;
+            direction = Some(vector.iter().map(|v| sign * v).collect());
+        }
+    }
+    Some((minimum, scale, direction))
+}
+
+/// A weakly active bound's form counts as moved off the bound above this (unit directions).
+const SIGN_TOLERANCE: f64 = 1e-9;
+
+/// The certificate of a full-space point `x` (layout order) with Ipopt's `multipliers`, and a
+/// direction of negative curvature where the status is `not_a_minimum`.
+pub fn certify(
+    problem: &DesignProblem,
+    layout: Layout,
+    x: &[f64],
+    multipliers: &Multipliers,
+    point: CertifiedPoint,
+) -> (Certificate, Option<NegativeCurvature>) {
+    let assembled = assemble(problem, layout.states);
+    let at = Evaluation::of(&assembled, problem, layout, x);
+    let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
+    assembled.hessian(x, 1.0, &multipliers.constraints, &mut hessian);
+    let matrices = Matrices {
+        hessian_pattern: assembled.patterns.hessian.clone(),
+        hessian,
+        jacobian_pattern: assembled.patterns.jacobian.clone(),
+        jacobian: at.jacobian.clone(),
+    };
+    let set = ActiveSet::identify_with(x, &at, &matrices.jacobian_pattern, multipliers, CERTIFICATE_WEAK_MULTIPLIER);
+    let n = layout.num_variables();
+    let weak = set.weak_variables.len() + set.weak_rows.len();
+    // The inertia with the weakly active bounds free (a superset of the critical cone).
+    let system = ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone());
+    let inertia = system.kkt.as_ref().map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]);
+    let cone = (weak <= crate::sensitivity::MAX_WEAK).then(|| cone_minimum(layout, &set, &matrices)).flatten();
+    let (status, negative, smallest, scale) = match cone {
+        Some((minimum, scale, direction)) => {
+            let zero = ZERO_CURVATURE * scale.max(f64::MIN_POSITIVE);
+            let status = if minimum > zero {
+                MinimumStatus::StrictMinimum
+            } else if minimum < -zero {
+                MinimumStatus::NotAMinimum
+            } else {
+                MinimumStatus::WeakMinimum
+            };
+            let negative = direction
+                .filter(|_| status == MinimumStatus::NotAMinimum)
+                .map(|direction| NegativeCurvature { direction, curvature: minimum });
+            (status, negative, minimum.is_finite().then_some(minimum), Some(scale))
+        }
+        None => {
+            // Too large (or too many weak bounds) for the dense search: the inertia decides, with
+            // the weakly active bounds free for sufficiency and held for negative curvature.
+            let held = (weak > 0).then(|| {
+                let mut fixed = set.variables.clone();
+                fixed.extend_from_slice(&set.weak_variables);
+                let mut rows = set.rows.clone();
+                rows.extend_from_slice(&set.weak_rows);
+                rows.sort_by_key(|b| b.index);
+                ActiveSystem::new(&matrices, layout, fixed, rows)
+            });
+            let face = held.as_ref().unwrap_or(&system);
+            let status = if system.certified().is_some() {
+                MinimumStatus::StrictMinimum
+            } else if face.kkt.as_ref().is_some_and(|k| k.inertia.negative > k.rows.len()) {
+                MinimumStatus::NotAMinimum
+            } else {
+                MinimumStatus::WeakMinimum
+            };
+            (status, None, None, None)
+        }
+    };
+    let independent_rows = set.rows.len() - system.dependent.len();
+    let certificate = Certificate {
+        status,
+        fixed_variables: set.variables.len(),
+        free_variables: n - set.variables.len(),
+        active_rows: set.rows.len(),
+        null_space_dimension: (n - set.variables.len()).saturating_sub(independent_rows),
+        weakly_active: weak,
+        reduced_kkt_inertia: inertia,
+        smallest_curvature: smallest,
+        curvature_scale: scale,
+        objective: at.objective,
+        point,
+    };
+    (certificate, negative)
+}

@@ -1,0 +1,220 @@
+//! From a solver's run to the optimum that is reported: certified, and never a point that is not a
+//! minimum when a minimum can be reached from it.
+//!
+//! 1. The run is certified at its own solution with Ipopt's multipliers ([`super::certify`]);
+//!    `strict_minimum` ends here (the common case: no extra solve).
+//! 2. Otherwise (a weak or no certificate, a reduced-space run without multipliers) it is re-solved
+//!    tightly from itself ([`polish`]) and certified there. The same optimum (`J` within 1e-6
+//!    relative, or lower by at most 1e-4 with `θ0` within 1e-4 rad: [`same_optimum`]) keeps the
+//!    run's numbers with the polished point's certificate. A re-solve that descends further
+//!    shows the run's point was not a minimum: the polished run is taken and certified in turn.
+//! 3. A point with negative curvature is left along it: the design is stepped by
+//!    [`ESCAPE_STEPS`] along `±d` and eq. (33) solved again from each; the lowest clean end below
+//!    the point is taken and certified in turn.
+//!
+//! At most [`MAX_ESCAPES`] points are left; every one is listed in the result
+//! ([`crate::DesignResult::escapes`]). A result still `not_a_minimum` after that carries the
+//! warning [`crate::result::DesignWarning::NotAMinimum`] and is not clean.
+
+use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature};
+use crate::full_space::{Layout, StateForm};
+use crate::result::DesignWarning;
+use crate::sensitivity::polish;
+use crate::solve::{run_solver, DesignError, SolverRun};
+use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
+use serde::{Deserialize, Serialize};
+use spine_model::Design;
+
+/// At most this many points are left on the way to a certified minimum.
+pub const MAX_ESCAPES: usize = 3;
+
+/// The steps along a direction of negative curvature, as fractions of the design box: the design
+/// variable the direction moves most (relative to its bound interval) moves by this fraction of
+/// its interval. The smaller is tried first; the larger where the smaller falls back.
+pub const ESCAPE_STEPS: [f64; 2] = [0.02, 0.1];
+
+/// How a point that was not a minimum was left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EscapeHow {
+    /// The tight re-solve from it descended to a lower `J` elsewhere.
+    TightResolve,
+    /// A step along its direction of negative curvature, then eq. (33) again.
+    NegativeCurvature,
+}
+
+impl EscapeHow {
+    /// The name written in results (`tight_resolve`, `negative_curvature`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::TightResolve => "tight_resolve",
+            Self::NegativeCurvature => "negative_curvature",
+        }
+    }
+}
+
+/// A point left on the way to the reported optimum.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Escape {
+    /// `J` at the point left, J.
+    pub objective: f64,
+    /// Its certificate where one was computed (a run without multipliers has none).
+    pub status: Option<MinimumStatus>,
+    pub how: EscapeHow,
+    /// The negative curvature it was left along (for [`EscapeHow::NegativeCurvature`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curvature: Option<f64>,
+    /// `J` where the next solve ended, J.
+    pub reached: f64,
+}
+
+/// Whether `polished` is the optimum `first` re-solved: `J` within 1e-6 relative (the first
+/// solve's tolerance moves it by about 1e-7 on design5), or lower by at most 1e-4 relative with
+/// the same shape (`θ0` within 1e-4 rad, as the multi-start groups optima): the first solve
+/// stopped in a flat valley of `K` and the re-solve went on down it (Fig. 5 at −1 N: 6e-6).
+pub fn same_optimum(first: &DesignResult, polished: &DesignResult) -> bool {
+    let moved = (polished.objective - first.objective).abs() / first.objective.abs().max(1e-12);
+    let shape_moved =
+        polished.design.theta0.iter().zip(&first.design.theta0).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    moved <= 1e-6 || (polished.objective < first.objective && moved <= 1e-4 && shape_moved <= 1e-4)
+}
+
+/// The certificate of a run at its own solution (`None` without multipliers or states).
+pub fn certify_run(
+    problem: &DesignProblem,
+    run: &SolverRun,
+    point: CertifiedPoint,
+) -> Option<(Certificate, Option<NegativeCurvature>)> {
+    let multipliers = run.multipliers.as_ref()?;
+    let (passive, loaded) = run.states.as_ref()?;
+    let layout = Layout { n: problem.n_links(), states: run.solver.state_variables.unwrap_or(StateForm::Absolute) };
+    let heights = problem.node_heights(&run.design.theta0);
+    let x = layout.pack(&run.design, problem.stiffness_scale, passive, loaded, &heights);
+    (multipliers.constraints.len() == layout.num_constraints() && multipliers.z_lower.len() == x.len())
+        .then(|| certify(problem, layout, &x, multipliers, point))
+}
+
+/// Eq. (33) from `run`'s design stepped along `±d` (design variables only, [`ESCAPE_STEPS`]; the
+/// states are found again): the lowest clean end below `below` (`None` when no step reaches one).
+fn leave(
+    problem: &DesignProblem,
+    run: &SolverRun,
+    negative: &NegativeCurvature,
+    below: f64,
+    settings: &SolverSettings,
+) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
+    let layout = Layout { n: problem.n_links(), states: run.solver.state_variables.unwrap_or(StateForm::Absolute) };
+    let b = &problem.bounds;
+    let d = &negative.direction;
+    let c = problem.stiffness_scale;
+    // The direction's largest move relative to each design variable's interval.
+    let theta_width = 2.0 * b.theta0_max;
+    let reach = (0..layout.n)
+        .map(|i| d[layout.theta0(i)].abs() / theta_width)
+        .chain((0..=layout.n).map(|j| d[layout.stiffness(j)].abs() * c / (b.stiffness_max[j] - b.stiffness_min[j]).max(1e-300)))
+        .fold(0.0f64, f64::max);
+    if reach <= 0.0 || !reach.is_finite() {
+        return Ok(None);
+    }
+    for fraction in ESCAPE_STEPS {
+        let alpha = fraction / reach;
+        let mut best: Option<(SolverRun, DesignResult)> = None;
+        for sign in [1.0, -1.0] {
+            let step = sign * alpha;
+            let start = Design {
+                theta0: (0..layout.n).map(|i| run.design.theta0[i] + step * d[layout.theta0(i)]).collect(),
+                stiffness: (0..=layout.n).map(|j| run.design.stiffness[j] + step * d[layout.stiffness(j)] * c).collect(),
+            };
+            let next = run_solver(problem, &start, Formulation::Full, settings, &mut |_| true)?;
+            let result = next.clone().check(problem, settings);
+            let lower = result.objective < below * (1.0 - 1e-9);
+            if std::env::var_os("SPINE_DEBUG_CERT").is_some() {
+                eprintln!("leave: fraction {fraction} sign {sign} reach {reach:.3e} from {below:.8e}: {} {:.8e} clean {} start {:?} d {:?}", result.solver.status, result.objective, result.is_clean(), start.theta0, d);
+            }
+            if result.is_clean() && lower && best.as_ref().is_none_or(|(_, b)| result.objective < b.objective) {
+                best = Some((next, result));
+            }
+        }
+        if best.is_some() {
+            return Ok(best);
+        }
+    }
+    Ok(None)
+}
+
+/// The reported optimum of `run`: checked ([`SolverRun::check`]), certified, and left for a lower
+/// minimum where it is not one (module docs).
+pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings) -> Result<DesignResult, DesignError> {
+    let mut escapes: Vec<Escape> = Vec::new();
+    let mut current = run;
+    loop {
+        let result = current.clone().check(problem, settings);
+        let finish = |mut result: DesignResult, certificate: Option<Certificate>, escapes: Vec<Escape>| {
+            if let Some(c) = certificate.as_ref().filter(|c| c.status == MinimumStatus::NotAMinimum) {
+                result.warnings.push(DesignWarning::NotAMinimum { curvature: c.smallest_curvature });
+            }
+            result.certificate = certificate;
+            result.escapes = escapes;
+            result
+        };
+        if !result.solver.converged || result.passive.is_none() {
+            return Ok(finish(result, None, escapes));
+        }
+        let own = certify_run(problem, &current, CertifiedPoint::Run);
+        if own.as_ref().is_some_and(|(c, _)| c.status == MinimumStatus::StrictMinimum) || escapes.len() >= MAX_ESCAPES {
+            return Ok(finish(result, own.map(|(c, _)| c), escapes));
+        }
+        if std::env::var_os("SPINE_DEBUG_CERT").is_some() {
+            eprintln!("own {:?}", own.as_ref().map(|(c, _)| c));
+        }
+        let polished_run = polish(problem, &result.design, settings)?;
+        let polished = polished_run.clone().check(problem, settings);
+        let tight = polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
+        // Where to go next: the point left, how, and the run to continue from.
+        let (left, how, negative, from) = match tight {
+            Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
+                (polished.objective, Some(c.status), negative, polished_run)
+            }
+            Some((c, _)) if same_optimum(&result, &polished) => return Ok(finish(result, Some(c), escapes)),
+            Some(_) if polished.objective < result.objective => {
+                escapes.push(Escape {
+                    objective: result.objective,
+                    status: own.map(|(c, _)| c.status),
+                    how: EscapeHow::TightResolve,
+                    curvature: None,
+                    reached: polished.objective,
+                });
+                current = polished_run;
+                continue;
+            }
+            // The tight re-solve failed or rose: the run's own certificate stands.
+            _ => match own {
+                Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
+                    (result.objective, Some(c.status), negative, current.clone())
+                }
+                own => return Ok(finish(result, own.map(|(c, _)| c), escapes)),
+            },
+        };
+        let next = match &negative {
+            Some(d) => leave(problem, &from, d, left, settings)?,
+            None => None,
+        };
+        match (next, negative) {
+            (Some((next, reached)), Some(d)) => {
+                escapes.push(Escape {
+                    objective: left,
+                    status: how,
+                    how: EscapeHow::NegativeCurvature,
+                    curvature: Some(d.curvature),
+                    reached: reached.objective,
+                });
+                current = next;
+            }
+            _ => {
+                // No lower minimum found along the direction: report the point with its certificate.
+                let c = certify_run(problem, &from, CertifiedPoint::Run).map(|(c, _)| c);
+                return Ok(finish(from.check(problem, settings), c, escapes));
+            }
+        }
+    }
+}
