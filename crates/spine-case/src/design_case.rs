@@ -71,11 +71,17 @@ pub struct StartSpec {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MultiStartSpec {
-    /// Number of extra seeded feasible starts (0: only `start`).
+    /// Number of extra seeded feasible starts (0: only `start`). With `confidence`, the most
+    /// seeded starts the census may use (0: [`MAX_STARTS`]).
     #[serde(default)]
     pub starts: usize,
     #[serde(default)]
     pub seed: u64,
+    /// Run the census to a stated confidence: seeded starts are added in batches until the
+    /// Boender–Rinnooy Kan estimate of P(a better optimum unseen) is at most this (0 < P < 1), or
+    /// `starts` is reached.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<f64>,
 }
 
 /// `"kind": "design"`.
@@ -147,6 +153,14 @@ impl DesignCase {
                 "multistart.starts",
                 format!("must be at most {MAX_STARTS}, got {}", self.multistart.starts),
             ));
+        }
+        if let Some(p) = self.multistart.confidence {
+            if !(p > 0.0 && p < 1.0) {
+                return Err(CaseError::invalid(
+                    "multistart.confidence",
+                    format!("must be a probability strictly between 0 and 1 (e.g. 0.01), got {p}"),
+                ));
+            }
         }
         self.solver.validate().map_err(|e| e.under("solver"))?;
         if matches!(self.solver.refine, Refine::Ladder(_)) && self.formulation == Formulation::Reduced {

@@ -97,6 +97,12 @@ pub struct DesignArgs {
     /// Seed of the multi-start; default: the case file's.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Run the census to a stated confidence: seeded starts in batches of 100 until
+    /// P(a better optimum unseen) ≤ P (0 < P < 1; Boender–Rinnooy Kan), at most `--starts` of
+    /// them (0 or absent: 100000); exit 3 when the cap or a time limit ends it first. Default: the
+    /// case file's `multistart.confidence`.
+    #[arg(long, value_name = "P", value_parser = parse_confidence, allow_hyphen_values = true)]
+    pub confidence: Option<f64>,
     /// Mesh sequencing of the full space: `off`, `auto` (from 100 links: 50, 100, 200, … links),
     /// `FROM` or `FROM:FACTOR`; default: the case file's `solver.refine`.
     #[arg(long)]
@@ -307,8 +313,10 @@ impl DesignArgs {
                     Formulation::Full
                 }
             }),
-            starts: self.starts,
+            // With `--confidence`, `--starts` is the cap; absent, the largest allowed.
+            starts: self.starts.or(self.confidence.map(|_| 0)),
             seed: self.seed,
+            confidence: self.confidence,
             refine: self.refine,
             sensitivity: self.sensitivity,
         };
@@ -422,6 +430,14 @@ fn parse_every(text: &str) -> Result<usize, String> {
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).
+fn parse_confidence(text: &str) -> Result<f64, String> {
+    let p: f64 = text.parse().map_err(|e| format!("{e}"))?;
+    if !(p > 0.0 && p < 1.0) {
+        return Err(format!("a probability strictly between 0 and 1 (e.g. 0.01), got {p}"));
+    }
+    Ok(p)
+}
+
 fn parse_starts(text: &str) -> Result<usize, String> {
     let n: usize = text.parse().map_err(|e| format!("{e}"))?;
     if n > spine_case::MAX_STARTS {

@@ -3,8 +3,8 @@
 //! and `Φ(θ0) = 0`; [`cluster`] groups the converged results into distinct optima.
 
 use crate::census::{estimate, CensusEstimate};
-use crate::problem::DesignProblem;
 use crate::certificate::settle;
+use crate::problem::DesignProblem;
 use crate::result::DesignResult;
 use crate::solve::{DesignError, SolverRun};
 use crate::SolverSettings;
@@ -112,6 +112,22 @@ pub struct MultiStartSummary {
     pub failed: Vec<(usize, spine_ipopt::Status)>,
     /// How complete the census of clean optima is ([`crate::census`]).
     pub census: CensusEstimate,
+    /// A census run to a stated confidence: the target, whether it was reached, and the batches.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<ConfidenceRun>,
+}
+
+/// How a census to a stated confidence ran.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConfidenceRun {
+    /// The target: P(a better optimum unseen) at most this.
+    pub target: f64,
+    /// Whether the estimate reached it (else the cap or a time limit ended the census).
+    pub reached: bool,
+    /// Batches of seeded starts run, their size, and the cap on seeded starts.
+    pub batches: usize,
+    pub batch: usize,
+    pub cap: usize,
 }
 
 impl MultiStartSummary {
@@ -137,35 +153,105 @@ fn same_optimum(a: &DesignResult, b: &DesignResult, b_theta0: &[f64]) -> bool {
         && a.design.theta0.iter().zip(b_theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
 }
 
-/// The checked, certified results of `runs` (in start order): the runs are checked and grouped as
-/// [`cluster`] groups them, and the first run of each group is settled
-/// ([`crate::certificate::settle`]: certified, and left for a lower minimum where it is not one);
-/// every run of the group then reports that settled result. One certificate per distinct point
-/// (at Ipopt's default tolerance a point's weakly active bounds cannot be told apart, so each
-/// certificate costs a tight re-solve), and the same results whatever order or process the runs
-/// came from.
+/// The checked, certified results of `runs` (in start order), as [`Settled`] gives them.
 pub fn settle_all(
     problem: &DesignProblem,
     runs: Vec<SolverRun>,
     settings: &SolverSettings,
 ) -> Result<Vec<DesignResult>, DesignError> {
-    let checked: Vec<DesignResult> = runs.iter().map(|r| r.clone().check(problem, settings)).collect();
-    let mut settled: Vec<Option<DesignResult>> = vec![None; runs.len()];
-    let mut representatives: Vec<usize> = Vec::new();
-    for (k, run) in runs.into_iter().enumerate() {
-        let r = &checked[k];
-        let converged = r.solver.converged && r.objective.is_finite();
-        match representatives.iter().find(|&&f| converged && same_optimum(&checked[f], r, &r.design.theta0)) {
-            Some(&f) => settled[k] = settled[f].clone(),
+    let mut settled = Settled::new(problem, settings);
+    for run in runs {
+        settled.add(run)?;
+    }
+    Ok(settled.results())
+}
+
+/// Runs checked, grouped as [`cluster`] groups them, and settled once per group, as they come
+/// (start order): the first run of each group is settled ([`crate::certificate::settle`]:
+/// certified, and left for a lower minimum where it is not one) and every run of the group
+/// reports that settled result. One certificate per distinct point (at Ipopt's default tolerance
+/// a point's weakly active bounds cannot be told apart, so each certificate costs a tight
+/// re-solve), and the same results whatever order or process the runs came from.
+pub struct Settled<'a> {
+    problem: &'a DesignProblem,
+    settings: &'a SolverSettings,
+    /// Each group's first run, checked (what later runs are compared with), and settled.
+    groups: Vec<(DesignResult, DesignResult)>,
+    /// Each run's group, or its own result (a run that did not converge).
+    runs: Vec<Member>,
+}
+
+enum Member {
+    Group(usize),
+    Alone(Box<DesignResult>),
+}
+
+impl<'a> Settled<'a> {
+    pub fn new(problem: &'a DesignProblem, settings: &'a SolverSettings) -> Self {
+        Self { problem, settings, groups: Vec::new(), runs: Vec::new() }
+    }
+
+    /// How many runs have been added.
+    pub fn len(&self) -> usize {
+        self.runs.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.runs.is_empty()
+    }
+
+    /// Adds the next run.
+    pub fn add(&mut self, run: SolverRun) -> Result<(), DesignError> {
+        let checked = run.clone().check(self.problem, self.settings);
+        if !checked.solver.converged || !checked.objective.is_finite() {
+            self.runs.push(Member::Alone(Box::new(settle(self.problem, run, self.settings)?)));
+            return Ok(());
+        }
+        let theta0 = checked.design.theta0.clone();
+        match self.groups.iter().position(|(first, _)| same_optimum(first, &checked, &theta0)) {
+            Some(g) => self.runs.push(Member::Group(g)),
             None => {
-                if converged {
-                    representatives.push(k);
-                }
-                settled[k] = Some(settle(problem, run, settings)?);
+                let settled = settle(self.problem, run, self.settings)?;
+                self.groups.push((checked, settled));
+                self.runs.push(Member::Group(self.groups.len() - 1));
             }
         }
+        Ok(())
     }
-    Ok(settled.into_iter().map(|r| r.expect("every run is settled")).collect())
+
+    /// Every run's settled result, in the order added.
+    pub fn results(&self) -> Vec<DesignResult> {
+        self.runs
+            .iter()
+            .map(|m| match m {
+                Member::Group(g) => self.groups[*g].1.clone(),
+                Member::Alone(r) => (**r).clone(),
+            })
+            .collect()
+    }
+
+    /// The census estimate of the runs so far: the clean settled optima (groups whose settled
+    /// results are one optimum merged, mirror images distinct) and how many runs reached each.
+    pub fn estimate(&self) -> CensusEstimate {
+        let mut optima: Vec<(usize, usize)> = Vec::new(); // (group, runs)
+        let mut counts = vec![0usize; self.groups.len()];
+        for m in &self.runs {
+            if let Member::Group(g) = m {
+                counts[*g] += 1;
+            }
+        }
+        for (g, (_, settled)) in self.groups.iter().enumerate() {
+            if !settled.is_clean() {
+                continue;
+            }
+            let theta0 = &settled.design.theta0;
+            match optima.iter_mut().find(|(o, _)| same_optimum(&self.groups[*o].1, settled, theta0)) {
+                Some((_, c)) => *c += counts[g],
+                None => optima.push((g, counts[g])),
+            }
+        }
+        estimate(optima.into_iter().map(|(_, c)| c).collect())
+    }
 }
 
 /// Groups converged results: two belong to the same optimum when both are clean or both are
@@ -209,5 +295,5 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
         }
     }
     let census = estimate(optima.iter().filter(|o| o.clean).map(|o| o.count).collect());
-    MultiStartSummary { starts, seed, converged, optima, failed, census }
+    MultiStartSummary { starts, seed, converged, optima, failed, census, confidence: None }
 }

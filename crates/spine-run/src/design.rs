@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
 use spine_design::certificate::settle;
-use spine_design::multistart::{cluster, feasible_starts, settle_all, MultiStartSummary};
+use spine_design::multistart::{cluster, feasible_starts, settle_all, ConfidenceRun, MultiStartSummary, Settled};
 use spine_design::refine::Refine;
 use spine_design::{run_solver, DesignProblem, DesignResult, Formulation, SolverRun};
 use spine_model::{Design, State};
@@ -75,6 +75,10 @@ pub struct DesignOverrides {
     /// Extra seeded feasible starts.
     pub starts: Option<usize>,
     pub seed: Option<u64>,
+    /// `--confidence P`: the census runs until P(a better optimum unseen) ≤ P
+    /// (`multistart.confidence`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<f64>,
     pub refine: Option<Refine>,
     /// `spine design --sensitivity`: the derivatives of the reported optimum with respect to the
     /// case's parameters ([`crate::sensitivity::differentiate`]) in the result.
@@ -92,6 +96,9 @@ impl DesignOverrides {
         }
         if let Some(s) = self.seed {
             valid.multistart.seed = s;
+        }
+        if let Some(p) = self.confidence {
+            valid.multistart.confidence = Some(p);
         }
         if let Some(r) = self.refine {
             valid.settings.refine = r;
@@ -129,10 +136,67 @@ pub fn run_design_case(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
     let own = solve_unchecked(valid, &valid.start)?;
+    if let Some(target) = valid.multistart.confidence {
+        return to_confidence(case, valid, own, target, workers, progress);
+    }
     let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);
     let mut runs = vec![own];
     runs.extend(solve_all(valid, &seeded, workers, progress)?);
     census(case, valid, runs)
+}
+
+/// Seeded starts per batch of a census to a stated confidence: the rule is checked after each
+/// batch, so the census (and its bytes) does not depend on `--jobs`.
+pub const CONFIDENCE_BATCH: usize = 100;
+
+/// A census to a stated confidence: seeded starts (the same sequence as `--starts` draws, so a
+/// run to confidence that stops after `k` starts is the run with `--starts k`) in batches of
+/// [`CONFIDENCE_BATCH`], each batch solved (in `workers`) and settled, until the estimate gives
+/// P(a better optimum unseen) ≤ `target`, the cap `multistart.starts` (0: `MAX_STARTS`) is
+/// reached, or a time limit passes.
+fn to_confidence(
+    case: &DesignCase,
+    valid: &ValidDesign,
+    own: SolverRun,
+    target: f64,
+    workers: Option<&Workers>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<DesignCaseResult, RunError> {
+    let cap = match valid.multistart.starts {
+        0 => spine_case::MAX_STARTS,
+        n => n,
+    };
+    let mut settled = Settled::new(&valid.problem, &valid.settings);
+    settled.add(own).map_err(RunError::Design)?;
+    let mut drawn: Vec<Design> = Vec::new();
+    let mut batches = 0;
+    let mut reached = false;
+    while drawn.len() < cap {
+        let size = CONFIDENCE_BATCH.min(cap - drawn.len());
+        drawn = feasible_starts(&valid.problem, drawn.len() + size, valid.multistart.seed);
+        let batch = &drawn[drawn.len() - size..];
+        let runs = solve_all(valid, batch, workers, progress)?;
+        let complete = runs.len() == batch.len();
+        for run in runs {
+            settled.add(run).map_err(RunError::Design)?;
+        }
+        batches += 1;
+        reached = settled.estimate().probability_better_unseen.is_some_and(|p| p <= target);
+        if reached || !complete {
+            break;
+        }
+    }
+    if spine_stop::interrupt_requested() {
+        return Err(RunError::Interrupted);
+    }
+    let mut used = valid.clone();
+    used.multistart.starts = settled.len() - 1;
+    let results = settled.results();
+    let mut result = reported(case, &used, results);
+    if let Some(summary) = result.multistart.as_mut() {
+        summary.confidence = Some(ConfidenceRun { target, reached, batches, batch: CONFIDENCE_BATCH, cap });
+    }
+    Ok(result)
 }
 
 /// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with
@@ -174,21 +238,26 @@ pub fn solve_all(
 /// start), each checked and certified ([`settle_all`]): the run itself without multi-start, else
 /// the census headed by the best clean optimum.
 pub fn census(case: &DesignCase, valid: &ValidDesign, runs: Vec<SolverRun>) -> Result<DesignCaseResult, RunError> {
-    let mut results = settle_all(&valid.problem, runs, &valid.settings).map_err(RunError::Design)?;
+    let results = settle_all(&valid.problem, runs, &valid.settings).map_err(RunError::Design)?;
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
+    Ok(reported(case, valid, results))
+}
+
+/// The result of a design case from its settled results in start order.
+fn reported(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignResult>) -> DesignCaseResult {
     let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
     if valid.multistart.starts == 0 && results.len() == 1 {
         let result = results.remove(0);
-        return Ok(DesignCaseResult {
+        return DesignCaseResult {
             kind: "design",
             title,
             reported_start: 0,
             result,
             multistart: None,
             sensitivity: None,
-        });
+        };
     }
     let own = results[0].clone();
     let summary = cluster(results, valid.multistart.seed);
@@ -196,14 +265,14 @@ pub fn census(case: &DesignCase, valid: &ValidDesign, runs: Vec<SolverRun>) -> R
         Some(best) => (best.starts[0], best.result.clone()),
         None => (0, own),
     };
-    Ok(DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary), sensitivity: None })
+    DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary), sensitivity: None }
 }
 
 impl DesignCaseResult {
     /// The reported run ended clean (see [`DesignResult::is_clean`]): with multi-start, some start
     /// reached a clean optimum.
     pub fn is_clean(&self) -> bool {
-        self.result.is_clean()
+        self.result.is_clean() && self.multistart.as_ref().and_then(|m| m.confidence.as_ref()).is_none_or(|c| c.reached)
     }
 }
 
@@ -228,6 +297,17 @@ impl DesignCaseResult {
                 o.starts[0],
                 o.mirror_of.map_or(String::new(), |m| format!(" (mirror image of optimum {m})")),
                 if o.clean { "" } else { " (not clean: see its warnings in result.json)" }
+            )?;
+        }
+        if let Some(c) = &summary.confidence {
+            writeln!(
+                f,
+                "census to confidence: target P(a better one unseen) ≤ {} {} after {} batch(es) of {} seeded starts (cap {})",
+                c.target,
+                if c.reached { "REACHED" } else { "NOT REACHED" },
+                c.batches,
+                c.batch,
+                c.cap
             )?;
         }
         let e = &summary.census;

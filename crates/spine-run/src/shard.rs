@@ -89,6 +89,12 @@ pub fn run_shard(
     let case = design_case(text)?;
     let mut valid = case.validate()?;
     overrides.apply(&mut valid);
+    if valid.multistart.confidence.is_some() {
+        return Err(RunError::Case(spine_case::CaseError::invalid(
+            "multistart.confidence",
+            "a census to a stated confidence runs in one process (with --jobs), not in shards: its batches depend on the census so far",
+        )));
+    }
     let used =
         DesignOverrides { starts: Some(valid.multistart.starts), seed: Some(valid.multistart.seed), ..*overrides };
     let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);

@@ -229,7 +229,13 @@ struct WeakForm {
 impl WeakForm {
     fn value(&self, d: &[f64], matrices: &Matrices) -> f64 {
         let raw = if self.row {
-            matrices.jacobian_pattern.iter().zip(&matrices.jacobian).filter(|((r, _), _)| *r == self.bound.index).map(|((_, c), j)| j * d[*c]).sum()
+            matrices
+                .jacobian_pattern
+                .iter()
+                .zip(&matrices.jacobian)
+                .filter(|((r, _), _)| *r == self.bound.index)
+                .map(|((_, c), j)| j * d[*c])
+                .sum()
         } else {
             d[self.bound.index]
         };
@@ -350,20 +356,14 @@ pub fn certify(
             (status, negative, minimum.is_finite().then_some(minimum), Some(scale))
         }
         None => {
-            // Too large (or too many weak bounds) for the dense search: the inertia decides, with
-            // the weakly active bounds free for sufficiency and held for negative curvature.
-            let held = (weak > 0).then(|| {
-                let mut fixed = set.variables.clone();
-                fixed.extend_from_slice(&set.weak_variables);
-                let mut rows = set.rows.clone();
-                rows.extend_from_slice(&set.weak_rows);
-                rows.sort_by_key(|b| b.index);
-                ActiveSystem::new(&matrices, layout, fixed, rows)
-            });
-            let face = held.as_ref().unwrap_or(&system);
+            // Too large (or too many weak bounds) for the dense search: the inertia decides. With
+            // the weakly active bounds free, `ZᵀHZ ≻ 0` proves a strict minimum; negative curvature
+            // is taken as proof only without weakly active bounds (with them, the inertia cannot
+            // tell whether a negative direction stays in the cone, and at Ipopt's default
+            // tolerance "weak" often means "not yet resolved").
             let status = if system.certified().is_some() {
                 MinimumStatus::StrictMinimum
-            } else if face.kkt.as_ref().is_some_and(|k| k.inertia.negative > k.rows.len()) {
+            } else if weak == 0 && system.kkt.as_ref().is_some_and(|k| k.inertia.negative > k.rows.len()) {
                 MinimumStatus::NotAMinimum
             } else {
                 MinimumStatus::WeakMinimum

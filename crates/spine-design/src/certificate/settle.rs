@@ -20,7 +20,7 @@ use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvatu
 use crate::full_space::{Layout, StateForm};
 use crate::result::DesignWarning;
 use crate::sensitivity::polish;
-use crate::solve::{run_solver, DesignError, SolverRun};
+use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
 use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};
 use spine_model::Design;
@@ -41,6 +41,10 @@ pub enum EscapeHow {
     TightResolve,
     /// A step along its direction of negative curvature, then eq. (33) again.
     NegativeCurvature,
+    /// Eq. (33) again from its design with the run's own settings (where the inertia shows
+    /// negative curvature but no direction was formed: above [`super::MAX_DENSE_FREE`] free
+    /// variables or [`crate::sensitivity::MAX_WEAK`] weakly active bounds).
+    Restart,
 }
 
 impl EscapeHow {
@@ -49,6 +53,7 @@ impl EscapeHow {
         match self {
             Self::TightResolve => "tight_resolve",
             Self::NegativeCurvature => "negative_curvature",
+            Self::Restart => "restart",
         }
     }
 }
@@ -111,7 +116,10 @@ fn leave(
     let theta_width = 2.0 * b.theta0_max;
     let reach = (0..layout.n)
         .map(|i| d[layout.theta0(i)].abs() / theta_width)
-        .chain((0..=layout.n).map(|j| d[layout.stiffness(j)].abs() * c / (b.stiffness_max[j] - b.stiffness_min[j]).max(1e-300)))
+        .chain(
+            (0..=layout.n)
+                .map(|j| d[layout.stiffness(j)].abs() * c / (b.stiffness_max[j] - b.stiffness_min[j]).max(1e-300)),
+        )
         .fold(0.0f64, f64::max);
     if reach <= 0.0 || !reach.is_finite() {
         return Ok(None);
@@ -123,14 +131,13 @@ fn leave(
             let step = sign * alpha;
             let start = Design {
                 theta0: (0..layout.n).map(|i| run.design.theta0[i] + step * d[layout.theta0(i)]).collect(),
-                stiffness: (0..=layout.n).map(|j| run.design.stiffness[j] + step * d[layout.stiffness(j)] * c).collect(),
+                stiffness: (0..=layout.n)
+                    .map(|j| run.design.stiffness[j] + step * d[layout.stiffness(j)] * c)
+                    .collect(),
             };
             let next = run_solver(problem, &start, Formulation::Full, settings, &mut |_| true)?;
             let result = next.clone().check(problem, settings);
             let lower = result.objective < below * (1.0 - 1e-9);
-            if std::env::var_os("SPINE_DEBUG_CERT").is_some() {
-                eprintln!("leave: fraction {fraction} sign {sign} reach {reach:.3e} from {below:.8e}: {} {:.8e} clean {} start {:?} d {:?}", result.solver.status, result.objective, result.is_clean(), start.theta0, d);
-            }
             if result.is_clean() && lower && best.as_ref().is_none_or(|(_, b)| result.objective < b.objective) {
                 best = Some((next, result));
             }
@@ -142,14 +149,36 @@ fn leave(
     Ok(None)
 }
 
+/// Eq. (33) from `run`'s whole point (design and states, fresh multipliers) with `settings`: its
+/// end, where clean and below `below`.
+fn restart(
+    problem: &DesignProblem,
+    run: &SolverRun,
+    below: f64,
+    settings: &SolverSettings,
+) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
+    let Some(states) = run.states.as_ref() else { return Ok(None) };
+    let form = run.solver.state_variables.unwrap_or(StateForm::Absolute);
+    let point = FullPoint { form, design: &run.design, states, multipliers: None };
+    let next = resolve_from(problem, point, &settings.ipopt())?;
+    let result = next.clone().check(problem, settings);
+    Ok((result.is_clean() && result.objective < below * (1.0 - 1e-9)).then_some((next, result)))
+}
+
 /// The reported optimum of `run`: checked ([`SolverRun::check`]), certified, and left for a lower
 /// minimum where it is not one (module docs).
 pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings) -> Result<DesignResult, DesignError> {
     let mut escapes: Vec<Escape> = Vec::new();
+    // How the first solve started and its levels stay the result's: the escapes say what followed.
+    let (first_notes, first_refinement) = (run.start_notes.clone(), run.refinement.clone());
     let mut current = run;
     loop {
         let result = current.clone().check(problem, settings);
         let finish = |mut result: DesignResult, certificate: Option<Certificate>, escapes: Vec<Escape>| {
+            if !escapes.is_empty() {
+                result.start_notes = first_notes.clone();
+                result.refinement = first_refinement.clone();
+            }
             if let Some(c) = certificate.as_ref().filter(|c| c.status == MinimumStatus::NotAMinimum) {
                 result.warnings.push(DesignWarning::NotAMinimum { curvature: c.smallest_curvature });
             }
@@ -164,12 +193,10 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         if own.as_ref().is_some_and(|(c, _)| c.status == MinimumStatus::StrictMinimum) || escapes.len() >= MAX_ESCAPES {
             return Ok(finish(result, own.map(|(c, _)| c), escapes));
         }
-        if std::env::var_os("SPINE_DEBUG_CERT").is_some() {
-            eprintln!("own {:?}", own.as_ref().map(|(c, _)| c));
-        }
         let polished_run = polish(problem, &result.design, settings)?;
         let polished = polished_run.clone().check(problem, settings);
-        let tight = polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
+        let tight =
+            polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
         // Where to go next: the point left, how, and the run to continue from.
         let (left, how, negative, from) = match tight {
             Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
@@ -196,16 +223,16 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
             },
         };
         let next = match &negative {
-            Some(d) => leave(problem, &from, d, left, settings)?,
-            None => None,
+            Some(d) => leave(problem, &from, d, left, settings)?.map(|n| (n, EscapeHow::NegativeCurvature)),
+            None => restart(problem, &from, left, settings)?.map(|n| (n, EscapeHow::Restart)),
         };
-        match (next, negative) {
-            (Some((next, reached)), Some(d)) => {
+        match next {
+            Some(((next, reached), how_left)) => {
                 escapes.push(Escape {
                     objective: left,
                     status: how,
-                    how: EscapeHow::NegativeCurvature,
-                    curvature: Some(d.curvature),
+                    how: how_left,
+                    curvature: negative.as_ref().map(|d| d.curvature),
                     reached: reached.objective,
                 });
                 current = next;

@@ -128,7 +128,8 @@ impl ActiveSet {
         for r in 0..at.constraints.len() {
             let (value, lower, upper) = (at.constraints[r], at.row_lower[r], at.row_upper[r]);
             let (z_lower, z_upper) = (lambda[r].min(0.0).abs(), lambda[r].max(0.0));
-            let found = classify(Inequality { index: r, value, lower, upper, z_lower, z_upper, scale: largest_lambda, weak });
+            let found =
+                classify(Inequality { index: r, value, lower, upper, z_lower, z_upper, scale: largest_lambda, weak });
             set.record(found, false, value, lower, upper);
         }
         set
@@ -168,7 +169,16 @@ mod tests {
     use super::*;
 
     fn upper(value: f64, z_upper: f64, scale: f64) -> Option<(Bound, bool)> {
-        classify(Inequality { index: 0, value, lower: 1.0, upper: 100.0, z_lower: 0.0, z_upper, scale, weak: WEAK_MULTIPLIER })
+        classify(Inequality {
+            index: 0,
+            value,
+            lower: 1.0,
+            upper: 100.0,
+            z_lower: 0.0,
+            z_upper,
+            scale,
+            weak: WEAK_MULTIPLIER,
+        })
     }
 
     #[test]

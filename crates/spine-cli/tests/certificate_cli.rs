@@ -1,0 +1,137 @@
+//! The second-order certificate on every reported optimum, and the census to a stated confidence,
+//! end to end.
+
+mod common;
+
+use common::{spine, tmpdir, workspace};
+use serde_json::Value;
+
+/// Every object of `v` that is a design run's result (it has `design`, `solver` and
+/// `objective`), with its JSON path.
+fn design_results<'a>(v: &'a Value, path: String, out: &mut Vec<(String, &'a Value)>) {
+    match v {
+        Value::Object(map) => {
+            if map.contains_key("design") && map.contains_key("solver") && map.contains_key("objective") {
+                out.push((path.clone(), v));
+            }
+            for (k, child) in map {
+                design_results(child, format!("{path}.{k}"), out);
+            }
+        }
+        Value::Array(items) => {
+            for (i, child) in items.iter().enumerate() {
+                design_results(child, format!("{path}[{i}]"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
+    let mut checked = 0;
+    let mut cases: Vec<_> = std::fs::read_dir(workspace().join("paper-cases"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    cases.sort();
+    for case in cases {
+        let name = case.file_stem().unwrap().to_str().unwrap().to_string();
+        let out = tmpdir(&format!("certificate-{name}"));
+        let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"]);
+        assert!(o.status.code().is_some_and(|c| c == 0 || c == 3), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let result: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+        let mut found = Vec::new();
+        design_results(&result, name.clone(), &mut found);
+        for (path, r) in found {
+            let converged = r["solver"]["converged"].as_bool().unwrap_or(false);
+            let status = r["certificate"]["status"].as_str();
+            if converged {
+                assert!(status.is_some(), "{path}: a converged optimum without a certificate");
+            }
+            assert_ne!(status, Some("not_a_minimum"), "{path}: reported as the optimum but not a minimum");
+            checked += 1;
+        }
+        // The C_K study's rows carry the verdict too.
+        for row in result.pointer("/study/rows").and_then(Value::as_array).into_iter().flatten() {
+            assert_ne!(row["certificate"].as_str(), Some("not_a_minimum"), "{name}: {row}");
+        }
+        if name == "fig8" {
+            let r = &result["runs"][0]["result"]["result"];
+            let j = r["objective"].as_f64().unwrap();
+            assert!(j <= 7.2705e-3, "fig8 reports J = {j}");
+            assert!(matches!(r["certificate"]["status"].as_str(), Some("strict_minimum" | "weak_minimum")));
+            // It says which point it left: the first solve's 7.28338e-3.
+            let left = r["escapes"][0]["objective"].as_f64().unwrap();
+            assert!((left - 7.28338e-3).abs() < 1e-8, "{left}");
+        }
+    }
+    assert!(checked >= 20, "only {checked} design results found");
+}
+
+#[test]
+fn a_census_to_a_stated_confidence_stops_at_it_and_is_the_same_with_one_or_two_jobs() {
+    let case = workspace().join("paper-cases/design5.json");
+    let mut texts = Vec::new();
+    for jobs in ["1", "2"] {
+        let out = tmpdir(&format!("confidence-{jobs}"));
+        let o = spine(&[
+            "design",
+            case.to_str().unwrap(),
+            "--confidence",
+            "0.05",
+            "--jobs",
+            jobs,
+            "--out",
+            out.to_str().unwrap(),
+            "--deterministic",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        texts.push(std::fs::read_to_string(out.join("result.json")).unwrap());
+    }
+    assert_eq!(texts[0], texts[1], "--jobs changed the census");
+    let r: Value = serde_json::from_str(&texts[0]).unwrap();
+    let ms = &r["multistart"];
+    let p = ms["census"]["probability_better_unseen"].as_f64().unwrap();
+    assert!(p <= 0.05 && ms["confidence"]["reached"] == true, "{p}");
+    // It stopped at the first batch that reached the target: one batch fewer did not.
+    let batches = ms["confidence"]["batches"].as_u64().unwrap();
+    assert_eq!(ms["starts"].as_u64().unwrap(), 1 + 100 * batches);
+    if batches > 1 {
+        let out = tmpdir("confidence-fewer");
+        let starts = (100 * (batches - 1)).to_string();
+        let o = spine(&["design", case.to_str().unwrap(), "--starts", &starts, "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0));
+        let fewer: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+        assert!(fewer["multistart"]["census"]["probability_better_unseen"].as_f64().unwrap() > 0.05);
+    }
+    // A cap below what the target needs: exit 3, the estimate reached in the result.
+    let out = tmpdir("confidence-capped");
+    let o = spine(&[
+        "design",
+        case.to_str().unwrap(),
+        "--confidence",
+        "0.0001",
+        "--starts",
+        "100",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stdout));
+    let capped: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    assert_eq!(capped["multistart"]["confidence"]["reached"], false);
+    // Bad input: exit 2, naming the option.
+    for bad in ["0", "1", "-0.1", "nan", "x"] {
+        let o = spine(&[
+            "design",
+            case.to_str().unwrap(),
+            "--confidence",
+            bad,
+            "--out",
+            tmpdir("confidence-bad").to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--confidence"), "{bad}");
+    }
+}
