@@ -101,6 +101,13 @@ bench:
     cargo bench -p spine-benchmarks --bench scaling
     cargo run --release --quiet -p spine-benchmarks --bin bench_report
 
+# A census to a stated confidence, timed (design10, seeded starts in `JOBS` worker processes until
+# P(a better optimum unseen) <= P; issue 45's target: P = 0.01 in under 10 s on 2 cores).
+bench-census P="0.01" JOBS="2":
+    cargo build --release --quiet -p spine-cli
+    start=$(date +%s.%N); ./target/release/spine design paper-cases/design10.json --confidence {{P}} --jobs {{JOBS}} --deterministic --out results/bench-census | grep -E "^census|^multi-start"; end=$(date +%s.%N); \
+    echo "census to P <= {{P}} with {{JOBS}} jobs: $(awk "BEGIN { print $end - $start }") s wall"
+
 # Eq. (33) against CasADi + IPOPT on the same case files and start points (N default 5 … 1000; about
 # 20 min): ours cold and refined on both Ipopt backends, CasADi cold and through our ladder (sets up
 # its own Python venv with CasADi), then the table in benchmarks/RESULTS.md.

@@ -39,6 +39,7 @@ def run_case(
     deterministic: bool = False,
     starts: Optional[int] = None,
     seed: Optional[int] = None,
+    confidence: Optional[float] = None,
     formulation: Optional[Literal["full", "reduced"]] = None,
     method: Optional[Literal["ga", "pattern", "gradient"]] = None,
     time_limit: Optional[float] = None,
@@ -50,7 +51,9 @@ def run_case(
     """Runs a case of any kind in `KINDS` (the CLI's `spine case`; docs/case-format.md has a
     section for each).
 
-    Overrides as on the command line: `starts`/`seed` (multi-start of eq. (33)), `formulation`,
+    Overrides as on the command line: `starts`/`seed` (multi-start of eq. (33)), `confidence` (a
+    census until P(a better optimum unseen) <= it, `starts` its cap; every reported optimum carries
+    `certificate`: strict_minimum / weak_minimum / not_a_minimum), `formulation`,
     `method` (eq. (37)), `time_limit` (s; the result then says stopped="time_limit"), and an
     animation of a dynamic run (`animate`, `frames` 2..=600, `frame_width` 320..=1920 px,
     `magnify`; any of them asks for one; `Result.gif()` returns it). With `out` the result's

@@ -190,13 +190,14 @@ impl FigureCase {
             }
             let valid = case.validate().map_err(|e| e.under(&format!("{at}.case")))?;
             if let ValidCase::Design(d) = &valid {
-                if d.multistart.starts > 0 {
+                if d.multistart.starts > 0 && d.multistart.confidence.is_none() {
                     // A figure draws a run against its own start; a multi-start's best optimum
-                    // comes from another start. Refused rather than silently run from one start.
+                    // comes from another start. Refused rather than silently run from one start
+                    // (with `confidence`, the census's best is drawn beside it and `starts` caps it).
                     return Err(CaseError::invalid(
                         format!("{at}.case.multistart.starts"),
                         format!(
-                            "a figure draws each design run from its own start: 0 or leave it out (got {}); run multi-starts with `spine design`",
+                            "a figure draws each design run from its own start: 0 or leave it out (got {}); run multi-starts with `spine design`, or give `multistart.confidence` to draw the best optimum of a census beside it",
                             d.multistart.starts
                         ),
                     ));

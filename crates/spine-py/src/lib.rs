@@ -175,7 +175,8 @@ impl CaseResult {
 ///
 /// `case`: a dictionary in the case-file format (docs/case-format.md), its JSON text, or the path
 /// of a case file. The optional overrides are the CLI's: `starts` and `seed` (multi-start of
-/// eq. (33)), `formulation` (`"full"` or `"reduced"`), `method` (`"ga"`, `"pattern"` or `"gradient"`, eq. (37)),
+/// eq. (33)), `confidence` (a census until P(a better optimum unseen) ≤ it; `starts` caps it),
+/// `formulation` (`"full"` or `"reduced"`), `method` (`"ga"`, `"pattern"` or `"gradient"`, eq. (37)),
 /// `time_limit` (s, wall clock; the result then says `stopped="time_limit"`), and the animation
 /// of a dynamic run (`animate`, `frames`, `frame_width`, `magnify`, as `--animate`, `--frames`,
 /// `--frame-width`, `--magnify`; any of them asks for it; `Result.gif()` gives its bytes). With
@@ -185,7 +186,7 @@ impl CaseResult {
 /// that leaves nothing to report raises `TimeoutError`; Ctrl-C stops the run and raises
 /// `KeyboardInterrupt` (nothing written).
 #[pyfunction]
-#[pyo3(signature = (case, *, out = None, deterministic = false, starts = None, seed = None, formulation = None, method = None, time_limit = None, animate = false, frames = None, frame_width = None, magnify = None))]
+#[pyo3(signature = (case, *, out = None, deterministic = false, starts = None, seed = None, confidence = None, formulation = None, method = None, time_limit = None, animate = false, frames = None, frame_width = None, magnify = None))]
 #[allow(clippy::too_many_arguments)]
 fn run_case(
     py: Python<'_>,
@@ -194,6 +195,7 @@ fn run_case(
     deterministic: bool,
     starts: Option<usize>,
     seed: Option<u64>,
+    confidence: Option<f64>,
     formulation: Option<&str>,
     method: Option<&str>,
     time_limit: Option<f64>,
@@ -211,6 +213,16 @@ fn run_case(
         overrides.design.starts = Some(n);
     }
     overrides.design.seed = seed;
+    if let Some(p) = confidence {
+        if !(p > 0.0 && p < 1.0) {
+            return Err(PyValueError::new_err(format!(
+                "confidence: a probability strictly between 0 and 1 (e.g. 0.01), got {p}"
+            )));
+        }
+        overrides.design.confidence = Some(p);
+        // As on the command line: `starts` is then the cap, absent the largest allowed.
+        overrides.design.starts = overrides.design.starts.or(Some(0));
+    }
     overrides.design.formulation = match formulation {
         None => None,
         Some("full") => Some(spine_design::Formulation::Full),

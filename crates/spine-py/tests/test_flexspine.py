@@ -100,6 +100,15 @@ def test_fig3_five_link_design_reaches_the_checked_optimum():
     assert r["objective"] == pytest.approx(7.6031253e-3, abs=1e-10)
     assert r["solver"]["status"] == "solve_succeeded"
     assert r["loaded"]["stability"]["stable"]
+    assert r["certificate"]["status"] in ("strict_minimum", "weak_minimum")
+
+
+def test_a_census_to_a_stated_confidence_from_python_reports_its_best_certified():
+    r = flexspine.run_case(CASES / "design5.json", confidence=0.05, deterministic=True)
+    census = r["multistart"]["census"]
+    assert r["multistart"]["confidence"]["reached"] and census["probability_better_unseen"] <= 0.05
+    assert r["objective"] <= 7.6031253e-3
+    assert all(o["certificate"]["status"] != "not_a_minimum" for o in r["multistart"]["optima"])
 
 
 def test_write_gives_the_cli_folder_and_series_are_the_csv_columns(tmp_path):
@@ -161,6 +170,8 @@ def test_bad_arguments_raise_value_error_naming_them():
         flexspine.run_case(CASES / "design5.json", time_limit=-1)
     with pytest.raises(ValueError, match="formulation"):
         flexspine.run_case(CASES / "design5.json", formulation="half")
+    with pytest.raises(ValueError, match="confidence"):
+        flexspine.run_case(CASES / "design5.json", confidence=1.0)
     with pytest.raises(ValueError, match="method"):
         flexspine.run_case(CASES / "periodic7.json", method="newton")
     with pytest.raises(ValueError, match="cannot read"):

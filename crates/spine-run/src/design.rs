@@ -25,6 +25,25 @@ pub struct StaticDesign {
     pub gradients: Option<ReducedGradients>,
     #[serde(skip)]
     pub problem: DesignProblem,
+    /// With `multistart.confidence`: the best clean optimum of a census to that confidence, beside
+    /// the optimum from the case's own start (the paper's), with the census that found it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub best: Option<Box<BestDesign>>,
+}
+
+/// The best design of a census, as a figure draws it beside the paper-start optimum.
+#[derive(Clone, Debug, Serialize)]
+pub struct BestDesign {
+    /// The best clean optimum, checked and certified, with its gradients (for the claims).
+    pub design: StaticDesign,
+    /// The start that reached it first (0: the case's own).
+    pub reported_start: usize,
+    /// Whether it is the optimum the case's own start reached.
+    pub same_as_start: bool,
+    /// Distinct optima found, the census estimate and how the census ran.
+    pub optima: usize,
+    pub census: spine_design::census::CensusEstimate,
+    pub confidence: ConfidenceRun,
 }
 
 /// The passive and loaded states of a result, where it has both.
@@ -60,12 +79,35 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
     Ok(run)
 }
 
-/// Eq. (33) from the case's start.
+/// Eq. (33) from the case's start; with `multistart.confidence`, also the best optimum of a census
+/// to that confidence (seeded starts in this process, [`census_to`]).
 pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
     let result = solve(valid, &valid.start)?;
+    let mut design = static_design(valid, result);
+    if let Some(target) = valid.multistart.confidence {
+        let own = solve_unchecked(valid, &valid.start)?;
+        let (results, confidence) = census_to(valid, own, target, None, &mut |_| {})?;
+        let summary = cluster(results, valid.multistart.seed);
+        if let Some(best) = summary.best_clean() {
+            let same_as_start = best.starts.contains(&0);
+            design.best = Some(Box::new(BestDesign {
+                design: static_design(valid, best.result.clone()),
+                reported_start: best.starts[0],
+                same_as_start,
+                optima: summary.optima.iter().filter(|o| o.clean).count(),
+                census: summary.census.clone(),
+                confidence,
+            }));
+        }
+    }
+    Ok(design)
+}
+
+/// A result with the projected start it is measured from and its hand-adjoint gradients.
+fn static_design(valid: &ValidDesign, result: DesignResult) -> StaticDesign {
     let (start, _) = valid.problem.project_start(&valid.start);
     let gradients = states(&result).and_then(|(s1, s2)| adjoint_hand(&valid.problem, &result.design, &s1, &s2).ok());
-    Ok(StaticDesign { result, start, gradients, problem: valid.problem.clone() })
+    StaticDesign { result, start, gradients, problem: valid.problem.clone(), best: None }
 }
 
 /// Changes to a design case from the command line (each `None` keeps the case file's value).
@@ -149,11 +191,7 @@ pub fn run_design_case(
 /// batch, so the census (and its bytes) does not depend on `--jobs`.
 pub const CONFIDENCE_BATCH: usize = 100;
 
-/// A census to a stated confidence: seeded starts (the same sequence as `--starts` draws, so a
-/// run to confidence that stops after `k` starts is the run with `--starts k`) in batches of
-/// [`CONFIDENCE_BATCH`], each batch solved (in `workers`) and settled, until the estimate gives
-/// P(a better optimum unseen) ≤ `target`, the cap `multistart.starts` (0: `MAX_STARTS`) is
-/// reached, or a time limit passes.
+/// A census to a stated confidence as a design case's result ([`census_to`]).
 fn to_confidence(
     case: &DesignCase,
     valid: &ValidDesign,
@@ -162,6 +200,29 @@ fn to_confidence(
     workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
+    let (results, confidence) = census_to(valid, own, target, workers, progress)?;
+    let mut used = valid.clone();
+    used.multistart.starts = results.len() - 1;
+    let mut result = reported(case, &used, results);
+    if let Some(summary) = result.multistart.as_mut() {
+        summary.confidence = Some(confidence);
+    }
+    Ok(result)
+}
+
+/// A census to a stated confidence: seeded starts (the same sequence as `--starts` draws, so a
+/// run to confidence that stops after `k` starts is the run with `--starts k`) in batches of
+/// [`CONFIDENCE_BATCH`], each batch solved (in `workers`) and settled, until the estimate gives
+/// P(a better optimum unseen) ≤ `target`, the cap `multistart.starts` (0: `MAX_STARTS`) is
+/// reached, or a time limit passes. The settled results in start order (`own` first) and how
+/// the census ran.
+pub fn census_to(
+    valid: &ValidDesign,
+    own: SolverRun,
+    target: f64,
+    workers: Option<&Workers>,
+    progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<(Vec<DesignResult>, ConfidenceRun), RunError> {
     let cap = match valid.multistart.starts {
         0 => spine_case::MAX_STARTS,
         n => n,
@@ -189,14 +250,7 @@ fn to_confidence(
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
-    let mut used = valid.clone();
-    used.multistart.starts = settled.len() - 1;
-    let results = settled.results();
-    let mut result = reported(case, &used, results);
-    if let Some(summary) = result.multistart.as_mut() {
-        summary.confidence = Some(ConfidenceRun { target, reached, batches, batch: CONFIDENCE_BATCH, cap });
-    }
-    Ok(result)
+    Ok((settled.results(), ConfidenceRun { target, reached, batches, batch: CONFIDENCE_BATCH, cap }))
 }
 
 /// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with

@@ -350,7 +350,11 @@ pub fn run_figure_sensitivity(
             skipped.push(format!("{} ({})", run.name, run.case.kind()));
             continue;
         };
-        let mut result = run_design_sensitivity(c, overrides, workers, names, progress)
+        // The optimum each panel draws from the run's own start is differentiated; a figure's
+        // census of the best design (`multistart.confidence`) is not repeated here.
+        let mut c = c.clone();
+        c.multistart.confidence = None;
+        let mut result = run_design_sensitivity(&c, overrides, workers, names, progress)
             .map_err(|e| RunError::InRun { index, name: run.name.clone(), source: Box::new(e) })?;
         result.files.iter_mut().for_each(|f| *f = format!("{}_{f}", run.name));
         out.push(RunSensitivity { name: run.name.clone(), label: run.label.clone(), result });

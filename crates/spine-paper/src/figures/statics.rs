@@ -96,19 +96,41 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
     let mut out = FigureOutput::default();
     let mut fig = Figure::new(title, 2);
     let mut designs = Vec::new();
+    let mut panel = 0;
     for (k, run) in runs.iter().enumerate() {
         let s = expect_design(run)?;
         designs.push(s);
-        let shapes = Shapes::of_static(s).ok_or_else(|| run.error("the design has no equilibria to draw"))?;
-        fig = fig.with(shapes.panel(&format!("({}) {}: shapes", letter(2 * k), run.title()))).with(stiffness_panel(
-            &format!("({}) {}: nodal stiffness", letter(2 * k + 1), run.title()),
-            vec![Series::bars("", points(&s.result.design.stiffness, 1)).colour(k)],
-        ));
-        out.tables.push((format!("shape_{}.csv", run.name), shapes.csv()));
-        out.tables.push((format!("design_{}.csv", run.name), design_csv(&s.result.design)));
-        let (claims, summary) = design_claims(run.name, s);
-        out.claims.extend(claims);
-        out.summary.insert(run.name.to_string(), summary);
+        // The optimum from the paper's start, then (with a census) the best optimum found.
+        let best = s.best.as_deref().map(|b| (&b.design, b));
+        let drawn = std::iter::once((s, None)).chain(best.map(|(d, b)| (d, Some(b))));
+        for (d, census) in drawn {
+            let (suffix, label) = match (census, &s.best) {
+                (None, None) => ("", run.title().to_string()),
+                (None, Some(_)) => ("", format!("{}, paper's start", run.title())),
+                (Some(b), _) => ("_best", format!("{}, best of {} optima", run.title(), b.optima)),
+            };
+            let shapes = Shapes::of_static(d).ok_or_else(|| run.error("the design has no equilibria to draw"))?;
+            fig = fig.with(shapes.panel(&format!("({}) {label}: shapes", letter(panel)))).with(stiffness_panel(
+                &format!("({}) {label}: nodal stiffness", letter(panel + 1)),
+                vec![Series::bars("", points(&d.result.design.stiffness, 1)).colour(k)],
+            ));
+            panel += 2;
+            out.tables.push((format!("shape_{}{suffix}.csv", run.name), shapes.csv()));
+            out.tables.push((format!("design_{}{suffix}.csv", run.name), design_csv(&d.result.design)));
+            let scope = format!("{}{}", run.name, if census.is_some() { " best" } else { "" });
+            let (claims, mut summary) = design_claims(&scope, d);
+            if let Some(b) = census {
+                summary["census"] = json!({
+                    "optima": b.optima,
+                    "reported_start": b.reported_start,
+                    "same_as_start": b.same_as_start,
+                    "estimate": b.census,
+                    "confidence": b.confidence,
+                });
+            }
+            out.claims.extend(claims);
+            out.summary.insert(format!("{}{suffix}", run.name), summary);
+        }
     }
     if figure == "fig4" {
         out.claims.extend(localized_load_claims(runs, &designs)?);
