@@ -101,6 +101,14 @@ bench:
     cargo bench -p spine-benchmarks --bench scaling
     cargo run --release --quiet -p spine-benchmarks --bin bench_report
 
+# Global bounds on eq. (33) with SCIP 10, optional (installs the `pyscipopt` wheel, which ships
+# libscip, into benchmarks/peers/.venv-scip; nothing else depends on it): SCIP's best point, its
+# dual bound and the gap within TIME seconds; with RESULT (a `spine design` result.json of the same
+# case) the workspace's optimum is evaluated in SCIP's model first (benchmarks/peers/scip_global.py).
+certify CASE TIME="600" RESULT="":
+    test -x benchmarks/peers/.venv-scip/bin/python || (python3 -m venv benchmarks/peers/.venv-scip && benchmarks/peers/.venv-scip/bin/pip install -q pyscipopt==6.3.0)
+    benchmarks/peers/.venv-scip/bin/python benchmarks/peers/scip_global.py {{CASE}} --time {{TIME}} {{ if RESULT != "" { "--check " + RESULT } else { "" } }}
+
 # A census to a stated confidence, timed (design10, seeded starts in `JOBS` worker processes until
 # P(a better optimum unseen) <= P; issue 45's target: P = 0.01 in under 10 s on 2 cores).
 bench-census P="0.01" JOBS="2":

@@ -50,7 +50,8 @@ pub mod sweep;
 mod violations;
 mod warnings;
 
+pub use certificate::solve_design;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
 pub use settings::{Formulation, ScalingMethod, SolverSettings};
-pub use solve::{run_solver, solve_design, DesignError, SolverRun};
+pub use solve::{run_solver, DesignError, SolverRun};

@@ -21,22 +21,6 @@ pub enum DesignError {
     Setup(#[from] SetupError),
 }
 
-/// Solves eq. (33) from `start` (projected into the bounds first) in the given formulation; in the
-/// full space through the mesh-sequencing ladder of `settings.refine` when it applies.
-/// `observer` sees every Ipopt iteration (of every level) and may stop the run by returning `false`.
-/// The same as [`run_solver`] then [`crate::certificate::settle`]: the result is checked, carries
-/// its second-order certificate, and is never a point that is not a minimum where a lower one can
-/// be reached from it.
-pub fn solve_design(
-    problem: &DesignProblem,
-    start: &Design,
-    formulation: Formulation,
-    settings: &SolverSettings,
-    observer: &mut dyn FnMut(&IterationInfo) -> bool,
-) -> Result<DesignResult, DesignError> {
-    crate::certificate::settle(problem, run_solver(problem, start, formulation, settings, observer)?, settings)
-}
-
 /// What Ipopt returned for eq. (33), before it is checked: the design, the states, the solver's
 /// report, notes on the start and the ladder's levels. Serialisable without loss (a worker
 /// process sends it to the process that checks it); [`SolverRun::check`] turns it into the
@@ -90,7 +74,7 @@ impl SolverRun {
     }
 }
 
-/// Eq. (33) with Ipopt from `start`, as [`solve_design`], without the final check.
+/// Eq. (33) with Ipopt from `start`, as [`crate::solve_design`], without the final check and certificate.
 pub fn run_solver(
     problem: &DesignProblem,
     start: &Design,

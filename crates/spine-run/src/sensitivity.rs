@@ -99,11 +99,9 @@ pub fn differentiate(
     let moved = (design.objective - first.objective).abs() / first.objective.abs().max(1e-12);
     let shape_moved =
         design.design.theta0.iter().zip(&first.design.theta0).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    // The same optimum: `J` within 1e-6 relative (the first solve's tolerance moves it by about
-    // 1e-7 on design5), or lower by at most 1e-4 relative with the same shape (θ0 within 1e-4 rad,
-    // as the multi-start groups optima): the first solve stopped in a flat valley of `K` and the
-    // polish went on down it (Fig. 5 at −1 N: 6e-6). Another local optimum moves more.
-    let same = moved <= 1e-6 || (design.objective < first.objective && moved <= 1e-4 && shape_moved <= 1e-4);
+    // The same optimum as the certificate judges it (`J` within 1e-6, or a little lower along a
+    // flat valley of `K` with the same shape); another local optimum moves more.
+    let same = spine_design::certificate::same_optimum(first, &design);
     let why_not = if !design.is_clean() {
         Some(format!(
             "the polishing re-solve (tol 1e-12) from the optimum did not end clean: {} after {} iterations{}",

@@ -34,7 +34,7 @@
 
 mod settle;
 
-pub use settle::{certify_run, same_optimum, settle, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
+pub use settle::{certify_run, same_optimum, settle, solve_design, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
 
 use crate::full_space::{assemble, Layout, Multipliers};
 use crate::sensitivity::{ActiveSet, ActiveSystem, Bound, Evaluation, Matrices};

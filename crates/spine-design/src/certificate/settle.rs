@@ -23,6 +23,7 @@ use crate::sensitivity::polish;
 use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
 use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};
+use spine_ipopt::IterationInfo;
 use spine_model::Design;
 
 /// At most this many points are left on the way to a certified minimum.
@@ -163,6 +164,22 @@ fn restart(
     let next = resolve_from(problem, point, &settings.ipopt())?;
     let result = next.clone().check(problem, settings);
     Ok((result.is_clean() && result.objective < below * (1.0 - 1e-9)).then_some((next, result)))
+}
+
+/// Solves eq. (33) from `start` (projected into the bounds first) in the given formulation; in the
+/// full space through the mesh-sequencing ladder of `settings.refine` when it applies.
+/// `observer` sees every Ipopt iteration (of every level) and may stop the run by returning `false`.
+/// The same as [`run_solver`] then [`crate::certificate::settle`]: the result is checked, carries
+/// its second-order certificate, and is never a point that is not a minimum where a lower one can
+/// be reached from it.
+pub fn solve_design(
+    problem: &DesignProblem,
+    start: &Design,
+    formulation: Formulation,
+    settings: &SolverSettings,
+    observer: &mut dyn FnMut(&IterationInfo) -> bool,
+) -> Result<DesignResult, DesignError> {
+    settle(problem, run_solver(problem, start, formulation, settings, observer)?, settings)
 }
 
 /// The reported optimum of `run`: checked ([`SolverRun::check`]), certified, and left for a lower
