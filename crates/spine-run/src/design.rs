@@ -82,23 +82,23 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
 /// Eq. (33) from the case's start; with `multistart.confidence`, also the best optimum of a census
 /// to that confidence (seeded starts in this process, [`census_to`]).
 pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
-    let result = solve(valid, &valid.start)?;
-    let mut design = static_design(valid, result);
-    if let Some(target) = valid.multistart.confidence {
-        let own = solve_unchecked(valid, &valid.start)?;
-        let (results, confidence) = census_to(valid, own, target, None, &mut |_| {})?;
-        let summary = cluster(results, valid.multistart.seed);
-        if let Some(best) = summary.best_clean() {
-            let same_as_start = best.starts.contains(&0);
-            design.best = Some(Box::new(BestDesign {
-                design: static_design(valid, best.result.clone()),
-                reported_start: best.starts[0],
-                same_as_start,
-                optima: summary.optima.iter().filter(|o| o.clean).count(),
-                census: summary.census.clone(),
-                confidence,
-            }));
-        }
+    let Some(target) = valid.multistart.confidence else {
+        return Ok(static_design(valid, solve(valid, &valid.start)?));
+    };
+    // The census's start 0 is the case's own start, settled as `solve` settles it.
+    let own = solve_unchecked(valid, &valid.start)?;
+    let (results, confidence) = census_to(valid, own, target, None, &mut |_| {})?;
+    let mut design = static_design(valid, results[0].clone());
+    let summary = cluster(results, valid.multistart.seed);
+    if let Some(best) = summary.best_clean() {
+        design.best = Some(Box::new(BestDesign {
+            design: static_design(valid, best.result.clone()),
+            reported_start: best.starts[0],
+            same_as_start: best.starts.contains(&0),
+            optima: summary.optima.iter().filter(|o| o.clean).count(),
+            census: summary.census.clone(),
+            confidence,
+        }));
     }
     Ok(design)
 }

@@ -8,7 +8,6 @@ use crate::progress::Progress;
 use crate::workers::Workers;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
-use spine_design::full_space::{Layout, StateForm};
 use spine_design::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport};
 use spine_design::DesignResult;
 use std::fmt::Write;
@@ -121,7 +120,7 @@ pub fn differentiate(
         let why = why_not.unwrap_or_else(|| "the polished optimum has no multipliers or equilibria".into());
         return Ok((Err(why), polish_seconds));
     };
-    let layout = Layout { n: problem.n_links(), states: design.solver.state_variables.unwrap_or(StateForm::Absolute) };
+    let layout = design.solver.layout(problem.n_links());
     let heights = problem.node_heights(&design.design.theta0);
     let x = layout.pack(&design.design, problem.stiffness_scale, &passive, &loaded, &heights);
     let parameters: Vec<Parameter<'_>> = names

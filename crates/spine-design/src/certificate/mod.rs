@@ -36,8 +36,8 @@ mod settle;
 
 pub use settle::{certify_run, same_optimum, settle, solve_design, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
 
-use crate::full_space::{assemble, Layout, Multipliers};
-use crate::sensitivity::{ActiveSet, ActiveSystem, Bound, Evaluation, Matrices};
+use crate::full_space::{Layout, Multipliers};
+use crate::sensitivity::{ActiveSet, ActiveSystem, Bound, Matrices};
 use crate::DesignProblem;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -81,11 +81,6 @@ impl MinimumStatus {
             Self::WeakMinimum => "weak_minimum",
             Self::NotAMinimum => "not_a_minimum",
         }
-    }
-
-    /// Whether the point may be reported as an optimum (not `not_a_minimum`).
-    pub fn is_minimum(self) -> bool {
-        self != Self::NotAMinimum
     }
 }
 
@@ -323,16 +318,7 @@ pub fn certify(
     multipliers: &Multipliers,
     point: CertifiedPoint,
 ) -> (Certificate, Option<NegativeCurvature>) {
-    let assembled = assemble(problem, layout.states);
-    let at = Evaluation::of(&assembled, problem, layout, x);
-    let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
-    assembled.hessian(x, 1.0, &multipliers.constraints, &mut hessian);
-    let matrices = Matrices {
-        hessian_pattern: assembled.patterns.hessian.clone(),
-        hessian,
-        jacobian_pattern: assembled.patterns.jacobian.clone(),
-        jacobian: at.jacobian.clone(),
-    };
+    let (at, matrices) = Matrices::at(problem, layout, x, &multipliers.constraints);
     let set = ActiveSet::identify_with(x, &at, &matrices.jacobian_pattern, multipliers, CERTIFICATE_WEAK_MULTIPLIER);
     let n = layout.num_variables();
     let weak = set.weak_variables.len() + set.weak_rows.len();

@@ -17,7 +17,6 @@
 //! warning [`crate::result::DesignWarning::NotAMinimum`] and is not clean.
 
 use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature};
-use crate::full_space::{Layout, StateForm};
 use crate::result::DesignWarning;
 use crate::sensitivity::polish;
 use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
@@ -93,7 +92,7 @@ pub fn certify_run(
 ) -> Option<(Certificate, Option<NegativeCurvature>)> {
     let multipliers = run.multipliers.as_ref()?;
     let (passive, loaded) = run.states.as_ref()?;
-    let layout = Layout { n: problem.n_links(), states: run.solver.state_variables.unwrap_or(StateForm::Absolute) };
+    let layout = run.solver.layout(problem.n_links());
     let heights = problem.node_heights(&run.design.theta0);
     let x = layout.pack(&run.design, problem.stiffness_scale, passive, loaded, &heights);
     (multipliers.constraints.len() == layout.num_constraints() && multipliers.z_lower.len() == x.len())
@@ -109,7 +108,7 @@ fn leave(
     below: f64,
     settings: &SolverSettings,
 ) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
-    let layout = Layout { n: problem.n_links(), states: run.solver.state_variables.unwrap_or(StateForm::Absolute) };
+    let layout = run.solver.layout(problem.n_links());
     let b = &problem.bounds;
     let d = &negative.direction;
     let c = problem.stiffness_scale;
@@ -159,7 +158,7 @@ fn restart(
     settings: &SolverSettings,
 ) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
     let Some(states) = run.states.as_ref() else { return Ok(None) };
-    let form = run.solver.state_variables.unwrap_or(StateForm::Absolute);
+    let form = run.solver.layout(problem.n_links()).states;
     let point = FullPoint { form, design: &run.design, states, multipliers: None };
     let next = resolve_from(problem, point, &settings.ipopt())?;
     let result = next.clone().check(problem, settings);
@@ -214,11 +213,10 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         let polished = polished_run.clone().check(problem, settings);
         let tight =
             polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
-        // Where to go next: the point left, how, and the run to continue from.
-        let (left, how, negative, from) = match tight {
-            Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
-                (polished.objective, Some(c.status), negative, polished_run)
-            }
+        // The point to leave (not a minimum): its certificate, its direction of negative curvature
+        // (if formed), its run and its checked result.
+        let (certificate, negative, from, from_result) = match tight {
+            Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => (c, negative, polished_run, polished),
             Some((c, _)) if same_optimum(&result, &polished) => return Ok(finish(result, Some(c), escapes)),
             Some(_) if polished.objective < result.objective => {
                 escapes.push(Escape {
@@ -233,12 +231,11 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
             }
             // The tight re-solve failed or rose: the run's own certificate stands.
             _ => match own {
-                Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
-                    (result.objective, Some(c.status), negative, current.clone())
-                }
+                Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => (c, negative, current.clone(), result),
                 own => return Ok(finish(result, own.map(|(c, _)| c), escapes)),
             },
         };
+        let left = from_result.objective;
         let next = match &negative {
             Some(d) => leave(problem, &from, d, left, settings)?.map(|n| (n, EscapeHow::NegativeCurvature)),
             None => restart(problem, &from, left, settings)?.map(|n| (n, EscapeHow::Restart)),
@@ -247,7 +244,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
             Some(((next, reached), how_left)) => {
                 escapes.push(Escape {
                     objective: left,
-                    status: how,
+                    status: Some(certificate.status),
                     how: how_left,
                     curvature: negative.as_ref().map(|d| d.curvature),
                     reached: reached.objective,
@@ -255,9 +252,10 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                 current = next;
             }
             _ => {
-                // No lower minimum found along the direction: report the point with its certificate.
-                let c = certify_run(problem, &from, CertifiedPoint::Run).map(|(c, _)| c);
-                return Ok(finish(from.check(problem, settings), c, escapes));
+                // No lower minimum found along the direction: report the point with its certificate,
+                // which is of the reported run's own solution.
+                let c = Certificate { point: CertifiedPoint::Run, ..certificate };
+                return Ok(finish(from_result, Some(c), escapes));
             }
         }
     }

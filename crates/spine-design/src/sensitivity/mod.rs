@@ -28,10 +28,9 @@ mod system;
 pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
 pub use polish::{polish, POLISH_TOLERANCE};
 
-use crate::full_space::{assemble, Layout, Multipliers};
+use crate::full_space::{Layout, Multipliers};
 use crate::DesignProblem;
 use derivative::{derivative, one_sided, weak_candidates};
-pub(crate) use point::Evaluation;
 use rates::rates;
 pub use rates::Difference;
 use serde::Serialize;
@@ -145,16 +144,7 @@ pub fn sensitivities(
     parameters: &[Parameter<'_>],
 ) -> Result<SensitivityReport, SensitivityError> {
     let (layout, x) = (optimum.layout, optimum.x);
-    let assembled = assemble(optimum.problem, layout.states);
-    let at = Evaluation::of(&assembled, optimum.problem, layout, x);
-    let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
-    assembled.hessian(x, 1.0, &optimum.multipliers.constraints, &mut hessian);
-    let matrices = Matrices {
-        hessian_pattern: assembled.patterns.hessian.clone(),
-        hessian,
-        jacobian_pattern: assembled.patterns.jacobian.clone(),
-        jacobian: at.jacobian.clone(),
-    };
+    let (at, matrices) = Matrices::at(optimum.problem, layout, x, &optimum.multipliers.constraints);
     let set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
     // Rows that depend on others are left out of the system (their multipliers are not unique);
     // each derivative is then checked against them.

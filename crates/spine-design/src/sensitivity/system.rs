@@ -17,6 +17,29 @@ pub(crate) struct Matrices {
     pub jacobian: Vec<f64>,
 }
 
+impl Matrices {
+    /// The problem's NLP evaluated at `x` (layout order) and its Lagrangian's Hessian with the
+    /// constraint multipliers `lambda` (objective factor 1): the evaluation and the matrices.
+    pub fn at(
+        problem: &crate::DesignProblem,
+        layout: Layout,
+        x: &[f64],
+        lambda: &[f64],
+    ) -> (super::point::Evaluation, Self) {
+        let assembled = crate::full_space::assemble(problem, layout.states);
+        let at = super::point::Evaluation::of(&assembled, problem, layout, x);
+        let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
+        assembled.hessian(x, 1.0, lambda, &mut hessian);
+        let matrices = Self {
+            hessian_pattern: assembled.patterns.hessian,
+            hessian,
+            jacobian_pattern: assembled.patterns.jacobian,
+            jacobian: at.jacobian.clone(),
+        };
+        (at, matrices)
+    }
+}
+
 /// The position of each of `n` variables among those not fixed by a bound in `fixed` (`None` for a
 /// fixed one), and how many are free.
 fn free_positions(n: usize, fixed: &[Bound]) -> (Vec<Option<usize>>, usize) {

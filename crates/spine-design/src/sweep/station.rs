@@ -4,7 +4,7 @@
 
 use super::{Sweep, SweepError};
 use crate::certificate::{certify_run, CertifiedPoint};
-use crate::full_space::{Layout, Multipliers, StateForm};
+use crate::full_space::{Multipliers, StateForm};
 use crate::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport, POLISH_TOLERANCE};
 use crate::settings::ExtraOption;
 use crate::solve::{resolve_from, FullPoint, SolverRun};
@@ -151,8 +151,7 @@ impl Sweep<'_> {
         }
         let report = match (&run.multipliers, &run.states, result.is_clean()) {
             (Some(multipliers), Some((passive, loaded)), true) => {
-                let layout =
-                    Layout { n: problem.n_links(), states: run.solver.state_variables.unwrap_or(StateForm::Absolute) };
+                let layout = run.solver.layout(problem.n_links());
                 let heights = problem.node_heights(&run.design.theta0);
                 let x = layout.pack(&run.design, problem.stiffness_scale, passive, loaded, &heights);
                 let optimum = Optimum { problem, layout, x: &x, multipliers };
