@@ -19,6 +19,7 @@ test:
     just python
     just browser-test
     just shard-test
+    just slurm-test
     just lint
 
 # The Python package `flexspine` (crates/spine-py): builds it from source and installs it into
@@ -49,6 +50,15 @@ browser-test:
 shard-test:
     cargo build --release --workspace --all-targets --quiet
     ./scripts/shard-merge-check.sh
+
+# The cluster path under a real Slurm: a one-node cluster on this machine
+# (scripts/slurm/local-cluster.sh: Debian's Slurm 22.05 + munge, its own conf, ports and folder),
+# a job array of scripts/slurm/multistart.sbatch merged to the single run's bytes, a failed task, a
+# cancelled array, and scripts/slurm/census.sh to P <= 0.05 with a failure and a resume, against
+# `spine design --confidence 0.05` byte for byte. Skipped, saying why, where Slurm cannot start.
+slurm-test:
+    cargo build --release --workspace --all-targets --quiet
+    ./scripts/slurm/cluster-check.sh
 
 # Eq. (33) from Python beside the CLI and CasADi + IPOPT (5 and 10 links, the same start), one run.
 python-bench REPEATS="5":

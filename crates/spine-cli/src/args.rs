@@ -115,6 +115,12 @@ pub struct DesignArgs {
     /// write `DIR/shard.json`; `spine merge` combines the N shards into the single run's result.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<spine_run::shard::ShardSpec>,
+    /// With `--confidence` and `--shard`: the batch of a census to a stated confidence whose
+    /// starts the shard takes (batch B: seeded starts 100(B−1)+1..=100B; batch 1 also start 0).
+    /// `spine merge` of batches 1..=B says whether the census is done or which batch is next
+    /// (scripts/slurm/census.sh runs it on a cluster).
+    #[arg(long, value_name = "B", value_parser = parse_batch)]
+    pub batch: Option<usize>,
     /// Add the derivatives of the reported optimum with respect to the case's parameters
     /// (`sensitivity` in `result.json`, as `spine sensitivity` computes them).
     #[arg(long)]
@@ -430,6 +436,14 @@ fn parse_every(text: &str) -> Result<usize, String> {
 }
 
 /// `--starts`: a count within the bound every case file obeys ([`spine_case::MAX_STARTS`]).
+fn parse_batch(text: &str) -> Result<usize, String> {
+    let most = spine_case::MAX_STARTS / spine_run::CONFIDENCE_BATCH;
+    match text.trim().parse::<usize>() {
+        Ok(b) if (1..=most).contains(&b) => Ok(b),
+        _ => Err(format!("a batch number 1..={most} expected")),
+    }
+}
+
 fn parse_confidence(text: &str) -> Result<f64, String> {
     let p: f64 = text.parse().map_err(|e| format!("{e}"))?;
     if !(p > 0.0 && p < 1.0) {

@@ -59,9 +59,12 @@ fn main() -> ExitCode {
     let done = match &cli.command {
         Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), Mode::Case),
         Command::Twolink(a) => run(a, Some("twolink"), Default::default(), Mode::Case),
-        Command::Design(a) => a.overrides().and_then(|o| match a.shard {
-            Some(spec) => shard(&a.run, o, spec),
-            None => run(&a.run, Some("design"), o, Mode::Case),
+        Command::Design(a) => a.overrides().and_then(|o| match (a.shard, a.batch) {
+            (Some(spec), batch) => shard(&a.run, o, spec, batch),
+            (None, Some(_)) => Err(Failure::Input(
+                "--batch: only with --shard K/N (one shard of one batch of a census to a stated confidence)".into(),
+            )),
+            (None, None) => run(&a.run, Some("design"), o, Mode::Case),
         }),
         Command::Merge(a) => merge(a),
         Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), Mode::Case),
@@ -113,23 +116,31 @@ fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failu
 
 /// `spine design --shard K/N`: the K-th share of a multi-start's starts, written to
 /// `DIR/shard.json` (exit 3 when a time limit left it incomplete: `spine merge` refuses it).
-fn shard(args: &RunArgs, overrides: spine_run::Overrides, spec: spine_run::shard::ShardSpec) -> Result<bool, Failure> {
+fn shard(
+    args: &RunArgs,
+    overrides: spine_run::Overrides,
+    spec: spine_run::shard::ShardSpec,
+    batch: Option<usize>,
+) -> Result<bool, Failure> {
     let path = args.case.display().to_string();
     let out = output::Output::new(&args.out, args.deterministic);
     out.check(&[&args.case])?;
     let (text, _) = read_case(&args.case)?;
     let mut bars = progress::Bars::default();
     let (shard, _) = spine_stop::with_time_limit(args.time_limit, || {
-        spine_run::shard::run_shard(&text, &overrides.design, spec, overrides.workers.as_ref(), &mut |p| bars.report(p))
+        spine_run::shard::run_shard(&text, &overrides.design, spec, batch, overrides.workers.as_ref(), &mut |p| {
+            bars.report(p)
+        })
     });
     bars.clear();
     let shard = shard.map_err(|e| failure(&path, e))?;
     let json = serde_json::to_string(&shard).expect("shards serialise") + "\n";
     out.write_files(&[("shard.json", json.as_bytes())])?;
     output::say(&format!(
-        "shard {}/{}: {} runs{}; wrote {}\n",
+        "shard {}/{}{}: {} runs{}; wrote {}\n",
         spec.index,
         spec.count,
+        batch.map(|b| format!(" of batch {b}")).unwrap_or_default(),
         shard.runs.len(),
         if shard.complete { "" } else { " (INCOMPLETE: stopped early; merge will refuse it)" },
         args.out.join("shard.json").display()
@@ -150,10 +161,20 @@ fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
         let shard = serde_json::from_str(&text).map_err(|e| Failure::Input(format!("{name}: not a shard: {e}")))?;
         shards.push(shard);
     }
-    let result = spine_run::shard::merge(shards).map_err(|e| failure("merge", e))?;
-    let (path, _) = out.write_result(&result)?;
-    output::say(&format!("{result}wrote {}\n", path.display()));
-    Ok(result.is_clean())
+    let merged = spine_run::shard::merge(shards).map_err(|e| failure("merge", e))?;
+    let (path, _) = out.write_result(&merged.result)?;
+    output::say(&format!("{}wrote {}\n", merged.result, path.display()));
+    if !merged.unused_batches.is_empty() {
+        output::say(&format!(
+            "NOTE: the census reached its target before batch {}: not merged (the single run would not have run them)\n",
+            spine_run::text::numbers(&merged.unused_batches)
+        ));
+    }
+    if let Some(b) = merged.next_batch {
+        // One line a driver reads (scripts/slurm/census.sh): the census goes on with batch b.
+        output::say(&format!("next batch: {b}\n"));
+    }
+    Ok(merged.result.is_clean())
 }
 
 /// A run's error as its exit code.

@@ -395,3 +395,83 @@ fn the_ck_study_in_worker_processes_gives_the_same_rows() {
     assert!(String::from_utf8_lossy(&one[1]).lines().count() == 7, "6 rows and a header");
     assert!(study("2") == one, "--jobs 2 differs from --jobs 1");
 }
+
+#[test]
+fn a_census_to_a_stated_confidence_sharded_batch_by_batch_merges_to_the_single_run() {
+    let case = workspace().join("paper-cases/design5.json");
+    let dir = tmpdir("census-batches");
+    let design = |extra: &[&str], out: &str| {
+        let out = dir.join(out);
+        let mut args = vec!["design", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "1"];
+        args.extend(extra);
+        (spine(&args), out)
+    };
+    let merge = |shards: &[&str], out: &str| {
+        let out = dir.join(out);
+        let shards: Vec<String> = shards.iter().map(|s| dir.join(s).to_str().unwrap().to_string()).collect();
+        let mut args = vec!["merge"];
+        args.extend(shards.iter().map(String::as_str));
+        args.extend(["--out", out.to_str().unwrap(), "--deterministic"]);
+        (spine(&args), out)
+    };
+    let bytes = |dir: &std::path::Path| std::fs::read(dir.join("result.json")).unwrap();
+    // design5 to P ≤ 0.05 takes two batches on one machine.
+    let (o, single) = design(&["--confidence", "0.05", "--deterministic"], "single");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for (batch, shard, out) in [("1", "1/2", "b1s1"), ("1", "2/2", "b1s2"), ("2", "1/1", "b2"), ("3", "1/1", "b3")] {
+        let (o, _) = design(&["--confidence", "0.05", "--batch", batch, "--shard", shard], out);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("of batch {batch}")));
+    }
+    // Batch 1 alone: not reached, the next batch named, exit 3.
+    let (o, _) = merge(&["b1s2", "b1s1"], "after1");
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("\nnext batch: 2\n"));
+    // Batches 1 and 2: the single run's bytes; a batch beyond the one that reached it is left out.
+    let (o, merged) = merge(&["b1s1", "b2", "b1s2"], "after2");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("next batch"));
+    assert!(bytes(&merged) == bytes(&single), "batches 1..2 merged differ from the single run");
+    let (o, merged) = merge(&["b1s1", "b1s2", "b2", "b3"], "after3");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("before batch 3: not merged"));
+    assert!(bytes(&merged) == bytes(&single));
+    // A census that ends at its cap: the same bytes, exit 3, no next batch.
+    let cap = ["--confidence", "0.000001", "--starts", "150"];
+    let (o, capped) = design(&[&cap[..], &["--deterministic"]].concat(), "capped");
+    assert_eq!(o.status.code(), Some(3));
+    for b in ["1", "2"] {
+        let (o, _) = design(&[&cap[..], &["--batch", b, "--shard", "1/1"]].concat(), &format!("cap{b}"));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let (o, merged) = merge(&["cap1", "cap2"], "capped-merged");
+    assert_eq!(o.status.code(), Some(3));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("next batch"));
+    assert!(bytes(&merged) == bytes(&capped), "the capped census merged differs from the single run");
+    // Merges refused: a missing batch, a missing shard of a batch, batches of two censuses.
+    for (shards, message) in [
+        (vec!["b2"], "missing batch 1"),
+        (vec!["b1s1", "b2"], "2 shards of batch 1 expected; missing 2 "),
+        (vec!["b1s1", "b1s2", "cap2"], "other settings"),
+    ] {
+        let (o, out) = merge(&shards, "refused");
+        assert_eq!(o.status.code(), Some(2), "{shards:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains(message), "{shards:?}: {stderr}");
+        assert!(!out.exists());
+    }
+    // Bad options: exit 2 naming --batch, nothing written.
+    for (args, name) in [
+        (vec!["--batch", "1", "--shard", "1/1"], "no-confidence"),
+        (vec!["--confidence", "0.05", "--shard", "1/2"], "no-batch"),
+        (vec!["--confidence", "0.05", "--starts", "150", "--batch", "3", "--shard", "1/1"], "past-cap"),
+        (vec!["--confidence", "0.05", "--batch", "0", "--shard", "1/1"], "zero"),
+        (vec!["--confidence", "0.05", "--batch", "1"], "no-shard"),
+    ] {
+        let (o, out) = design(&args, name);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains("--batch") || stderr.contains("--shard"), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?}");
+    }
+}

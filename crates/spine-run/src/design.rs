@@ -201,13 +201,24 @@ fn to_confidence(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<DesignCaseResult, RunError> {
     let (results, confidence) = census_to(valid, own, target, workers, progress)?;
+    Ok(confidence_result(case, valid, results, confidence))
+}
+
+/// The result of a census to a stated confidence from its settled results in start order (one
+/// machine, or the merge of its batches' shards: the same bytes).
+pub fn confidence_result(
+    case: &DesignCase,
+    valid: &ValidDesign,
+    results: Vec<DesignResult>,
+    confidence: ConfidenceRun,
+) -> DesignCaseResult {
     let mut used = valid.clone();
     used.multistart.starts = results.len() - 1;
     let mut result = reported(case, &used, results);
     if let Some(summary) = result.multistart.as_mut() {
         summary.confidence = Some(confidence);
     }
-    Ok(result)
+    result
 }
 
 /// A census to a stated confidence: seeded starts (the same sequence as `--starts` draws, so a
@@ -223,34 +234,103 @@ pub fn census_to(
     workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<(Vec<DesignResult>, ConfidenceRun), RunError> {
-    let cap = match valid.multistart.starts {
-        0 => spine_case::MAX_STARTS,
-        n => n,
-    };
-    let mut settled = Settled::new(&valid.problem, &valid.settings);
-    settled.add(own).map_err(RunError::Design)?;
-    let mut drawn: Vec<Design> = Vec::new();
-    let mut batches = 0;
-    let mut reached = false;
-    while drawn.len() < cap {
-        let size = CONFIDENCE_BATCH.min(cap - drawn.len());
-        drawn = feasible_starts(&valid.problem, drawn.len() + size, valid.multistart.seed);
-        let batch = &drawn[drawn.len() - size..];
+    let mut census = ConfidenceCensus::new(valid, target, own)?;
+    while let Some(starts) = Batches::new(valid).seeded(census.batches() + 1) {
+        let drawn = feasible_starts(&valid.problem, *starts.end(), valid.multistart.seed);
+        let batch = &drawn[*starts.start() - 1..];
         let runs = solve_all(valid, batch, workers, progress)?;
         let complete = runs.len() == batch.len();
-        for run in runs {
-            settled.add(run).map_err(RunError::Design)?;
-        }
-        batches += 1;
-        reached = settled.estimate().probability_better_unseen.is_some_and(|p| p <= target);
-        if reached || !complete {
+        if census.add_batch(runs)? || !complete {
             break;
         }
     }
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
-    Ok((settled.results(), ConfidenceRun { target, reached, batches, batch: CONFIDENCE_BATCH, cap }))
+    Ok(census.finish())
+}
+
+/// The batches of a census to a stated confidence: batch `b` (1-based) holds the seeded starts
+/// `100(b − 1) + 1 ..= 100 b` (fewer in the last, at the cap), and batch 1 also the case's own
+/// start 0.
+#[derive(Clone, Copy, Debug)]
+pub struct Batches {
+    /// The cap on seeded starts (`multistart.starts`; 0: [`spine_case::MAX_STARTS`]).
+    pub cap: usize,
+}
+
+impl Batches {
+    pub fn new(valid: &ValidDesign) -> Self {
+        let cap = match valid.multistart.starts {
+            0 => spine_case::MAX_STARTS,
+            n => n,
+        };
+        Self { cap }
+    }
+
+    /// How many batches the cap allows.
+    pub fn count(&self) -> usize {
+        self.cap.div_ceil(CONFIDENCE_BATCH)
+    }
+
+    /// The seeded starts of batch `b` (1-based), or `None` past the cap.
+    pub fn seeded(&self, b: usize) -> Option<std::ops::RangeInclusive<usize>> {
+        (1..=self.count()).contains(&b).then(|| (b - 1) * CONFIDENCE_BATCH + 1..=(b * CONFIDENCE_BATCH).min(self.cap))
+    }
+
+    /// Every start of batch `b`: its seeded starts, and start 0 in batch 1.
+    pub fn starts(&self, b: usize) -> Vec<usize> {
+        let own = (b == 1).then_some(0);
+        own.into_iter().chain(self.seeded(b).into_iter().flatten()).collect()
+    }
+}
+
+/// A census to a stated confidence as it grows: each batch's runs settled in start order, the
+/// rule checked after each batch (one machine: [`census_to`]; a cluster: the merge of each
+/// batch's shards, [`crate::shard::merge`]).
+pub struct ConfidenceCensus<'a> {
+    settled: Settled<'a>,
+    target: f64,
+    batches: Batches,
+    done: usize,
+    reached: bool,
+}
+
+impl<'a> ConfidenceCensus<'a> {
+    /// The census of the run from the case's own start (start 0).
+    pub fn new(valid: &'a ValidDesign, target: f64, own: SolverRun) -> Result<Self, RunError> {
+        let mut settled = Settled::new(&valid.problem, &valid.settings);
+        settled.add(own).map_err(RunError::Design)?;
+        Ok(Self { settled, target, batches: Batches::new(valid), done: 0, reached: false })
+    }
+
+    /// Batches added so far.
+    pub fn batches(&self) -> usize {
+        self.done
+    }
+
+    /// Adds the next batch's seeded runs in start order; whether the census is over (the
+    /// estimate reached the target, or the cap).
+    pub fn add_batch(&mut self, runs: Vec<SolverRun>) -> Result<bool, RunError> {
+        for run in runs {
+            self.settled.add(run).map_err(RunError::Design)?;
+        }
+        self.done += 1;
+        self.reached = self.settled.estimate().probability_better_unseen.is_some_and(|p| p <= self.target);
+        Ok(self.reached || self.done >= self.batches.count())
+    }
+
+    /// The settled results in start order and how the census ran.
+    pub fn finish(self) -> (Vec<DesignResult>, ConfidenceRun) {
+        let run = ConfidenceRun {
+            target: self.target,
+            reached: self.reached,
+            batches: self.done,
+            batch: CONFIDENCE_BATCH,
+            cap: self.batches.cap,
+        };
+        (self.settled.results(), run)
+    }
 }
 
 /// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with

@@ -47,7 +47,9 @@ pub mod write;
 
 pub use animation::{Animation, AnimationOptions, Track};
 pub use claims::{Check, Claim};
-pub use design::{run_design, run_design_case, BestDesign, DesignCaseResult, DesignOverrides, StaticDesign};
+pub use design::{
+    run_design, run_design_case, BestDesign, DesignCaseResult, DesignOverrides, StaticDesign, CONFIDENCE_BATCH,
+};
 pub use dynamics::{
     dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicOutput,
     DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,

@@ -7,8 +7,14 @@
 //! shares differ by one start at most. A shard holds Ipopt's unchecked runs ([`SolverRun`]); the
 //! merge checks them against the case, which the shard carries verbatim with the overrides it ran
 //! with, so a merge needs nothing but the shards.
+//!
+//! A census to a stated confidence (`--confidence P`) is sharded one batch at a time
+//! (`--batch B --shard K/N`: the share of batch `B`'s starts, [`Batches`]); the merge of the
+//! shards of batches `1..=B` settles them batch by batch and checks the rule after each, as the
+//! single run does, so a census that reached its target gives the single run's bytes, and one
+//! that did not says which batch comes next ([`Merged::next_batch`]).
 
-use crate::design::{census, solve_all, DesignOverrides};
+use crate::design::{census, confidence_result, solve_all, Batches, ConfidenceCensus, DesignOverrides};
 use crate::error::{MergeError, RunError};
 use crate::progress::Progress;
 use crate::result::{CaseResult, KindResult};
@@ -65,6 +71,9 @@ pub struct Shard {
     pub runs: Vec<(usize, SolverRun)>,
     /// Every start of the share was solved.
     pub complete: bool,
+    /// With a census to a stated confidence: the batch whose starts the share is taken from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub batch: Option<usize>,
 }
 
 fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
@@ -78,27 +87,44 @@ fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
 }
 
 /// Runs shard `spec` of the design case `text` (with `overrides`): its share of the starts,
-/// unchecked (in `workers` processes when given).
+/// unchecked (in `workers` processes when given). A census to a stated confidence is sharded one
+/// `batch` at a time (required then, refused otherwise).
 pub fn run_shard(
     text: &str,
     overrides: &DesignOverrides,
     spec: ShardSpec,
+    batch: Option<usize>,
     workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Shard, RunError> {
     let case = design_case(text)?;
     let mut valid = case.validate()?;
     overrides.apply(&mut valid);
-    if valid.multistart.confidence.is_some() {
-        return Err(RunError::Case(spine_case::CaseError::invalid(
-            "multistart.confidence",
-            "a census to a stated confidence runs in one process (with --jobs), not in shards: its batches depend on the census so far",
-        )));
-    }
+    let share = match (valid.multistart.confidence, batch) {
+        (None, None) => spec.starts(valid.multistart.starts),
+        (None, Some(_)) => {
+            return Err(option_error("--batch", "only with --confidence (a census to a stated confidence)"))
+        }
+        (Some(_), b) => {
+            let batches = Batches::new(&valid);
+            let count = batches.count();
+            let allowed = format!("a batch 1 ≤ B ≤ {count} (batches of 100 seeded starts up to the cap, --starts)");
+            let b = b.ok_or_else(|| {
+                option_error(
+                    "--batch",
+                    &format!("a census to a stated confidence is sharded one batch at a time: give {allowed}"),
+                )
+            })?;
+            if !(1..=count).contains(&b) {
+                return Err(option_error("--batch", &format!("{b}: expected {allowed}")));
+            }
+            batches.starts(b).into_iter().filter(|i| i % spec.count == spec.index - 1).collect()
+        }
+    };
     let used =
         DesignOverrides { starts: Some(valid.multistart.starts), seed: Some(valid.multistart.seed), ..*overrides };
-    let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);
-    let share = spec.starts(valid.multistart.starts);
+    let last = share.last().copied().unwrap_or(0);
+    let seeded = feasible_starts(&valid.problem, last, valid.multistart.seed);
     let designs: Vec<_> =
         share.iter().map(|&i| if i == 0 { valid.start.clone() } else { seeded[i - 1].clone() }).collect();
     let runs = solve_all(&valid, &designs, workers, progress)?;
@@ -110,13 +136,31 @@ pub fn run_shard(
         shard: spec,
         runs: share.into_iter().zip(runs).collect(),
         complete,
+        batch,
     })
+}
+
+fn option_error(field: &str, reason: &str) -> RunError {
+    RunError::Option(spine_check::FieldError::new(field, reason.to_string()))
+}
+
+/// The merge of a multi-start's shards.
+#[derive(Debug)]
+pub struct Merged {
+    pub result: CaseResult,
+    /// A census to a stated confidence that has not reached its target, nor its cap: the batch
+    /// to run next.
+    pub next_batch: Option<usize>,
+    /// Batches given beyond the one where the census reached its target (left out, as the
+    /// single run would not have run them).
+    pub unused_batches: Vec<usize>,
 }
 
 /// Merges the shards of one multi-start into the result of the single run. Refused (with the
 /// reason) unless every shard has the same case, overrides and shard count, each of `1..=N`
-/// appears once, and each is complete.
-pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
+/// appears once, and each is complete; for a census to a stated confidence, the same for each
+/// batch `1..=B` (the shard count may differ between batches).
+pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
     let first = shards.first().ok_or(MergeError::Empty)?.clone();
     for s in &shards {
         if s.format != SHARD_FORMAT {
@@ -140,27 +184,135 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
         }
         if s.case != first.case {
             return Err(MergeError::Mismatch(format!(
-                "shard {}/{} ran another case file than shard {}/{}",
-                s.shard.index, s.shard.count, first.shard.index, first.shard.count
+                "shard {} ran another case file than shard {}",
+                s.name(),
+                first.name()
             ))
             .into());
         }
-        if s.overrides != first.overrides || s.shard.count != first.shard.count {
-            let settings = |o: &DesignOverrides| serde_json::to_string(o).unwrap_or_default();
+        let same_count = s.batch.is_some() || s.shard.count == first.shard.count;
+        if s.overrides != first.overrides || !same_count || s.batch.is_some() != first.batch.is_some() {
+            let settings = |o: &Shard| {
+                let mut text = serde_json::to_string(&o.overrides).unwrap_or_default();
+                if let Some(b) = o.batch {
+                    text += &format!(", batch {b}");
+                }
+                text
+            };
             return Err(MergeError::Mismatch(format!(
-                "shard {}/{} ran with other settings ({}) than shard {}/{} ({})",
-                s.shard.index,
-                s.shard.count,
-                settings(&s.overrides),
-                first.shard.index,
-                first.shard.count,
-                settings(&first.overrides)
+                "shard {} ran with other settings ({}) than shard {} ({})",
+                s.name(),
+                settings(s),
+                first.name(),
+                settings(&first)
             ))
             .into());
         }
     }
+    let case = design_case(&first.case).map_err(|e| MergeError::Case(e.to_string()))?;
+    let mut valid = case.validate().map_err(|e| MergeError::Case(e.to_string()))?;
+    first.overrides.apply(&mut valid);
+    shards.sort_by_key(|s| (s.batch, s.shard.index));
+    let Some(target) = valid.multistart.confidence else {
+        if first.batch.is_some() {
+            return Err(MergeError::Mismatch(format!(
+                "shard {} holds a batch of a census to a stated confidence, but its case and overrides set no confidence",
+                first.name()
+            ))
+            .into());
+        }
+        let runs = complete_runs(&valid, shards)?;
+        let mut result = census(&case, &valid, runs)?;
+        crate::sensitivity::attach(&case, &valid, &first.overrides, &mut result)?;
+        return Ok(Merged { result: KindResult::Design(result).into(), next_batch: None, unused_batches: Vec::new() });
+    };
+    // A census to a stated confidence, batch by batch.
+    let batches = Batches::new(&valid);
+    let mut by_batch: Vec<(usize, Vec<Shard>)> = Vec::new();
+    for s in shards {
+        let b = s.batch.unwrap_or(0);
+        if !(1..=batches.count()).contains(&b) {
+            return Err(MergeError::Mismatch(format!(
+                "shard {}: batch {b}, expected 1 ≤ batch ≤ {} (the cap allows {})",
+                s.name(),
+                batches.count(),
+                batches.count()
+            ))
+            .into());
+        }
+        match by_batch.last_mut() {
+            Some((last, group)) if *last == b => group.push(s),
+            _ => by_batch.push((b, vec![s])),
+        }
+    }
+    let given: Vec<usize> = by_batch.iter().map(|(b, _)| *b).collect();
+    let missing: Vec<usize> =
+        (1..=*given.last().unwrap_or(&0)).filter(|b| given.binary_search(b).is_err()).take(10).collect();
+    if !missing.is_empty() {
+        return Err(MergeError::Incomplete(format!(
+            "a census's batches 1..={} expected; missing batch {}",
+            given.last().unwrap_or(&0),
+            crate::text::numbers(&missing)
+        ))
+        .into());
+    }
+    let mut groups = by_batch.into_iter();
+    let (_, first_batch) = groups.next().ok_or(MergeError::Empty)?;
+    let mut runs = complete_runs(&valid, first_batch)?.into_iter();
+    let own = runs.next().ok_or_else(|| MergeError::Incomplete("batch 1 holds no start 0".into()))?;
+    let mut census = ConfidenceCensus::new(&valid, target, own)?;
+    let mut done = census.add_batch(runs.collect())?;
+    let mut unused_batches = Vec::new();
+    for (b, group) in groups {
+        if done {
+            unused_batches.push(b);
+            continue;
+        }
+        done = census.add_batch(complete_runs(&valid, group)?)?;
+    }
+    let next_batch = (!done).then(|| census.batches() + 1);
+    let (results, confidence) = census.finish();
+    let mut result = confidence_result(&case, &valid, results, confidence);
+    crate::sensitivity::attach(&case, &valid, &first.overrides, &mut result)?;
+    Ok(Merged { result: KindResult::Design(result).into(), next_batch, unused_batches })
+}
+
+impl Shard {
+    /// `K/N`, or `K/N of batch B`.
+    fn name(&self) -> String {
+        match self.batch {
+            Some(b) => format!("{}/{} of batch {b}", self.shard.index, self.shard.count),
+            None => format!("{}/{}", self.shard.index, self.shard.count),
+        }
+    }
+
+    /// The starts this shard must hold.
+    fn expected(&self, valid: &spine_case::ValidDesign) -> Vec<usize> {
+        match self.batch {
+            Some(b) => Batches::new(valid)
+                .starts(b)
+                .into_iter()
+                .filter(|i| i % self.shard.count == self.shard.index - 1)
+                .collect(),
+            None => self.shard.starts(valid.multistart.starts),
+        }
+    }
+}
+
+/// The runs of one set of shards (one multi-start, or one batch of a census), each of `1..=N`
+/// once and complete, checked against the problem, in start order.
+fn complete_runs(valid: &spine_case::ValidDesign, shards: Vec<Shard>) -> Result<Vec<SolverRun>, RunError> {
+    let first = shards.first().ok_or(MergeError::Empty)?;
     let count = first.shard.count;
-    shards.sort_by_key(|s| s.shard.index);
+    let within = first.batch.map(|b| format!(" of batch {b}")).unwrap_or_default();
+    if let Some(other) = shards.iter().find(|s| s.shard.count != count) {
+        return Err(MergeError::Mismatch(format!(
+            "shard {} and shard {}: one batch is split into one number of shards",
+            first.name(),
+            other.name()
+        ))
+        .into());
+    }
     let indices: Vec<usize> = shards.iter().map(|s| s.shard.index).collect();
     let twice: Vec<usize> = indices.windows(2).filter(|w| w[0] == w[1]).map(|w| w[0]).collect();
     if !twice.is_empty() || indices.len() != count {
@@ -176,20 +328,16 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
         if !twice.is_empty() {
             parts.push(format!("given more than once {}", crate::text::numbers(&twice)));
         }
-        return Err(MergeError::Incomplete(format!("{count} shards expected; {}", parts.join("; "))).into());
+        return Err(MergeError::Incomplete(format!("{count} shards{within} expected; {}", parts.join("; "))).into());
     }
-    let case = design_case(&first.case).map_err(|e| MergeError::Case(e.to_string()))?;
-    let mut valid = case.validate().map_err(|e| MergeError::Case(e.to_string()))?;
-    first.overrides.apply(&mut valid);
-    let mut runs = Vec::with_capacity(valid.multistart.starts + 1);
+    let mut runs = Vec::new();
     for s in shards {
-        let expected = s.shard.starts(valid.multistart.starts);
+        let expected = s.expected(valid);
         let got: Vec<usize> = s.runs.iter().map(|(i, _)| *i).collect();
         if !s.complete || got != expected {
             return Err(MergeError::Incomplete(format!(
-                "shard {}/{} is incomplete: {} of its {} starts solved (stopped early?)",
-                s.shard.index,
-                count,
+                "shard {} is incomplete: {} of its {} starts solved (stopped early?)",
+                s.name(),
                 got.len(),
                 expected.len()
             ))
@@ -197,14 +345,12 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<CaseResult, RunError> {
         }
         for (start, run) in &s.runs {
             run.fits(&valid.problem)
-                .map_err(|e| MergeError::Mismatch(format!("shard {}/{count}, start {start}: {e}", s.shard.index)))?;
+                .map_err(|e| MergeError::Mismatch(format!("shard {}, start {start}: {e}", s.name())))?;
         }
         runs.extend(s.runs);
     }
     runs.sort_by_key(|(i, _)| *i);
-    let mut result = census(&case, &valid, runs.into_iter().map(|(_, run)| run).collect())?;
-    crate::sensitivity::attach(&case, &valid, &first.overrides, &mut result)?;
-    Ok(KindResult::Design(result).into())
+    Ok(runs.into_iter().map(|(_, run)| run).collect())
 }
 
 #[cfg(test)]
