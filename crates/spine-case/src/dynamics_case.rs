@@ -7,7 +7,8 @@ use crate::design_case::{DesignCase, MultiStartSpec, ValidDesign};
 use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
-use spine_dynamics::{DampingSettings, Forcing, PeriodicDesignSettings, PeriodicSettings, SearchMethod, StepSettings};
+use spine_dynamic_design::{DampingSettings, PeriodicDesignSettings, SearchMethod};
+use spine_dynamics::{Forcing, PeriodicSettings, StepSettings};
 use spine_model::{Chain, Design, NodalLoads};
 
 fn step() -> Forcing {

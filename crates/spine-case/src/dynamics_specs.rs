@@ -4,7 +4,7 @@
 use crate::design_case::{BoundsSpec, StartSpec};
 use serde::{Deserialize, Serialize};
 use spine_design::{Formulation, SolverSettings};
-use spine_dynamics::{DampingSettings, PeriodicDesignSettings, SearchMethod};
+use spine_dynamic_design::{DampingSettings, PeriodicDesignSettings, SearchMethod};
 
 /// Eq. (33) settings for a dynamic case whose design is `"optimise"` (chain and loads are the case's).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use spine_design::Formulation;
-use spine_dynamics::SearchMethod;
+use spine_dynamic_design::SearchMethod;
 use std::path::PathBuf;
 
 #[derive(Parser)]

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{spine, tmpdir, workspace};
+use common::{debug_text, json_strings, spine, tmpdir, workspace};
 use serde_json::Value;
 
 /// Every object of `v` that is a design run's result (it has `design`, `solver` and
@@ -24,6 +24,16 @@ fn design_results<'a>(v: &'a Value, path: String, out: &mut Vec<(String, &'a Val
             }
         }
         _ => {}
+    }
+}
+
+#[test]
+fn debug_text_is_found_where_it_is_and_not_in_plain_prose() {
+    for bad in ["stopped: Some(3)", "status None here", "Err(\"x\")", "a Warning { kind: 2 }", "Error { code", "[\"a\", \"b\"]"] {
+        assert!(debug_text(bad).is_some(), "{bad}");
+    }
+    for fine in ["no bound (none)", "θ0 (rad) = [0.52, 0.10]", "NoneSuch", "Fig. 6 { a set }", "K = {100, 200}"] {
+        assert!(debug_text(fine).is_none(), "{fine}: {:?}", debug_text(fine));
     }
 }
 
@@ -50,6 +60,17 @@ fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
         let o = spine(&["case", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"]);
         assert!(o.status.code().is_some_and(|c| c == 0 || c == 3), "{name}: {}", String::from_utf8_lossy(&o.stderr));
         let result: Value = serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+        // What a person reads (the summary, notes, claims, statuses) is written for a person, not
+        // Rust's debug formatting.
+        for (stream, text) in [("stdout", &o.stdout), ("stderr", &o.stderr)] {
+            let text = String::from_utf8_lossy(text);
+            assert!(debug_text(&text).is_none(), "{name} {stream}: {:?}", debug_text(&text));
+        }
+        let mut strings = Vec::new();
+        json_strings(&result, name.clone(), &mut strings);
+        for (path, text) in strings {
+            assert!(debug_text(text).is_none(), "{path}: {:?}", debug_text(text));
+        }
         let mut found = Vec::new();
         design_results(&result, name.clone(), &mut found);
         for (path, r) in found {

@@ -166,6 +166,9 @@ fn hostile_command_lines_end_as_the_corpus_expects() {
                 fail(format!("stderr lacks {text:?}"));
             }
         }
+        if let Some(piece) = common::debug_text(&stderr) {
+            fail(format!("Rust debug text in what it says: {piece:?}"));
+        }
         if stderr.contains("panicked") || stderr.contains("RUST_BACKTRACE") {
             fail("a panic".into());
         }

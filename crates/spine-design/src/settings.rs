@@ -301,7 +301,7 @@ impl SolverSettings {
                 let expected = match allowed {
                     Allowed::Number => "a finite number".to_string(),
                     Allowed::Integer => "an integer within ±2147483647".to_string(),
-                    Allowed::OneOf(values) => format!("one of {values:?}"),
+                    Allowed::OneOf(values) => format!("one of {}", values.join(", ")),
                 };
                 return Err(FieldError::new(name.clone(), format!("must be {expected}, got {value}")));
             }

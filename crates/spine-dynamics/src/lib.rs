@@ -7,6 +7,16 @@
 //! * [`newton`]: the integrator's Newton matrices for the chain in `O(N)`, real and complex.
 //! * [`system`]: the equations of motion as an ODE in `(θ, θ̇)`, Jacobians by forward AD.
 //! * [`forcing`]: the time profile of the axial force (step, pulse train, sinusoid).
+//! * [`articulated`]: the chain's articulated-body recursion, the `O(N)` right-hand side.
+//! * [`rates`]: the accelerations and their derivatives by that recursion ([`system`]'s fast path).
+//! * [`linearization`]: the equations of motion linearised about an equilibrium (modes, damping ratios).
+//! * [`ode`]: the ODE interface the integrators solve.
+//! * [`response`]: the step response (`T_90`, `Δ∞`, the static ends it moves between, drift).
+//! * [`periodic`]: the settled response to a periodic axial force.
+//! * `fixtures` (feature `testing`): chains with their responses for tests, benchmarks and examples.
+//!
+//! The designs built on these motions (eq. (35) and eq. (37)) are in the crate
+//! `spine-dynamic-design`.
 //!
 //! Index reduction: the constraint is differentiated twice (`Φ̈ = 0`, index 1) and every accepted step
 //! is projected back onto `Φ = 0` and `Φ̇ = 0`, so the drift does not accumulate.
@@ -25,7 +35,6 @@
 #![forbid(unsafe_code)]
 
 pub mod articulated;
-mod bracket;
 mod cholesky;
 pub mod eom;
 #[cfg(any(test, feature = "testing"))]
@@ -42,16 +51,8 @@ pub use eom::Dynamics;
 pub use forcing::Forcing;
 pub use integrator::{integrate, Options, Outcome, Stats, Trajectory, DEFAULT_ATOL, DEFAULT_RTOL};
 pub use system::{Parameters, SpineOde};
+pub mod periodic;
 pub mod response;
 
-pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, StepSettings};
-pub mod damping;
-
-pub use damping::{design_damping, DampingDesign, DampingSettings, DampingStatus, RISE_TIME_ACCEPTANCE};
-pub mod periodic;
-pub mod periodic_design;
-pub mod periodic_gradient;
-pub mod periodic_settings;
-
 pub use periodic::{periodic_response, PeriodicResponse, PeriodicSettings};
-pub use periodic_design::{design_periodic, PeriodicDesign, PeriodicDesignSettings, SearchMethod};
+pub use response::{step_response, DynamicProblem, DynamicsError, StepResponse, StepSettings};

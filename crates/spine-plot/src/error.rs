@@ -6,6 +6,6 @@
 #[error("plot: {0}")]
 pub struct PlotError(pub String);
 
-pub(crate) fn err<E: std::fmt::Debug>(e: E) -> PlotError {
-    PlotError(format!("{e:?}"))
+pub(crate) fn err<E: std::fmt::Display>(e: E) -> PlotError {
+    PlotError(e.to_string())
 }

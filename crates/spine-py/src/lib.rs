@@ -233,7 +233,7 @@ fn run_case(
     };
     overrides.dynamics.method = match method {
         None => None,
-        Some(name) => Some(spine_dynamics::SearchMethod::from_name(name).ok_or_else(|| {
+        Some(name) => Some(spine_dynamic_design::SearchMethod::from_name(name).ok_or_else(|| {
             PyValueError::new_err(format!("method: \"ga\", \"pattern\" or \"gradient\", got {name:?}"))
         })?),
     };

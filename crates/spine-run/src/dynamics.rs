@@ -8,10 +8,8 @@ use crate::files::{samples_csv, FileContent, OutputFile};
 use crate::progress::Progress;
 use serde::{Serialize, Serializer};
 use spine_case::{DesignSource, DynamicsTask, ValidDynamics};
-use spine_dynamics::{
-    design_damping, design_periodic, periodic_response, step_response, DampingDesign, DynamicProblem, Forcing,
-    PeriodicDesign, PeriodicResponse, SearchMethod, StepResponse,
-};
+use spine_dynamic_design::{design_damping, design_periodic, DampingDesign, PeriodicDesign, SearchMethod};
+use spine_dynamics::{periodic_response, step_response, DynamicProblem, Forcing, PeriodicResponse, StepResponse};
 use spine_model::{Design, Structure};
 
 /// The design a dynamic run used: given, or from eq. (33) first.
@@ -290,7 +288,7 @@ pub fn run_dynamics_case(
 
 impl DynamicsResult {
     /// Step: settled in θ2 with a rise time; periodic: settled; eq. (35): every design converged
-    /// within [`spine_dynamics::RISE_TIME_ACCEPTANCE`] of its target (and its periodic response
+    /// within [`spine_dynamic_design::RISE_TIME_ACCEPTANCE`] of its target (and its periodic response
     /// settled); eq. (37): feasible and settled.
     pub fn is_clean(&self) -> bool {
         if let Some(r) = &self.step_response {

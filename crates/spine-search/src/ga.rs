@@ -2,8 +2,7 @@
 //! mutation (both bounded), elitism.
 
 use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
-use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
+use spine_rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 use spine_check::{require, FieldError};
 
@@ -102,14 +101,14 @@ pub fn genetic_algorithm(
     settings.validate()?;
     let n = bounds.dim();
     let pop_size = settings.population;
-    let mut rng = StdRng::seed_from_u64(settings.seed);
+    let mut rng = SplitMix64::new(settings.seed);
     let p_mut = settings.mutation_probability.unwrap_or(1.0 / n.max(1) as f64);
     let mut evaluations = 0;
 
     let mut population: Vec<Vec<f64>> = (0..pop_size)
         .map(|k| match (k, start) {
             (0, Some(s)) => (0..n).map(|i| bounds.clamp(i, s[i])).collect(),
-            _ => (0..n).map(|i| rng.random_range(bounds.lower[i]..=bounds.upper[i])).collect(),
+            _ => (0..n).map(|i| rng.uniform(bounds.lower[i], bounds.upper[i])).collect(),
         })
         .collect();
     let mut values = evaluate_all(f, &population);
@@ -188,11 +187,11 @@ fn offspring(
     bounds: &Bounds,
     settings: &GaSettings,
     p_mut: f64,
-    rng: &mut StdRng,
+    rng: &mut SplitMix64,
 ) -> Vec<Vec<f64>> {
     let (n, pop_size) = (bounds.dim(), population.len());
-    let tournament = |rng: &mut StdRng| {
-        let (a, b) = (rng.random_range(0..pop_size), rng.random_range(0..pop_size));
+    let tournament = |rng: &mut SplitMix64| {
+        let (a, b) = (rng.below(pop_size), rng.below(pop_size));
         if values[b].better_than(&values[a]) {
             b
         } else {
@@ -203,16 +202,16 @@ fn offspring(
     while children.len() < count {
         let (pa, pb) = (tournament(rng), tournament(rng));
         let (mut c1, mut c2) = (population[pa].clone(), population[pb].clone());
-        if rng.random::<f64>() < settings.crossover_probability {
+        if rng.next_f64() < settings.crossover_probability {
             for i in 0..n {
-                if rng.random::<f64>() < 0.5 {
+                if rng.next_f64() < 0.5 {
                     (c1[i], c2[i]) = sbx(c1[i], c2[i], bounds.lower[i], bounds.upper[i], settings.crossover_eta, rng);
                 }
             }
         }
         for c in [&mut c1, &mut c2] {
             for i in 0..n {
-                if rng.random::<f64>() < p_mut {
+                if rng.next_f64() < p_mut {
                     c[i] = polynomial_mutation(c[i], bounds.lower[i], bounds.upper[i], settings.mutation_eta, rng);
                 }
             }
@@ -226,12 +225,12 @@ fn offspring(
 }
 
 /// Simulated binary crossover of one gene within `[lo, hi]` (Deb & Agrawal 1995, bounded form).
-fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> (f64, f64) {
+fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut SplitMix64) -> (f64, f64) {
     if (x1 - x2).abs() < 1e-14 * (hi - lo) {
         return (x1, x2);
     }
     let (y1, y2) = if x1 < x2 { (x1, x2) } else { (x2, x1) };
-    let u: f64 = rng.random();
+    let u = rng.next_f64();
     let child = |beta: f64| {
         let alpha = 2.0 - beta.powf(-(eta + 1.0));
 
@@ -245,7 +244,7 @@ fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> (f64, 
     let bq2 = child(1.0 + 2.0 * (hi - y2) / (y2 - y1));
     let c1 = (0.5 * ((y1 + y2) - bq1 * (y2 - y1))).clamp(lo, hi);
     let c2 = (0.5 * ((y1 + y2) + bq2 * (y2 - y1))).clamp(lo, hi);
-    if rng.random::<f64>() < 0.5 {
+    if rng.next_f64() < 0.5 {
         (c2, c1)
     } else {
         (c1, c2)
@@ -253,9 +252,9 @@ fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> (f64, 
 }
 
 /// Polynomial mutation of one gene within `[lo, hi]` (Deb & Goyal 1996).
-fn polynomial_mutation(x: f64, lo: f64, hi: f64, eta: f64, rng: &mut StdRng) -> f64 {
+fn polynomial_mutation(x: f64, lo: f64, hi: f64, eta: f64, rng: &mut SplitMix64) -> f64 {
     let (d1, d2) = ((x - lo) / (hi - lo), (hi - x) / (hi - lo));
-    let u: f64 = rng.random();
+    let u = rng.next_f64();
     let power = 1.0 / (eta + 1.0);
     let dq = if u < 0.5 {
         (2.0 * u + (1.0 - 2.0 * u) * (1.0 - d1).powf(eta + 1.0)).powf(power) - 1.0

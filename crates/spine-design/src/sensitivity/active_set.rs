@@ -19,13 +19,24 @@ pub const WEAK_MULTIPLIER: f64 = 1e-3;
 /// A gap below this of `max(1, |bound|)` counts as zero.
 pub const WEAK_GAP: f64 = 1e-6;
 
-/// One side of a bound on a variable or a constraint row.
+/// One side of a bound on a variable or a constraint row (`lower`, `upper`, `both` in JSON).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Side {
     Lower,
     Upper,
     /// An equality (a fixed variable or an equality row).
     Both,
+}
+
+impl std::fmt::Display for Side {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Lower => "lower",
+            Self::Upper => "upper",
+            Self::Both => "equality",
+        })
+    }
 }
 
 /// A bound that holds or nearly holds at the optimum.

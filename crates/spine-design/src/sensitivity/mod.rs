@@ -210,7 +210,7 @@ fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout) -> Conditi
         .iter()
         .map(|b| {
             format!(
-                "variable {} {} ({:?} bound): multiplier {:.1e}, gap {:.1e}",
+                "variable {} {} ({} bound): multiplier {:.1e}, gap {:.1e}",
                 b.index,
                 layout.variable_label(b.index),
                 b.side,
@@ -220,7 +220,7 @@ fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout) -> Conditi
         })
         .chain(set.weak_rows.iter().map(|b| {
             format!(
-                "constraint row {} {} ({:?} bound): multiplier {:.1e}, gap {:.1e}",
+                "constraint row {} {} ({} bound): multiplier {:.1e}, gap {:.1e}",
                 b.index,
                 layout.row_label(b.index),
                 b.side,

@@ -10,7 +10,7 @@
 //!
 //! Both share:
 //! * error control on the weighted RMS norm `‖e_i / (atol + rtol |y_i|)‖`;
-//! * Newton matrices `σ I − J̃` from the system's [`OdeSystem::linearize`] ([`linear`]: dense LU by
+//! * Newton matrices `σ I − J̃` from the system's [`OdeSystem::linearize`] ([`crate::newton`]: dense LU by
 //!   default, the chain's `O(N)` structured factorisation for the spine);
 //! * a projection of every accepted step onto the system's invariant manifold (for the spine,
 //!   `Φ = 0` and `Φ̇ = 0`);
@@ -23,7 +23,7 @@
 //!   sequence), including the projection.
 //!
 //! Modules: [`options`] (settings and statistics), [`radau`] and [`trbdf2`] (each method's step
-//! and driver), [`linear`] (the Newton matrices), [`dense`] (dense output and events); this file
+//! and driver), [`crate::newton`] (the chain's Newton matrices), [`dense`] (dense output and events); this file
 //! holds what the drivers share (stops, landing on breakpoints, projection).
 
 mod dense;

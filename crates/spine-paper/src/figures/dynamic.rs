@@ -4,7 +4,8 @@
 
 use super::*;
 use serde_json::json;
-use spine_dynamics::{DampingDesign, PeriodicResponse, StepResponse};
+use spine_dynamic_design::{DampingDesign, PeriodicDesign};
+use spine_dynamics::{PeriodicResponse, StepResponse};
 use spine_run::text::quantity;
 use spine_run::{samples_csv, Animation, Track};
 use std::f64::consts::LN_10;
@@ -55,7 +56,7 @@ fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec
     let mut claims = vec![Claim::solver(
         scope,
         &format!("eq. (35): the designed structure rises to 90 % in T_d = {target} s"),
-        format!("Ipopt converged and |T_90 − T_d| / T_d ≤ {:.1} %", 100.0 * spine_dynamics::RISE_TIME_ACCEPTANCE),
+        format!("Ipopt converged and |T_90 − T_d| / T_d ≤ {:.1} %", 100.0 * spine_dynamic_design::RISE_TIME_ACCEPTANCE),
         d.meets_target(),
         format!(
             "{} after {} iterations ({} simulations); T_90 = {} s (error {:.2e}); ½ΣC² = {:.4e}",
@@ -257,7 +258,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
             options: Default::default(),
         },
     ));
-    let summary = |p: &spine_dynamics::PeriodicDesign| {
+    let summary = |p: &PeriodicDesign| {
         json!({
             "method": p.method, "stiffness": p.stiffness, "objective": p.objective,
             "min_end_displacement": p.min_end_displacement, "reach_time": p.response.reach_time,
@@ -308,7 +309,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
 }
 
 /// The eq. (37) design of a Fig. 10 run.
-fn periodic<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a spine_dynamics::PeriodicDesign), FieldError> {
+fn periodic<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a PeriodicDesign), FieldError> {
     match expect_dynamics(run)? {
         (used, DynamicOutput::PeriodicDesign { design }) => Ok((used, design)),
         _ => Err(run.error("fig10 needs \"periodic\" runs (eq. (37))")),
@@ -317,7 +318,7 @@ fn periodic<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a spine_dynamic
 
 /// Fig. 10's claims on the eq. (37) design `p`: it reaches δ_d, the reach and return times of
 /// Sec. 5.2.2, and the faster release.
-fn periodic_design_claims(scope: &str, p: &spine_dynamics::PeriodicDesign) -> Vec<Claim> {
+fn periodic_design_claims(scope: &str, p: &PeriodicDesign) -> Vec<Claim> {
     let r = &p.response;
     let mut claims = Vec::new();
     claims.push(Claim::solver(

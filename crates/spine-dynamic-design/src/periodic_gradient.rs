@@ -14,7 +14,7 @@
 //!   `response.max_periods`; the final design's response reports whether its last two periods
 //!   agree. The motion starts at rest at `θ1(K)`, so its sensitivities `S = ∂y/∂K` start at
 //!   `(dθ1/dK, 0)` and are propagated through every period with the Radau steps
-//!   ([`crate::system::Parameters::Springs`]). At an interior minimum `Ẋ = 0`, so by the envelope
+//!   ([`spine_dynamics::system::Parameters::Springs`]). At an interior minimum `Ẋ = 0`, so by the envelope
 //!   theorem `d min/dK = ∇_y X · S(t*)`.
 //! * **Two minima.** The minimum over time is not smooth where two local minima in time trade
 //!   places. Both enter: the lowest local minimum as the equality `(x₁ − δ_d)/|δ_d| = 0` and the
@@ -31,11 +31,11 @@
 //!   Fig. 10 also starts one run from the genetic algorithm's best).
 
 use crate::bracket::illinois;
-use crate::forcing::Forcing;
-use crate::integrator::Outcome;
-use crate::periodic::{simulate_periodic_springs, EndValue, PeriodicResponse};
+use spine_dynamics::forcing::Forcing;
+use spine_dynamics::integrator::Outcome;
+use spine_dynamics::periodic::{simulate_periodic_springs, EndValue, PeriodicResponse};
 use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
-use crate::response::DynamicProblem;
+use spine_dynamics::response::DynamicProblem;
 use nalgebra::DMatrix;
 use serde::Serialize;
 use spine_ipopt::Problem;
@@ -118,7 +118,7 @@ pub fn eq37_point(
     }
     let mut s0 = DMatrix::zeros(2 * n, stiffness.len());
     let deflection: Vec<f64> = ends.theta1.iter().zip(&p.design.theta0).map(|(t, t0)| t - t0).collect();
-    let moments = crate::eom::joint_moments(stiffness, &deflection);
+    let moments = spine_dynamics::eom::joint_moments(stiffness, &deflection);
     let relative = |j: usize| {
         let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { deflection[i as usize] };
         at(j as isize) - at(j as isize - 1)
@@ -276,7 +276,7 @@ pub fn design_by_gradient(
                 root_search_simulations += 1;
                 let mut p = problem.clone();
                 p.design.stiffness = vec![10f64.powf(u); given.len()];
-                match crate::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response) {
+                match spine_dynamics::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response) {
                     Ok(r) if r.outcome == Outcome::Completed => (r.min_end_displacement - delta_d) / delta_d.abs(),
                     _ => f64::NEG_INFINITY,
                 }
@@ -295,7 +295,7 @@ pub fn design_by_gradient(
     let mut p = problem.clone();
     p.design.stiffness = stiffness_of(&start);
     root_search_simulations += 1;
-    let settle = crate::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response)
+    let settle = spine_dynamics::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response)
         .map_or(settings.response.max_periods, |r| r.periods_run);
     let periods = (settle + 1).clamp(2, settings.response.max_periods.max(2));
     let mut eq37 = Eq37 {

@@ -9,9 +9,9 @@
 //! optimiser starts feasible and only redistributes damping.
 
 use crate::bracket::illinois;
-use crate::eom::Dynamics;
-use crate::forcing::Forcing;
-use crate::response::{
+use spine_dynamics::eom::Dynamics;
+use spine_dynamics::forcing::Forcing;
+use spine_dynamics::response::{
     rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings,
 };
 use serde::{Deserialize, Serialize};

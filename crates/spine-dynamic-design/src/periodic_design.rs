@@ -11,11 +11,11 @@
 //! feasibility rules with the violation measured in units of `|δ_d|`. A design whose passive or
 //! loaded equilibrium is not stable, or whose simulation fails, is worse than any other point.
 
-use crate::forcing::Forcing;
-use crate::periodic::{simulate_periodic, PeriodicResponse};
+use spine_dynamics::forcing::Forcing;
+use spine_dynamics::periodic::{simulate_periodic, PeriodicResponse};
 use crate::periodic_gradient::{design_by_gradient, stiffness_of, GradientReport};
 pub use crate::periodic_settings::{GradientSettings, GradientStart, PeriodicDesignSettings, SearchMethod};
-use crate::response::{DynamicProblem, DynamicsError};
+use spine_dynamics::response::{DynamicProblem, DynamicsError};
 use serde::Serialize;
 use spine_search::{genetic_algorithm, pattern_search, Bounds, Evaluation, Progress, SearchResult};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -99,7 +99,7 @@ fn evaluate(
 
 /// A response's value for the searches: its strain energy, and its distance outside the band.
 fn evaluation_of(r: &PeriodicResponse, strain: f64, delta_d: f64, settings: &PeriodicDesignSettings) -> Evaluation {
-    let violation = if r.outcome == crate::Outcome::Completed {
+    let violation = if r.outcome == spine_dynamics::Outcome::Completed {
         (((r.min_end_displacement - delta_d).abs() / delta_d.abs()) - settings.tolerance).max(0.0)
     } else {
         f64::INFINITY
