@@ -137,11 +137,14 @@ impl Case {
         };
         let kind = match map.remove("kind") {
             Some(serde_json::Value::String(k)) => k,
-            Some(_) => return Err(CaseError::invalid("kind", format!("must be a string, one of {}", KINDS.join(", ")))),
+            Some(_) => {
+                return Err(CaseError::invalid("kind", format!("must be a string, one of {}", KINDS.join(", "))))
+            }
             None => return Err(CaseError::invalid("kind", format!("missing; one of {}", KINDS.join(", ")))),
         };
-        Self::parse_kind(&kind, serde_json::Value::Object(map))
-            .unwrap_or_else(|| Err(CaseError::invalid("kind", format!("unknown kind {kind:?}; one of {}", KINDS.join(", ")))))
+        Self::parse_kind(&kind, serde_json::Value::Object(map)).unwrap_or_else(|| {
+            Err(CaseError::invalid("kind", format!("unknown kind {kind:?}; one of {}", KINDS.join(", "))))
+        })
     }
 
     /// Checks every value; errors name the field.

@@ -29,7 +29,14 @@ fn design_results<'a>(v: &'a Value, path: String, out: &mut Vec<(String, &'a Val
 
 #[test]
 fn debug_text_is_found_where_it_is_and_not_in_plain_prose() {
-    for bad in ["stopped: Some(3)", "status None here", "Err(\"x\")", "a Warning { kind: 2 }", "Error { code", "[\"a\", \"b\"]"] {
+    for bad in [
+        "stopped: Some(3)",
+        "status None here",
+        "Err(\"x\")",
+        "a Warning { kind: 2 }",
+        "Error { code",
+        "[\"a\", \"b\"]",
+    ] {
         assert!(debug_text(bad).is_some(), "{bad}");
     }
     for fine in ["no bound (none)", "θ0 (rad) = [0.52, 0.10]", "NoneSuch", "Fig. 6 { a set }", "K = {100, 200}"] {

@@ -1,6 +1,6 @@
 //! Eq. (35) on an arch-shaped spine: `cargo run --release -p spine-dynamic-design --example damping -- N T_d`.
-use spine_dynamics::fixtures::arch_problem;
 use spine_dynamic_design::{design_damping, DampingSettings};
+use spine_dynamics::fixtures::arch_problem;
 
 fn main() {
     let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("numbers")).collect();

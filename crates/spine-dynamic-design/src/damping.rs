@@ -9,12 +9,12 @@
 //! optimiser starts feasible and only redistributes damping.
 
 use crate::bracket::illinois;
+use serde::{Deserialize, Serialize};
 use spine_dynamics::eom::Dynamics;
 use spine_dynamics::forcing::Forcing;
 use spine_dynamics::response::{
     rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings,
 };
-use serde::{Deserialize, Serialize};
 use spine_ipopt::{Problem, Status};
 
 /// Settings of eq. (35).

@@ -11,12 +11,12 @@
 //! feasibility rules with the violation measured in units of `|δ_d|`. A design whose passive or
 //! loaded equilibrium is not stable, or whose simulation fails, is worse than any other point.
 
-use spine_dynamics::forcing::Forcing;
-use spine_dynamics::periodic::{simulate_periodic, PeriodicResponse};
 use crate::periodic_gradient::{design_by_gradient, stiffness_of, GradientReport};
 pub use crate::periodic_settings::{GradientSettings, GradientStart, PeriodicDesignSettings, SearchMethod};
-use spine_dynamics::response::{DynamicProblem, DynamicsError};
 use serde::Serialize;
+use spine_dynamics::forcing::Forcing;
+use spine_dynamics::periodic::{simulate_periodic, PeriodicResponse};
+use spine_dynamics::response::{DynamicProblem, DynamicsError};
 use spine_search::{genetic_algorithm, pattern_search, Bounds, Evaluation, Progress, SearchResult};
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -31,13 +31,13 @@
 //!   Fig. 10 also starts one run from the genetic algorithm's best).
 
 use crate::bracket::illinois;
+use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
+use nalgebra::DMatrix;
+use serde::Serialize;
 use spine_dynamics::forcing::Forcing;
 use spine_dynamics::integrator::Outcome;
 use spine_dynamics::periodic::{simulate_periodic_springs, EndValue, PeriodicResponse};
-use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
 use spine_dynamics::response::DynamicProblem;
-use nalgebra::DMatrix;
-use serde::Serialize;
 use spine_ipopt::Problem;
 use spine_model::jacobian::{design_column_of_stiffness, design_jacobian, residual_and_state_jacobian};
 use spine_model::State;
@@ -276,7 +276,12 @@ pub fn design_by_gradient(
                 root_search_simulations += 1;
                 let mut p = problem.clone();
                 p.design.stiffness = vec![10f64.powf(u); given.len()];
-                match spine_dynamics::periodic::periodic_response(&p, forcing.clone(), Some(delta_d), &settings.response) {
+                match spine_dynamics::periodic::periodic_response(
+                    &p,
+                    forcing.clone(),
+                    Some(delta_d),
+                    &settings.response,
+                ) {
                     Ok(r) if r.outcome == Outcome::Completed => (r.min_end_displacement - delta_d) / delta_d.abs(),
                     _ => f64::NEG_INFINITY,
                 }

@@ -1,10 +1,10 @@
 //! The settings of eq. (37)'s methods: which method ([`SearchMethod`]), the problem's bounds and
 //! band, each method's own settings and the periodic response of every candidate.
 
-use spine_dynamics::integrator::Options;
-use spine_dynamics::periodic::PeriodicSettings;
 use serde::{Deserialize, Serialize};
 use spine_check::require;
+use spine_dynamics::integrator::Options;
+use spine_dynamics::periodic::PeriodicSettings;
 use spine_search::{GaSettings, PatternSettings};
 
 /// Which method solves eq. (37).

@@ -1,6 +1,7 @@
 //! Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //! multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
 
+use crate::confidence::{Batches, ConfidenceCensus};
 use crate::error::RunError;
 use crate::progress::Progress;
 use crate::text::list;
@@ -9,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::{adjoint_hand, ReducedGradients};
 use spine_design::certificate::settle;
-use spine_design::multistart::{cluster, feasible_starts, settle_all, ConfidenceRun, MultiStartSummary, Settled};
+use spine_design::multistart::{cluster, feasible_starts, settle_all, ConfidenceRun, MultiStartSummary};
 use spine_design::refine::Refine;
 use spine_design::{run_solver, DesignProblem, DesignResult, Formulation, SolverRun};
 use spine_model::{Design, State};
@@ -80,7 +81,7 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
 }
 
 /// Eq. (33) from the case's start; with `multistart.confidence`, also the best optimum of a census
-/// to that confidence (seeded starts in this process, [`census_to`]).
+/// to that confidence (seeded starts in this process, `census_to`).
 pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
     let Some(target) = valid.multistart.confidence else {
         return Ok(static_design(valid, solve(valid, &valid.start)?));
@@ -187,10 +188,6 @@ pub fn run_design_case(
     census(case, valid, runs)
 }
 
-/// Seeded starts per batch of a census to a stated confidence: the rule is checked after each
-/// batch, so the census (and its bytes) does not depend on `--jobs`.
-pub const CONFIDENCE_BATCH: usize = 100;
-
 /// A census to a stated confidence as a design case's result ([`census_to`]).
 fn to_confidence(
     case: &DesignCase,
@@ -248,89 +245,6 @@ pub fn census_to(
         return Err(RunError::Interrupted);
     }
     Ok(census.finish())
-}
-
-/// The batches of a census to a stated confidence: batch `b` (1-based) holds the seeded starts
-/// `100(b − 1) + 1 ..= 100 b` (fewer in the last, at the cap), and batch 1 also the case's own
-/// start 0.
-#[derive(Clone, Copy, Debug)]
-pub struct Batches {
-    /// The cap on seeded starts (`multistart.starts`; 0: [`spine_case::MAX_STARTS`]).
-    pub cap: usize,
-}
-
-impl Batches {
-    pub fn new(valid: &ValidDesign) -> Self {
-        let cap = match valid.multistart.starts {
-            0 => spine_case::MAX_STARTS,
-            n => n,
-        };
-        Self { cap }
-    }
-
-    /// How many batches the cap allows.
-    pub fn count(&self) -> usize {
-        self.cap.div_ceil(CONFIDENCE_BATCH)
-    }
-
-    /// The seeded starts of batch `b` (1-based), or `None` past the cap.
-    pub fn seeded(&self, b: usize) -> Option<std::ops::RangeInclusive<usize>> {
-        (1..=self.count()).contains(&b).then(|| (b - 1) * CONFIDENCE_BATCH + 1..=(b * CONFIDENCE_BATCH).min(self.cap))
-    }
-
-    /// Every start of batch `b`: its seeded starts, and start 0 in batch 1.
-    pub fn starts(&self, b: usize) -> Vec<usize> {
-        let own = (b == 1).then_some(0);
-        own.into_iter().chain(self.seeded(b).into_iter().flatten()).collect()
-    }
-}
-
-/// A census to a stated confidence as it grows: each batch's runs settled in start order, the
-/// rule checked after each batch (one machine: [`census_to`]; a cluster: the merge of each
-/// batch's shards, [`crate::shard::merge`]).
-pub struct ConfidenceCensus<'a> {
-    settled: Settled<'a>,
-    target: f64,
-    batches: Batches,
-    done: usize,
-    reached: bool,
-}
-
-impl<'a> ConfidenceCensus<'a> {
-    /// The census of the run from the case's own start (start 0).
-    pub fn new(valid: &'a ValidDesign, target: f64, own: SolverRun) -> Result<Self, RunError> {
-        let mut settled = Settled::new(&valid.problem, &valid.settings);
-        settled.add(own).map_err(RunError::Design)?;
-        Ok(Self { settled, target, batches: Batches::new(valid), done: 0, reached: false })
-    }
-
-    /// Batches added so far.
-    pub fn batches(&self) -> usize {
-        self.done
-    }
-
-    /// Adds the next batch's seeded runs in start order; whether the census is over (the
-    /// estimate reached the target, or the cap).
-    pub fn add_batch(&mut self, runs: Vec<SolverRun>) -> Result<bool, RunError> {
-        for run in runs {
-            self.settled.add(run).map_err(RunError::Design)?;
-        }
-        self.done += 1;
-        self.reached = self.settled.estimate().probability_better_unseen.is_some_and(|p| p <= self.target);
-        Ok(self.reached || self.done >= self.batches.count())
-    }
-
-    /// The settled results in start order and how the census ran.
-    pub fn finish(self) -> (Vec<DesignResult>, ConfidenceRun) {
-        let run = ConfidenceRun {
-            target: self.target,
-            reached: self.reached,
-            batches: self.done,
-            batch: CONFIDENCE_BATCH,
-            cap: self.batches.cap,
-        };
-        (self.settled.results(), run)
-    }
 }
 
 /// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with

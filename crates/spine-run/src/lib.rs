@@ -22,6 +22,7 @@
 
 pub mod animation;
 pub mod claims;
+pub mod confidence;
 mod design;
 mod dynamics;
 mod dynamics_summary;
@@ -47,9 +48,8 @@ pub mod write;
 
 pub use animation::{Animation, AnimationOptions, Track};
 pub use claims::{Check, Claim};
-pub use design::{
-    run_design, run_design_case, BestDesign, DesignCaseResult, DesignOverrides, StaticDesign, CONFIDENCE_BATCH,
-};
+pub use confidence::CONFIDENCE_BATCH;
+pub use design::{run_design, run_design_case, BestDesign, DesignCaseResult, DesignOverrides, StaticDesign};
 pub use dynamics::{
     dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicOutput,
     DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,

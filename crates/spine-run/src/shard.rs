@@ -14,7 +14,8 @@
 //! single run does, so a census that reached its target gives the single run's bytes, and one
 //! that did not says which batch comes next ([`Merged::next_batch`]).
 
-use crate::design::{census, confidence_result, solve_all, Batches, ConfidenceCensus, DesignOverrides};
+use crate::confidence::{Batches, ConfidenceCensus};
+use crate::design::{census, confidence_result, solve_all, DesignOverrides};
 use crate::error::{MergeError, RunError};
 use crate::progress::Progress;
 use crate::result::{CaseResult, KindResult};

@@ -2,9 +2,9 @@
 //! mutation (both bounded), elitism.
 
 use crate::{Bounds, Evaluation, Progress, SearchResult, SearchStatus};
-use spine_rng::SplitMix64;
 use serde::{Deserialize, Serialize};
 use spine_check::{require, FieldError};
+use spine_rng::SplitMix64;
 
 /// GA settings (defaults after Deb 2000).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
