@@ -49,7 +49,7 @@ impl Batches {
 }
 
 /// A census to a stated confidence as it grows: each batch's runs settled in start order, the
-/// rule checked after each batch (one machine: [`census_to`]; a cluster: the merge of each
+/// rule checked after each batch (one machine: `design::census_to`; a cluster: the merge of each
 /// batch's shards, [`crate::shard::merge`]).
 pub struct ConfidenceCensus<'a> {
     settled: Settled<'a>,
