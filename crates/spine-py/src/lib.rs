@@ -72,12 +72,12 @@ pub struct CaseResult {
 
 #[pymethods]
 impl CaseResult {
-    /// The case's kind (`equilibrium`, `twolink`, `design`, `simulate`, `damping`, `periodic`,
-    /// `figure`, or `study`).
+    /// The result's kind (`equilibrium`, `twolink`, `design`, `simulate`, `damping`, `periodic`,
+    /// `figure`, `study`, `sensitivity`, `figure_sensitivity`, `sweep`): `result.json`'s `"kind"`.
     #[getter]
     fn kind(&self) -> String {
-        let json = self.inner.to_json();
-        json.get("kind").and_then(|k| k.as_str()).unwrap_or("study").to_string()
+        let json = serde_json::to_value(&self.inner.result).unwrap_or_default();
+        json.get("kind").and_then(|k| k.as_str()).unwrap_or_default().to_string()
     }
 
     /// Every solver converged, every reported equilibrium is stable, every solver check passed and

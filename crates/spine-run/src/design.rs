@@ -155,7 +155,6 @@ impl DesignOverrides {
 /// its full result).
 #[derive(Clone, Debug, Serialize)]
 pub struct DesignCaseResult {
-    pub kind: &'static str,
     pub title: String,
     /// The start whose run the top-level fields describe: 0 is the case's own start, `k ≥ 1` the
     /// k-th seeded start. With multi-start, the first start that reached the best clean optimum,
@@ -298,14 +297,7 @@ fn reported(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignResul
     let title = if case.title.is_empty() { "design".to_string() } else { case.title.clone() };
     if valid.multistart.starts == 0 && results.len() == 1 {
         let result = results.remove(0);
-        return DesignCaseResult {
-            kind: "design",
-            title,
-            reported_start: 0,
-            result,
-            multistart: None,
-            sensitivity: None,
-        };
+        return DesignCaseResult { title, reported_start: 0, result, multistart: None, sensitivity: None };
     }
     let own = results[0].clone();
     let summary = cluster(results, valid.multistart.seed);
@@ -313,7 +305,7 @@ fn reported(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignResul
         Some(best) => (best.starts[0], best.result.clone()),
         None => (0, own),
     };
-    DesignCaseResult { kind: "design", title, reported_start, result, multistart: Some(summary), sensitivity: None }
+    DesignCaseResult { title, reported_start, result, multistart: Some(summary), sensitivity: None }
 }
 
 impl DesignCaseResult {

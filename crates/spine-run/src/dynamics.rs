@@ -203,6 +203,8 @@ pub struct DampingRun {
 /// `result.json` of kinds `simulate`, `damping` and `periodic`: one of the four task fields is set.
 #[derive(Clone, Debug, Serialize)]
 pub struct DynamicsResult {
+    /// The case's kind (`simulate`, `damping`, `periodic`; in `result.json` from [`crate::KindResult`]).
+    #[serde(skip)]
     pub kind: &'static str,
     pub title: String,
     pub design: DynamicsDesign,

@@ -45,7 +45,6 @@ pub struct Unloaded {
 /// `result.json` of kind `equilibrium`.
 #[derive(Clone, Debug, Serialize)]
 pub struct EquilibriumResult {
-    pub kind: &'static str,
     pub title: String,
     pub n_links: usize,
     /// `L_x`, m.
@@ -105,7 +104,6 @@ pub fn run_equilibrium(case: &EquilibriumCase, valid: &ValidEquilibrium) -> Equi
     let sol = solve_static(p, &valid.options);
     let lengths = link_lengths(&p.structure.chain.spans, &p.design.theta0);
     EquilibriumResult {
-        kind: "equilibrium",
         title: case.title.clone(),
         n_links: p.structure.chain.n_links(),
         length_x: p.structure.chain.length_x(),

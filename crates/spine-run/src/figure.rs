@@ -83,7 +83,6 @@ pub struct FigureRunResult {
 /// `result.json` of kind `figure`.
 #[derive(Clone, Debug, Serialize)]
 pub struct FigureResult {
-    pub kind: &'static str,
     pub figure: String,
     pub title: String,
     pub notes: Notes,
@@ -153,7 +152,6 @@ pub fn run_figure(
         a.options = animation.unwrap_or(a.options);
     }
     Ok(FigureResult {
-        kind: "figure",
         figure: case.figure.clone(),
         title,
         notes: case.notes.clone(),

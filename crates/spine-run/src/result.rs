@@ -65,17 +65,23 @@ impl std::fmt::Display for CaseResult {
     }
 }
 
-/// What any case computed, by kind.
+/// What any case computed, by kind: `"kind"` in `result.json` is the variant's name in snake_case
+/// (the case file's kind; `study`, `sensitivity`, `figure_sensitivity` and `sweep` for the
+/// commands of those names), derived here and nowhere else.
 #[derive(Clone, Debug, Serialize)]
-#[serde(untagged)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 // One value per run: boxing the large variants would buy nothing.
 #[allow(clippy::large_enum_variant)]
 pub enum KindResult {
     Equilibrium(EquilibriumResult),
     Twolink(TwoLinkResult),
     Design(DesignCaseResult),
-    /// Kinds `simulate`, `damping` and `periodic`.
-    Dynamics(DynamicsResult),
+    /// A step or periodic response.
+    Simulate(DynamicsResult),
+    /// The damping design, eq. (35).
+    Damping(DynamicsResult),
+    /// The periodic-load design, eq. (37).
+    Periodic(DynamicsResult),
     Figure(FigureResult),
     Study(StudyResult),
     Sensitivity(SensitivityResult),
@@ -92,7 +98,7 @@ impl KindResult {
             Self::Equilibrium(r) => r.is_clean(),
             Self::Twolink(r) => r.is_clean(),
             Self::Design(r) => r.is_clean(),
-            Self::Dynamics(r) => r.is_clean(),
+            Self::Simulate(r) | Self::Damping(r) | Self::Periodic(r) => r.is_clean(),
             Self::Figure(r) => r.is_clean(),
             Self::Study(r) => r.is_clean(),
             Self::Sensitivity(r) => r.is_clean(),
@@ -105,7 +111,7 @@ impl KindResult {
     pub fn files(&self) -> Vec<OutputFile> {
         match self {
             Self::Equilibrium(_) | Self::Twolink(_) | Self::Design(_) => Vec::new(),
-            Self::Dynamics(r) => r.files(),
+            Self::Simulate(r) | Self::Damping(r) | Self::Periodic(r) => r.files(),
             Self::Figure(r) => r.files(),
             Self::Study(r) => r.files(),
             Self::Sensitivity(r) => r.files(),
@@ -122,7 +128,7 @@ impl std::fmt::Display for KindResult {
             Self::Equilibrium(r) => r.fmt(f),
             Self::Twolink(r) => r.fmt(f),
             Self::Design(r) => r.fmt(f),
-            Self::Dynamics(r) => r.fmt(f),
+            Self::Simulate(r) | Self::Damping(r) | Self::Periodic(r) => r.fmt(f),
             Self::Figure(r) => r.fmt(f),
             Self::Study(r) => r.fmt(f),
             Self::Sensitivity(r) => r.fmt(f),

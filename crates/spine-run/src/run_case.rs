@@ -100,7 +100,12 @@ pub fn run_case(
             Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
                 let mut valid = c.validate(case.kind())?;
                 overrides.dynamics.apply(&mut valid);
-                KindResult::Dynamics(run_dynamics_case(case.kind(), &c.title, &valid, overrides.animation, progress)?)
+                let result = run_dynamics_case(case.kind(), &c.title, &valid, overrides.animation, progress)?;
+                match case {
+                    Case::Simulate(_) => KindResult::Simulate(result),
+                    Case::Damping(_) => KindResult::Damping(result),
+                    _ => KindResult::Periodic(result),
+                }
             }
             Case::Figure(c) => {
                 KindResult::Figure(run_figure(c, &c.validate()?, recipes, overrides.animation, progress)?)

@@ -15,7 +15,6 @@ use std::fmt::Write;
 /// `result.json` of `spine sensitivity`: the optimum and its sensitivities.
 #[derive(Clone, Debug, Serialize)]
 pub struct SensitivityResult {
-    pub kind: &'static str,
     pub title: String,
     pub design: DesignCaseResult,
     /// `None` when the reported optimum is not clean (the design's status and warnings say why).
@@ -64,7 +63,6 @@ pub fn run_design_sensitivity(
         sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
     let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
     Ok(SensitivityResult {
-        kind: "sensitivity",
         title: design.title.clone(),
         design,
         sensitivity,
@@ -314,7 +312,6 @@ impl std::fmt::Display for SensitivityResult {
 /// (the figure's dynamics runs have no eq. (33) optimum and are listed as skipped).
 #[derive(Clone, Debug, Serialize)]
 pub struct FigureSensitivityResult {
-    pub kind: &'static str,
     pub figure: String,
     pub title: String,
     pub runs: Vec<RunSensitivity>,
@@ -362,7 +359,7 @@ pub fn run_figure_sensitivity(
         return Err(RunError::Case(CaseError::invalid("runs", message)));
     }
     let title = case.shown_title();
-    Ok(FigureSensitivityResult { kind: "figure_sensitivity", figure: case.figure.clone(), title, runs: out, skipped })
+    Ok(FigureSensitivityResult { figure: case.figure.clone(), title, runs: out, skipped })
 }
 
 impl FigureSensitivityResult {

@@ -302,7 +302,6 @@ mod tests {
 /// `result.json` of `spine study ck`: the sweep, its claims and its conclusion.
 #[derive(Clone, Debug, Serialize)]
 pub struct StudyResult {
-    pub kind: &'static str,
     pub study: &'static str,
     pub title: String,
     /// The `C_K` values swept.
@@ -342,7 +341,6 @@ pub fn run_ck_study(
     })?;
     let claims = sweep.claims();
     Ok(StudyResult {
-        kind: "study",
         study: "ck",
         title,
         stiffness_scales: values.to_vec(),

@@ -18,7 +18,6 @@ use std::fmt::Write as _;
 /// `result.json` of `spine sweep`.
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepCaseResult {
-    pub kind: &'static str,
     pub title: String,
     /// The design run at the sweep's first value, whose reported optimum is followed.
     pub start: DesignCaseResult,
@@ -74,7 +73,6 @@ pub fn run_design_sweep(
     };
     let census_seconds = clock.elapsed().as_secs_f64() - solve_seconds - sweep_seconds;
     Ok(SweepCaseResult {
-        kind: "sweep",
         title: if c.title.is_empty() { "sweep".into() } else { c.title.clone() },
         start,
         sweep: followed,

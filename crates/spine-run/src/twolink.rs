@@ -7,7 +7,6 @@ use spine_solve::twolink::{study, Study};
 /// `result.json` of kind `twolink`.
 #[derive(Clone, Debug, Serialize)]
 pub struct TwoLinkResult {
-    pub kind: &'static str,
     pub title: String,
     /// Link length `L`, m.
     pub length: f64,
@@ -26,7 +25,6 @@ pub fn run_twolink_case(case: &TwoLinkCase, valid: &ValidTwoLink) -> TwoLinkResu
     let study = study(&valid.twolink, valid.stiffness, &valid.deltas, &valid.options);
     let tl = &valid.twolink;
     TwoLinkResult {
-        kind: "twolink",
         title: case.title.clone(),
         length: tl.length,
         stiffness: valid.stiffness,
