@@ -9,12 +9,11 @@
 //! optimiser starts feasible and only redistributes damping.
 
 use crate::bracket::illinois;
+use crate::error::DynamicDesignError;
 use serde::{Deserialize, Serialize};
 use spine_dynamics::eom::Dynamics;
 use spine_dynamics::forcing::Forcing;
-use spine_dynamics::response::{
-    rise_time, simulate_step, DynamicProblem, DynamicsError, StaticEnds, StepResponse, StepSettings,
-};
+use spine_dynamics::response::{rise_time, simulate_step, DynamicProblem, StaticEnds, StepResponse, StepSettings};
 use spine_ipopt::{Problem, Status};
 
 /// Settings of eq. (35).
@@ -207,7 +206,7 @@ pub fn design_damping(
     problem: &DynamicProblem,
     target: f64,
     settings: &DampingSettings,
-) -> Result<DampingDesign, DynamicsError> {
+) -> Result<DampingDesign, DynamicDesignError> {
     let clock = std::time::Instant::now();
     let ends = problem.static_ends(&settings.step.continuation)?;
     let mut settings = settings.clone();
@@ -253,7 +252,8 @@ pub fn design_damping(
                 .integer("max_iter", settings.max_iterations as i64)
                 .string("hessian_approximation", "limited-memory")
                 .string("mu_strategy", "adaptive");
-            let sol = spine_ipopt::solve(&mut eq35, &options).expect("eq. (35) is a valid Ipopt problem");
+            let sol = spine_ipopt::solve(&mut eq35, &options)
+                .map_err(|source| DynamicDesignError::Ipopt { equation: "35", source })?;
             simulations += eq35.simulations;
             (DampingStatus::Ipopt(sol.status), sol.status.is_converged(), sol.iterations, sol.x)
         }

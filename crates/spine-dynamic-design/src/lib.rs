@@ -11,6 +11,7 @@
 //! * [`periodic_gradient`]: eq. (37)'s objective and constraint with exact gradients: forward
 //!   sensitivities of the whole periodic motion and the envelope theorem at the minimising time.
 //! * [`periodic_settings`]: the settings of eq. (37) and the choice of method ([`SearchMethod`]).
+//! * [`error`]: why a design could not give a result ([`DynamicDesignError`]).
 //! * `bracket`: the Illinois root bracketing both designs use for their uniform start.
 //!
 //! ```
@@ -26,9 +27,11 @@
 
 mod bracket;
 pub mod damping;
+pub mod error;
 pub mod periodic_design;
 pub mod periodic_gradient;
 pub mod periodic_settings;
 
 pub use damping::{design_damping, DampingDesign, DampingSettings, DampingStatus, RISE_TIME_ACCEPTANCE};
+pub use error::DynamicDesignError;
 pub use periodic_design::{design_periodic, PeriodicDesign, PeriodicDesignSettings, SearchMethod};

@@ -11,6 +11,7 @@
 //! feasibility rules with the violation measured in units of `|δ_d|`. A design whose passive or
 //! loaded equilibrium is not stable, or whose simulation fails, is worse than any other point.
 
+use crate::error::DynamicDesignError;
 use crate::periodic_gradient::{design_by_gradient, stiffness_of, GradientReport};
 pub use crate::periodic_settings::{GradientSettings, GradientStart, PeriodicDesignSettings, SearchMethod};
 use serde::Serialize;
@@ -54,7 +55,7 @@ impl PeriodicDesign {
     /// How the method ended: Ipopt's status for the gradient method, else the search's.
     pub fn status(&self) -> String {
         match (&self.gradient, &self.search) {
-            (Some(g), _) => g.status.clone(),
+            (Some(g), _) => g.status.to_string(),
             (None, Some(s)) => s.status.name().to_string(),
             (None, None) => "none".into(),
         }
@@ -115,7 +116,7 @@ pub fn design_periodic(
     method: SearchMethod,
     settings: &PeriodicDesignSettings,
     progress: &mut dyn FnMut(Progress),
-) -> Result<PeriodicDesign, DynamicsError> {
+) -> Result<PeriodicDesign, DynamicDesignError> {
     let clock = std::time::Instant::now();
     let n_springs = problem.design.stiffness.len();
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
@@ -159,7 +160,8 @@ pub fn design_periodic(
                 }
                 GradientStart::Uniform | GradientStart::Case => (start_stiffness.clone(), None),
             };
-            let (stiffness, point, report) = design_by_gradient(problem, &forcing, delta_d, settings, &given, progress);
+            let (stiffness, point, report) =
+                design_by_gradient(problem, &forcing, delta_d, settings, &given, progress)?;
             simulations.fetch_add(report.root_search_simulations + report.gradient_simulations, Ordering::Relaxed);
             (stiffness, ga, Some(report), point.map(|p| (p.energy, p.response)))
         }

@@ -31,6 +31,7 @@
 //!   Fig. 10 also starts one run from the genetic algorithm's best).
 
 use crate::bracket::illinois;
+use crate::error::DynamicDesignError;
 use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -51,9 +52,9 @@ pub const AT_BOUND: f64 = 1e-5;
 /// What the gradient method did.
 #[derive(Clone, Debug, Serialize)]
 pub struct GradientReport {
-    /// Ipopt's status (its snake_case name), or `time_limit` / `interrupted` when the run was
-    /// stopped from outside; and whether it converged.
-    pub status: String,
+    /// Ipopt's status, or the stop (`time_limit`, `interrupted`) when the run was stopped from
+    /// outside; and whether it converged.
+    pub status: GradientStatus,
     pub converged: bool,
     pub iterations: usize,
     /// `uniform`, `case`, `ga` (the genetic algorithm's best), or `case (no uniform springs meet
@@ -252,6 +253,24 @@ impl Problem for Eq37<'_> {
     }
 }
 
+/// How eq. (37) by gradient ended: Ipopt's status, or the stop from outside that ended it (in
+/// JSON the name of either: `solve_succeeded`, `time_limit`, …).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(untagged)]
+pub enum GradientStatus {
+    Ipopt(spine_ipopt::Status),
+    Stopped(spine_stop::StopReason),
+}
+
+impl std::fmt::Display for GradientStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Ipopt(s) => f.write_str(&s.name()),
+            Self::Stopped(r) => f.write_str(r.name()),
+        }
+    }
+}
+
 /// Eq. (37) by Ipopt from `given` springs (N·m/rad: the case's or the GA's best) or from the
 /// uniform springs that meet δ_d (`settings.gradient.start`): the final springs, the final point
 /// (its functions and response) and the report.
@@ -262,7 +281,7 @@ pub fn design_by_gradient(
     settings: &PeriodicDesignSettings,
     given: &[f64],
     progress: &mut dyn FnMut(Progress),
-) -> (Vec<f64>, Option<Eq37Point>, GradientReport) {
+) -> Result<(Vec<f64>, Option<Eq37Point>, GradientReport), DynamicDesignError> {
     let gradient = &settings.gradient;
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
     let mut root_search_simulations = 0;
@@ -324,7 +343,8 @@ pub fn design_by_gradient(
         .integer("max_iter", gradient.max_iterations as i64)
         .string("hessian_approximation", "limited-memory")
         .string("mu_strategy", "adaptive");
-    let sol = spine_ipopt::solve(&mut eq37, &options).expect("eq. (37) is a valid Ipopt problem");
+    let sol = spine_ipopt::solve(&mut eq37, &options)
+        .map_err(|source| DynamicDesignError::Ipopt { equation: "37", source })?;
     // The final point out of the cache (evaluated there unless Ipopt's last trial was elsewhere).
     eq37.point(&sol.x);
     let point = eq37.cache.take().and_then(|(_, p)| p);
@@ -334,7 +354,7 @@ pub fn design_by_gradient(
     let converged = sol.status.is_converged();
     let stopped = if converged { None } else { spine_stop::check() };
     let report = GradientReport {
-        status: stopped.map_or_else(|| sol.status.name(), |reason| reason.name().to_string()),
+        status: stopped.map_or(GradientStatus::Ipopt(sol.status), GradientStatus::Stopped),
         converged,
         iterations: sol.iterations,
         start: start_name,
@@ -347,5 +367,5 @@ pub fn design_by_gradient(
         at_lower_bound: at_bound(lo),
         at_upper_bound: at_bound(hi),
     };
-    (stiffness_of(&sol.x), point, report)
+    Ok((stiffness_of(&sol.x), point, report))
 }

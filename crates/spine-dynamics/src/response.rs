@@ -63,9 +63,6 @@ pub enum DynamicsError {
     /// The loaded path did not end at a certified stable `θ2`.
     #[error("the loaded equilibrium θ2 is not stable, so the response has no static final value: {}", .status.describe())]
     UnstableEnd { status: EquilibriumStatus },
-    /// The settings of the search of eq. (37) are out of range.
-    #[error("search settings: {0}")]
-    SearchSettings(#[from] spine_check::FieldError),
 }
 
 impl DynamicProblem {

@@ -121,7 +121,7 @@ fn run_task(
             let mut responses = Vec::new();
             for (k, &target) in targets.iter().enumerate() {
                 progress(Progress::Step { stage: "eq. (35)", done: k, total: targets.len() });
-                let d = design_damping(&problem, target, settings).map_err(RunError::Dynamics)?;
+                let d = design_damping(&problem, target, settings).map_err(RunError::DynamicDesign)?;
                 if valid.forcing.period().is_some() {
                     responses.push(periodic(&d.damping).map_err(RunError::Dynamics)?);
                 }
@@ -143,7 +143,7 @@ fn run_task(
                 };
                 progress(Progress::Step { stage, done, total })
             })
-            .map_err(RunError::Dynamics)?;
+            .map_err(RunError::DynamicDesign)?;
             DynamicOutput::PeriodicDesign { design: Box::new(design) }
         }
     };

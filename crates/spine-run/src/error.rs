@@ -3,6 +3,7 @@
 use spine_case::CaseError;
 use spine_check::FieldError;
 use spine_design::DesignError;
+use spine_dynamic_design::DynamicDesignError;
 use spine_dynamics::DynamicsError;
 
 /// Why a run could not give a result. [`RunError::is_input`] says whether the case asked for
@@ -21,6 +22,9 @@ pub enum RunError {
     /// A dynamic task could not start (an unstable static end).
     #[error("design: {0}")]
     Dynamics(#[source] DynamicsError),
+    /// A dynamic design (eq. (35), eq. (37)) could not start.
+    #[error("design: {0}")]
+    DynamicDesign(#[source] DynamicDesignError),
     /// The eq. (33) design a dynamic case depends on did not end clean.
     #[error(
         "the static design of eq. (33) did not end clean ({status}; warnings: {}); no dynamics run on it",
@@ -90,6 +94,7 @@ impl RunError {
             | Self::Recipe { .. }
             | Self::Option(_)
             | Self::Merge(_) => true,
+            Self::DynamicDesign(e) => e.is_input(),
             Self::StaticDesignNotClean { .. } | Self::Interrupted | Self::TimeLimit { .. } | Self::Worker(_) => false,
             Self::InRun { source, .. } => source.is_input(),
         }
