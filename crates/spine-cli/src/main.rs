@@ -259,5 +259,9 @@ fn run(
         n => format!(" and {n} files beside it"),
     };
     output::say(&format!("{result}wrote {}{beside}\n", path.display()));
+    // Why it exits 3, where the result says so in a field of its own (`not_clean`).
+    for reason in result.result.not_clean_reasons() {
+        eprintln!("not clean: {}", one_line(&reason));
+    }
     Ok(result.is_clean())
 }

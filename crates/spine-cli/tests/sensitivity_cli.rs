@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{spine, tmpdir, workspace};
+use common::{debug_text, spine, tmpdir, workspace};
 
 #[test]
 fn sensitivity_writes_derivatives_and_a_csv_per_parameter() {
@@ -185,4 +185,36 @@ fn a_parameter_at_the_edge_of_its_range_is_differenced_one_sided() {
     assert_eq!(parameters[0]["difference"], "forward");
     assert_eq!(parameters[1]["difference"], "central");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_sensitivity_that_is_not_clean_says_why_on_stderr_and_in_the_result() {
+    // design5's optimum sits on an angle vertex whose active rows are dependent (LICQ fails): the
+    // bounds cannot be followed, so those parameters have no derivative, and the run exits 3.
+    let case = workspace().join("paper-cases/design5.json");
+    let out = tmpdir("sensitivity-not-clean");
+    let output = spine(&["sensitivity", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic"]);
+    assert_eq!(output.status.code(), Some(3), "{}", String::from_utf8_lossy(&output.stderr));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("not clean: no derivative with respect to bounds.theta0_max: the active rows are dependent"),
+        "{stderr}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let reasons = json["not_clean"].as_array().expect("not_clean in result.json");
+    assert!(
+        reasons.iter().any(|r| r["reason"] == "no_derivative" && r["parameter"] == "bounds.theta0_max"),
+        "{reasons:?}"
+    );
+    for text in [String::from_utf8_lossy(&output.stdout), stderr] {
+        assert!(debug_text(&text).is_none(), "{:?}", debug_text(&text));
+    }
+    // A clean one has no such field.
+    let clean = tmpdir("sensitivity-clean");
+    let args = ["sensitivity", case.to_str().unwrap(), "--param", "delta_d", "--out", clean.to_str().unwrap()];
+    assert_eq!(spine(&args).status.code(), Some(0));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(clean.join("result.json")).unwrap()).unwrap();
+    assert!(json.get("not_clean").is_none());
 }

@@ -107,6 +107,20 @@ impl KindResult {
         }
     }
 
+    /// Why the result is not clean, one line each, where it carries its reasons as a typed field
+    /// (`not_clean` of a sensitivity result); empty otherwise (the summary says why).
+    pub fn not_clean_reasons(&self) -> Vec<String> {
+        match self {
+            Self::Sensitivity(r) => r.not_clean.iter().map(ToString::to_string).collect(),
+            Self::FigureSensitivity(r) => r
+                .runs
+                .iter()
+                .flat_map(|run| run.result.not_clean.iter().map(move |reason| format!("{}: {reason}", run.name)))
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// The files written beside `result.json` (CSV tables, figures), in writing order.
     pub fn files(&self) -> Vec<OutputFile> {
         match self {

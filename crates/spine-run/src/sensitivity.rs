@@ -23,6 +23,9 @@ pub struct SensitivityResult {
     /// Why there is no `sensitivity` block, where there is none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub no_sensitivity: Option<String>,
+    /// Why the result is not clean (exit code 3), one entry per reason; absent when it is clean.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_clean: Vec<NotClean>,
     pub files: Vec<String>,
     /// Wall times (under `timings` in `result.json`): the design solve, the polishing re-solve,
     /// and the sensitivities themselves (active set, one factorisation, a solve per parameter).
@@ -62,11 +65,13 @@ pub fn run_design_sensitivity(
     let files =
         sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
     let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
+    let not_clean = NotClean::of(&design, sensitivity.as_ref(), no_sensitivity.as_deref());
     Ok(SensitivityResult {
         title: design.title.clone(),
         design,
         sensitivity,
         no_sensitivity,
+        not_clean,
         files,
         solve_seconds,
         polish_seconds,
@@ -215,15 +220,62 @@ fn csv(derivatives: &[(&str, &Derivative)]) -> String {
     out
 }
 
+/// Why a sensitivity result is not clean (in `result.json`: `{"reason": "no_derivative", …}`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum NotClean {
+    /// The optimum is not clean: its status, warnings and certificate say why.
+    Optimum { status: spine_ipopt::Status },
+    /// No sensitivities were computed, and why.
+    NoSensitivities { why: String },
+    /// A parameter has neither a two-sided derivative nor both one-sided ones, and why.
+    NoDerivative { parameter: String, why: String },
+}
+
+impl NotClean {
+    /// The reasons a result with this optimum and these sensitivities is not clean (none: clean).
+    fn of(design: &DesignCaseResult, report: Option<&SensitivityReport>, no_sensitivity: Option<&str>) -> Vec<Self> {
+        let mut reasons = Vec::new();
+        if !design.result.is_clean() {
+            reasons.push(Self::Optimum { status: design.result.solver.status });
+        }
+        match report {
+            None => reasons
+                .push(Self::NoSensitivities { why: no_sensitivity.unwrap_or("the optimum is not clean").to_string() }),
+            Some(report) => reasons.extend(
+                report
+                    .parameters
+                    .iter()
+                    .filter(|p| p.derivative.is_none() && (p.increase.is_none() || p.decrease.is_none()))
+                    .map(|p| Self::NoDerivative {
+                        parameter: p.name.clone(),
+                        why: p.note.clone().unwrap_or_else(|| "the conditions fail".into()),
+                    }),
+            ),
+        }
+        reasons
+    }
+}
+
+impl std::fmt::Display for NotClean {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Optimum { status } => {
+                write!(f, "the optimum is not clean (Ipopt: {status}; see its warnings and certificate)")
+            }
+            Self::NoSensitivities { why } => write!(f, "no sensitivities: {why}"),
+            Self::NoDerivative { parameter, why } => write!(f, "no derivative with respect to {parameter}: {why}"),
+        }
+    }
+}
+
 impl SensitivityResult {
     /// Clean: the optimum is clean and every parameter has its derivative, two-sided or as the
     /// pair of one-sided ones (where LICQ or strict complementarity fails for some parameters,
-    /// the others' derivatives still hold; `conditions` says which condition failed).
+    /// the others' derivatives still hold; `conditions` says which condition failed). Otherwise
+    /// [`SensitivityResult::not_clean`] says why.
     pub fn is_clean(&self) -> bool {
-        self.design.result.is_clean()
-            && self.sensitivity.as_ref().is_some_and(|s| {
-                s.parameters.iter().all(|p| p.derivative.is_some() || (p.increase.is_some() && p.decrease.is_some()))
-            })
+        self.not_clean.is_empty()
     }
 
     /// A CSV per parameter.
@@ -258,7 +310,7 @@ impl std::fmt::Display for SensitivityResult {
         let c = &report.conditions;
         writeln!(
             f,
-            "conditions {}: {} free variables, {} at bounds, {} active rows; LICQ σ_min {}; smallest active multiplier {}, smallest inactive gap {}; reduced KKT inertia {:?} ({}){}",
+            "conditions {}: {} free variables, {} at bounds, {} active rows; LICQ σ_min {}; smallest active multiplier {}, smallest inactive gap {}; reduced KKT inertia {} ({}){}",
             if c.hold { "hold" } else { "FAIL" },
             c.free_variables,
             c.active_variable_bounds,
@@ -266,7 +318,7 @@ impl std::fmt::Display for SensitivityResult {
             c.licq_smallest_singular_value.map_or("not computed".into(), |v| format!("{v:.3e}")),
             c.smallest_active_multiplier.map_or("none".into(), |v| format!("{v:.3e}")),
             c.smallest_inactive_gap.map_or("none".into(), |v| format!("{v:.3e}")),
-            c.reduced_kkt_inertia,
+            c.reduced_kkt_inertia.map_or("not computed".into(), |[p, n, z]| format!("[{p}, {n}, {z}]")),
             if c.second_order_sufficient { "second-order sufficient" } else { "NOT second-order sufficient" },
             if c.weakly_active.is_empty() { String::new() } else { format!("; weakly active: {}", c.weakly_active.join("; ")) }
         )?;
