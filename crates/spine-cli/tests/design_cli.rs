@@ -185,6 +185,11 @@ fn bad_design_input_exits_2_and_names_the_field() {
             "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"max_iter\": 1e10}}",
             "solver.ipopt_options.max_iter",
         ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"solver\": {\"ipopt_options\": {\"mu_strategy\": \"adaptive\"}}",
+            "solver.ipopt_options.mu_strategy: set by solver.barrier_strategy",
+        ),
         ("[10000, 250, 250, 250, 250, 0]", "[10000, 250]", "start.stiffness"),
         (
             "\"formulation\": \"full\"",

@@ -43,6 +43,28 @@ pub enum ScalingMethod {
     None,
 }
 
+/// Ipopt's `mu_strategy`: how the barrier parameter decreases (case field
+/// `solver.barrier_strategy`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum BarrierStrategy {
+    /// Fiacco–McCormick: μ decreases once each barrier problem is solved well enough.
+    #[default]
+    Monotone,
+    /// μ chosen at every iteration (Mehrotra's probing or a quality function).
+    Adaptive,
+}
+
+impl BarrierStrategy {
+    /// The option value Ipopt reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Monotone => "monotone",
+            Self::Adaptive => "adaptive",
+        }
+    }
+}
+
 /// How the full space's states are Ipopt's variables (case field `solver.state_variables`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
@@ -117,8 +139,8 @@ pub struct SolverSettings {
     pub max_iterations: usize,
     /// Ipopt `nlp_scaling_method`.
     pub scaling: ScalingMethod,
-    /// Ipopt `mu_strategy`: "monotone" or "adaptive".
-    pub barrier_strategy: String,
+    /// Ipopt `mu_strategy`: `"monotone"` or `"adaptive"`.
+    pub barrier_strategy: BarrierStrategy,
     /// Reduced space only: second derivatives from differences of the adjoint gradients
     /// ("adjoint-differences", the default) or Ipopt's L-BFGS ("limited-memory").
     pub reduced_hessian: ReducedHessian,
@@ -144,7 +166,7 @@ impl Default for SolverSettings {
             constraint_tolerance: 1e-9,
             max_iterations: 3000,
             scaling: ScalingMethod::GradientBased,
-            barrier_strategy: "monotone".into(),
+            barrier_strategy: BarrierStrategy::Monotone,
             reduced_hessian: ReducedHessian::AdjointDifferences,
             continuation: ContinuationOptions { residual_tolerance: 1e-11, ..ContinuationOptions::default() },
             ipopt_options: BTreeMap::new(),
@@ -173,7 +195,7 @@ impl SolverSettings {
             .number("constr_viol_tol", self.constraint_tolerance)
             .integer("max_iter", self.max_iterations as i64)
             .string("nlp_scaling_method", scaling)
-            .string("mu_strategy", &self.barrier_strategy)
+            .string("mu_strategy", self.barrier_strategy.name())
             // Report the design Ipopt converged to, not one moved back onto the original bounds
             // afterwards (3.11's default): the equilibria of a moved design are not satisfied.
             .string("honor_original_bounds", "no")
@@ -220,9 +242,7 @@ enum Allowed {
 /// anything not listed are refused, so that a case file cannot reach the file system through Ipopt
 /// and every accepted option exists in both supported Ipopt versions (3.11 and 3.14).
 const CASE_IPOPT_OPTIONS: &[(&str, Allowed)] = &[
-    ("tol", Allowed::Number),
     ("dual_inf_tol", Allowed::Number),
-    ("constr_viol_tol", Allowed::Number),
     ("compl_inf_tol", Allowed::Number),
     ("acceptable_tol", Allowed::Number),
     ("acceptable_iter", Allowed::Integer),
@@ -230,9 +250,7 @@ const CASE_IPOPT_OPTIONS: &[(&str, Allowed)] = &[
     ("acceptable_constr_viol_tol", Allowed::Number),
     ("acceptable_compl_inf_tol", Allowed::Number),
     ("acceptable_obj_change_tol", Allowed::Number),
-    ("max_iter", Allowed::Integer),
     ("max_cpu_time", Allowed::Number),
-    ("mu_strategy", Allowed::OneOf(&["monotone", "adaptive"])),
     ("mu_oracle", Allowed::OneOf(&["quality-function", "probing", "loqo"])),
     ("mu_init", Allowed::Number),
     ("mu_min", Allowed::Number),
@@ -249,7 +267,6 @@ const CASE_IPOPT_OPTIONS: &[(&str, Allowed)] = &[
     ("bound_mult_init_method", Allowed::OneOf(&["constant", "mu-based"])),
     ("bound_mult_init_val", Allowed::Number),
     ("constr_mult_init_max", Allowed::Number),
-    ("nlp_scaling_method", Allowed::OneOf(&["gradient-based", "none"])),
     ("nlp_scaling_max_gradient", Allowed::Number),
     ("obj_scaling_factor", Allowed::Number),
     ("hessian_approximation", Allowed::OneOf(&["exact", "limited-memory"])),
@@ -273,6 +290,16 @@ const CASE_IPOPT_OPTIONS: &[(&str, Allowed)] = &[
     ("print_timing_statistics", Allowed::OneOf(&["yes", "no"])),
 ];
 
+/// Ipopt options that a typed field of `solver` sets: one way to set each, refused in
+/// `ipopt_options` with the field to use.
+const TYPED_OPTIONS: &[(&str, &str)] = &[
+    ("tol", "solver.tolerance"),
+    ("constr_viol_tol", "solver.constraint_tolerance"),
+    ("max_iter", "solver.max_iterations"),
+    ("mu_strategy", "solver.barrier_strategy"),
+    ("nlp_scaling_method", "solver.scaling"),
+];
+
 /// Options that touch files, refused with that reason.
 const FILE_OPTIONS: &[&str] = &["output_file", "option_file_name", "file_print_level", "print_options_documentation"];
 
@@ -283,6 +310,12 @@ impl SolverSettings {
         for (name, value) in &self.ipopt_options {
             if FILE_OPTIONS.contains(&name.as_str()) {
                 return Err(FieldError::new(name.clone(), "opens or reads a file: not allowed in a case file"));
+            }
+            if let Some((_, field)) = TYPED_OPTIONS.iter().find(|(n, _)| n == name) {
+                return Err(FieldError::new(
+                    name.clone(),
+                    format!("set by {field}: give it there (one way to set each option)"),
+                ));
             }
             let Some((_, allowed)) = CASE_IPOPT_OPTIONS.iter().find(|(n, _)| n == name) else {
                 let names: Vec<&str> = CASE_IPOPT_OPTIONS.iter().map(|(n, _)| *n).collect();
@@ -320,9 +353,6 @@ impl SolverSettings {
         }
         require(self.max_iterations >= 1 && self.max_iterations <= i32::MAX as usize, "max_iterations", || {
             "must be between 1 and 2147483647".into()
-        })?;
-        require(["monotone", "adaptive"].contains(&self.barrier_strategy.as_str()), "barrier_strategy", || {
-            format!("must be \"monotone\" or \"adaptive\", got {:?}", self.barrier_strategy)
         })?;
         self.continuation.validate().map_err(|e| e.under("continuation"))?;
         self.check_ipopt_options().map_err(|e| e.under("ipopt_options"))?;
