@@ -4,6 +4,33 @@
 //! is checked, and every error names the field and what is allowed, so that a bad file never
 //! reaches a solver. See `docs/case-format.md` for the full format.
 //!
+//! Further modules:
+//!
+//! * `design_case`: `"kind": "design"`: the static design problem of eq. (33).
+//! * `dynamics_case`: `"kind": "simulate" | "damping" | "periodic"`: the dynamics of Sec. 5.2 — a
+//!   step or periodic response, the damping design of eq. (35), the periodic-load design of eq.
+//!   (37).
+//! * `dynamics_specs`: The sections of a dynamic case that set up a design: eq. (33) first
+//!   (`static_design`), eq. (35) (`damping_design`), eq. (37) (`periodic_design`).
+//! * `equilibrium_case`: `"kind": "equilibrium"`: the passive and loaded equilibria of a given
+//!   design.
+//! * `figure_case`: `"kind": "figure"`: one figure of the paper, made of several runs (panels).
+//! * [`fuzz`]: The body of the fuzz targets, shared by `fuzz/` (cargo-fuzz, nightly) and the stable
+//!   fuzz tests (`tests/cases.rs` in process, `crates/spine-cli/tests/adversarial.rs` through the
+//!   binary), and the seeded generator of mutated case files they use.
+//! * `parameter`: Numeric fields of a design case as parameters of eq. (33), named by their field
+//!   path: `delta_d`, `loads.p_x`, `loads.p_y`, `loads.p_y[3]` (node 3; a single number in the file
+//!   is expanded to one per node), `stiffness_scale`, `chain.length_x`, `chain.masses`,
+//!   `bounds.stiffness_max[2]`, …, and `loads.scale`, a factor on the transverse load vector (value
+//!   1).
+//! * `parse`: Parsing JSON into a case type with the path of the failing field in the error.
+//! * `per_item`: A value given once for all entries, or once per entry.
+//! * `read`: Reading an input file with a size bound that holds for every kind of file: regular
+//!   files, devices (`/dev/zero`), pipes and FIFOs, whose size the file system does not know.
+//! * `specs`: The parts of a case file that several kinds share (notes, chain, given design, loads,
+//!   the continuation options) and the validators of single values.
+//! * `twolink_case`: `"kind": "twolink"`: the two-link analysis of Sec. 3.
+//!
 //! ```
 //! let text = r#"{
 //!   "kind": "equilibrium",

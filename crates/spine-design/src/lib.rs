@@ -7,13 +7,30 @@
 //!   forward AD of the model's elements ([`assembly`]).
 //! * [`reduced_space`] and [`adjoint`]: the paper's nested form, equilibria by continuation and
 //!   gradients by the hand-derived adjoint.
-//! * [`settings`]: the settings of a run; [`solve`]: runs either with Ipopt; [`result`]: the checked
+//! * [`settings`]: the settings of a run; [`solve`]: runs either with Ipopt; [`result`]: the
+//!   checked
 //!   result.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
-//! * [`certificate`]: the second-order certificate of an optimum, and [`certificate::settle`], which
+//! * [`certificate`]: the second-order certificate of an optimum, and [`certificate::settle`],
+//!   which
 //!   reports a certified minimum.
 //! * [`sensitivity`]: derivatives of an optimum with respect to the problem's parameters.
+//!
+//! Further modules:
+//!
+//! * [`census`]: How complete a multi-start's census of local optima is: a Bayesian estimate in the
+//!   manner of Boender and Rinnooy Kan.
+//! * `layout`: Where each quantity of eq. (33) sits in the full-space variable and constraint
+//!   vectors (the table of `crate::full_space`).
+//! * `solver_report`: Ipopt's account of a design run: status, iterations, infeasibilities, counts,
+//!   times, and the levels of a mesh-sequenced run.
+//! * [`start_point`]: The full space's start point in named parts, for a peer model (a CasADi
+//!   script) to start from the point `crate::solve_design` hands Ipopt.
+//! * [`sweep`]: Sweeps that follow one optimum of eq. (33) along a parameter `p` (a load, `δ_d`,
+//!   `C_K`, a bound, …): predictor–corrector continuation of the optimum branch `x*(p)`.
+//! * `violations`: How far a design result is from satisfying eq. (33): each part of the problem
+//!   recomputed from the reported design and states, and what Ipopt's tolerances allow.
 //!
 //! ```
 //! use spine_design::fixtures::{paper_five_link_start, paper_problem};

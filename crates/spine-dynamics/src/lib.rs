@@ -1,25 +1,34 @@
 //! # spine-dynamics: the flexible spine in motion
 //!
-//! * [`eom`]: the constrained equations of motion (eq. (6), `docs/model.md` "Dynamics"), generic over
+//! * [`eom`]: the constrained equations of motion (eq. (6), `docs/model.md` "Dynamics"), generic
+//!   over
 //!   num-dual numbers: mass matrix, centrifugal terms, springs, dampers, loads, end constraint.
-//! * [`integrator`]: Radau IIA of order 5 (default) and TR-BDF2, L-stable and error-controlled, with
+//! * [`integrator`]: Radau IIA of order 5 (default) and TR-BDF2, L-stable and error-controlled,
+//!   with
 //!   projection onto `Φ = 0, Φ̇ = 0`, dense output, event location and forward sensitivities.
 //! * [`newton`]: the integrator's Newton matrices for the chain in `O(N)`, real and complex.
 //! * [`system`]: the equations of motion as an ODE in `(θ, θ̇)`, Jacobians by forward AD.
 //! * [`forcing`]: the time profile of the axial force (step, pulse train, sinusoid).
 //! * [`articulated`]: the chain's articulated-body recursion, the `O(N)` right-hand side.
 //! * [`rates`]: the accelerations and their derivatives by that recursion ([`system`]'s fast path).
-//! * [`linearization`]: the equations of motion linearised about an equilibrium (modes, damping ratios).
+//! * [`linearization`]: the equations of motion linearised about an equilibrium (modes, damping
+//!   ratios).
 //! * [`ode`]: the ODE interface the integrators solve.
 //! * [`response`]: the step response (`T_90`, `Δ∞`, the static ends it moves between, drift).
 //! * [`periodic`]: the settled response to a periodic axial force.
-//! * `fixtures` (feature `testing`): chains with their responses for tests, benchmarks and examples.
+//! * `fixtures` (feature `testing`): chains with their responses for tests, benchmarks and
+//!   examples.
 //!
 //! The designs built on these motions (eq. (35) and eq. (37)) are in the crate
 //! `spine-dynamic-design`.
 //!
 //! Index reduction: the constraint is differentiated twice (`Φ̈ = 0`, index 1) and every accepted step
 //! is projected back onto `Φ = 0` and `Φ̇ = 0`, so the drift does not accumulate.
+//!
+//! Further modules:
+//!
+//! * `cholesky`: Dense Cholesky factorisation and solve, generic over `Scalar` (dual numbers carry
+//!   through): the reference path of the mass-matrix solves in `crate::eom`.
 //!
 //! ```
 //! use spine_dynamics::fixtures::arch_problem;

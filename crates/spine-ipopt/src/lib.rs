@@ -4,6 +4,12 @@
 //!
 //! Ipopt solves
 //!
+//! Further modules:
+//!
+//! * `context`: What the Ipopt callbacks share with the solve that started them (behind Ipopt's
+//!   `user_data`), and the arrays that go into and come out of `IpoptSolve`.
+//! * `options`: Ipopt options as an ordered list of `name = value` pairs.
+//!
 //! ```text
 //! min f(x)   subject to   g_l ≤ g(x) ≤ g_u,   x_l ≤ x ≤ x_u
 //! ```

@@ -17,6 +17,15 @@
 //! All `unsafe` code of the crate is in the `abi` module (the C entry points and the loading of the
 //! shim); everything else is safe Rust.
 //!
+//! Further modules:
+//!
+//! * [`dump`]: The text form of a recorded KKT system (`SPINE_KKT_DUMP`, `SPINE_KKT_DUMP_BAD`): the
+//!   order, then Pardiso's 1-based CSR arrays `ia`, `ja`, `a` of the upper triangle, then
+//!   optionally a right-hand side, one bracketed list per line.
+//! * [`ordering`]: The elimination order of the frontal factorisation: the few dense rows first
+//!   (they stay in the front from start to end), then the rest by reverse Cuthill–McKee, which
+//!   finds the band of a chain-like graph so that the front stays as narrow as the band.
+//!
 //! ```
 //! use spine_kkt::{Structure, SymmetricSolver};
 //!

@@ -20,6 +20,24 @@
 //!
 //! This crate holds no solver: see `spine-solve`.
 //!
+//! Further modules:
+//!
+//! * [`energy`]: Energies: strain energy of the springs (eq. (31)) and potential of the loads (eq.
+//!   (3), with the sign of gravity corrected: see `docs/errata.md`).
+//! * [`finite_difference`]: Central finite differences of the equilibrium residual (eq. (5)),
+//!   element by element: the third way to get the state Jacobian, beside forward AD
+//!   (`crate::jacobian`) and the paper's hand-derived entries (`crate::hand`).
+//! * [`hand`]: Derivatives written by hand from the paper's Appendix I (eqs. (46)–(53)), corrected
+//!   for the link length `L_i = a_i / cos θ0_i` of Sec. 5 (errata E7).
+//! * [`kinematics`]: Geometry: link lengths, node positions (eq. (1)) and the end constraint `Φ`
+//!   (eq. (2)).
+//! * [`local`]: Local elements: scalar functions of a few variables, written once over `Scalar`,
+//!   whose gradients and Hessians come from forward AD with fixed-size duals.
+//! * [`rng`]: A seeded random generator of our own, so that seeded runs are the same everywhere:
+//!   the workspace's one generator, `spine_rng::SplitMix64`.
+//! * [`structure`]: The physical situation every problem shares: a chain with its loads.
+//! * [`twolink`]: The two-link analysis of Sec. 3, in closed form.
+//!
 //! ```
 //! use spine_model::fixtures::{arch, uniform_loads};
 //! use spine_model::{jacobian, residual, LinkLoads, State};

@@ -8,6 +8,16 @@
 //! same bytes. [`Figure::to_pdf`] converts the SVG to a vector PDF sized for a journal page
 //! (svg2pdf, the same embedded font).
 //!
+//! Further modules:
+//!
+//! * `axes`: Axis ranges, scales and tick labels (linear, counting, logarithmic).
+//! * `draw`: Drawing a panel with plotters, with the embedded font and the series colours.
+//! * `error`: Why a figure could not be drawn.
+//! * `gif`: Animated GIF from a sequence of figures of one size (the frames of a motion).
+//! * `pdf`: svg2pdf's output made deterministic: its hash-ordered resource dictionaries sorted in
+//!   place.
+//! * `series`: A series of `(x, y)` points and how it is drawn.
+//!
 //! ```
 //! use spine_plot::{Figure, Panel, Series};
 //! let panel = Panel::new("(a) a line", "x (m)", "y (m)")

@@ -11,6 +11,13 @@
 //! signal handlers, and Ctrl-C asks the run to stop through `spine_stop` (Ipopt's user-stop hook,
 //! the integrator's and the searches' checks), waits for it, and raises `KeyboardInterrupt`.
 //! Nothing is written by an interrupted call.
+//!
+//! Further modules:
+//!
+//! * `convert`: Python objects to case files, results to arrays, run errors to Python exceptions.
+//! * `structure`: `flexspine.Structure`: a chain with its design and loads (the sections of an
+//!   equilibrium case), its energies, the equilibrium residual of eq. (5) and its exact sparse
+//!   Jacobian, and its equilibria with their stability certificate.
 
 #![forbid(unsafe_code)]
 

@@ -8,6 +8,45 @@
 //! drawn by the recipes a caller passes ([`FigureRecipes`]; the paper's are `spine-paper`'s).
 //! Nothing here prints; only [`write`] writes files.
 //!
+//! Further modules:
+//!
+//! * [`animation`]: Animations of the chain's motion: a looping GIF with, for each response, the
+//!   chain at the frame's time (its displacements from the first instant magnified so that they can
+//!   be seen), the path its end node has travelled, and the end displacement `X_{N+1} − L_x` drawn
+//!   up to that time, with the time stamp in the title.
+//! * [`claims`]: A claim of the paper, checked by the program: what the paper says, what is
+//!   measured and the threshold it is held to (fixed before the run), the verdict and the numbers.
+//! * [`confidence`]: A census to a stated confidence: seeded starts of eq. (33) in batches of
+//!   `CONFIDENCE_BATCH` (`Batches`) until the Boender–Rinnooy Kan estimate gives P(a better optimum
+//!   unseen) ≤ P.
+//! * `design`: Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
+//!   multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
+//! * `dynamics`: Kinds `simulate`, `damping` and `periodic`: the dynamics of Sec. 5.2 on a given
+//!   design or on the eq. (33) design of the case.
+//! * `dynamics_summary`: The summary of a dynamic case that a person reads (`spine simulate`,
+//!   `damping`, `periodic`): the design's origin, each response's rise, settling and drift, the
+//!   damping designs and the periodic design, each number with its unit.
+//! * `equilibrium`: Kind `equilibrium`: the passive (θ1) and loaded (θ2) equilibria of a given
+//!   design, with their stability certificates.
+//! * `error`: Why a run could not give a result, with its cause.
+//! * [`metrics`]: Measures of a static design that the paper's claims are about, each a plain
+//!   function of the design and its start.
+//! * `progress`: What a long run reports while it works (a front end draws it; the library prints
+//!   nothing).
+//! * [`sensitivity`]: `spine sensitivity`: an eq. (33) optimum (one start, full space) and its
+//!   derivatives with respect to the case's parameters (`spine_design::sensitivity`), with a CSV
+//!   per parameter.
+//! * [`sweep`]: `spine sweep`: eq. (33)'s optimum followed along one parameter of a design case
+//!   (`spine_design::sweep`), with a census (multi-start) at every k-th point saying whether the
+//!   followed optimum is still the best known.
+//! * `sweep_census`: The census along a followed sweep: a multi-start at every k-th point says
+//!   whether the followed optimum is still the best known, with the multi-start's completeness
+//!   estimate.
+//! * `sweep_figure`: The figure of a followed sweep: `J*` (followed and best known) and the design
+//!   against the parameter, with the events marked.
+//! * [`text`]: Numbers for a person to read: a quantity with its unit and a precision that fits it,
+//!   a list of values.
+//!
 //! ```
 //! // Any case file runs through one path: parse, check, run, a typed result.
 //! let case = spine_case::Case::from_json(r#"{

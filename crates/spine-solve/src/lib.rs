@@ -1,6 +1,7 @@
 //! # spine-solve: solvers for the flexible spine
 //!
-//! * [`linalg`]: the `O(N)` solve of the bordered tridiagonal equilibrium Jacobian, with a sparse LU
+//! * [`linalg`]: the `O(N)` solve of the bordered tridiagonal equilibrium Jacobian, with a sparse
+//!   LU
 //!   fallback (faer) when elimination without pivoting is unsafe.
 //! * [`stability`]: the stability certificate, the smallest eigenvalue of the Hessian of
 //!   `U + V − λΦ` projected on the tangent space of `Φ = 0`, found in `O(N)` per probe by Sturm
@@ -10,6 +11,14 @@
 //! * [`twolink`]: the exact two-link design of Sec. 3 solved with the general `N`-link code.
 //!
 //! Solvers return result structs and print nothing.
+//!
+//! Further modules:
+//!
+//! * `arclength`: Pseudo-arclength continuation where load control stalls.
+//! * `corrector`: A load path and Newton's method on it: the corrector shared by load and arclength
+//!   continuation.
+//! * `options`: Options of Newton and of the load continuation, each checked where it is defined.
+//! * [`problem`]: The static problem of a design, apart from the solver.
 //!
 //! ```
 //! use spine_model::fixtures::{arch, uniform_loads};
