@@ -104,13 +104,28 @@ class Result:
 
     @property
     def kind(self) -> str:
-        """equilibrium, twolink, design, simulate, damping, periodic, figure, study, sensitivity or sweep."""
+        """equilibrium, twolink, design, simulate, damping, periodic, figure, study, sensitivity,
+        figure_sensitivity or sweep."""
     @property
     def clean(self) -> bool:
         """Converged, stable, every solver check passed, not stopped early (CLI exit code 0)."""
     @property
     def stopped(self) -> Optional[str]:
         """"time_limit" when the time limit cut the run short, else None."""
+    @property
+    def success(self) -> bool:
+        """As scipy's OptimizeResult.success: the same as clean."""
+    @property
+    def status(self) -> int:
+        """As scipy's OptimizeResult.status: the CLI's exit code, 0 (clean) or 3 (not clean)."""
+    @property
+    def message(self) -> str:
+        """As scipy's OptimizeResult.message: "clean", or why not."""
+    def keys(self) -> Any:
+        """The top-level entries of `result.json`."""
+    def __getattr__(self, name: str) -> Any:
+        """A top-level entry of `result.json` by attribute (result.objective); AttributeError if absent."""
+    def __contains__(self, key: str) -> bool: ...
     @property
     def summary(self) -> str:
         """The summary the CLI prints."""

@@ -94,6 +94,63 @@ impl CaseResult {
         self.inner.is_clean()
     }
 
+    /// As scipy's `OptimizeResult.success`: the same as `clean`.
+    #[getter]
+    fn success(&self) -> bool {
+        self.inner.is_clean()
+    }
+
+    /// As scipy's `OptimizeResult.status`: the CLI's exit code, 0 (clean) or 3 (not clean: the
+    /// result is complete and says why; `message`).
+    #[getter]
+    fn status(&self) -> u8 {
+        if self.inner.is_clean() {
+            0
+        } else {
+            3
+        }
+    }
+
+    /// As scipy's `OptimizeResult.message`: "clean", or why not (the time limit, the reasons the
+    /// result gives in `not_clean`, or a pointer to `summary`).
+    #[getter]
+    fn message(&self) -> String {
+        if self.inner.is_clean() {
+            return "clean".into();
+        }
+        let mut reasons: Vec<String> = self.inner.stopped.iter().map(|r| format!("stopped: {}", r.name())).collect();
+        reasons.extend(self.inner.result.not_clean_reasons());
+        if reasons.is_empty() {
+            reasons.push(
+                "not clean: a solver did not converge, an equilibrium is not stable or a check failed (see summary)"
+                    .into(),
+            );
+        }
+        reasons.join("; ")
+    }
+
+    /// The top-level entries of `result.json`, as a dictionary's keys.
+    fn keys<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.to_dict(py)?.call_method0("keys")
+    }
+
+    /// A top-level entry of `result.json` by attribute (`result.objective`), as scipy's
+    /// `OptimizeResult` gives its fields; `AttributeError` for a name it does not hold.
+    fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        let dict = self.to_dict(py)?;
+        match dict.get_item(name) {
+            Ok(value) => Ok(value),
+            Err(_) => Err(pyo3::exceptions::PyAttributeError::new_err(format!(
+                "flexspine.Result of kind {:?} has no entry {name:?} (keys(): result.json's top-level entries)",
+                self.kind()
+            ))),
+        }
+    }
+
+    fn __contains__(&self, py: Python<'_>, key: &str) -> PyResult<bool> {
+        self.to_dict(py)?.contains(key)
+    }
+
     /// `"time_limit"` when the run's time limit stopped it early (the result holds what it
     /// reached), else `None`.
     #[getter]

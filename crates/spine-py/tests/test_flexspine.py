@@ -101,6 +101,19 @@ def test_fig3_five_link_design_reaches_the_checked_optimum():
     assert r["solver"]["status"] == "solve_succeeded"
     assert r["loaded"]["stability"]["stable"]
     assert r["certificate"]["status"] in ("strict_minimum", "weak_minimum")
+    # As scipy's OptimizeResult: success, status, message, attribute access, keys().
+    assert r.success and r.status == 0 and r.message == "clean"
+    assert r.objective == r["objective"] and "objective" in r.keys() and "objective" in r
+    with pytest.raises(AttributeError, match="no entry"):
+        r.no_such_entry
+
+
+def test_a_result_that_is_not_clean_says_why_as_scipy_would():
+    # design5's optimum has bounds whose rows are dependent: no derivative for them, exit 3.
+    r = flexspine.sensitivity(CASES / "design5.json")
+    assert not r.success and r.status == 3
+    assert "no derivative with respect to bounds.theta0_max" in r.message, r.message
+    assert any(n["reason"] == "no_derivative" for n in r.not_clean)
 
 
 def test_a_census_to_a_stated_confidence_from_python_reports_its_best_certified():
