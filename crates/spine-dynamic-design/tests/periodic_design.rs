@@ -4,19 +4,10 @@ use spine_dynamic_design::periodic_gradient::{eq37_point, Eq37Point};
 use spine_dynamic_design::{design_periodic, PeriodicDesignSettings, SearchMethod};
 use spine_dynamics::periodic::EndValue;
 use spine_dynamics::{periodic_response, DynamicProblem, Forcing};
-use spine_model::fixtures::{arch, uniform_loads};
 use spine_search::{GaSettings, PatternSettings};
 
 fn problem(n: usize) -> DynamicProblem {
-    let (mut chain, mut design) = arch(n, 1.0, 0.3, 2000.0);
-    design.stiffness[n] = 2000.0;
-    chain.masses = vec![0.5; n];
-    let structure = spine_model::Structure {
-        chain,
-        passive: uniform_loads(n, -20.0, 0.0),
-        actuation: uniform_loads(n, 0.0, -1500.0),
-    };
-    DynamicProblem { structure, design, damping: vec![20.0; n + 1] }
+    spine_dynamics::fixtures::periodic_problem(n)
 }
 
 #[test]

@@ -41,3 +41,21 @@ pub fn peer_step_problem(n_links: usize) -> DynamicProblem {
         damping: vec![20.0 * scale; n_links + 1],
     }
 }
+
+/// The chain of the periodic-load tests: the arch of [`spine_model::fixtures::arch`] over 1 m
+/// (amplitude 0.3 rad, K = 2000 N·m/rad at every joint, the end spring too), 0.5 kg per link,
+/// −20 N per node, −1500 N at the end, 20 N·m·s/rad at every joint.
+pub fn periodic_problem(n_links: usize) -> DynamicProblem {
+    let (mut chain, mut design) = arch(n_links, 1.0, 0.3, 2000.0);
+    design.stiffness[n_links] = 2000.0;
+    chain.masses = vec![0.5; n_links];
+    DynamicProblem {
+        structure: Structure {
+            chain,
+            passive: uniform_loads(n_links, -20.0, 0.0),
+            actuation: uniform_loads(n_links, 0.0, -1500.0),
+        },
+        design,
+        damping: vec![20.0; n_links + 1],
+    }
+}

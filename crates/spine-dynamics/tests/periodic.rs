@@ -1,18 +1,9 @@
 //! The periodic response (the design of eq. (37) is tested in spine-dynamic-design).
 
 use spine_dynamics::{periodic_response, DynamicProblem, Forcing, PeriodicSettings};
-use spine_model::fixtures::{arch, uniform_loads};
 
 fn problem(n: usize) -> DynamicProblem {
-    let (mut chain, mut design) = arch(n, 1.0, 0.3, 2000.0);
-    design.stiffness[n] = 2000.0;
-    chain.masses = vec![0.5; n];
-    let structure = spine_model::Structure {
-        chain,
-        passive: uniform_loads(n, -20.0, 0.0),
-        actuation: uniform_loads(n, 0.0, -1500.0),
-    };
-    DynamicProblem { structure, design, damping: vec![20.0; n + 1] }
+    spine_dynamics::fixtures::periodic_problem(n)
 }
 
 #[test]
