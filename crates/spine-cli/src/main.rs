@@ -9,6 +9,7 @@
 
 mod args;
 mod output;
+mod parse;
 mod progress;
 mod report;
 
