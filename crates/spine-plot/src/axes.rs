@@ -16,31 +16,36 @@ pub(crate) fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Data ranges of a panel (bars include 0 and their half widths).
-pub(crate) fn ranges(panel: &Panel, plot_px: (f64, f64)) -> ((f64, f64), (f64, f64)) {
+/// Axis ranges of a panel in axis coordinates: fixed where the panel fixes them, else the data
+/// with a 5 % margin; bars on a linear axis include 0 and their half widths; a logarithmic axis
+/// starts at the decade below its smallest value (bars stand on it).
+pub(crate) fn ranges(panel: &Panel) -> ((f64, f64), (f64, f64)) {
     let has_bars = panel.series.iter().any(|s| s.style == Style::Bars);
     let xs = panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
-    let ys = panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).chain(has_bars.then_some(0.0));
-    let mut x = finite_range(xs).unwrap_or((0.0, 1.0));
-    if has_bars {
-        x = (x.0 - 0.5, x.1 + 0.5);
-    }
-    let mut x = panel.x_range.unwrap_or_else(|| if has_bars { x } else { padded(x) });
-    let mut y = panel.y_range.unwrap_or_else(|| padded(finite_range(ys).unwrap_or((0.0, 1.0))));
-    if panel.equal_aspect {
-        // Widen the axis whose metres per pixel are fewer, about its centre.
-        let (sx, sy) = ((x.1 - x.0) / plot_px.0, (y.1 - y.0) / plot_px.1);
-        if sx > sy {
-            let c = 0.5 * (y.0 + y.1);
-            let half = 0.5 * sx * plot_px.1;
-            y = (c - half, c + half);
+    let from_zero = has_bars && panel.y_scale != Scale::Log10;
+    let ys = panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).chain(from_zero.then_some(0.0));
+    let data_x = finite_range(xs).unwrap_or((0.0, 1.0));
+    let x = panel.x_range.unwrap_or_else(|| {
+        if has_bars {
+            (data_x.0 - 0.5, data_x.1 + 0.5)
         } else {
-            let c = 0.5 * (x.0 + x.1);
-            let half = 0.5 * sy * plot_px.0;
-            x = (c - half, c + half);
+            fitted(panel.x_scale, data_x)
         }
-    }
+    });
+    let y = panel.y_range.unwrap_or_else(|| fitted(panel.y_scale, finite_range(ys).unwrap_or((0.0, 1.0))));
     (x, y)
+}
+
+/// A data range with its margin: 5 % on each side, or on a logarithmic axis from the decade
+/// below the smallest value (`ceil(lo) − 1` in decades) to 5 % above the largest.
+fn fitted(scale: Scale, (lo, hi): (f64, f64)) -> (f64, f64) {
+    match scale {
+        Scale::Log10 => {
+            let bottom = lo.ceil() - 1.0;
+            (bottom, hi + 0.05 * (hi - bottom))
+        }
+        Scale::Linear | Scale::Integer => padded((lo, hi)),
+    }
 }
 
 /// `v` on the axis: `log10 v` on a logarithmic one (NaN for `v ≤ 0`, which is then skipped).
@@ -93,12 +98,12 @@ pub(crate) fn tick_label(scale: Scale, v: f64, span: f64) -> String {
     }
 }
 
-/// How many ticks an axis asks for: one per whole number on a counting or logarithmic axis with
-/// few of them, plotters' default otherwise.
-pub(crate) fn tick_count(scale: Scale, (lo, hi): (f64, f64)) -> usize {
+/// How many ticks an axis `length_px` long asks for: one per whole number on a counting or
+/// logarithmic axis with few of them, else one per `spacing_px` (2 to 10).
+pub(crate) fn tick_count(scale: Scale, (lo, hi): (f64, f64), length_px: f64, spacing_px: f64) -> usize {
     let whole = (hi.floor() - lo.ceil()) as i64 + 1;
     match scale {
         Scale::Integer | Scale::Log10 if (1..=12).contains(&whole) => (hi - lo).ceil().max(1.0) as usize + 1,
-        _ => 10,
+        _ => ((length_px / spacing_px).floor() as usize).clamp(2, 10),
     }
 }

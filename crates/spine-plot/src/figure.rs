@@ -1,7 +1,8 @@
 //! A figure: a titled grid of panels, drawn to SVG, PNG and PDF.
 
-use crate::draw::{draw_panel, register_font, FAMILY, FONT, MARGIN, TITLE_HEIGHT};
+use crate::draw::{draw_lines, draw_panel, register_font, FONT, MARGIN};
 use crate::error::{err, PlotError};
+use crate::layout::{lay_out, FigureLayout};
 use crate::panel::Panel;
 use crate::pdf::canonical_pdf;
 use plotters::coord::Shift;
@@ -26,34 +27,27 @@ impl Figure {
         self
     }
 
-    fn grid(&self) -> (usize, usize, (u32, u32)) {
-        let columns = self.columns.min(self.panels.len().max(1));
-        let rows = self.panels.len().div_ceil(columns).max(1);
-        (rows, columns, (self.panel_size.0 * columns as u32, self.panel_size.1 * rows as u32 + TITLE_HEIGHT))
+    /// Where everything goes, in pixels: the title's lines, each panel's caption, axes, ranges,
+    /// the data's marks and the legend's box. Drawing follows it; [`Figure::check`] reads it.
+    pub fn layout(&self) -> FigureLayout {
+        register_font();
+        lay_out(&self.title, self.columns, &self.panels, self.panel_size)
     }
 
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: DrawingArea<DB, Shift>,
-        rows: usize,
-        columns: usize,
-    ) -> Result<(), PlotError> {
-        register_font();
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &FigureLayout) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
-        let (head, body) = root.split_vertically(TITLE_HEIGHT);
-        head.draw_text(&self.title, &(FAMILY, 18).into_text_style(&head), (MARGIN as i32, 10)).map_err(err)?;
-        let areas = body.split_evenly((rows, columns));
-        for (area, panel) in areas.iter().zip(&self.panels) {
-            draw_panel(area, panel, self.panel_size)?;
+        draw_lines(&root, &layout.title, None, f64::from(MARGIN), 10.0)?;
+        for (panel, laid) in self.panels.iter().zip(&layout.panels) {
+            draw_panel(&root, panel, laid)?;
         }
         root.present().map_err(err)
     }
 
     /// Draws the figure as an SVG document.
     pub fn to_svg(&self) -> Result<String, PlotError> {
-        let (rows, columns, size) = self.grid();
+        let layout = self.layout();
         let mut text = String::new();
-        self.draw(SVGBackend::with_string(&mut text, size).into_drawing_area(), rows, columns)?;
+        self.draw(SVGBackend::with_string(&mut text, layout.size).into_drawing_area(), &layout)?;
         Ok(text)
     }
 
@@ -71,29 +65,30 @@ impl Figure {
             db.set_sans_serif_family(name);
         }
         let tree = usvg::Tree::from_str(&svg, &options).map_err(err)?;
-        let (_, columns, (width_px, _)) = self.grid();
-        let width_in = if columns == 1 { 3.5 } else { 7.0 };
+        let width_px = self.size().0;
+        let width_in = if self.columns.min(self.panels.len()) <= 1 { 3.5 } else { 7.0 };
         let page = svg2pdf::PageOptions { dpi: width_px as f32 / width_in };
         svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), page).map(canonical_pdf).map_err(err)
     }
 
     /// The figure's size in pixels, `(width, height)`.
     pub fn size(&self) -> (u32, u32) {
-        self.grid().2
+        self.layout().size
     }
 
     /// Draws the figure into an RGB buffer (3 bytes per pixel, row by row), text rasterised with
     /// the embedded font; returns its width, height and pixels.
     pub fn to_rgb(&self) -> Result<(u32, u32, Vec<u8>), PlotError> {
-        let (rows, columns, size) = self.grid();
+        let layout = self.layout();
+        let size = layout.size;
         let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
-        self.draw(BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area(), rows, columns)?;
+        self.draw(BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area(), &layout)?;
         Ok((size.0, size.1, pixels))
     }
 
     /// Draws the figure as a PNG file at `path` (text rasterised with the embedded font).
     pub fn write_png(&self, path: &std::path::Path) -> Result<(), PlotError> {
-        let (rows, columns, size) = self.grid();
-        self.draw(BitMapBackend::new(path, size).into_drawing_area(), rows, columns)
+        let layout = self.layout();
+        self.draw(BitMapBackend::new(path, layout.size).into_drawing_area(), &layout)
     }
 }

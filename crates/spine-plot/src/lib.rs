@@ -28,18 +28,24 @@
 #![forbid(unsafe_code)]
 
 mod axes;
+mod check;
 mod draw;
 mod error;
 mod figure;
 mod gif;
+mod layout;
 mod panel;
 mod pdf;
 mod series;
+mod text;
 
+pub use check::LayoutProblem;
 pub use error::PlotError;
 pub use figure::Figure;
 pub use gif::to_gif;
-pub use panel::{Panel, Scale};
+pub use layout::{FigureLayout, LegendEntry, LegendLayout, Mark, PanelLayout, Rect};
+pub use panel::{LegendPlace, Panel, Scale};
+pub use text::{missing_glyphs, FittedText};
 pub use series::{Series, Style};
 
 #[cfg(test)]
@@ -100,7 +106,7 @@ mod tests {
             )
             .to_svg()
             .unwrap();
-        for decade in ["10²", "10³", "10⁴"] {
+        for decade in ["10¹", "10²", "10³", "10⁴"] {
             assert!(svg.contains(&format!(">\n{decade}\n<")), "decade label {decade}");
         }
         for node in 1..=11 {
@@ -110,9 +116,10 @@ mod tests {
             !svg.contains(">\n1.0\n<") && !svg.contains(">\n2.5\n<") && !svg.contains("-0.0"),
             "no fractional labels"
         );
-        // Exactly one label per node and per decade (11 + 3), besides the title, the caption, the
-        // two axis names and the legend: the empty labels between them are not drawn.
-        assert_eq!(svg.matches("<text").count(), 5 + 11 + 3);
+        // Exactly one label per node and per decade (11 + 4: the axis starts a decade below the
+        // smallest K), besides the title, the caption, the two axis names and the legend: the
+        // empty labels between them are not drawn.
+        assert_eq!(svg.matches("<text").count(), 5 + 11 + 4);
     }
 
     #[test]
@@ -155,11 +162,65 @@ mod tests {
     }
 
     #[test]
-    fn equal_aspect_gives_equal_scales() {
-        let p = figure().panels[0].clone();
-        let px = (400.0, 250.0);
-        let (x, y) = ranges(&p, px);
-        assert!(((x.1 - x.0) / px.0 - (y.1 - y.0) / px.1).abs() < 1e-12);
+    fn equal_aspect_gives_equal_scales_in_a_box_fitted_to_the_data() {
+        let layout = figure().layout();
+        let p = &layout.panels[0];
+        assert!(((p.x.1 - p.x.0) / p.plot.width() - (p.y.1 - p.y.0) / p.plot.height()).abs() < 0.01 * (p.x.1 - p.x.0) / p.plot.width());
+        // The y range is the data's (0 … 0.1 m with its margin), not widened to the panel.
+        assert!(p.y.0 > -0.01 && p.y.1 < 0.11, "{:?}", p.y);
+    }
+
+    #[test]
+    fn a_logarithmic_bar_axis_starts_a_decade_below_the_smallest_bar() {
+        let mut f = figure();
+        f.panels[1] = f.panels[1].clone().y_log();
+        let layout = f.layout();
+        let p = &layout.panels[1];
+        assert!(layout.panels[1].marks.iter().all(|(_, m)| matches!(m, Mark::Box(r) if r.y1 <= p.plot.y1 + 0.5)));
+        assert_eq!(p.y.0, 1.0, "K from 100: the axis starts at 10¹, not at 10⁰");
+        assert!(p.y.1 > 4.0 && p.y.1 < 4.2);
+    }
+
+    #[test]
+    fn the_legend_goes_where_no_data_is_or_below_the_axes() {
+        // A line across the whole panel takes every corner: the legend goes below.
+        let crowded = Figure::new("legend", 1).with(
+            Panel::new("p", "x", "y")
+                .with(Series::line("up", (0..=20).map(|i| (f64::from(i), f64::from(i))).collect()))
+                .with(Series::line("down", (0..=20).map(|i| (f64::from(i), f64::from(20 - i))).collect()))
+                .with(Series::line("top", vec![(0.0, 20.0), (20.0, 20.0)]))
+                .with(Series::line("bottom", vec![(0.0, 0.0), (20.0, 0.0)])),
+        );
+        let layout = crowded.layout();
+        let legend = layout.panels[0].legend.as_ref().unwrap();
+        assert_eq!(legend.place, LegendPlace::Below);
+        assert!(legend.rect.y0 >= layout.panels[0].chart.y1, "below the tick labels");
+        assert!(crowded.check().unwrap().is_empty(), "{:?}", crowded.check());
+        // A falling curve leaves the upper right free.
+        let falling = Figure::new("legend", 1).with(
+            Panel::new("p", "x", "y").with(Series::line("fall", (0..=20).map(|i| (f64::from(i), (-f64::from(i)).exp())).collect())),
+        );
+        assert_eq!(falling.layout().panels[0].legend.as_ref().unwrap().place, LegendPlace::UpperRight);
+        // Pinned over the data, the check says so.
+        let pinned = Figure::new("legend", 1).with(
+            Panel::new("p", "x", "y")
+                .legend_at(LegendPlace::UpperLeft)
+                .with(Series::line("fall", (0..=20).map(|i| (f64::from(i), (-f64::from(i)).exp())).collect())),
+        );
+        let problems = pinned.check().unwrap();
+        assert!(matches!(&problems[..], [LayoutProblem::LegendOverData { series, .. }] if series == "fall"), "{problems:?}");
+    }
+
+    #[test]
+    fn a_title_too_long_for_the_canvas_wraps_and_the_check_finds_text_outside_or_unprintable() {
+        let long = "A title far too long for one line of a two-panel figure, which a journal would not print cut off at the right edge of the page, however wide the page and however small the type";
+        let mut f = figure();
+        f.title = long.into();
+        assert!(f.layout().title.lines.len() == 2);
+        assert!(f.check().unwrap().is_empty(), "{:?}", f.check());
+        f.panels[0].x_label = format!("x {}", '\u{1D4AF}');
+        let problems = f.check().unwrap();
+        assert!(problems.iter().any(|p| matches!(p, LayoutProblem::MissingGlyphs { .. })), "{problems:?}");
     }
 
     #[test]

@@ -15,6 +15,17 @@ pub enum Scale {
     Log10,
 }
 
+/// Where a panel's legend goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LegendPlace {
+    UpperRight,
+    UpperLeft,
+    LowerRight,
+    LowerLeft,
+    /// Outside the axes, below the tick labels, entries side by side.
+    Below,
+}
+
 /// One chart: a caption, axis labels with units, and its series.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Panel {
@@ -24,11 +35,15 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Same scale on both axes (structure shapes).
     pub equal_aspect: bool,
-    /// Fixed axis ranges; `None`: fitted to the data with a 5 % margin.
+    /// Fixed axis ranges; `None`: fitted to the data with a 5 % margin (a logarithmic axis from
+    /// the decade below the smallest value; bars on a linear axis from 0).
     pub x_range: Option<(f64, f64)>,
     pub y_range: Option<(f64, f64)>,
     pub x_scale: Scale,
     pub y_scale: Scale,
+    /// Where the legend goes; `None`: the first corner of the axes (upper right, upper left,
+    /// lower right, lower left) that no point, line or bar reaches, else below the axes.
+    pub legend: Option<LegendPlace>,
 }
 
 impl Panel {
@@ -43,6 +58,7 @@ impl Panel {
             y_range: None,
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
+            legend: None,
         }
     }
     /// The x axis counts things: labels at whole numbers only.
@@ -70,6 +86,11 @@ impl Panel {
     }
     pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
         self.x_range = Some((lo, hi));
+        self
+    }
+    /// Puts the legend at `place` whatever the data (frames of an animation keep it still).
+    pub fn legend_at(mut self, place: LegendPlace) -> Self {
+        self.legend = Some(place);
         self
     }
     pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
