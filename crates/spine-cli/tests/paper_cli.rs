@@ -84,7 +84,7 @@ fn twolink_figure_checks_the_closed_forms() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("PASS ["), "{stdout}");
     let svg = std::fs::read_to_string(dir.join("figure.svg")).unwrap();
-    assert!(svg.contains("sensitivity ratio R of eq. (17)") && svg.contains("log10 |δ| (δ in m)"));
+    assert!(svg.contains("sensitivity ratio R of eq. (17)") && svg.contains("log₁₀ |δ| (δ in m)"));
 }
 
 #[test]
@@ -115,7 +115,7 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
         "(a) 5 links, -10 N per node: shapes",
         "(b) 5 links, -10 N per node: nodal stiffness",
         "X (m)",
-        "K_j (N·m/rad)",
+        "Kⱼ (N·m/rad)",
     ] {
         assert!(svg.contains(text), "{text}");
     }

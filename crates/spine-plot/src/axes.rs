@@ -37,11 +37,13 @@ pub(crate) fn ranges(panel: &Panel) -> ((f64, f64), (f64, f64)) {
 }
 
 /// A data range with its margin: 5 % on each side, or on a logarithmic axis from the decade
-/// below the smallest value (`ceil(lo) − 1` in decades) to 5 % above the largest.
+/// below the smallest value to 5 % above the largest. A value within a tenth of a decade above a
+/// decade (K = 100 at its bound, 100.0000001 from an interior-point solver) counts as on it, so
+/// it is drawn a decade above the axis, not on it.
 fn fitted(scale: Scale, (lo, hi): (f64, f64)) -> (f64, f64) {
     match scale {
         Scale::Log10 => {
-            let bottom = lo.ceil() - 1.0;
+            let bottom = (lo - 0.1).ceil() - 1.0;
             (bottom, hi + 0.05 * (hi - bottom))
         }
         Scale::Linear | Scale::Integer => padded((lo, hi)),

@@ -248,7 +248,7 @@ impl Animation {
                     track.samples.iter().take_while(|s| s.t <= t).map(|s| (s.t, s.end_displacement)).collect();
                 let now = &f.samples[k];
                 curves.push(
-                    Panel::new(format!("{}: end displacement", track.label), "t (s)", "X_(N+1) − L_x (m)")
+                    Panel::new(format!("{}: end displacement", track.label), "t (s)", crate::text::END_DISPLACEMENT)
                         .x_range(times[0], times[times.len() - 1])
                         .y_range(f.displacement_range.0, f.displacement_range.1)
                         .with(Series::line("", reached).colour(j))

@@ -271,11 +271,11 @@ impl CkStudy {
             ))
             .with(series(
                 &|r| r.change.stiffness_max_over_min.log10(),
-                Panel::new("(b) stiffness spread: max K / min K", x, "log10 (max K / min K)"),
+                Panel::new("(b) stiffness spread: max K / min K", x, "log₁₀ (max K / min K)"),
             ))
             .with(series(
                 &|r| r.change.theta0_change,
-                Panel::new("(c) shape change ‖θ0 − θ0_start‖", x, "‖θ0 − θ0_start‖ (rad)"),
+                Panel::new("(c) shape change ‖θ₀ − θ₀,start‖", x, "‖θ₀ − θ₀,start‖ (rad)"),
             ))
             .with(series(&|r| r.objective * 1e3, Panel::new("(d) stored energy J at the optimum", x, "J (mJ)")))
     }

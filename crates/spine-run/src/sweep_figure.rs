@@ -36,7 +36,7 @@ pub fn figure(title: &str, s: &SweepResult, census: &[CensusPoint]) -> Figure {
         }
     }
     let n = s.points.first().map_or(0, |p| p.design.theta0.len());
-    let mut b = Panel::new("(b) unloaded link angles θ0*", name.as_str(), "θ0* (rad)");
+    let mut b = Panel::new("(b) unloaded link angles θ₀*", name.as_str(), "θ₀* (rad)");
     for i in 0..n {
         b = b.with(
             Series::line(format!("θ0_{}", i + 1), s.points.iter().map(|p| (p.parameter, p.design.theta0[i])).collect())

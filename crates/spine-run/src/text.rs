@@ -3,6 +3,10 @@
 
 use std::fmt::Write as _;
 
+/// The axis label of the end node's motion, `X_{N+1} − L_x` of the paper, in the figures' one
+/// notation (Unicode subscripts where the font has them).
+pub const END_DISPLACEMENT: &str = "end node X − Lₓ (m)";
+
 /// `value` with `decimals` decimals and its unit, or `missing` (e.g. "not reached") when there is
 /// none.
 ///

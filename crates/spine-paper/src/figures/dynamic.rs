@@ -6,7 +6,7 @@ use super::*;
 use serde_json::json;
 use spine_dynamic_design::{DampingDesign, PeriodicDesign};
 use spine_dynamics::{PeriodicResponse, StepResponse};
-use spine_run::text::quantity;
+use spine_run::text::{quantity, END_DISPLACEMENT};
 use spine_run::{samples_csv, Animation, Track};
 use std::f64::consts::LN_10;
 
@@ -26,26 +26,47 @@ fn damping_designs<'a>(
     }
 }
 
-/// Δ(t) with the first-order model that reaches 90 % at `T_d`, and the T_90 point.
+/// The span a step response's panel shows: until 1.5 times the moment Δ(t) last leaves the band
+/// of ±1 % of Δ∞ (at least three times the target rise time, at most the simulation), so the
+/// rise and the T₉₀ marker fill the panel; the CSV keeps the whole simulation.
+fn response_window(r: &StepResponse, target: Option<f64>) -> f64 {
+    let t_end = r.samples.last().map_or(0.0, |s| s.t);
+    let last_out = r.samples.iter().rev().find(|s| (s.delta - r.delta_inf).abs() > 0.01 * r.delta_inf.abs()).map_or(0.0, |s| s.t);
+    let floor = 3.0 * target.or(r.rise_time).unwrap_or(0.0);
+    (1.5 * last_out).max(floor).min(t_end)
+}
+
+/// Δ(t) with the first-order model that reaches 90 % at `T_d`, and the T₉₀ point, over the
+/// response's window ([`response_window`]; the caption says when it is shorter than the run).
 fn response_panel(title: &str, r: &StepResponse, target: Option<f64>, colour: usize) -> Panel {
     let t_end = r.samples.last().map_or(0.0, |s| s.t);
+    let window = response_window(r, target);
+    let title = if window < t_end { format!("{title} (first {} s of {} s)", round_time(window), round_time(t_end)) } else { title.to_string() };
+    let shown: Vec<(f64, f64)> = r.samples.iter().filter(|s| s.t <= window).map(|s| (s.t, s.delta)).collect();
     let mut panel = Panel::new(title, "t (s)", "end displacement Δ(t) (m)")
-        .with(Series::line("Δ(t), simulated", r.samples.iter().map(|s| (s.t, s.delta)).collect()).colour(colour));
+        .x_range(0.0, window)
+        .with(Series::line("Δ(t), simulated", shown).colour(colour));
     if let Some(td) = target {
         let model = (0..=200).map(|k| {
-            let t = t_end * k as f64 / 200.0;
+            let t = window * k as f64 / 200.0;
             (t, r.delta_inf * (1.0 - (-LN_10 * t / td).exp()))
         });
-        panel = panel.with(Series::dashed(format!("Δ∞(1 − e^(−t ln10 / {td} s))"), model.collect()).colour(7));
+        panel = panel.with(Series::dashed(format!("Δ∞ (1 − exp(−t·ln 10 / {td} s))"), model.collect()).colour(7));
     }
     if let Some(t90) = r.rise_time {
-        panel = panel.with(Series::markers(format!("T_90 = {t90:.4} s"), vec![(t90, 0.9 * r.delta_inf)]).colour(3));
+        panel = panel.with(Series::markers(format!("T₉₀ = {t90:.4} s"), vec![(t90, 0.9 * r.delta_inf)]).colour(3));
     }
     panel
 }
 
+/// A time for a caption: two significant digits (0.45 s, 1.2 s, 12 s).
+fn round_time(t: f64) -> String {
+    let digits = (1 - t.abs().max(1e-9).log10().floor() as i32).max(0) as usize;
+    format!("{t:.digits$}")
+}
+
 fn damping_panel(title: &str, series: Vec<Series>) -> Panel {
-    series.into_iter().fold(Panel::new(title, "joint j", "C_j (N·m·s/rad)").x_integer(), Panel::with)
+    series.into_iter().fold(Panel::new(title, "joint j", "Cⱼ (N·m·s/rad)").x_integer(), Panel::with)
 }
 
 /// The claims on one eq. (35) design.
@@ -187,7 +208,7 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutp
 /// End displacement `X − L_x` and the load factor drawn to the scale of `scale` (m).
 fn periodic_panel(title: &str, r: &PeriodicResponse, scale: f64, target: Option<f64>) -> Panel {
     let t_end = r.samples.last().map_or(0.0, |s| s.t);
-    let mut panel = Panel::new(title, "t (s)", "X_(N+1) − L_x (m)")
+    let mut panel = Panel::new(title, "t (s)", END_DISPLACEMENT)
         .with(Series::line("end-point motion", r.samples.iter().map(|s| (s.t, s.end_displacement)).collect()).colour(0))
         .with(
             Series::dashed(
@@ -200,6 +221,15 @@ fn periodic_panel(title: &str, r: &PeriodicResponse, scale: f64, target: Option<
         panel = panel.with(Series::dashed(format!("δ_d = {d} m"), vec![(0.0, d), (t_end, d)]).colour(3));
     }
     panel
+}
+
+/// A search method as a legend names it: GA, pattern search, gradient.
+fn short(method: spine_dynamic_design::SearchMethod) -> &'static str {
+    match method {
+        spine_dynamic_design::SearchMethod::Ga => "GA",
+        spine_dynamic_design::SearchMethod::Pattern => "pattern search",
+        spine_dynamic_design::SearchMethod::Gradient => "gradient",
+    }
 }
 
 fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, what: &str) -> Claim {
@@ -238,15 +268,18 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
         Series::bars(format!("eq. (37), {}", p.method.describe()), points(&p.stiffness, 1)).colour(0),
     ];
     let mut motion = periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d));
-    if let Some((_, q)) = &other {
+    let mut shape_panels = vec![shapes.panel(&format!("(c) shapes of the {} design", p.method.describe()))];
+    if let Some((used_q, q)) = &other {
         bars.push(Series::bars(format!("eq. (37), {}", q.method.describe()), points(&q.stiffness, 1)).colour(2));
         let samples = q.response.samples.iter().map(|s| (s.t, s.end_displacement)).collect();
-        motion = motion.with(Series::line(format!("end-point motion, {} design", q.method), samples).colour(2));
+        motion.series[0].label = format!("end-point motion, {} design", short(p.method));
+        motion = motion.with(Series::line(format!("end-point motion, {} design", short(q.method)), samples).colour(2));
+        let q_design = Design { theta0: used_q.design.theta0.clone(), stiffness: q.stiffness.clone() };
+        let q_shapes = Shapes::of_ends(&used_q.spans, &q_design, &q.response.ends);
+        shape_panels.push(q_shapes.panel(&format!("(d) shapes of the {} design", q.method.describe())));
     }
-    let fig = Figure::new(title, 2)
-        .with(stiffness_panel("(a) nodal stiffness", bars))
-        .with(motion)
-        .with(shapes.panel("(c) shapes of the design"));
+    let fig = Figure::new(title, 2).with(stiffness_panel("(a) nodal stiffness", bars)).with(motion);
+    let fig = shape_panels.into_iter().fold(fig, Figure::with);
     out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
     out.tables.push(("stiffness.csv".into(), values_csv("stiffness_n_m_per_rad", &p.stiffness)));
     out.tables.push(("shape.csv".into(), shapes.csv()));

@@ -88,9 +88,9 @@ impl Shapes {
     fn panel(&self, title: &str) -> Panel {
         Panel::new(title, "X (m)", "Y (m)")
             .equal_aspect()
-            .with(Series::dashed("unloaded θ0", self.unloaded.clone()).colour(7))
-            .with(Series::line_markers("passive load θ1", self.passive.clone()).colour(0))
-            .with(Series::line_markers("passive + axial θ2", self.loaded.clone()).colour(3))
+            .with(Series::dashed("unloaded θ₀", self.unloaded.clone()).colour(7))
+            .with(Series::line_markers("passive load θ₁", self.passive.clone()).colour(0))
+            .with(Series::line_markers("passive + axial θ₂", self.loaded.clone()).colour(3))
     }
 
     fn csv(&self) -> String {
@@ -112,7 +112,7 @@ fn design_csv(design: &Design) -> String {
 }
 
 fn stiffness_panel(title: &str, series: Vec<Series>) -> Panel {
-    series.into_iter().fold(Panel::new(title, "node j", "K_j (N·m/rad)").x_integer().y_log(), Panel::with)
+    series.into_iter().fold(Panel::new(title, "node j", "Kⱼ (N·m/rad)").x_integer().y_log(), Panel::with)
 }
 
 /// Panel letters (a), (b), …

@@ -204,9 +204,9 @@ fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Re
 /// Fig. 5: `θ0` and `K` of every run (one per transverse load) on one pair of panels.
 pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let mut out = FigureOutput::default();
-    let mut shape = Panel::new("(a) design angle θ0 under various loads", "link i", "θ0_i (rad)").x_integer();
+    let mut shape = Panel::new("(a) design angle θ₀ under various loads", "link i", "θ₀,ᵢ (rad)").x_integer();
     let mut stiffness =
-        Panel::new("(b) nodal stiffness K under various loads", "node j", "K_j (N·m/rad)").x_integer().y_log();
+        Panel::new("(b) nodal stiffness K under various loads", "node j", "Kⱼ (N·m/rad)").x_integer().y_log();
     let mut table = String::from("run,index,theta0_rad,stiffness_n_m_per_rad\n");
     for (k, run) in runs.iter().enumerate() {
         let s = expect_design(run)?;

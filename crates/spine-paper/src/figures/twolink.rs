@@ -18,14 +18,14 @@ pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldE
         rows.iter().filter_map(|r| f(r).filter(|e| *e > 0.0).map(|e| (r.delta.abs().log10(), e.log10()))).collect()
     };
     let exact = |r: &spine_solve::twolink::StudyRow| r.theta0_exact.unwrap_or(f64::NAN);
-    let errors = Panel::new("(a) closed forms against the exact θ0", "log10 |δ| (δ in m)", "log10 error")
+    let errors = Panel::new("(a) closed forms against the exact θ₀", "log₁₀ |δ| (δ in m)", "log₁₀ error")
         .with(
-            Series::line_markers("θ0 of eq. (10), |error| (rad)", log_err(&|r| Some((r.theta0_eq10 - exact(r)).abs())))
+            Series::line_markers("θ₀ of eq. (10), |error| (rad)", log_err(&|r| Some((r.theta0_eq10 - exact(r)).abs())))
                 .colour(0),
         )
         .with(
             Series::line_markers(
-                "θ0 of eq. (10′) (E3), |error| (rad)",
+                "θ₀ of eq. (10′) (E3), |error| (rad)",
                 log_err(&|r| Some((r.theta0_first_order - exact(r)).abs())),
             )
             .colour(2),
@@ -37,7 +37,7 @@ pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldE
             )
             .colour(3),
         );
-    let ratio = Panel::new("(b) sensitivity ratio R of eq. (17)", "log10 |δ| (δ in m)", "R (N·m/rad²)")
+    let ratio = Panel::new("(b) sensitivity ratio R of eq. (17)", "log₁₀ |δ| (δ in m)", "R (N·m/rad²)")
         .with(
             Series::line_markers(
                 "R as printed",
