@@ -7,7 +7,7 @@
 use spine_check::{require, FieldError};
 use spine_dynamics::response::Sample;
 use spine_model::kinematics::{link_lengths, node_positions};
-use spine_plot::{Figure, Panel, PlotError, Series};
+use spine_plot::{Figure, LegendPlace, Panel, PlotError, Series};
 use std::ops::RangeInclusive;
 
 /// Frames of an animation.
@@ -238,6 +238,7 @@ impl Animation {
                 chains.push(
                     Panel::new(format!("{}: chain ({scale})", track.label), "X (m)", "Y (m)")
                         .equal_aspect()
+                        .legend_at(LegendPlace::Below)
                         .x_range(x0, x1)
                         .y_range(y0, y1)
                         .with(Series::dashed(format!("t = {:.3} s", times[0]), f.shapes[0].clone()).colour(7))
@@ -249,6 +250,7 @@ impl Animation {
                 let now = &f.samples[k];
                 curves.push(
                     Panel::new(format!("{}: end displacement", track.label), "t (s)", crate::text::END_DISPLACEMENT)
+                        .legend_at(LegendPlace::Below)
                         .x_range(times[0], times[times.len() - 1])
                         .y_range(f.displacement_range.0, f.displacement_range.1)
                         .with(Series::line("", reached).colour(j))
