@@ -111,12 +111,9 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
     let shape = std::fs::read_to_string(out.join("shape_n5.csv")).unwrap();
     assert_eq!(shape.lines().count(), 1 + 6, "header and six nodes");
     let svg = std::fs::read_to_string(out.join("figure.svg")).unwrap();
-    for text in [
-        "(a) 5 links, -10 N per node: shapes",
-        "(b) 5 links, -10 N per node: nodal stiffness",
-        "X (m)",
-        "Kⱼ (N·m/rad)",
-    ] {
+    for text in
+        ["(a) 5 links, -10 N per node: shapes", "(b) 5 links, -10 N per node: nodal stiffness", "X (m)", "Kⱼ (N·m/rad)"]
+    {
         assert!(svg.contains(text), "{text}");
     }
     // Issue 16: the stiffness panel counts nodes (whole-number labels 1…6, nothing between) and

@@ -46,7 +46,12 @@ fn check(name: &str) {
         // Every panel that has a legend keeps it clear of the data by construction.
         for panel in figure.layout().panels {
             if let Some(legend) = panel.legend {
-                assert!(panel.cell.holds(&legend.rect, 0.0), "{name}/{stem}: legend inside its panel: {:?} in {:?}", legend.rect, panel.cell);
+                assert!(
+                    panel.cell.holds(&legend.rect, 0.0),
+                    "{name}/{stem}: legend inside its panel: {:?} in {:?}",
+                    legend.rect,
+                    panel.cell
+                );
             }
         }
     }

@@ -1,10 +1,10 @@
 //! A figure checked as a reader would look at it: no legend over the data, every text inside the
 //! canvas and clear of every other text, and no character the font cannot draw.
 
-use crate::draw::FONT;
 use crate::error::{err, PlotError};
 use crate::figure::Figure;
-use crate::layout::{Rect, PanelLayout};
+use crate::layout::{PanelLayout, Rect};
+use crate::pdf::usvg_options;
 use crate::text::missing_glyphs;
 use svg2pdf::usvg;
 
@@ -40,16 +40,14 @@ impl std::fmt::Display for LayoutProblem {
     }
 }
 
-/// Every text of the SVG with its box as usvg lays it out (the PDF's layout).
-fn svg_texts(svg: &str) -> Result<(Vec<(String, Rect)>, (f64, f64)), PlotError> {
-    let mut options = usvg::Options::default();
-    let db = options.fontdb_mut();
-    db.load_font_data(FONT.to_vec());
-    let family = db.faces().next().and_then(|face| face.families.first()).map(|(name, _)| name.clone());
-    if let Some(name) = family {
-        db.set_sans_serif_family(name);
-    }
-    let tree = usvg::Tree::from_str(svg, &options).map_err(err)?;
+/// The texts of an SVG with their boxes as usvg lays them out (the PDF's layout), and its canvas.
+struct SvgTexts {
+    texts: Vec<(String, Rect)>,
+    canvas: Rect,
+}
+
+fn svg_texts(svg: &str) -> Result<SvgTexts, PlotError> {
+    let tree = usvg::Tree::from_str(svg, &usvg_options()).map_err(err)?;
     fn walk(group: &usvg::Group, out: &mut Vec<(String, Rect)>) {
         for node in group.children() {
             match node {
@@ -57,7 +55,8 @@ fn svg_texts(svg: &str) -> Result<(Vec<(String, Rect)>, (f64, f64)), PlotError> 
                 usvg::Node::Text(t) => {
                     let text: String = t.chunks().iter().map(|c| c.text()).collect();
                     let b = t.abs_bounding_box();
-                    let bbox = Rect::new(f64::from(b.left()), f64::from(b.top()), f64::from(b.right()), f64::from(b.bottom()));
+                    let bbox =
+                        Rect::new(f64::from(b.left()), f64::from(b.top()), f64::from(b.right()), f64::from(b.bottom()));
                     out.push((text, bbox));
                 }
                 _ => {}
@@ -67,14 +66,15 @@ fn svg_texts(svg: &str) -> Result<(Vec<(String, Rect)>, (f64, f64)), PlotError> 
     let mut out = Vec::new();
     walk(tree.root(), &mut out);
     let size = tree.size();
-    Ok((out, (f64::from(size.width()), f64::from(size.height()))))
+    Ok(SvgTexts { texts: out, canvas: Rect::new(0.0, 0.0, f64::from(size.width()), f64::from(size.height())) })
 }
 
 fn legend_problems(figure: &Figure, laid: &[PanelLayout]) -> Vec<LayoutProblem> {
     let mut out = Vec::new();
     for (panel, layout) in figure.panels.iter().zip(laid) {
         let Some(legend) = &layout.legend else { continue };
-        let mut covered: Vec<usize> = layout.marks.iter().filter(|(_, m)| m.hits(&legend.rect)).map(|(k, _)| *k).collect();
+        let mut covered: Vec<usize> =
+            layout.marks.iter().filter(|(_, m)| m.hits(&legend.rect)).map(|(k, _)| *k).collect();
         covered.dedup();
         out.extend(covered.into_iter().map(|k| LayoutProblem::LegendOverData {
             panel: panel.title.clone(),
@@ -91,8 +91,7 @@ impl Figure {
     pub fn check(&self) -> Result<Vec<LayoutProblem>, PlotError> {
         let layout = self.layout();
         let mut problems = legend_problems(self, &layout.panels);
-        let (texts, (w, h)) = svg_texts(&self.to_svg()?)?;
-        let canvas = Rect::new(0.0, 0.0, w, h);
+        let SvgTexts { texts, canvas } = svg_texts(&self.to_svg()?)?;
         for (text, bbox) in &texts {
             if !canvas.holds(bbox, 0.5) {
                 problems.push(LayoutProblem::TextOutside { text: text.clone(), bbox: *bbox });
@@ -105,9 +104,11 @@ impl Figure {
                 }
             }
         }
-        let written = std::iter::once(&self.title).chain(self.panels.iter().flat_map(|p| {
-            [&p.title, &p.x_label, &p.y_label].into_iter().chain(p.series.iter().map(|s| &s.label))
-        }));
+        let written = std::iter::once(&self.title).chain(
+            self.panels
+                .iter()
+                .flat_map(|p| [&p.title, &p.x_label, &p.y_label].into_iter().chain(p.series.iter().map(|s| &s.label))),
+        );
         for text in written {
             let missing = missing_glyphs(text);
             if !missing.is_empty() {

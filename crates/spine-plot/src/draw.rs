@@ -6,9 +6,9 @@ use crate::layout::{bar, bar_base, LegendLayout, PanelLayout};
 use crate::panel::Panel;
 use crate::series::{Series, Style};
 use crate::text::FittedText;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::sync::Once;
 
 /// Layout of a figure, px: axis label areas (ticks and axis descriptions), margins.

@@ -1,10 +1,10 @@
 //! A figure: a titled grid of panels, drawn to SVG, PNG and PDF.
 
-use crate::draw::{draw_lines, draw_panel, register_font, FONT, MARGIN};
+use crate::draw::{draw_lines, draw_panel, register_font, MARGIN};
 use crate::error::{err, PlotError};
 use crate::layout::{lay_out, FigureLayout};
 use crate::panel::Panel;
-use crate::pdf::canonical_pdf;
+use crate::pdf::{canonical_pdf, usvg_options};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -56,15 +56,7 @@ impl Figure {
     pub fn to_pdf(&self) -> Result<Vec<u8>, PlotError> {
         use svg2pdf::usvg;
         let svg = self.to_svg()?;
-        let mut options = usvg::Options::default();
-        let db = options.fontdb_mut();
-        db.load_font_data(FONT.to_vec());
-        // The SVG asks for the generic family plotters was given; it is the embedded font.
-        let family = db.faces().next().and_then(|face| face.families.first()).map(|(name, _)| name.clone());
-        if let Some(name) = family {
-            db.set_sans_serif_family(name);
-        }
-        let tree = usvg::Tree::from_str(&svg, &options).map_err(err)?;
+        let tree = usvg::Tree::from_str(&svg, &usvg_options()).map_err(err)?;
         let width_px = self.size().0;
         let width_in = if self.columns.min(self.panels.len()) <= 1 { 3.5 } else { 7.0 };
         let page = svg2pdf::PageOptions { dpi: width_px as f32 / width_in };

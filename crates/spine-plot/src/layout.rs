@@ -149,10 +149,7 @@ const SWATCH: f64 = 20.0;
 const LEGEND_CLEARANCE: f64 = 3.0;
 
 fn to_px(plot: &Rect, x: (f64, f64), y: (f64, f64), p: (f64, f64)) -> (f64, f64) {
-    (
-        plot.x0 + (p.0 - x.0) / (x.1 - x.0) * plot.width(),
-        plot.y1 - (p.1 - y.0) / (y.1 - y.0) * plot.height(),
-    )
+    (plot.x0 + (p.0 - x.0) / (x.1 - x.0) * plot.width(), plot.y1 - (p.1 - y.0) / (y.1 - y.0) * plot.height())
 }
 
 /// The axis-coordinate rectangle of bar `slot` of `count` bar series at `(x, y)`, from `base`.
@@ -277,7 +274,12 @@ fn axes_box(chart: &Rect, x: (f64, f64), y: (f64, f64), equal: bool) -> (Rect, R
 fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f64) -> PanelLayout {
     let axis = in_axis_coordinates(panel);
     let (x, y) = ranges(&axis);
-    let full = Rect::new(cell.x0 + f64::from(MARGIN), cell.y0 + caption_band, cell.x1 - f64::from(MARGIN), cell.y1 - f64::from(MARGIN));
+    let full = Rect::new(
+        cell.x0 + f64::from(MARGIN),
+        cell.y0 + caption_band,
+        cell.x1 - f64::from(MARGIN),
+        cell.y1 - f64::from(MARGIN),
+    );
     let (mut chart, mut plot) = axes_box(&full, x, y, panel.equal_aspect);
     let labelled: Vec<usize> = (0..panel.series.len()).filter(|&k| !panel.series[k].label.is_empty()).collect();
     let mut legend = None;
@@ -292,14 +294,15 @@ fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f
             LegendPlace::LowerLeft => Some(Rect::new(inner.x0, inner.y1 - h, inner.x0 + w, inner.y1)),
             LegendPlace::Below => None,
         };
-        let free = |r: &Rect| {
-            inner.holds(r, 0.0) && !marks.iter().any(|(_, m)| m.hits(&r.grown(LEGEND_CLEARANCE)))
-        };
+        let free = |r: &Rect| inner.holds(r, 0.0) && !marks.iter().any(|(_, m)| m.hits(&r.grown(LEGEND_CLEARANCE)));
         let places = match panel.legend {
             Some(place) => vec![place],
-            None => vec![LegendPlace::UpperRight, LegendPlace::UpperLeft, LegendPlace::LowerRight, LegendPlace::LowerLeft],
+            None => {
+                vec![LegendPlace::UpperRight, LegendPlace::UpperLeft, LegendPlace::LowerRight, LegendPlace::LowerLeft]
+            }
         };
-        let inside = places.iter().find_map(|&p| corner(p).filter(|r| panel.legend.is_some() || free(r)).map(|r| (p, r)));
+        let inside =
+            places.iter().find_map(|&p| corner(p).filter(|r| panel.legend.is_some() || free(r)).map(|r| (p, r)));
         legend = Some(match inside {
             Some((place, rect)) => LegendLayout { place, rect, entries: shifted(entries, rect.x0, rect.y0) },
             None => {

@@ -45,8 +45,8 @@ pub use figure::Figure;
 pub use gif::to_gif;
 pub use layout::{FigureLayout, LegendEntry, LegendLayout, Mark, PanelLayout, Rect};
 pub use panel::{LegendPlace, Panel, Scale};
-pub use text::{missing_glyphs, FittedText};
 pub use series::{Series, Style};
+pub use text::{missing_glyphs, FittedText};
 
 #[cfg(test)]
 mod tests {
@@ -165,7 +165,10 @@ mod tests {
     fn equal_aspect_gives_equal_scales_in_a_box_fitted_to_the_data() {
         let layout = figure().layout();
         let p = &layout.panels[0];
-        assert!(((p.x.1 - p.x.0) / p.plot.width() - (p.y.1 - p.y.0) / p.plot.height()).abs() < 0.01 * (p.x.1 - p.x.0) / p.plot.width());
+        assert!(
+            ((p.x.1 - p.x.0) / p.plot.width() - (p.y.1 - p.y.0) / p.plot.height()).abs()
+                < 0.01 * (p.x.1 - p.x.0) / p.plot.width()
+        );
         // The y range is the data's (0 … 0.1 m with its margin), not widened to the panel.
         assert!(p.y.0 > -0.01 && p.y.1 < 0.11, "{:?}", p.y);
     }
@@ -198,7 +201,8 @@ mod tests {
         assert!(crowded.check().unwrap().is_empty(), "{:?}", crowded.check());
         // A falling curve leaves the upper right free.
         let falling = Figure::new("legend", 1).with(
-            Panel::new("p", "x", "y").with(Series::line("fall", (0..=20).map(|i| (f64::from(i), (-f64::from(i)).exp())).collect())),
+            Panel::new("p", "x", "y")
+                .with(Series::line("fall", (0..=20).map(|i| (f64::from(i), (-f64::from(i)).exp())).collect())),
         );
         assert_eq!(falling.layout().panels[0].legend.as_ref().unwrap().place, LegendPlace::UpperRight);
         // Pinned over the data, the check says so.
@@ -208,7 +212,10 @@ mod tests {
                 .with(Series::line("fall", (0..=20).map(|i| (f64::from(i), (-f64::from(i)).exp())).collect())),
         );
         let problems = pinned.check().unwrap();
-        assert!(matches!(&problems[..], [LayoutProblem::LegendOverData { series, .. }] if series == "fall"), "{problems:?}");
+        assert!(
+            matches!(&problems[..], [LayoutProblem::LegendOverData { series, .. }] if series == "fall"),
+            "{problems:?}"
+        );
     }
 
     #[test]

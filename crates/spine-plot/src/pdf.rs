@@ -1,4 +1,21 @@
-//! svg2pdf's output made deterministic: its hash-ordered resource dictionaries sorted in place.
+//! svg2pdf's output made deterministic: its hash-ordered resource dictionaries sorted in place;
+//! usvg set up with the embedded font.
+
+use crate::draw::FONT;
+use svg2pdf::usvg;
+
+/// usvg's options with the embedded font as the only face: the SVG asks for the generic family
+/// plotters was given, which is that font.
+pub(crate) fn usvg_options() -> usvg::Options<'static> {
+    let mut options = usvg::Options::default();
+    let db = options.fontdb_mut();
+    db.load_font_data(FONT.to_vec());
+    let family = db.faces().next().and_then(|face| face.families.first()).map(|(name, _)| name.clone());
+    if let Some(name) = family {
+        db.set_sans_serif_family(name);
+    }
+    options
+}
 
 /// svg2pdf writes the entries of a resource dictionary (`/xo17 42 0 R` lines) in hash order, so
 /// the same figure gives different bytes. Sorting each run of such lines puts them in one order;

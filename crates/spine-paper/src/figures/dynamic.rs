@@ -31,7 +31,8 @@ fn damping_designs<'a>(
 /// rise and the T₉₀ marker fill the panel; the CSV keeps the whole simulation.
 fn response_window(r: &StepResponse, target: Option<f64>) -> f64 {
     let t_end = r.samples.last().map_or(0.0, |s| s.t);
-    let last_out = r.samples.iter().rev().find(|s| (s.delta - r.delta_inf).abs() > 0.01 * r.delta_inf.abs()).map_or(0.0, |s| s.t);
+    let last_out =
+        r.samples.iter().rev().find(|s| (s.delta - r.delta_inf).abs() > 0.01 * r.delta_inf.abs()).map_or(0.0, |s| s.t);
     let floor = 3.0 * target.or(r.rise_time).unwrap_or(0.0);
     (1.5 * last_out).max(floor).min(t_end)
 }
@@ -41,7 +42,11 @@ fn response_window(r: &StepResponse, target: Option<f64>) -> f64 {
 fn response_panel(title: &str, r: &StepResponse, target: Option<f64>, colour: usize) -> Panel {
     let t_end = r.samples.last().map_or(0.0, |s| s.t);
     let window = response_window(r, target);
-    let title = if window < t_end { format!("{title} (first {} s of {} s)", round_time(window), round_time(t_end)) } else { title.to_string() };
+    let title = if window < t_end {
+        format!("{title} (first {} s of {} s)", round_time(window), round_time(t_end))
+    } else {
+        title.to_string()
+    };
     let shown: Vec<(f64, f64)> = r.samples.iter().filter(|s| s.t <= window).map(|s| (s.t, s.delta)).collect();
     let mut panel = Panel::new(title, "t (s)", "end displacement Δ(t) (m)")
         .x_range(0.0, window)
