@@ -108,7 +108,17 @@ pub(crate) fn draw_panel<DB: DrawingBackend>(
     let bar_series: Vec<usize> =
         panel.series.iter().enumerate().filter(|(_, s)| s.style == Style::Bars).map(|(i, _)| i).collect();
     let base = bar_base(y_scale, y);
-    for (k, s) in panel.series.iter().enumerate() {
+    // Bars under lines, dashed reference curves over solid ones (so both show), markers on top;
+    // the legend keeps the panel's order.
+    let rank = |style: Style| match style {
+        Style::Bars => 0,
+        Style::Line | Style::LineMarkers => 1,
+        Style::Dashed => 2,
+        Style::Markers => 3,
+    };
+    let mut order: Vec<usize> = (0..panel.series.len()).collect();
+    order.sort_by_key(|&k| rank(panel.series[k].style));
+    for (k, s) in order.into_iter().map(|k| (k, &panel.series[k])) {
         let colour = colour(s, k);
         let points: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
         match s.style {
