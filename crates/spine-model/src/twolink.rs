@@ -127,4 +127,86 @@ impl TwoLink {
     pub fn ratio(theta1: f64, theta0: f64, stiffness: f64) -> f64 {
         2.0 * stiffness / (1.0 / theta1.tan() - (theta1 - theta0))
     }
+    /// Derivatives of an equilibrium angle with respect to the design, from eq. (7)
+    /// (`axial = false`) or eq. (8): `(∂θ/∂K, ∂θ/∂θ0) = (−4(θ − θ0), 4K) / g′(θ)` with
+    /// `g′(θ) = 4K + P_Y L sin θ + 2 P_X L cos θ` (eq. (15) for `θ1`; the same differentiation of
+    /// eq. (8) for `θ2`, as the paper's "obtained from equation (8)" after eq. (20) says).
+    pub fn angle_derivatives(&self, theta: f64, theta0: f64, stiffness: f64, axial: bool) -> (f64, f64) {
+        let p_x = if axial { self.p_x } else { 0.0 };
+        let slope = 4.0 * stiffness + self.p_y * self.length * theta.sin() + 2.0 * p_x * self.length * theta.cos();
+        (-4.0 * (theta - theta0) / slope, 4.0 * stiffness / slope)
+    }
+
+    /// The constraint of eq. (12) and its partials `(c, ∂c/∂K, ∂c/∂θ0)` at the equilibria `θ2`
+    /// of the design: `c = cos θ2 − cos θ0 − δ/(2L)`.
+    fn constraint(&self, theta0: f64, stiffness: f64, theta2: f64, delta: f64) -> (f64, f64, f64) {
+        let (d2_dk, d2_dt0) = self.angle_derivatives(theta2, theta0, stiffness, true);
+        let c = theta2.cos() - theta0.cos() - delta / (2.0 * self.length);
+        (c, -theta2.sin() * d2_dk, -theta2.sin() * d2_dt0 + theta0.sin())
+    }
+
+    /// Eqs. (19) and (20): the gradient `(∂ℒ/∂K, ∂ℒ/∂θ0)` of the Lagrangian (18),
+    /// `ℒ = J + λ1 (cos θ2 − cos θ0 − δ/2L)`, with `∂J` from eqs. (13), (14) and the angle
+    /// derivatives of [`TwoLink::angle_derivatives`]; J·rad/(N·m) and J/rad.
+    pub fn lagrangian_gradient(&self, theta0: f64, stiffness: f64, theta1: f64, theta2: f64, lambda: f64) -> (f64, f64) {
+        let e = theta1 - theta0;
+        let (d1_dk, d1_dt0) = self.angle_derivatives(theta1, theta0, stiffness, false);
+        let (_, c_k, c_t0) = self.constraint(theta0, stiffness, theta2, 0.0);
+        let dj_dk = 2.0 * e * e + 4.0 * stiffness * e * d1_dk; // eq. (13)
+        let dj_dt0 = 4.0 * stiffness * e * (d1_dt0 - 1.0); // eq. (14)
+        (dj_dk + lambda * c_k, dj_dt0 + lambda * c_t0)
+    }
+
+    /// The multiplier `λ1` that makes eq. (20) zero (stationarity in `θ0`), J.
+    pub fn multiplier_eq20(&self, theta0: f64, stiffness: f64, theta1: f64, theta2: f64) -> f64 {
+        let (_, dl_dt0) = self.lagrangian_gradient(theta0, stiffness, theta1, theta2, 0.0);
+        let (_, _, c_t0) = self.constraint(theta0, stiffness, theta2, 0.0);
+        -dl_dt0 / c_t0
+    }
+}
+
+/// The small-deflection two-link system of eqs. (25), (26): links of lengths `L1`, `L2` at design
+/// angles `θ0,1`, `θ0,2` (with `L1 sin θ0,1 + L2 sin θ0,2 = 0`), springs `K1` at the base and `K2`
+/// at the middle node (no `K3`), `P_Y,2` at the middle node and `P_X,3` at the slider.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SmallDeflection {
+    pub lengths: [f64; 2],
+    pub theta0: [f64; 2],
+    pub stiffness: [f64; 2],
+    pub p_y2: f64,
+    pub p_x3: f64,
+}
+
+impl SmallDeflection {
+    /// Eq. (26): `[K_m, c; cᵀ, 0] [Δθ; λ] = [Q; −Φ1(θ0)]`, with `K_m` of eq. (25),
+    /// `c = (L1 cos θ0,1, L2 cos θ0,2)` and the generalised loads at `θ0`,
+    /// `Q = (P_Y,2 L1 cos θ0,1 − P_X,3 L1 sin θ0,1, −P_X,3 L2 sin θ0,2)` (what `−∂V/∂θ` gives, the
+    /// model's `P_i = L_i (cos θ_i V_i − sin θ_i A_i)`). `printed = true` takes the paper's second
+    /// row, `+P_X,3 L2 sin θ0,2` (erratum E8). Returns `Δθ` (rad) and `λ`, or `None` when the
+    /// matrix is singular.
+    pub fn delta_theta(&self, printed: bool) -> Option<([f64; 2], f64)> {
+        let [l1, l2] = self.lengths;
+        let [(s1, c1), (s2, c2)] = [self.theta0[0].sin_cos(), self.theta0[1].sin_cos()];
+        let [k1, k2] = self.stiffness;
+        let q2 = if printed { self.p_x3 * l2 * s2 } else { -self.p_x3 * l2 * s2 };
+        let a = [[k1 + k2, -k2, l1 * c1], [-k2, k2, l2 * c2], [l1 * c1, l2 * c2, 0.0]];
+        let b = [self.p_y2 * l1 * c1 - self.p_x3 * l1 * s1, q2, -l1 * s1 - l2 * s2];
+        let det = |m: &[[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let d = det(&a);
+        if d == 0.0 || !d.is_finite() {
+            return None;
+        }
+        // Cramer's rule: column j replaced by b.
+        let solve = |j: usize| {
+            let mut m = a;
+            for (row, v) in m.iter_mut().zip(b) {
+                row[j] = v;
+            }
+            det(&m) / d
+        };
+        Some(([solve(0), solve(1)], solve(2)))
+    }
 }

@@ -1,0 +1,84 @@
+//! Sec. 3 completed: eq. (12) solved, the Lagrange conditions (18)–(20) and the angle derivatives
+//! checked against central differences, and the small-deflection system (25), (26) against the
+//! general solver (erratum E8: the printed sign of `P_X,3 L2 sin θ0,2`).
+
+use spine_model::twolink::{SmallDeflection, TwoLink};
+use spine_solve::twolink::{optimum, small_deflection_study, OptimumPlace};
+use spine_solve::ContinuationOptions;
+
+/// Sec. 3's loads on links of 0.5 m (the `twolink` paper case).
+const TL: TwoLink = TwoLink { length: 0.5, p_y: -10.0, p_x: -400.0 };
+
+/// The equilibrium angle of eq. (7)/(8) by Newton on the scalar equation.
+fn angle(theta0: f64, stiffness: f64, axial: bool) -> f64 {
+    let mut t = theta0;
+    for _ in 0..60 {
+        let g = TL.equilibrium(t, theta0, stiffness, axial);
+        let h = 1e-7;
+        let slope = (TL.equilibrium(t + h, theta0, stiffness, axial) - TL.equilibrium(t - h, theta0, stiffness, axial)) / (2.0 * h);
+        t -= g / slope;
+    }
+    t
+}
+
+#[test]
+fn angle_derivatives_of_eqs_7_and_8_match_central_differences() {
+    for axial in [false, true] {
+        let (theta0, k) = (0.3, 1000.0);
+        let theta = angle(theta0, k, axial);
+        let (d_dk, d_dt0) = TL.angle_derivatives(theta, theta0, k, axial);
+        let fd_k = (angle(theta0, k + 1e-2, axial) - angle(theta0, k - 1e-2, axial)) / 2e-2;
+        let fd_t0 = (angle(theta0 + 1e-6, k, axial) - angle(theta0 - 1e-6, k, axial)) / 2e-6;
+        assert!((d_dk - fd_k).abs() <= 1e-6 * fd_k.abs(), "axial {axial}: ∂θ/∂K {d_dk} vs {fd_k}");
+        assert!((d_dt0 - fd_t0).abs() <= 1e-6 * fd_t0.abs(), "axial {axial}: ∂θ/∂θ0 {d_dt0} vs {fd_t0}");
+    }
+}
+
+#[test]
+fn eq_12_optimum_sits_on_the_upper_bound_and_eqs_19_20_give_its_kkt_multiplier() {
+    let opts = ContinuationOptions::default();
+    for upper in [1e4, 1e3] {
+        let o = optimum(&TL, -0.001, (100.0, upper), &opts).expect("a design in the bounds");
+        assert_eq!(o.place, OptimumPlace::UpperBound, "{o:?}");
+        assert_eq!(o.stiffness, upper);
+        // Eq. (19) with λ1 from eq. (20) is dJ/dK along the constraint: it matches the central
+        // difference of J(K, θ0(K)) and is negative, so the bound's multiplier −dJ/dK is positive.
+        let fd = o.dl_dk_central_difference.expect("both sides have designs");
+        assert!((o.dl_dk - fd).abs() <= 1e-5 * fd.abs(), "eq. (19) {} vs central difference {fd}", o.dl_dk);
+        assert!(o.dl_dk < 0.0);
+        assert!((o.objective - TL.strain_energy(o.theta1, o.theta0, o.stiffness)).abs() < 1e-15);
+        // The end displacement is met.
+        assert!((TL.end_displacement(o.theta2, o.theta0) + 0.001).abs() < 1e-10);
+    }
+}
+
+#[test]
+fn eq_12_at_the_papers_delta_d_ends_at_the_stability_edge_below_the_upper_bound() {
+    let opts = ContinuationOptions::default();
+    let o = optimum(&TL, -0.02, (100.0, 1e4), &opts).expect("a design in the bounds");
+    assert_eq!(o.place, OptimumPlace::StabilityEdge, "{o:?}");
+    assert!(o.stiffness > 2000.0 && o.stiffness < 5000.0, "K at the edge {}", o.stiffness);
+    let capped = optimum(&TL, -0.02, (100.0, 1e3), &opts).unwrap();
+    assert_eq!(capped.place, OptimumPlace::UpperBound);
+    assert!(o.objective < capped.objective, "a stiffer edge design stores less energy");
+}
+
+#[test]
+fn eq_26_small_deflections_converge_to_the_exact_ones_only_with_the_corrected_sign() {
+    let (l1, l2, t1) = (0.5, 0.6, 0.3);
+    let system = SmallDeflection {
+        lengths: [l1, l2],
+        theta0: [t1, -(l1 * f64::sin(t1) / l2).asin()],
+        stiffness: [500.0, 1000.0],
+        p_y2: -10.0,
+        p_x3: -400.0,
+    };
+    let study = small_deflection_study(&system, &[1e-1, 1e-2, 1e-3, 1e-4], &ContinuationOptions::default());
+    let order = study.order.unwrap();
+    assert!((order - 1.0).abs() < 0.15, "corrected eq. (26) is first order: {order}");
+    let last = study.rows.last().unwrap();
+    assert!(last.error.unwrap() < 1e-3, "{last:?}");
+    // As printed, the error does not shrink with the loads: the model is wrong, not inexact.
+    assert!(study.order_printed.unwrap().abs() < 0.1, "{:?}", study.order_printed);
+    assert!(last.error_printed.unwrap() > 0.1, "{last:?}");
+}
