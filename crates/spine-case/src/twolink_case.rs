@@ -4,7 +4,8 @@ use crate::per_item::check_finite;
 use crate::specs::{check_options, positive, Notes};
 use crate::CaseError;
 use serde::{Deserialize, Serialize};
-use spine_model::twolink::TwoLink;
+use spine_model::twolink::{SmallDeflection, TwoLink};
+use spine_solve::twolink::{OptimisationSpec, SmallDeflectionSpec, StudySpec};
 use spine_solve::ContinuationOptions;
 
 /// `"kind": "twolink"`: Sec. 3.
@@ -25,16 +26,49 @@ pub struct TwoLinkCase {
     pub p_x: f64,
     /// End displacements `δ` to tabulate, m (each ≠ 0, `|δ| < 2L`).
     pub deltas: Vec<f64>,
+    /// Eq. (12) solved at one `δ` for each upper stiffness bound.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub optimisation: Option<TwoLinkOptimisation>,
+    /// The small-deflection system of eqs. (25), (26) against the exact equilibria.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub small_deflection: Option<TwoLinkSmallDeflection>,
     #[serde(default)]
     pub solver: ContinuationOptions,
+}
+
+/// `optimisation` of a two-link case: eq. (12), `min 2K(θ1 − θ0)²` subject to eq. (9) at `delta`,
+/// `lower_bound ≤ K ≤ upper` for each of `upper_bounds` (the paper gives two readings of its upper
+/// bound, 10⁴ in its list and 1000 in its text).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TwoLinkOptimisation {
+    /// End displacement, m (≠ 0, `|δ| < 2L`).
+    pub delta: f64,
+    /// N·m/rad (> 0).
+    pub lower_bound: f64,
+    /// N·m/rad, each > `lower_bound`; at least one.
+    pub upper_bounds: Vec<f64>,
+}
+
+/// `small_deflection` of a two-link case: links `lengths` (m), the first at design angle
+/// `theta0_1` (rad; the second's follows from `L1 sin θ0,1 + L2 sin θ0,2 = 0`), springs
+/// `stiffness = [K1, K2]` (N·m/rad, no `K3`), the case's `p_y` at the middle node and `p_x` at the
+/// slider, each multiplied by every one of `scales`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TwoLinkSmallDeflection {
+    pub lengths: [f64; 2],
+    pub theta0_1: f64,
+    pub stiffness: [f64; 2],
+    /// Load scales, each in (0, 1]; at least two (an order is fitted over the three smallest).
+    pub scales: Vec<f64>,
 }
 
 /// A checked two-link case.
 #[derive(Clone, Debug)]
 pub struct ValidTwoLink {
     pub twolink: TwoLink,
-    pub stiffness: f64,
-    pub deltas: Vec<f64>,
+    pub spec: StudySpec,
     pub options: ContinuationOptions,
 }
 
@@ -59,11 +93,76 @@ impl TwoLinkCase {
             ));
         }
         check_options(&self.solver)?;
+        let optimisation = self.optimisation.as_ref().map(|o| o.validate(length)).transpose()?;
+        let small_deflection = self.small_deflection.as_ref().map(|s| s.validate(self.p_y, self.p_x)).transpose()?;
         Ok(ValidTwoLink {
             twolink: TwoLink { length, p_y: self.p_y, p_x: self.p_x },
-            stiffness,
-            deltas: self.deltas.clone(),
+            spec: StudySpec { stiffness, deltas: self.deltas.clone(), optimisation, small_deflection },
             options: self.solver.clone(),
         })
+    }
+}
+
+impl TwoLinkOptimisation {
+    fn validate(&self, length: f64) -> Result<OptimisationSpec, CaseError> {
+        if !self.delta.is_finite() || self.delta == 0.0 || self.delta.abs() >= 2.0 * length {
+            return Err(CaseError::invalid(
+                "optimisation.delta",
+                format!("must be nonzero with |δ| < 2L = {} m, got {}", 2.0 * length, self.delta),
+            ));
+        }
+        let lower = positive("optimisation.lower_bound", self.lower_bound, "N·m/rad")?;
+        if self.upper_bounds.is_empty() {
+            return Err(CaseError::invalid(
+                "optimisation.upper_bounds",
+                "give at least one upper stiffness bound (N·m/rad)",
+            ));
+        }
+        if let Some(i) = self.upper_bounds.iter().position(|u| !(u.is_finite() && *u > lower)) {
+            return Err(CaseError::invalid(
+                format!("optimisation.upper_bounds[{i}]"),
+                format!("must be finite and > lower_bound = {lower} N·m/rad, got {}", self.upper_bounds[i]),
+            ));
+        }
+        Ok(OptimisationSpec { delta: self.delta, lower_bound: lower, upper_bounds: self.upper_bounds.clone() })
+    }
+}
+
+impl TwoLinkSmallDeflection {
+    fn validate(&self, p_y: f64, p_x: f64) -> Result<SmallDeflectionSpec, CaseError> {
+        let l1 = positive("small_deflection.lengths[0]", self.lengths[0], "m")?;
+        let l2 = positive("small_deflection.lengths[1]", self.lengths[1], "m")?;
+        let t1 = self.theta0_1;
+        if !t1.is_finite() || t1.abs() >= std::f64::consts::FRAC_PI_2 || (l1 * t1.sin()).abs() >= l2 {
+            return Err(CaseError::invalid(
+                "small_deflection.theta0_1",
+                format!("must be finite with |θ0,1| < π/2 and |L1 sin θ0,1| < L2 (so the second link closes the chain), got {t1}"),
+            ));
+        }
+        check_finite("small_deflection.stiffness", &self.stiffness)?;
+        let [k1, k2] = self.stiffness;
+        if k1 < 0.0 || k2 <= 0.0 {
+            return Err(CaseError::invalid(
+                "small_deflection.stiffness",
+                format!("must be [K1 ≥ 0, K2 > 0] N·m/rad, got [{k1}, {k2}]"),
+            ));
+        }
+        if self.scales.len() < 2 {
+            return Err(CaseError::invalid("small_deflection.scales", "give at least two load scales in (0, 1]"));
+        }
+        if let Some(i) = self.scales.iter().position(|s| !(s.is_finite() && *s > 0.0 && *s <= 1.0)) {
+            return Err(CaseError::invalid(
+                format!("small_deflection.scales[{i}]"),
+                format!("must be in (0, 1], got {}", self.scales[i]),
+            ));
+        }
+        let system = SmallDeflection {
+            lengths: [l1, l2],
+            theta0: [t1, -(l1 * t1.sin() / l2).asin()],
+            stiffness: [k1, k2],
+            p_y2: p_y,
+            p_x3: p_x,
+        };
+        Ok(SmallDeflectionSpec { system, scales: self.scales.clone() })
     }
 }

@@ -74,8 +74,16 @@ fn twolink_figure_checks_the_closed_forms() {
     let r = read_json(&dir.join("result.json"));
     assert_eq!(r["kind"], "figure");
     let c = claims(&r);
-    assert_eq!(c.len(), 2);
-    assert!(c.iter().all(|c| c["pass"] == json!(true)), "{c:?}");
+    // Eqs. (10), (11); R; per upper bound (10⁴, 1000) eq. (12)'s Lagrange check and the two
+    // readings of "∂L/∂K is less than ∂L/∂θ0"; eq. (26).
+    assert_eq!(c.len(), 2 + 2 * 3 + 1, "{c:?}");
+    assert!(c[..2].iter().all(|c| c["pass"] == json!(true)), "{c:?}");
+    assert!(c.iter().filter(|c| c["check"] == "solver").all(|c| c["pass"] == json!(true)), "{c:?}");
+    // The relative reading fails at the text's bound: a finding, reported, not hidden.
+    let relative: Vec<&Value> = c.iter().filter(|c| c["test"].as_str().unwrap().starts_with("reading 2")).collect();
+    assert_eq!(relative.len(), 2);
+    assert_eq!(relative[1]["scope"], "K ≤ 1000");
+    assert_eq!(relative[1]["pass"], json!(false), "{:?}", relative[1]);
     let orders = &r["summary"]["orders"];
     assert!((orders["eq10"].as_f64().unwrap() - 1.0).abs() < 0.05);
     assert!((orders["first_order"].as_f64().unwrap() - 2.0).abs() < 0.05);
@@ -221,7 +229,7 @@ fn report_gathers_claims_figures_and_errata() {
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();
     assert!(md.contains("| fig3 | **no result**"));
-    assert!(md.contains("**2 of 2 claims pass.**"), "{md}");
+    assert!(md.contains("**8 of 9 claims pass.**"), "{md}");
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
 }

@@ -148,7 +148,14 @@ impl TwoLink {
     /// Eqs. (19) and (20): the gradient `(∂ℒ/∂K, ∂ℒ/∂θ0)` of the Lagrangian (18),
     /// `ℒ = J + λ1 (cos θ2 − cos θ0 − δ/2L)`, with `∂J` from eqs. (13), (14) and the angle
     /// derivatives of [`TwoLink::angle_derivatives`]; J·rad/(N·m) and J/rad.
-    pub fn lagrangian_gradient(&self, theta0: f64, stiffness: f64, theta1: f64, theta2: f64, lambda: f64) -> (f64, f64) {
+    pub fn lagrangian_gradient(
+        &self,
+        theta0: f64,
+        stiffness: f64,
+        theta1: f64,
+        theta2: f64,
+        lambda: f64,
+    ) -> (f64, f64) {
         let e = theta1 - theta0;
         let (d1_dk, d1_dt0) = self.angle_derivatives(theta1, theta0, stiffness, false);
         let (_, c_k, c_t0) = self.constraint(theta0, stiffness, theta2, 0.0);

@@ -22,8 +22,8 @@ pub enum RunOutput {
 /// The two-link study of Sec. 3.
 pub fn run_twolink(valid: &ValidTwoLink) -> RunOutput {
     RunOutput::Twolink {
-        study: spine_solve::twolink::study(&valid.twolink, valid.stiffness, &valid.deltas, &valid.options),
-        stiffness: valid.stiffness,
+        study: spine_solve::twolink::study(&valid.twolink, &valid.spec, &valid.options),
+        stiffness: valid.spec.stiffness,
     }
 }
 

@@ -22,12 +22,12 @@ pub struct TwoLinkResult {
 /// The study of Sec. 3 on the case's δ values.
 pub fn run_twolink_case(case: &TwoLinkCase, valid: &ValidTwoLink) -> TwoLinkResult {
     let clock = std::time::Instant::now();
-    let study = study(&valid.twolink, valid.stiffness, &valid.deltas, &valid.options);
+    let study = study(&valid.twolink, &valid.spec, &valid.options);
     let tl = &valid.twolink;
     TwoLinkResult {
         title: case.title.clone(),
         length: tl.length,
-        stiffness: valid.stiffness,
+        stiffness: valid.spec.stiffness,
         p_y: tl.p_y,
         p_x: tl.p_x,
         study,
@@ -86,6 +86,30 @@ impl std::fmt::Display for TwoLinkResult {
             fmt_opt(o.first_order, 3),
             fmt_opt(o.eq11_relative, 3)
         )?;
-        writeln!(f, "see docs/errata.md E2–E5 for the slips these columns show")
+        writeln!(f, "see docs/errata.md E2–E5 for the slips these columns show")?;
+        for o in study.optima.iter().flatten() {
+            writeln!(
+                f,
+                "eq. (12) at δ = {} m, {} ≤ K ≤ {}: {}, K = {:.6} N·m/rad, θ0 = {:.6} rad, J = {:.4e} J; eq. (19) with λ1 of eq. (20): {:.4e}, central difference {}",
+                o.delta,
+                o.bounds.0,
+                o.bounds.1,
+                o.place.describe(),
+                o.stiffness,
+                o.theta0,
+                o.objective,
+                o.dl_dk,
+                fmt_opt(o.dl_dk_central_difference, 4)
+            )?;
+        }
+        if let Some(sd) = &study.small_deflection {
+            writeln!(
+                f,
+                "eq. (26) against the exact small deflections: order {} (corrected, E8), {} as printed",
+                fmt_opt(sd.order, 3),
+                fmt_opt(sd.order_printed, 3)
+            )?;
+        }
+        Ok(())
     }
 }

@@ -27,8 +27,8 @@ pub fn general_solution(tl: &TwoLink, stiffness: f64, theta0: f64, opts: &Contin
 }
 
 /// The exact `θ0` for `(K, δ)`, or `None` when no sign change of `δ(θ0) − δ` is found between the
-/// zero-moment angle `θ*` and `θ* + 1` rad. Returns the first root above `θ*` (the branch of
-/// eq. (10)), converged to `|Δθ0| ≤ 1e-14`.
+/// zero-moment angle `θ*` and `π/2` (where the link would stand upright). Returns the first root
+/// above `θ*` (the branch of eq. (10)), converged to `|Δθ0| ≤ 1e-14`.
 pub fn exact_theta0(tl: &TwoLink, stiffness: f64, delta: f64, opts: &ContinuationOptions) -> Option<f64> {
     let f = |t0: f64| -> Option<f64> {
         let sol = general_solution(tl, stiffness, t0, opts);
@@ -41,7 +41,7 @@ pub fn exact_theta0(tl: &TwoLink, stiffness: f64, delta: f64, opts: &Continuatio
     let steps = 400;
     let mut bracket = None;
     for k in 1..=steps {
-        let b = start + 1.0 * (k as f64 / steps as f64).powi(2);
+        let b = start + (std::f64::consts::FRAC_PI_2 - 1e-6 - start) * (k as f64 / steps as f64).powi(2);
         let fb = f(b)?;
         if fa * fb <= 0.0 {
             bracket = Some((a, fa, b, fb));
@@ -104,17 +104,54 @@ pub struct StudyOrders {
     pub eq11_relative: Option<f64>,
 }
 
-/// The closed forms of Sec. 3 beside the exact solution for each `δ`, with observed error orders.
+/// The closed forms of Sec. 3 beside the exact solution for each `δ`, with observed error orders;
+/// eq. (12) solved for each upper stiffness bound; eq. (26) against the exact small deflections.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Study {
     pub zero_moment_angle: f64,
     pub rows: Vec<StudyRow>,
     pub orders: StudyOrders,
+    /// Eq. (12) for each upper bound of [`OptimisationSpec::upper_bounds`] (`None`: no design in
+    /// those bounds).
+    pub optima: Vec<Option<TwoLinkOptimum>>,
+    pub small_deflection: Option<SmallDeflectionStudy>,
 }
 
-/// Runs the two-link study for spring `K` and the given end displacements.
-pub fn study(tl: &TwoLink, stiffness: f64, deltas: &[f64], opts: &ContinuationOptions) -> Study {
-    let rows: Vec<StudyRow> = deltas
+/// What a Sec. 3 study computes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudySpec {
+    /// The spring `K` of the closed-form table, N·m/rad.
+    pub stiffness: f64,
+    /// End displacements of the closed-form table, m.
+    pub deltas: Vec<f64>,
+    pub optimisation: Option<OptimisationSpec>,
+    pub small_deflection: Option<SmallDeflectionSpec>,
+}
+
+/// Eq. (12) at `delta` with `lower_bound ≤ K ≤ upper` for each of `upper_bounds` (N·m/rad).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptimisationSpec {
+    pub delta: f64,
+    pub lower_bound: f64,
+    pub upper_bounds: Vec<f64>,
+}
+
+/// Eq. (26) for `system` with its loads scaled by each of `scales`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SmallDeflectionSpec {
+    pub system: SmallDeflection,
+    pub scales: Vec<f64>,
+}
+
+/// Runs the two-link study of `spec`.
+pub fn study(tl: &TwoLink, spec: &StudySpec, opts: &ContinuationOptions) -> Study {
+    let stiffness = spec.stiffness;
+    let optima = spec.optimisation.as_ref().map_or_else(Vec::new, |o| {
+        o.upper_bounds.iter().map(|&upper| optimum(tl, o.delta, (o.lower_bound, upper), opts)).collect()
+    });
+    let small_deflection = spec.small_deflection.as_ref().map(|s| small_deflection_study(&s.system, &s.scales, opts));
+    let rows: Vec<StudyRow> = spec
+        .deltas
         .iter()
         .map(|&delta| {
             let exact = exact_theta0(tl, stiffness, delta, opts);
@@ -158,7 +195,7 @@ pub fn study(tl: &TwoLink, stiffness: f64, deltas: &[f64], opts: &ContinuationOp
         first_order: fit(&|r| r.theta0_exact.map(|t| (r.theta0_first_order - t).abs())),
         eq11_relative: fit(&|r| r.stiffness_eq11.map(|k| (k - stiffness).abs() / stiffness)),
     };
-    Study { zero_moment_angle: tl.zero_moment_angle(), rows, orders }
+    Study { zero_moment_angle: tl.zero_moment_angle(), rows, orders, optima, small_deflection }
 }
 
 /// Where the optimum of eq. (12) lies.
@@ -175,6 +212,18 @@ pub enum OptimumPlace {
     /// `θ0` gives a stable `θ2` with end displacement `δ`, so `J` has an infimum there, not a
     /// minimum inside the bounds.
     StabilityEdge,
+}
+
+impl OptimumPlace {
+    /// As a report says it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Interior => "interior",
+            Self::LowerBound => "at the lower bound",
+            Self::UpperBound => "at the upper bound",
+            Self::StabilityEdge => "at the stability edge",
+        }
+    }
 }
 
 /// Eq. (12) solved: `min_{θ0, K} 2K(θ1 − θ0)²` subject to `cos θ2 = cos θ0 + δ/2L` and
@@ -206,7 +255,12 @@ pub struct TwoLinkOptimum {
 }
 
 /// `J(K)` along the constraint: `(θ0, θ1, θ2, J)` of the exact design for `(K, δ)`.
-fn along_constraint(tl: &TwoLink, stiffness: f64, delta: f64, opts: &ContinuationOptions) -> Option<(f64, f64, f64, f64)> {
+fn along_constraint(
+    tl: &TwoLink,
+    stiffness: f64,
+    delta: f64,
+    opts: &ContinuationOptions,
+) -> Option<(f64, f64, f64, f64)> {
     let theta0 = exact_theta0(tl, stiffness, delta, opts)?;
     let sol = general_solution(tl, stiffness, theta0, opts);
     let theta1 = sol.passive.status.is_stable().then(|| sol.passive.state.theta[0])?;
@@ -228,7 +282,9 @@ pub fn optimum(tl: &TwoLink, delta: f64, bounds: (f64, f64), opts: &Continuation
     const SCAN: usize = 41;
     let grid: Vec<f64> = (0..SCAN).map(|i| lo + (hi - lo) * i as f64 / (SCAN - 1) as f64).collect();
     let values: Vec<Option<f64>> = grid.iter().map(|&g| j(g.exp())).collect();
-    let best = (0..SCAN).filter(|&i| values[i].is_some()).min_by(|&a, &b| values[a].unwrap_or(f64::INFINITY).total_cmp(&values[b].unwrap_or(f64::INFINITY)))?;
+    let best = (0..SCAN)
+        .filter(|&i| values[i].is_some())
+        .min_by(|&a, &b| values[a].unwrap_or(f64::INFINITY).total_cmp(&values[b].unwrap_or(f64::INFINITY)))?;
     let feasible = |i: usize| values.get(i).is_some_and(Option::is_some);
     let (stiffness, place) = if best + 1 < SCAN && !feasible(best + 1) || best > 0 && !feasible(best - 1) {
         // The design ends between `best` and its neighbour: bisect the edge to 1e-10 in log K.
@@ -334,7 +390,11 @@ fn slope(points: &[(f64, f64)]) -> Option<f64> {
 
 /// Eq. (26) for `system` with both loads scaled by each of `scales`, against the general `N = 2`
 /// solver (spans `L_i cos θ0,i`, springs `[K1, K2, 0]`).
-pub fn small_deflection_study(system: &SmallDeflection, scales: &[f64], opts: &ContinuationOptions) -> SmallDeflectionStudy {
+pub fn small_deflection_study(
+    system: &SmallDeflection,
+    scales: &[f64],
+    opts: &ContinuationOptions,
+) -> SmallDeflectionStudy {
     let rows: Vec<SmallDeflectionRow> = scales
         .iter()
         .map(|&scale| {
