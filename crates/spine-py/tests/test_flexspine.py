@@ -274,7 +274,7 @@ def test_figure_pdf_opens_in_a_pdf_reader_with_its_text(tmp_path):
     page = reader.pages[0]
     assert float(page.mediabox.width) == pytest.approx(504.0, abs=0.5)  # 7 in: a two-column figure
     text = page.extract_text()
-    assert "nodal stiffness" in text and "node j" in text and "K_j (N·m/rad)" in text
+    assert "nodal stiffness" in text and "node j" in text and "Kⱼ (N·m/rad)" in text
 
 
 def test_animation_bytes_from_python_equal_the_cli_file(tmp_path):
