@@ -24,6 +24,10 @@ pub struct DesignChange {
     /// Mean `|θ0_i − θ0_start,i|` over the links nearer the end (`i > N/2`) and nearer the base, rad.
     pub end_half_change: f64,
     pub base_half_change: f64,
+    /// The same with the halves split symmetrically: for odd `N` the middle link is in neither
+    /// (the split above puts it in the end half), rad.
+    pub end_half_change_symmetric: f64,
+    pub base_half_change_symmetric: f64,
     /// `max K / min K` and the coefficient of variation (std / mean) of `K_1..K_{N+1}` (springs of
     /// zero stiffness are left out of the ratio).
     pub stiffness_max_over_min: f64,
@@ -46,6 +50,8 @@ impl DesignChange {
             theta0_change: norm(dtheta.iter().copied()),
             end_half_change: mean(&dtheta[n / 2..]),
             base_half_change: mean(&dtheta[..n / 2]),
+            end_half_change_symmetric: mean(&dtheta[n.div_ceil(2)..]),
+            base_half_change_symmetric: mean(&dtheta[..n / 2]),
             stiffness_max_over_min: if positive.is_empty() { f64::NAN } else { kmax / kmin },
             stiffness_variation: sd / km,
         }
@@ -61,6 +67,17 @@ pub fn sensitivity_ratio(energy_gradient: &[f64], n_links: usize) -> f64 {
     norm(theta.iter().copied()) / norm(k.iter().copied())
 }
 
+/// Eq. (17) read as the paper derives it, a ratio of percentage changes: `R_rel =
+/// ‖θ0 ∘ ∂J/∂θ0‖₂ / ‖K ∘ ∂J/∂K‖₂` (each partial times its variable: the change of `J` per relative
+/// change of the variable, J). Dimensionless, unlike [`sensitivity_ratio`] (N·m/rad²), so `R > 1`
+/// cannot hold by units alone.
+pub fn relative_sensitivity_ratio(energy_gradient: &[f64], design: &Design) -> f64 {
+    let n = design.theta0.len();
+    let (theta, k) = energy_gradient.split_at(n);
+    norm(theta.iter().zip(&design.theta0).map(|(g, t)| g * t))
+        / norm(k.iter().zip(&design.stiffness).map(|(g, v)| g * v))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -74,6 +91,20 @@ mod tests {
         assert!((c.theta0_relative_change - 0.02f64.sqrt() / 0.08f64.sqrt()).abs() < 1e-15);
         assert!((c.stiffness_relative_change - 200.0 / (5.0f64.sqrt() * 100.0)).abs() < 1e-15);
         assert!((c.end_half_change - 0.1).abs() < 1e-15 && c.base_half_change == 0.0);
+        // N = 4: the symmetric split is the same.
+        assert_eq!(
+            (c.end_half_change_symmetric, c.base_half_change_symmetric),
+            (c.end_half_change, c.base_half_change)
+        );
+        // N = 5: the middle link (index 2) counts in the end half, in neither symmetrically.
+        let start5 = Design { theta0: vec![0.0; 5], stiffness: vec![100.0; 6] };
+        let moved5 = Design { theta0: vec![0.0, 0.0, 0.3, 0.0, 0.0], stiffness: vec![100.0; 6] };
+        let c5 = DesignChange::new(&moved5, &start5);
+        assert!((c5.end_half_change - 0.1).abs() < 1e-15 && c5.end_half_change_symmetric == 0.0);
+        let g = [1.0, 2.0, 0.5, 0.0, 4.0];
+        let d = Design { theta0: vec![0.5, -0.5], stiffness: vec![10.0, 20.0, 30.0] };
+        // θ0 ∘ ∂J/∂θ0 = (0.5, −1), K ∘ ∂J/∂K = (5, 0, 120).
+        assert!((relative_sensitivity_ratio(&g, &d) - 1.25f64.sqrt() / 14425f64.sqrt()).abs() < 1e-15);
         assert_eq!(c.stiffness_max_over_min, 3.0);
         let sd = (4.0 * 40.0f64.powi(2) + 160.0f64.powi(2)) / 5.0;
         assert!((c.stiffness_variation - sd.sqrt() / 140.0).abs() < 1e-15);

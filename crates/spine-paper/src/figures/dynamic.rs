@@ -109,9 +109,11 @@ fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec
                 r.settled
             ),
         ));
-        claims.push(Claim::new(
+        // τ = 11.5 s⁻¹ is T_d = 0.2 s restated (E6), and eq. (35) designs for T_d: a check of the
+        // fit, not of the paper.
+        claims.push(Claim::solver(
             scope,
-            "\"the time constant of the structure is τ = 11.5 s⁻¹\", τ = ln(10)/T_d (eq. (36), errata E6)",
+            "the fitted time constant is the designed one: τ = ln(10)/T_d (eq. (36), errata E6; the paper's τ = 11.5 s⁻¹ is T_d = 0.2 s)",
             format!("fitted τ within {:.0} % of ln(10)/T_d", 100.0 * TAU_TOLERANCE),
             gap <= TAU_TOLERANCE,
             format!(
@@ -318,7 +320,9 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
                 q.min_end_displacement, q.delta_d, q.relative_error, q.status(), q.iterations(), q.simulations, q.objective
             ),
         ));
-        out.claims.push(Claim::new(
+        out.claims.extend(timing_claims(other_run.name, q));
+        // Not a statement of the paper: this workspace's check of its second method.
+        out.claims.push(Claim::solver(
             "figure",
             &format!(
                 "beside the paper: eq. (37) by {} does at least as well as the {}",
@@ -367,26 +371,27 @@ fn periodic_design_claims(scope: &str, p: &PeriodicDesign) -> Vec<Claim> {
         format!("min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2} % off); settled: {}; {} after {} simulations; U(θ1) = {:.4e} J",
             p.min_end_displacement, p.delta_d, 100.0 * p.relative_error, r.settled, p.status(), p.simulations, p.objective),
     ));
-    // The time to δ_d itself when the end reaches it; else (the search's band lets the minimum stop
-    // short of δ_d) the time to 90 % of the swing.
-    let (reach, what) = match r.time_to_target {
-        Some(t) => (Some(t), "time from the onset to δ_d"),
-        None => (r.reach_time, "time from the onset to 90 % of the swing (δ_d itself is not reached, see above)"),
-    };
-    claims.push(time_claim(
-        scope,
-        "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)",
-        reach,
-        0.5,
-        what,
-    ));
-    claims.push(time_claim(
-        scope,
-        "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"",
-        r.return_time,
-        0.25,
-        "return time (90 %)",
-    ));
+    claims.extend(timing_claims(scope, p));
+    claims
+}
+
+/// Sec. 5.2.2's times on the eq. (37) design `p`, each in both readings the text allows: "reaches
+/// the desired δ" as the time to δ_d itself (not reached when the search's band lets the minimum
+/// stop short of it) and as the time to 90 % of the swing; the return as the time back to 90 %.
+fn timing_claims(scope: &str, p: &PeriodicDesign) -> Vec<Claim> {
+    let r = &p.response;
+    let reach = "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)";
+    let mut claims = vec![
+        time_claim(scope, reach, r.time_to_target, 0.5, "reading 1: time from the onset to δ_d itself"),
+        time_claim(scope, reach, r.reach_time, 0.5, "reading 2: time from the onset to 90 % of the swing"),
+        time_claim(
+            scope,
+            "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"",
+            r.return_time,
+            0.25,
+            "return time (90 % of the way back)",
+        ),
+    ];
     claims.push(Claim::new(
         scope,
         "\"the release of stored energy is much faster\" (return faster than reach)",
