@@ -129,3 +129,40 @@ fn unloaded_design_is_an_exact_equilibrium() {
     let r = equilibrium_residual(&chain.spans, &design, &zero, &State::unloaded(&design));
     assert!(r.iter().all(|v| v.abs() < 1e-15), "{r:?}");
 }
+
+/// Erratum E9: eq. (49)'s load derivative sums the nodal forces from `j = i` (and from an undefined
+/// `k` in its first line). A force at the base node of link `i` does not move with `θ_i`, so the
+/// sum runs over the nodes beyond the link, `j = i + 1 … N + 1` (paper numbering; the model's
+/// `V_i`, `A_i` of docs/model.md). Central second differences of the load potential, which knows
+/// nothing of either formula, show it: with one force at node 2 (0-based), `∂²V/∂θ_i²` vanishes for
+/// link 2 (whose base node it is) and equals the model's `L_i (sin θ_i V_i + cos θ_i A_i)` for the
+/// links before it, where the printed index would give link 2 a nonzero term.
+#[test]
+fn eq_49_sums_the_forces_beyond_the_link_not_from_its_base_node() {
+    let chain = spine_model::Chain { spans: vec![0.25; 4], masses: vec![0.0; 4], gravity: 0.0 };
+    let (p_y, p_x) = (-7.0, -30.0);
+    let mut loads = NodalLoads { p_x: vec![0.0; 5], p_y: vec![0.0; 5] };
+    (loads.p_y[2], loads.p_x[2]) = (p_y, p_x);
+    let theta0 = [0.3, 0.1, -0.1, -0.3];
+    let theta = [0.35, 0.05, -0.2, -0.25];
+    let lengths = spine_model::kinematics::link_lengths(&chain.spans, &theta0);
+    let v = |t: &[f64]| load_potential(&chain, &loads, false, &theta0, t);
+    let h = 1e-4;
+    for i in 0..4 {
+        let at = |d: f64| {
+            let mut t = theta;
+            t[i] += d;
+            v(&t)
+        };
+        let second = (at(h) - 2.0 * at(0.0) + at(-h)) / (h * h);
+        let (s, c) = theta[i].sin_cos();
+        // The model: forces beyond link i (nodes > i) only.
+        let beyond = if i < 2 { lengths[i] * (s * p_y + c * p_x) } else { 0.0 };
+        // As printed: forces from node i on, so link 2 also feels node 2's force.
+        let printed = if i <= 2 { lengths[i] * (s * p_y + c * p_x) } else { 0.0 };
+        assert!((second - beyond).abs() < 1e-6, "link {i}: ∂²V/∂θ² {second} vs {beyond}");
+        if i == 2 {
+            assert!((second - printed).abs() > 1.0, "the printed index would give link 2 {printed}");
+        }
+    }
+}
