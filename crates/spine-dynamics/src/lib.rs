@@ -16,6 +16,7 @@
 //! * [`ode`]: the ODE interface the integrators solve.
 //! * [`response`]: the step response (`T_90`, `Δ∞`, the static ends it moves between, drift).
 //! * [`periodic`]: the settled response to a periodic axial force.
+//! * [`overdamping`]: whether a step response is over-damped (no turn back, no overshoot).
 //! * `fixtures` (feature `testing`): chains with their responses for tests, benchmarks and
 //!   examples.
 //!
@@ -60,6 +61,7 @@ pub use eom::Dynamics;
 pub use forcing::Forcing;
 pub use integrator::{integrate, Options, Outcome, Stats, Trajectory, DEFAULT_ATOL, DEFAULT_RTOL};
 pub use system::{Parameters, SpineOde};
+pub mod overdamping;
 pub mod periodic;
 pub mod response;
 

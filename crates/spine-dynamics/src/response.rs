@@ -275,6 +275,8 @@ pub struct StepResponse {
     /// `max_i |θ_i(t_end) − θ2_i|`, rad: that it settles in the continuation's `θ2`.
     pub final_state_gap: f64,
     pub drift: Drift,
+    /// Whether the end point moves toward `Δ∞` without turning back (on the samples).
+    pub overdamping: crate::overdamping::Overdamping,
     pub stats: Stats,
     /// Wall time of the integration, s.
     pub time_seconds: f64,
@@ -368,6 +370,7 @@ pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gr
             && final_state_gap <= SETTLED_ANGLE,
         final_state_gap,
         drift,
+        overdamping: crate::overdamping::Overdamping::measure(&samples, delta_inf),
         stats: traj.stats,
         time_seconds,
         samples,

@@ -94,6 +94,25 @@ fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec
             d.objective
         ),
     )];
+    let o = &r.overdamping;
+    claims.push(Claim::new(
+        scope,
+        "the damper lower limit is set \"to ensure the end-point motion will be always a second order over damped motion\" (Sec. 4.2)",
+        format!(
+            "the end point never turns back on its way to Δ∞: no reversal and no retreat or overshoot beyond {:.1} % of the swing (on the sampled response)",
+            100.0 * spine_dynamics::overdamping::REVERSAL_THRESHOLD
+        ),
+        o.is_overdamped(),
+        format!(
+            "{} reversals; largest fall-back {:.2} % of the swing ({:.3} → {:.3}{}); peak {:.3} of the swing",
+            o.reversals,
+            100.0 * o.fall_back,
+            o.fall_back_from,
+            o.fall_back_to,
+            o.fall_back_at.map_or(String::new(), |t| format!(" at t = {t:.4} s")),
+            o.peak
+        ),
+    ));
     if with_first_order {
         let tau = LN_10 / target;
         let gap = (r.fit.tau - tau).abs() / tau;
