@@ -37,6 +37,7 @@ fn check(name: &str) {
         run_case(&case, &Overrides::default(), &spine_paper::PaperFigures, &mut spine_run::quiet)
     }
     .unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert_eq!(result.to_json()["kind"], result.result.kind(), "{name}: the tag without serialising");
     let drawn = figures(&result.result);
     assert!(!drawn.is_empty(), "{name} draws a figure");
     let mut report = Vec::new();

@@ -83,8 +83,7 @@ impl CaseResult {
     /// `figure`, `study`, `sensitivity`, `figure_sensitivity`, `sweep`): `result.json`'s `"kind"`.
     #[getter]
     fn kind(&self) -> String {
-        let json = serde_json::to_value(&self.inner.result).unwrap_or_default();
-        json.get("kind").and_then(|k| k.as_str()).unwrap_or_default().to_string()
+        self.inner.result.kind().to_string()
     }
 
     /// Every solver converged, every reported equilibrium is stable, every solver check passed and

@@ -91,6 +91,23 @@ pub enum KindResult {
 }
 
 impl KindResult {
+    /// `result.json`'s `"kind"` (serde's tag of the variant), without serialising the result.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Equilibrium(_) => "equilibrium",
+            Self::Twolink(_) => "twolink",
+            Self::Design(_) => "design",
+            Self::Simulate(_) => "simulate",
+            Self::Damping(_) => "damping",
+            Self::Periodic(_) => "periodic",
+            Self::Figure(_) => "figure",
+            Self::Study(_) => "study",
+            Self::Sensitivity(_) => "sensitivity",
+            Self::FigureSensitivity(_) => "figure_sensitivity",
+            Self::Sweep(_) => "sweep",
+        }
+    }
+
     /// Clean: every solver converged, every equilibrium it reports is stable and every solver
     /// check passed.
     pub fn is_clean(&self) -> bool {

@@ -66,6 +66,7 @@ fn limited(overrides: &Overrides, run: impl FnOnce() -> Result<KindResult, RunEr
 /// assert!(result.is_clean()); // both equilibria found and certified stable
 /// let json = result.to_json();
 /// assert_eq!(json["loaded"]["stability"]["stable"], true);
+/// assert_eq!(json["kind"], result.result.kind()); // the tag, without serialising
 /// assert!(json["timings"]["passive_seconds"].is_number()); // wall times live under `timings`
 /// ```
 pub fn run_case(

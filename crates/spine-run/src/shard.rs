@@ -55,7 +55,13 @@ impl std::str::FromStr for ShardSpec {
 impl ShardSpec {
     /// The starts of this shard among `0..=starts`.
     pub fn starts(&self, starts: usize) -> Vec<usize> {
-        (0..=starts).filter(|i| i % self.count == self.index - 1).collect()
+        self.share(0..=starts)
+    }
+
+    /// This shard's share of `starts`: start `i` belongs to shard `i mod N + 1` (the one rule of
+    /// sharding, for a multi-start and for each batch of a census).
+    pub fn share(&self, starts: impl IntoIterator<Item = usize>) -> Vec<usize> {
+        starts.into_iter().filter(|i| i % self.count == self.index - 1).collect()
     }
 }
 
@@ -119,7 +125,7 @@ pub fn run_shard(
             if !(1..=count).contains(&b) {
                 return Err(option_error("--batch", &format!("{b}: expected {allowed}")));
             }
-            batches.starts(b).into_iter().filter(|i| i % spec.count == spec.index - 1).collect()
+            spec.share(batches.starts(b))
         }
     };
     let used =
@@ -290,11 +296,7 @@ impl Shard {
     /// The starts this shard must hold.
     fn expected(&self, valid: &spine_case::ValidDesign) -> Vec<usize> {
         match self.batch {
-            Some(b) => Batches::new(valid)
-                .starts(b)
-                .into_iter()
-                .filter(|i| i % self.shard.count == self.shard.index - 1)
-                .collect(),
+            Some(b) => self.shard.share(Batches::new(valid).starts(b)),
             None => self.shard.starts(valid.multistart.starts),
         }
     }
