@@ -252,7 +252,7 @@ impl CkStudy {
 
     /// Stiffness spread and shape change against `log10 C_K`, one series per scaling.
     pub fn figure(&self, title: &str) -> Figure {
-        let x = "log10 C_K (C_K dimensionless)";
+        let x = "log₁₀ C_K (C_K dimensionless)";
         let series = |f: &dyn Fn(&CkRow) -> f64, panel: Panel| {
             SCALINGS.iter().enumerate().fold(panel, |p, (k, &s)| {
                 p.with(
