@@ -173,23 +173,7 @@ pub fn study(tl: &TwoLink, spec: &StudySpec, opts: &ContinuationOptions) -> Stud
             }
         })
         .collect();
-    let fit = |err: &dyn Fn(&StudyRow) -> Option<f64>| -> Option<f64> {
-        let mut smallest: Vec<&StudyRow> = rows.iter().collect();
-        smallest.sort_by(|a, b| a.delta.abs().total_cmp(&b.delta.abs()));
-        let pts: Vec<(f64, f64)> = smallest
-            .into_iter()
-            .take(3)
-            .filter_map(|r| err(r).filter(|e| *e > 0.0).map(|e| (r.delta.abs().ln(), e.ln())))
-            .collect();
-        if pts.len() < 2 {
-            return None;
-        }
-        let m = pts.len() as f64;
-        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / m, pts.iter().map(|p| p.1).sum::<f64>() / m);
-        let num: f64 = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
-        let den: f64 = pts.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
-        (den > 0.0).then(|| num / den)
-    };
+    let fit = |err: &dyn Fn(&StudyRow) -> Option<f64>| observed_order(&rows, |r| r.delta.abs(), err);
     let orders = StudyOrders {
         eq10: fit(&|r| r.theta0_exact.map(|t| (r.theta0_eq10 - t).abs())),
         first_order: fit(&|r| r.theta0_exact.map(|t| (r.theta0_first_order - t).abs())),
@@ -375,6 +359,15 @@ pub struct SmallDeflectionStudy {
     pub order_printed: Option<f64>,
 }
 
+/// The observed order of an error: the slope of `ln error` against `ln size` over the three rows
+/// of smallest `size` (the asymptotic regime; rows without a positive error are left out).
+fn observed_order<R>(rows: &[R], size: impl Fn(&R) -> f64, error: &dyn Fn(&R) -> Option<f64>) -> Option<f64> {
+    let mut smallest: Vec<&R> = rows.iter().collect();
+    smallest.sort_by(|a, b| size(a).total_cmp(&size(b)));
+    let points: Vec<(f64, f64)> = smallest.into_iter().take(3).filter_map(|r| error(r).map(|e| (size(r), e))).collect();
+    slope(&points)
+}
+
 /// Least-squares slope of `ln y` against `ln x`.
 fn slope(points: &[(f64, f64)]) -> Option<f64> {
     let pts: Vec<(f64, f64)> = points.iter().filter(|p| p.0 > 0.0 && p.1 > 0.0).map(|p| (p.0.ln(), p.1.ln())).collect();
@@ -424,12 +417,7 @@ pub fn small_deflection_study(
             SmallDeflectionRow { scale, exact, error: error(false), error_printed: error(true) }
         })
         .collect();
-    let order = |pick: &dyn Fn(&SmallDeflectionRow) -> Option<f64>| {
-        let mut smallest: Vec<&SmallDeflectionRow> = rows.iter().collect();
-        smallest.sort_by(|a, b| a.scale.total_cmp(&b.scale));
-        let pts: Vec<(f64, f64)> = smallest.into_iter().take(3).filter_map(|r| pick(r).map(|e| (r.scale, e))).collect();
-        slope(&pts)
-    };
+    let order = |pick: &dyn Fn(&SmallDeflectionRow) -> Option<f64>| observed_order(&rows, |r| r.scale, pick);
     SmallDeflectionStudy {
         system: *system,
         order: order(&|r| r.error),
