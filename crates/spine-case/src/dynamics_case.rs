@@ -319,6 +319,7 @@ impl DynamicsCase {
                 tolerance: dd.tolerance,
                 max_iterations: dd.max_iterations,
                 step: s.clone(),
+                overdamped: dd.overdamped,
             },
         })
     }

@@ -37,6 +37,10 @@ pub struct DampingDesignSpec {
     pub tolerance: f64,
     #[serde(default = "iters")]
     pub max_iterations: usize,
+    /// Raise `damping_min` until each design's step response is over-damped (the paper's "trial
+    /// and error", Sec. 4.2); default false.
+    #[serde(default)]
+    pub overdamped: bool,
 }
 
 // The defaults are eq. (35)'s own (`DampingSettings::default()`), written once there.

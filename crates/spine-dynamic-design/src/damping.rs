@@ -28,6 +28,10 @@ pub struct DampingSettings {
     pub max_iterations: usize,
     /// The step response used for every evaluation (its `rise_fraction` defines `T_90`).
     pub step: StepSettings,
+    /// Raise `damping_min` until the design's step response is over-damped, as the paper sets its
+    /// lower limit "through trial and error" (Sec. 4.2): a bisection on `ln C_min` between the
+    /// stated limit and the uniform start (to 2 %), one eq. (35) solve per trial.
+    pub overdamped: bool,
 }
 
 impl Default for DampingSettings {
@@ -36,7 +40,7 @@ impl Default for DampingSettings {
         step.integrator.rtol = 1e-8;
         step.integrator.atol = 1e-10;
         step.samples = 401;
-        Self { damping_min: 1.0, damping_max: 1e3, tolerance: 1e-7, max_iterations: 200, step }
+        Self { damping_min: 1.0, damping_max: 1e3, tolerance: 1e-7, max_iterations: 200, step, overdamped: false }
     }
 }
 
@@ -62,6 +66,72 @@ pub struct DampingDesign {
     pub time_seconds: f64,
     /// The final design's step response.
     pub response: StepResponse,
+    /// The search for an over-damping lower limit, when [`DampingSettings::overdamped`] asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lower_limit: Option<LowerLimitSearch>,
+}
+
+/// The "trial and error" on the dampers' lower limit: each limit tried and whether its design's
+/// step response was over-damped.
+#[derive(Clone, Debug, Serialize)]
+pub struct LowerLimitSearch {
+    /// The case's `damping_min`, N·m·s/rad.
+    pub stated: f64,
+    /// The limit of the reported design (the smallest over-damped one found), N·m·s/rad; `None`
+    /// when no limit up to the uniform start gives an over-damped design (then the design at the
+    /// stated limit is reported).
+    pub used: Option<f64>,
+    /// `(limit, over-damped)` in the order tried.
+    pub trials: Vec<(f64, bool)>,
+}
+
+/// Bisection steps of the lower-limit search at most (the bracket shrinks to 2 % well before).
+const MAX_LIMIT_TRIALS: usize = 12;
+
+/// Solves eq. (35) for the rise time `target` (s); with [`DampingSettings::overdamped`], raises
+/// the dampers' lower limit until the design is over-damped ([`LowerLimitSearch`]).
+pub fn design_damping(
+    problem: &DynamicProblem,
+    target: f64,
+    settings: &DampingSettings,
+) -> Result<DampingDesign, DynamicDesignError> {
+    let clock = std::time::Instant::now();
+    let first = design_with_limit(problem, target, settings)?;
+    if !settings.overdamped {
+        return Ok(first);
+    }
+    let over = |d: &DampingDesign| d.converged && d.response.overdamping.is_overdamped();
+    let mut trials = vec![(settings.damping_min, over(&first))];
+    let mut simulations = first.simulations;
+    let mut best = over(&first).then(|| first.clone());
+    if let (None, Some(c0)) = (&best, first.uniform_start) {
+        let mut limited = |c_min: f64, trials: &mut Vec<(f64, bool)>| -> Result<DampingDesign, DynamicDesignError> {
+            let d = design_with_limit(problem, target, &DampingSettings { damping_min: c_min, ..settings.clone() })?;
+            simulations += d.simulations;
+            trials.push((c_min, over(&d)));
+            Ok(d)
+        };
+        let top = limited(c0, &mut trials)?;
+        if over(&top) {
+            let (mut lo, mut hi) = (settings.damping_min.ln(), c0.ln());
+            best = Some(top);
+            while hi - lo > 0.02_f64.ln_1p() && trials.len() < MAX_LIMIT_TRIALS {
+                let mid = 0.5 * (lo + hi);
+                let d = limited(mid.exp(), &mut trials)?;
+                if over(&d) {
+                    (hi, best) = (mid, Some(d));
+                } else {
+                    lo = mid;
+                }
+            }
+        }
+    }
+    let used = best.as_ref().and_then(|_| trials.iter().filter(|t| t.1).map(|t| t.0).reduce(f64::min));
+    let mut design = best.unwrap_or(first);
+    design.simulations = simulations;
+    design.time_seconds = clock.elapsed().as_secs_f64();
+    design.lower_limit = Some(LowerLimitSearch { stated: settings.damping_min, used, trials });
+    Ok(design)
 }
 
 /// How an eq. (35) design ended: Ipopt's status, or no feasible uniform start (then Ipopt is not
@@ -201,8 +271,8 @@ fn uniform_rise_time(base: &Dynamics, ends: &StaticEnds, settings: &StepSettings
     rise_time(&d, ends, settings, false).0
 }
 
-/// Solves eq. (35) for the rise time `target` (s).
-pub fn design_damping(
+/// Solves eq. (35) for the rise time `target` (s) with the dampers' bounds of `settings`.
+fn design_with_limit(
     problem: &DynamicProblem,
     target: f64,
     settings: &DampingSettings,
@@ -276,5 +346,6 @@ pub fn design_damping(
         simulations,
         time_seconds: clock.elapsed().as_secs_f64(),
         response,
+        lower_limit: None,
     })
 }

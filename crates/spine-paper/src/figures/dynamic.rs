@@ -104,13 +104,22 @@ fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec
         ),
         o.is_overdamped(),
         format!(
-            "{} reversals; largest fall-back {:.2} % of the swing ({:.3} → {:.3}{}); peak {:.3} of the swing",
+            "{} reversals; largest fall-back {:.2} % of the swing ({:.3} → {:.3}{}); peak {:.3} of the swing{}",
             o.reversals,
             100.0 * o.fall_back,
             o.fall_back_from,
             o.fall_back_to,
             o.fall_back_at.map_or(String::new(), |t| format!(" at t = {t:.4} s")),
-            o.peak
+            o.peak,
+            d.lower_limit.as_ref().map_or(String::new(), |l| match l.used {
+                Some(used) if used > l.stated => format!(
+                    "; lower limit raised from {} to {used:.3} N·m·s/rad ({} trials)",
+                    l.stated,
+                    l.trials.len()
+                ),
+                Some(_) => format!("; the stated lower limit {} N·m·s/rad suffices", l.stated),
+                None => format!("; no lower limit up to the uniform start gives an over-damped design ({} trials)", l.trials.len()),
+            })
         ),
     ));
     if with_first_order {
