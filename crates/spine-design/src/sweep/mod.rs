@@ -89,7 +89,7 @@ pub enum SweepError {
     Solver(#[from] DesignError),
     /// The start optimum is not clean, so there is no branch to follow.
     #[error("the optimum at the sweep's start is not clean ({0}): there is no branch to follow")]
-    Start(String),
+    Start(spine_ipopt::Status),
 }
 
 /// How a reported point was reached.
@@ -125,7 +125,7 @@ pub struct SweepPoint {
     pub end_displacement: Option<f64>,
     pub design: Design,
     /// Ipopt's status and iterations of the corrector that gave this point.
-    pub ipopt_status: String,
+    pub ipopt_status: spine_ipopt::Status,
     pub iterations: usize,
     /// The strictly active inequality bounds, second-order sufficiency, and the stability of the
     /// passive and the loaded equilibrium.
@@ -279,7 +279,7 @@ impl<'a> Sweep<'a> {
             return Ok(self.finish(result));
         }
         if !first.clean() {
-            return Err(SweepError::Start(first.result.solver.status.name().to_string()));
+            return Err(SweepError::Start(first.result.solver.status));
         }
         result.points.push(self.point(&first, PointStatus::Followed));
         let mut current = first;
@@ -382,7 +382,7 @@ impl<'a> Sweep<'a> {
             objective: r.objective,
             end_displacement: r.end_displacement,
             design: r.design.clone(),
-            ipopt_status: r.solver.status.name().to_string(),
+            ipopt_status: r.solver.status,
             iterations: r.solver.iterations,
             active: s.active(),
             second_order_sufficient: s.second_order(),
