@@ -295,7 +295,7 @@ fn report_html_renders_in_a_headless_browser() {
     let claims = dom.split("<table id=\"claims\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap();
     let verdicts =
         claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
-    assert_eq!(verdicts, 2 + 3, "two twolink claims and three fig9 claims: {claims}");
+    assert_eq!(verdicts, 9 + 4, "nine twolink claims and four fig9 claims (n5): {claims}");
     assert!(dom.contains("claims pass."));
     // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
     let shot = results.join("shot.png");
