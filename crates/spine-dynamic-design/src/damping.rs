@@ -103,8 +103,9 @@ pub fn design_damping(
     let over = |d: &DampingDesign| d.converged && d.response.overdamping.is_overdamped();
     let mut trials = vec![(settings.damping_min, over(&first))];
     let mut simulations = first.simulations;
-    let mut best = over(&first).then(|| first.clone());
-    if let (None, Some(c0)) = (&best, first.uniform_start) {
+    // The over-damped design of the smallest limit tried above the stated one.
+    let mut raised = None;
+    if let (false, Some(c0)) = (trials[0].1, first.uniform_start) {
         let mut limited = |c_min: f64, trials: &mut Vec<(f64, bool)>| -> Result<DampingDesign, DynamicDesignError> {
             let d = design_with_limit(problem, target, &DampingSettings { damping_min: c_min, ..settings.clone() })?;
             simulations += d.simulations;
@@ -114,20 +115,21 @@ pub fn design_damping(
         let top = limited(c0, &mut trials)?;
         if over(&top) {
             let (mut lo, mut hi) = (settings.damping_min.ln(), c0.ln());
-            best = Some(top);
+            raised = Some(top);
             while hi - lo > 0.02_f64.ln_1p() && trials.len() < MAX_LIMIT_TRIALS {
                 let mid = 0.5 * (lo + hi);
                 let d = limited(mid.exp(), &mut trials)?;
                 if over(&d) {
-                    (hi, best) = (mid, Some(d));
+                    (hi, raised) = (mid, Some(d));
                 } else {
                     lo = mid;
                 }
             }
         }
     }
-    let used = best.as_ref().and_then(|_| trials.iter().filter(|t| t.1).map(|t| t.0).reduce(f64::min));
-    let mut design = best.unwrap_or(first);
+    // The reported design is the stated limit's when it is over-damped or nothing above it is.
+    let used = trials.iter().filter(|t| t.1).map(|t| t.0).reduce(f64::min);
+    let mut design = raised.unwrap_or(first);
     design.simulations = simulations;
     design.time_seconds = clock.elapsed().as_secs_f64();
     design.lower_limit = Some(LowerLimitSearch { stated: settings.damping_min, used, trials });

@@ -282,9 +282,9 @@ fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f
     );
     let (mut chart, mut plot) = axes_box(&full, x, y, panel.equal_aspect);
     let labelled: Vec<usize> = (0..panel.series.len()).filter(|&k| !panel.series[k].label.is_empty()).collect();
+    let mut drawn = marks(&axis, &plot, x, y);
     let mut legend = None;
     if !labelled.is_empty() {
-        let marks = marks(&axis, &plot, x, y);
         let ((w, h), entries) = column(&axis, &labelled);
         let inner = plot.grown(-8.0);
         let corner = |place: LegendPlace| match place {
@@ -294,7 +294,7 @@ fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f
             LegendPlace::LowerLeft => Some(Rect::new(inner.x0, inner.y1 - h, inner.x0 + w, inner.y1)),
             LegendPlace::Below => None,
         };
-        let free = |r: &Rect| inner.holds(r, 0.0) && !marks.iter().any(|(_, m)| m.hits(&r.grown(LEGEND_CLEARANCE)));
+        let free = |r: &Rect| inner.holds(r, 0.0) && !drawn.iter().any(|(_, m)| m.hits(&r.grown(LEGEND_CLEARANCE)));
         let places = match panel.legend {
             Some(place) => vec![place],
             None => {
@@ -311,6 +311,7 @@ fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f
                 if room < h + 4.0 {
                     let shorter = Rect::new(full.x0, full.y0, full.x1, full.y1 - (h + 4.0));
                     (chart, plot) = axes_box(&shorter, x, y, panel.equal_aspect);
+                    drawn = marks(&axis, &plot, x, y);
                 }
                 let left = (0.5 * (plot.x0 + plot.x1 - w)).min(full.x1 - w).max(full.x0).round();
                 let top = chart.y1 + 4.0;
@@ -333,7 +334,7 @@ fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f
         y,
         x_label_size: fit(&panel.x_label, plot.width()),
         y_label_size: fit(&panel.y_label, plot.height()),
-        marks: marks(&axis, &plot, x, y),
+        marks: drawn,
         legend,
     }
 }
