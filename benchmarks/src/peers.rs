@@ -28,6 +28,14 @@ pub fn bench_ladder(n: usize) -> Option<Ladder> {
     }
 }
 
+/// The scaled-family case of `N` links ([`scaled_family_case`]), parsed and checked.
+pub fn scaled_family_design(n: usize) -> spine_case::ValidDesign {
+    let Ok(spine_case::Case::Design(case)) = spine_case::Case::from_json(&scaled_family_case(n).to_string()) else {
+        unreachable!("the generated case is a design case")
+    };
+    case.validate().expect("the generated case is valid")
+}
+
 /// The scaled family of PEERS.md as a case file (the same problem as
 /// `spine_design::fixtures::scaled_family`, which a test checks), with [`peer_tolerances`].
 pub fn scaled_family_case(n: usize) -> serde_json::Value {

@@ -1,16 +1,14 @@
 //! The peer case file states the same problem as the fixture, the exponent fit recovers known
 //! power laws, and the comparison table says what each row shows.
 
-use spine_benchmarks::peers::{scaled_family_case, table, CrossCheck, PeerRow, SolverRun};
+use spine_benchmarks::peers::{table, CrossCheck, PeerRow, SolverRun};
 use spine_benchmarks::report::{fit_exponent, targets, Measurement};
-use spine_case::{Case, ValidCase};
 use spine_design::fixtures::{arch_start, scaled_family};
 
 #[test]
 fn the_peer_case_file_is_the_scaled_family_at_the_arch_start() {
     for n in [5, 10, 100] {
-        let case = Case::from_json(&scaled_family_case(n).to_string()).unwrap().validate().unwrap();
-        let ValidCase::Design(valid) = case else { panic!("a design case") };
+        let valid = spine_benchmarks::peers::scaled_family_design(n);
         let fixture = scaled_family(n);
         // No link mass, so switching self-weight off (gravity 0 in the case) changes nothing.
         assert_eq!(valid.problem.structure.chain.spans, fixture.structure.chain.spans);

@@ -20,7 +20,6 @@
 
 use serde_json::json;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
-use spine_case::{Case, ValidCase};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
 use spine_design::settings::ExtraOption;
@@ -93,15 +92,6 @@ fn ours_with(
         run.objective
     );
     Some(run)
-}
-
-/// The scaled-family case of `N` links, validated.
-fn scaled_case(n: usize) -> spine_case::ValidDesign {
-    let case = Case::from_json(&peers::scaled_family_case(n).to_string())
-        .and_then(|c| c.validate())
-        .expect("the generated case is valid");
-    let ValidCase::Design(valid) = case else { unreachable!("a design case") };
-    valid
 }
 
 /// The rows of an earlier run, which the 3.14 and CasADi-ladder runs add to.
@@ -212,7 +202,7 @@ fn add_ipopt314(sizes: &[usize], results: &Path) {
             eprintln!("N = {n}: no row from the default backend; skipped");
             continue;
         };
-        let valid = scaled_case(n);
+        let valid = peers::scaled_family_design(n);
         row.ipopt314 = ours(&valid, n, false);
         row.ipopt314_refined = ours(&valid, n, true).or_else(|| row.ipopt314.clone());
     }
@@ -225,7 +215,7 @@ fn measure(python: &str, n: usize, dir: &Path) -> PeerRow {
     let case_path = dir.join(format!("scaled-{n}.json"));
     let case_value = peers::scaled_family_case(n);
     write(&case_path, &case_value);
-    let valid = scaled_case(n);
+    let valid = peers::scaled_family_design(n);
     let (problem, settings) = (&valid.problem, &valid.settings);
 
     // The exact start point of our full space, handed to the peer.
@@ -339,7 +329,7 @@ fn level_case(
 fn casadi_refined(python: &str, n: usize, dir: &Path) -> Result<SolverRun, String> {
     use spine_design::refine;
     let ladder = peers::bench_ladder(n).ok_or("no ladder below 10 links")?;
-    let valid = scaled_case(n);
+    let valid = peers::scaled_family_design(n);
     let (problem, settings) = (&valid.problem, &valid.settings);
     let (start, _) = problem.project_start(&valid.start);
     let mut previous: Option<(spine_design::DesignProblem, Design, (State, State))> = None;

@@ -12,7 +12,6 @@
 #![forbid(unsafe_code)]
 
 use spine_benchmarks::peers;
-use spine_case::{Case, ValidCase};
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::refine::{Refine, RefineMode};
 use spine_design::settings::ExtraOption;
@@ -60,10 +59,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
         let (problem, start, settings) = if peers_cases {
-            let case = Case::from_json(&peers::scaled_family_case(n).to_string())
-                .and_then(|c| c.validate())
-                .expect("the generated case is valid");
-            let ValidCase::Design(valid) = case else { unreachable!("a design case") };
+            let valid = peers::scaled_family_design(n);
             let mut case_settings = valid.settings.clone();
             case_settings.refine = match settings.refine {
                 Refine::Mode(RefineMode::Auto) => {

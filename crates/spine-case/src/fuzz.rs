@@ -7,7 +7,7 @@
 pub fn check_bytes(data: &[u8]) -> bool {
     let Ok(text) = std::str::from_utf8(data) else { return false };
     match crate::Case::from_json(text) {
-        Ok(case) => case.validate().is_ok(),
+        Ok(case) => case.check().is_ok(),
         Err(_) => false,
     }
 }

@@ -43,6 +43,32 @@
 //! ```
 #![forbid(unsafe_code)]
 
+/// The registry of case kinds, written once: each kind's variant, its case type and its name
+/// as a case file writes it. It hands the list to the macro `$then` (a path): [`define_cases!`]
+/// makes [`Case`] from it here, and `spine-run` makes its result enum and its one dispatch from
+/// the same list. Adding a kind is one line here (docs/case-format.md, "Adding a kind").
+#[macro_export]
+macro_rules! case_kinds {
+    ($($then:tt)+) => {
+        $($then)+! {
+            /// `"kind": "equilibrium"`: the passive and loaded equilibria of a given design.
+            Equilibrium($crate::EquilibriumCase) = "equilibrium",
+            /// `"kind": "twolink"`: the two-link analysis of Sec. 3.
+            Twolink($crate::TwoLinkCase) = "twolink",
+            /// `"kind": "design"`: the static design problem, eq. (33).
+            Design($crate::DesignCase) = "design",
+            /// `"kind": "simulate"`: a step or periodic response (Sec. 5.2).
+            Simulate($crate::SimulateCase) = "simulate",
+            /// `"kind": "damping"`: the damping design, eq. (35).
+            Damping($crate::DampingCase) = "damping",
+            /// `"kind": "periodic"`: the periodic-load design, eq. (37).
+            Periodic($crate::PeriodicCase) = "periodic",
+            /// `"kind": "figure"`: a figure of the paper, several runs drawn and checked together.
+            Figure($crate::FigureCase) = "figure",
+        }
+    };
+}
+
 mod case;
 mod design_case;
 mod dynamics_case;
@@ -58,10 +84,11 @@ mod read;
 mod specs;
 mod twolink_case;
 
-pub use case::{json_schema, Case, ValidCase, ValidRun, KINDS};
+pub use case::{json_schema, Case, ValidRun, KINDS};
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
 pub use dynamics_case::{
-    DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics,
+    DampingCase, DampingDesignSpec, DesignSource, DynamicKind, DynamicsCase, DynamicsTask, PeriodicCase,
+    PeriodicDesignSpec, SimulateCase, StaticDesignSpec, ValidDynamics,
 };
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
@@ -72,3 +99,13 @@ pub use per_item::PerItem;
 pub use read::{read_text, ReadError};
 pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};
 pub use twolink_case::{TwoLinkCase, ValidTwoLink};
+
+/// What the macros [`case_kinds!`] and [`define_cases!`] expand to needs, for a crate that
+/// instantiates them (spine-run's result enum, a test's own registry).
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::case::{kind_schema, schema_of, split_kind, with_kind};
+    pub use crate::parse::parse;
+    pub use schemars;
+    pub use serde_json;
+}

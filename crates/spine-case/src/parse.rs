@@ -6,7 +6,7 @@ use serde::de::DeserializeOwned;
 /// Marks a path inside a field whose deserialiser is hand-written (see [`DesignSpec`]).
 pub(crate) const INNER_PATH: &str = "\u{1f}";
 
-pub(crate) fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, CaseError> {
+pub fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, CaseError> {
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let mut field = if path == "." { "case file".to_string() } else { path };

@@ -308,10 +308,10 @@ fn reported(case: &DesignCase, valid: &ValidDesign, mut results: Vec<DesignResul
     DesignCaseResult { title, reported_start, result, multistart: Some(summary), sensitivity: None }
 }
 
-impl DesignCaseResult {
+impl crate::KindOutput for DesignCaseResult {
     /// The reported run ended clean (see [`DesignResult::is_clean`]): with multi-start, some start
     /// reached a clean optimum.
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.result.is_clean() && self.multistart.as_ref().and_then(|m| m.confidence.as_ref()).is_none_or(|c| c.reached)
     }
 }
@@ -474,5 +474,28 @@ impl std::fmt::Display for DesignCaseResult {
             )?;
         }
         Ok(())
+    }
+}
+
+impl crate::RunKind for DesignCase {
+    type Output = DesignCaseResult;
+
+    /// Eq. (33) from the case's start and its seeded starts ([`run_design_case`]), with the
+    /// sensitivities of the reported optimum when asked for.
+    fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<DesignCaseResult, RunError> {
+        let mut valid = self.validate()?;
+        cx.overrides.design.apply(&mut valid);
+        let mut result = run_design_case(self, &valid, cx.overrides.workers.as_ref(), cx.progress)?;
+        crate::sensitivity::attach(self, &valid, &cx.overrides.design, &mut result)?;
+        Ok(result)
+    }
+
+    /// Eq. (33) from the case's own start, with what a figure draws ([`run_design`]).
+    fn in_figure(&self, _: &mut dyn FnMut(Progress<'_>)) -> Option<Result<crate::RunOutput, RunError>> {
+        Some(
+            self.validate()
+                .map_err(RunError::from)
+                .and_then(|valid| Ok(crate::RunOutput::Design(Box::new(run_design(&valid)?)))),
+        )
     }
 }

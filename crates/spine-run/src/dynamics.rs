@@ -5,9 +5,10 @@ use crate::animation::{Animation, AnimationOptions, Track};
 use crate::design::{run_design, StaticDesign};
 use crate::error::RunError;
 use crate::files::{samples_csv, FileContent, OutputFile};
+use crate::output::RunOutput;
 use crate::progress::Progress;
 use serde::{Serialize, Serializer};
-use spine_case::{DesignSource, DynamicsTask, ValidDynamics};
+use spine_case::{DampingCase, DesignSource, DynamicKind, DynamicsTask, PeriodicCase, SimulateCase, ValidDynamics};
 use spine_dynamic_design::{design_damping, design_periodic, DampingDesign, PeriodicDesign, SearchMethod};
 use spine_dynamics::{periodic_response, step_response, DynamicProblem, Forcing, PeriodicResponse, StepResponse};
 use spine_model::{Design, Structure};
@@ -203,9 +204,6 @@ pub struct DampingRun {
 /// `result.json` of kinds `simulate`, `damping` and `periodic`: one of the four task fields is set.
 #[derive(Clone, Debug, Serialize)]
 pub struct DynamicsResult {
-    /// The case's kind (`simulate`, `damping`, `periodic`; in `result.json` from [`crate::KindResult`]).
-    #[serde(skip)]
-    pub kind: &'static str,
     pub title: String,
     pub design: DynamicsDesign,
     /// Dampers `C_i` of the case, N·m·s/rad.
@@ -232,7 +230,7 @@ pub struct DynamicsResult {
 /// Runs a dynamic case of kind `kind` with title `title`, with an animation of its responses
 /// when `animation` is set.
 pub fn run_dynamics_case(
-    kind: &'static str,
+    kind: DynamicKind,
     title: &str,
     valid: &ValidDynamics,
     animation: Option<AnimationOptions>,
@@ -256,8 +254,7 @@ pub fn run_dynamics_case(
         }),
     };
     let mut result = DynamicsResult {
-        kind,
-        title: if title.is_empty() { kind.to_string() } else { title.to_string() },
+        title: if title.is_empty() { kind.name().to_string() } else { title.to_string() },
         design: DynamicsDesign { theta0: used.design.theta0.clone(), stiffness: used.design.stiffness.clone(), source },
         damping: valid.damping.clone(),
         forcing: valid.forcing.clone(),
@@ -289,24 +286,6 @@ pub fn run_dynamics_case(
 }
 
 impl DynamicsResult {
-    /// Step: settled in θ2 with a rise time; periodic: settled; eq. (35): every design converged
-    /// within [`spine_dynamic_design::RISE_TIME_ACCEPTANCE`] of its target (and its periodic response
-    /// settled); eq. (37): feasible and settled.
-    pub fn is_clean(&self) -> bool {
-        if let Some(r) = &self.step_response {
-            return r.settled && r.rise_time.is_some();
-        }
-        if let Some(r) = &self.periodic_response {
-            return r.settled;
-        }
-        if let Some(designs) = &self.damping_designs {
-            return designs
-                .iter()
-                .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.settled));
-        }
-        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.finished() && r.response.settled)
-    }
-
     /// The responses to animate: the step or periodic response, each eq. (35) design's step
     /// response, or the eq. (37) design's periodic response.
     fn tracks(&self, spans: &[f64]) -> Vec<Track> {
@@ -326,10 +305,56 @@ impl DynamicsResult {
         }
         tracks
     }
+}
+
+/// The runners of the three dynamic kinds: one case format ([`spine_case::DynamicsCase`]) that
+/// its type checks for its task.
+macro_rules! dynamic_runners {
+    ($($case:ty),+) => {$(
+        impl crate::RunKind for $case {
+            type Output = DynamicsResult;
+            const MOVES: bool = true;
+
+            fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<DynamicsResult, RunError> {
+                let mut valid = self.validate()?;
+                cx.overrides.dynamics.apply(&mut valid);
+                run_dynamics_case(Self::KIND, &self.title, &valid, cx.overrides.animation, cx.progress)
+            }
+
+            fn in_figure(&self, progress: &mut dyn FnMut(Progress<'_>)) -> Option<Result<RunOutput, RunError>> {
+                Some(self.validate().map_err(RunError::from).and_then(|valid| {
+                    let (used, output) = run_dynamics(&valid, progress)?;
+                    Ok(RunOutput::Dynamics { used: Box::new(used), output })
+                }))
+            }
+        }
+    )+};
+}
+
+dynamic_runners!(SimulateCase, DampingCase, PeriodicCase);
+
+impl crate::KindOutput for DynamicsResult {
+    /// Step: settled in θ2 with a rise time; periodic: settled; eq. (35): every design converged
+    /// within [`spine_dynamic_design::RISE_TIME_ACCEPTANCE`] of its target (and its periodic response
+    /// settled); eq. (37): feasible and settled.
+    fn is_clean(&self) -> bool {
+        if let Some(r) = &self.step_response {
+            return r.settled && r.rise_time.is_some();
+        }
+        if let Some(r) = &self.periodic_response {
+            return r.settled;
+        }
+        if let Some(designs) = &self.damping_designs {
+            return designs
+                .iter()
+                .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.settled));
+        }
+        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.finished() && r.response.settled)
+    }
 
     /// `response.csv` (step, periodic, eq. (37)), or `response_T{T_d}.csv` and
     /// `periodic_T{T_d}.csv` for each eq. (35) target.
-    pub fn files(&self) -> Vec<OutputFile> {
+    fn files(&self) -> Vec<OutputFile> {
         let csv = |name: String, samples| OutputFile { name, content: FileContent::Text(samples_csv(samples)) };
         let mut files = Vec::new();
         if let Some(r) = &self.step_response {

@@ -119,9 +119,9 @@ pub fn run_equilibrium(case: &EquilibriumCase, valid: &ValidEquilibrium) -> Equi
     }
 }
 
-impl EquilibriumResult {
+impl crate::KindOutput for EquilibriumResult {
     /// Both equilibria found and certified stable.
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.passive.status.is_stable() && self.loaded.as_ref().is_some_and(|l| l.status.is_stable())
     }
 }
@@ -142,5 +142,13 @@ impl std::fmt::Display for EquilibriumResult {
             ),
             None => writeln!(f, "end displacement: none (loaded path incomplete)"),
         }
+    }
+}
+
+impl crate::RunKind for EquilibriumCase {
+    type Output = EquilibriumResult;
+
+    fn run(&self, _: &mut crate::RunContext<'_>) -> Result<EquilibriumResult, crate::RunError> {
+        Ok(run_equilibrium(self, &self.validate()?))
     }
 }

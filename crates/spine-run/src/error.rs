@@ -13,9 +13,9 @@ pub enum RunError {
     /// The case file breaks a rule (the error names the field).
     #[error(transparent)]
     Case(#[from] CaseError),
-    /// The C_K study runs on a design case.
-    #[error("kind: the C_K study runs a \"design\" case, the file is \"{kind}\"")]
-    StudyNeedsDesign { kind: &'static str },
+    /// A command (or a figure's run) given a case of a kind it does not take.
+    #[error("kind: {command} needs {needs} case, the file is \"{kind}\"")]
+    WrongKind { command: &'static str, needs: &'static str, kind: &'static str },
     /// Eq. (33) could not start (its setup rejected the case).
     #[error("solver: {0}")]
     Design(#[source] DesignError),
@@ -31,9 +31,6 @@ pub enum RunError {
         .warnings.join("; ")
     )]
     StaticDesignNotClean { status: spine_ipopt::Status, warnings: Vec<String> },
-    /// A kind of case a figure cannot hold.
-    #[error("{0}")]
-    NotInFigure(&'static str),
     /// The figure's recipe (named by `figure`) rejected its runs; the error names the run.
     #[error("{figure}: {error}")]
     Recipe { figure: String, error: FieldError },
@@ -87,10 +84,9 @@ impl RunError {
     pub fn is_input(&self) -> bool {
         match self {
             Self::Case(_)
-            | Self::StudyNeedsDesign { .. }
+            | Self::WrongKind { .. }
             | Self::Design(_)
             | Self::Dynamics(_)
-            | Self::NotInFigure(_)
             | Self::Recipe { .. }
             | Self::Option(_)
             | Self::Merge(_) => true,

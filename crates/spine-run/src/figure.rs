@@ -4,7 +4,8 @@ use crate::animation::{Animation, AnimationOptions};
 use crate::claims::{Check, Claim};
 use crate::error::RunError;
 use crate::files::{FileContent, OutputFile};
-use crate::output::{run, RunOutput};
+use crate::kind::KindOutput;
+use crate::output::RunOutput;
 use crate::progress::Progress;
 use serde::Serialize;
 use serde_json::{Map, Value};
@@ -120,7 +121,7 @@ pub fn run_figure(
     for (index, r) in runs.iter().enumerate() {
         let stage = format!("run {} ({})", r.name, r.case.kind());
         let started = std::time::Instant::now();
-        let output = run(&r.valid, &mut |p| match p {
+        let output = crate::kind::in_figure(&r.case, &mut |p| match p {
             Progress::Step { done, total, .. } => progress(Progress::Step { stage: &stage, done, total }),
             Progress::Done { .. } => progress(p),
         })
@@ -168,15 +169,15 @@ pub fn run_figure(
     })
 }
 
-impl FigureResult {
+impl crate::KindOutput for FigureResult {
     /// Every solver check passed (a failed solver check means the figure is not a valid
     /// reproduction; a failed claim of the paper is a finding, not a failure).
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.claims.iter().all(|c| c.pass || c.check != Check::Solver)
     }
 
     /// The recipe's CSV tables, then its figures, then its animations.
-    pub fn files(&self) -> Vec<OutputFile> {
+    fn files(&self) -> Vec<OutputFile> {
         let tables = self.tables.iter().map(|(name, text)| OutputFile::text(name.clone(), text.clone()));
         let figures = self
             .figures
@@ -200,5 +201,15 @@ impl std::fmt::Display for FigureResult {
             writeln!(f, "a solver check FAILED: this figure is not a valid reproduction (see the claims above)")?;
         }
         Ok(())
+    }
+}
+
+impl crate::RunKind for FigureCase {
+    type Output = FigureResult;
+    /// Figs. 9–11 draw animations.
+    const MOVES: bool = true;
+
+    fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<FigureResult, RunError> {
+        run_figure(self, &self.validate()?, cx.recipes, cx.overrides.animation, cx.progress)
     }
 }

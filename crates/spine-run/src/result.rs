@@ -2,15 +2,8 @@
 //! it, and whether it is clean (exit code 0) or not (exit code 3). A run stopped by its time limit
 //! still gives its result, marked `"stopped": "time_limit"` and never clean.
 
-use crate::design::DesignCaseResult;
-use crate::dynamics::DynamicsResult;
-use crate::equilibrium::EquilibriumResult;
-use crate::figure::FigureResult;
 use crate::files::OutputFile;
-use crate::sensitivity::{FigureSensitivityResult, SensitivityResult};
-use crate::study::StudyResult;
-use crate::sweep::SweepCaseResult;
-use crate::twolink::TwoLinkResult;
+use crate::kind::KindResult;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -62,110 +55,6 @@ impl std::fmt::Display for CaseResult {
             writeln!(f, "STOPPED EARLY ({}): the run's time limit passed; what it reached so far:", reason.name())?;
         }
         self.result.fmt(f)
-    }
-}
-
-/// What any case computed, by kind: `"kind"` in `result.json` is the variant's name in snake_case
-/// (the case file's kind; `study`, `sensitivity`, `figure_sensitivity` and `sweep` for the
-/// commands of those names), derived here and nowhere else.
-#[derive(Clone, Debug, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-// One value per run: boxing the large variants would buy nothing.
-#[allow(clippy::large_enum_variant)]
-pub enum KindResult {
-    Equilibrium(EquilibriumResult),
-    Twolink(TwoLinkResult),
-    Design(DesignCaseResult),
-    /// A step or periodic response.
-    Simulate(DynamicsResult),
-    /// The damping design, eq. (35).
-    Damping(DynamicsResult),
-    /// The periodic-load design, eq. (37).
-    Periodic(DynamicsResult),
-    Figure(FigureResult),
-    Study(StudyResult),
-    Sensitivity(SensitivityResult),
-    /// `spine sensitivity` on a figure case: each design run's sensitivities.
-    FigureSensitivity(FigureSensitivityResult),
-    Sweep(SweepCaseResult),
-}
-
-impl KindResult {
-    /// `result.json`'s `"kind"` (serde's tag of the variant), without serialising the result.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Self::Equilibrium(_) => "equilibrium",
-            Self::Twolink(_) => "twolink",
-            Self::Design(_) => "design",
-            Self::Simulate(_) => "simulate",
-            Self::Damping(_) => "damping",
-            Self::Periodic(_) => "periodic",
-            Self::Figure(_) => "figure",
-            Self::Study(_) => "study",
-            Self::Sensitivity(_) => "sensitivity",
-            Self::FigureSensitivity(_) => "figure_sensitivity",
-            Self::Sweep(_) => "sweep",
-        }
-    }
-
-    /// Clean: every solver converged, every equilibrium it reports is stable and every solver
-    /// check passed.
-    pub fn is_clean(&self) -> bool {
-        match self {
-            Self::Equilibrium(r) => r.is_clean(),
-            Self::Twolink(r) => r.is_clean(),
-            Self::Design(r) => r.is_clean(),
-            Self::Simulate(r) | Self::Damping(r) | Self::Periodic(r) => r.is_clean(),
-            Self::Figure(r) => r.is_clean(),
-            Self::Study(r) => r.is_clean(),
-            Self::Sensitivity(r) => r.is_clean(),
-            Self::FigureSensitivity(r) => r.is_clean(),
-            Self::Sweep(r) => r.is_clean(),
-        }
-    }
-
-    /// Why the result is not clean, one line each, where it carries its reasons as a typed field
-    /// (`not_clean` of a sensitivity result); empty otherwise (the summary says why).
-    pub fn not_clean_reasons(&self) -> Vec<String> {
-        match self {
-            Self::Sensitivity(r) => r.not_clean.iter().map(ToString::to_string).collect(),
-            Self::FigureSensitivity(r) => r
-                .runs
-                .iter()
-                .flat_map(|run| run.result.not_clean.iter().map(move |reason| format!("{}: {reason}", run.name)))
-                .collect(),
-            _ => Vec::new(),
-        }
-    }
-
-    /// The files written beside `result.json` (CSV tables, figures), in writing order.
-    pub fn files(&self) -> Vec<OutputFile> {
-        match self {
-            Self::Equilibrium(_) | Self::Twolink(_) | Self::Design(_) => Vec::new(),
-            Self::Simulate(r) | Self::Damping(r) | Self::Periodic(r) => r.files(),
-            Self::Figure(r) => r.files(),
-            Self::Study(r) => r.files(),
-            Self::Sensitivity(r) => r.files(),
-            Self::FigureSensitivity(r) => r.files(),
-            Self::Sweep(r) => r.files(),
-        }
-    }
-}
-
-impl std::fmt::Display for KindResult {
-    /// The summary a user reads: status, the numbers that show it, and warnings.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Equilibrium(r) => r.fmt(f),
-            Self::Twolink(r) => r.fmt(f),
-            Self::Design(r) => r.fmt(f),
-            Self::Simulate(r) | Self::Damping(r) | Self::Periodic(r) => r.fmt(f),
-            Self::Figure(r) => r.fmt(f),
-            Self::Study(r) => r.fmt(f),
-            Self::Sensitivity(r) => r.fmt(f),
-            Self::FigureSensitivity(r) => r.fmt(f),
-            Self::Sweep(r) => r.fmt(f),
-        }
     }
 }
 

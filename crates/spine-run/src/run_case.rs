@@ -1,14 +1,13 @@
 //! Running a case file: [`run_case`] (any kind) and [`run_study`] (the C_K study), each under
 //! the run's time limit, to a typed [`CaseResult`].
 
-use crate::design::{run_design_case, DesignOverrides};
-use crate::dynamics::{run_dynamics_case, DynamicsOverrides};
-use crate::equilibrium::run_equilibrium;
+use crate::design::DesignOverrides;
+use crate::dynamics::DynamicsOverrides;
 use crate::error::RunError;
-use crate::figure::{run_figure, FigureRecipes};
+use crate::figure::FigureRecipes;
+use crate::kind::{moves, run_kind, KindResult, RunContext};
 use crate::progress::Progress;
-use crate::result::{CaseResult, KindResult};
-use crate::twolink::run_twolink_case;
+use crate::result::CaseResult;
 use crate::workers;
 use spine_case::Case;
 use spine_check::FieldError;
@@ -77,7 +76,7 @@ pub fn run_case(
 ) -> Result<CaseResult, RunError> {
     if let Some(a) = &overrides.animation {
         a.validate().map_err(RunError::Option)?;
-        if matches!(case, Case::Equilibrium(_) | Case::Twolink(_) | Case::Design(_)) {
+        if !moves(case) {
             return Err(RunError::Option(FieldError::new(
                 "animation",
                 format!(
@@ -87,32 +86,7 @@ pub fn run_case(
             )));
         }
     }
-    limited(overrides, || {
-        Ok(match case {
-            Case::Equilibrium(c) => KindResult::Equilibrium(run_equilibrium(c, &c.validate()?)),
-            Case::Twolink(c) => KindResult::Twolink(run_twolink_case(c, &c.validate()?)),
-            Case::Design(c) => {
-                let mut valid = c.validate()?;
-                overrides.design.apply(&mut valid);
-                let mut result = run_design_case(c, &valid, overrides.workers.as_ref(), progress)?;
-                crate::sensitivity::attach(c, &valid, &overrides.design, &mut result)?;
-                KindResult::Design(result)
-            }
-            Case::Simulate(c) | Case::Damping(c) | Case::Periodic(c) => {
-                let mut valid = c.validate(case.kind())?;
-                overrides.dynamics.apply(&mut valid);
-                let result = run_dynamics_case(case.kind(), &c.title, &valid, overrides.animation, progress)?;
-                match case {
-                    Case::Simulate(_) => KindResult::Simulate(result),
-                    Case::Damping(_) => KindResult::Damping(result),
-                    _ => KindResult::Periodic(result),
-                }
-            }
-            Case::Figure(c) => {
-                KindResult::Figure(run_figure(c, &c.validate()?, recipes, overrides.animation, progress)?)
-            }
-        })
-    })
+    limited(overrides, || run_kind(case, &mut RunContext { overrides, recipes, progress }))
 }
 
 /// The C_K study of eq. (34) on a design case (overrides applied), over `values`.
@@ -123,7 +97,7 @@ pub fn run_study(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
     let Case::Design(c) = case else {
-        return Err(RunError::StudyNeedsDesign { kind: case.kind() });
+        return Err(RunError::WrongKind { command: "the C_K study", needs: "a \"design\"", kind: case.kind() });
     };
     let mut valid = c.validate()?;
     overrides.design.apply(&mut valid);
@@ -162,11 +136,11 @@ pub fn run_sensitivity(
                     crate::sensitivity::run_figure_sensitivity(c, &runs, &overrides.design, workers, names, progress)?;
                 Ok(KindResult::FigureSensitivity(result))
             }
-            _ => {
-                let message =
-                    format!("sensitivities need a \"design\" or \"figure\" case, the file is \"{}\"", case.kind());
-                Err(RunError::Case(spine_case::CaseError::invalid("kind", message)))
-            }
+            _ => Err(RunError::WrongKind {
+                command: "`spine sensitivity`",
+                needs: "a \"design\" or \"figure\"",
+                kind: case.kind(),
+            }),
         }
     })
 }
@@ -182,8 +156,7 @@ pub fn run_sweep(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
     let Case::Design(c) = case else {
-        let message = format!("a sweep needs a \"design\" case, the file is \"{}\"", case.kind());
-        return Err(RunError::Case(spine_case::CaseError::invalid("kind", message)));
+        return Err(RunError::WrongKind { command: "`spine sweep`", needs: "a \"design\"", kind: case.kind() });
     };
     limited(overrides, || {
         let workers = overrides.workers.as_ref();

@@ -269,17 +269,21 @@ impl std::fmt::Display for NotClean {
     }
 }
 
-impl SensitivityResult {
+impl crate::KindOutput for SensitivityResult {
+    fn not_clean_reasons(&self) -> Vec<String> {
+        self.not_clean.iter().map(ToString::to_string).collect()
+    }
+
     /// Clean: the optimum is clean and every parameter has its derivative, two-sided or as the
     /// pair of one-sided ones (where LICQ or strict complementarity fails for some parameters,
     /// the others' derivatives still hold; `conditions` says which condition failed). Otherwise
     /// [`SensitivityResult::not_clean`] says why.
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.not_clean.is_empty()
     }
 
     /// A CSV per parameter.
-    pub fn files(&self) -> Vec<OutputFile> {
+    fn files(&self) -> Vec<OutputFile> {
         let Some(report) = &self.sensitivity else { return Vec::new() };
         report
             .parameters
@@ -414,14 +418,21 @@ pub fn run_figure_sensitivity(
     Ok(FigureSensitivityResult { figure: case.figure.clone(), title, runs: out, skipped })
 }
 
-impl FigureSensitivityResult {
+impl crate::KindOutput for FigureSensitivityResult {
+    fn not_clean_reasons(&self) -> Vec<String> {
+        let reasons = |run: &RunSensitivity| {
+            run.result.not_clean.iter().map(|r| format!("{}: {r}", run.name)).collect::<Vec<_>>()
+        };
+        self.runs.iter().flat_map(reasons).collect()
+    }
+
     /// Clean when every design run's sensitivities are.
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.runs.iter().all(|r| r.result.is_clean())
     }
 
     /// Each run's CSVs, prefixed with the run's name: `<run>_sensitivity_<name>.csv`.
-    pub fn files(&self) -> Vec<OutputFile> {
+    fn files(&self) -> Vec<OutputFile> {
         self.runs
             .iter()
             .flat_map(|r| {

@@ -17,8 +17,9 @@
 use crate::confidence::{Batches, ConfidenceCensus};
 use crate::design::{census, confidence_result, solve_all, DesignOverrides};
 use crate::error::{MergeError, RunError};
+use crate::kind::KindResult;
 use crate::progress::Progress;
-use crate::result::{CaseResult, KindResult};
+use crate::result::CaseResult;
 use crate::workers::Workers;
 use serde::{Deserialize, Serialize};
 use spine_design::multistart::feasible_starts;

@@ -355,14 +355,14 @@ pub fn run_ck_study(
     })
 }
 
-impl StudyResult {
+impl crate::KindOutput for StudyResult {
     /// Every solver check of the claims passed.
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.claims.iter().all(|c| c.pass || c.check != crate::claims::Check::Solver)
     }
 
     /// `ck_study.csv` and `figure` (SVG and PNG).
-    pub fn files(&self) -> Vec<OutputFile> {
+    fn files(&self) -> Vec<OutputFile> {
         vec![
             OutputFile::text("ck_study.csv", self.sweep.csv()),
             OutputFile { name: "figure".into(), content: FileContent::Figure(self.sweep.figure(&self.title)) },

@@ -92,26 +92,6 @@ fn sweep_error(e: SweepError) -> RunError {
 }
 
 impl SweepCaseResult {
-    /// Clean: every point computed (no stop), followed or jumped to a clean optimum (a failed
-    /// point is not clean), every census complete.
-    pub fn is_clean(&self) -> bool {
-        self.sweep.stopped.is_none()
-            && self.sweep.points.len() == self.sweep.settings.points
-            && self.sweep.points.iter().all(|p| p.status != PointStatus::Failed)
-            && self.census.iter().all(|c| c.stopped.is_none())
-    }
-
-    /// `sweep.csv` and the figure.
-    pub fn files(&self) -> Vec<OutputFile> {
-        vec![
-            OutputFile::text("sweep.csv", self.csv()),
-            OutputFile {
-                name: "sweep".into(),
-                content: FileContent::Figure(crate::sweep_figure::figure(&self.title, &self.sweep, &self.census)),
-            },
-        ]
-    }
-
     /// One row per point: the parameter, `objective` (J*), θ0*, K*, the end displacement, the
     /// status, and the best-known J* where a census ran there.
     pub fn csv(&self) -> String {
@@ -222,5 +202,27 @@ impl std::fmt::Display for SweepCaseResult {
             }
         }
         Ok(())
+    }
+}
+
+impl crate::KindOutput for SweepCaseResult {
+    /// Clean: every point computed (no stop), followed or jumped to a clean optimum (a failed
+    /// point is not clean), every census complete.
+    fn is_clean(&self) -> bool {
+        self.sweep.stopped.is_none()
+            && self.sweep.points.len() == self.sweep.settings.points
+            && self.sweep.points.iter().all(|p| p.status != PointStatus::Failed)
+            && self.census.iter().all(|c| c.stopped.is_none())
+    }
+
+    /// `sweep.csv` and the figure.
+    fn files(&self) -> Vec<OutputFile> {
+        vec![
+            OutputFile::text("sweep.csv", self.csv()),
+            OutputFile {
+                name: "sweep".into(),
+                content: FileContent::Figure(crate::sweep_figure::figure(&self.title, &self.sweep, &self.census)),
+            },
+        ]
     }
 }

@@ -35,9 +35,9 @@ pub fn run_twolink_case(case: &TwoLinkCase, valid: &ValidTwoLink) -> TwoLinkResu
     }
 }
 
-impl TwoLinkResult {
+impl crate::KindOutput for TwoLinkResult {
     /// The exact θ0 found for every δ.
-    pub fn is_clean(&self) -> bool {
+    fn is_clean(&self) -> bool {
         self.study.rows.iter().all(|r| r.theta0_exact.is_some())
     }
 }
@@ -111,5 +111,18 @@ impl std::fmt::Display for TwoLinkResult {
             )?;
         }
         Ok(())
+    }
+}
+
+impl crate::RunKind for TwoLinkCase {
+    type Output = TwoLinkResult;
+
+    fn run(&self, _: &mut crate::RunContext<'_>) -> Result<TwoLinkResult, crate::RunError> {
+        Ok(run_twolink_case(self, &self.validate()?))
+    }
+
+    /// The same study as the kind's own run: a figure draws its rows.
+    fn in_figure(&self, _: &mut dyn FnMut(crate::Progress<'_>)) -> Option<Result<crate::RunOutput, crate::RunError>> {
+        Some(self.validate().map(|valid| crate::RunOutput::Twolink(run_twolink_case(self, &valid))).map_err(Into::into))
     }
 }

@@ -9,9 +9,10 @@ const ORDER_MARGIN: f64 = 0.1;
 
 pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let [run] = runs else { return Err(FieldError::new("runs", "twolink needs one twolink run")) };
-    let RunOutput::Twolink { study, stiffness } = run.output else {
+    let RunOutput::Twolink(result) = run.output else {
         return Err(run.error("needs a \"twolink\" run"));
     };
+    let (study, stiffness) = (&result.study, &result.stiffness);
     let mut out = FigureOutput::default();
     let rows: Vec<_> = study.rows.iter().filter(|r| r.theta0_exact.is_some()).collect();
     let log_err = |f: &dyn Fn(&spine_solve::twolink::StudyRow) -> Option<f64>| -> Vec<(f64, f64)> {

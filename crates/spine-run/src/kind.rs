@@ -1,0 +1,276 @@
+//! One dispatch per kind. A kind's runner implements [`RunKind`] on its case type and its result
+//! implements [`KindOutput`]; the registry of case kinds (`spine_case::case_kinds!`, one line per
+//! kind) then makes, through [`define_results!`], the one result enum [`KindResult`] (its serde tag
+//! is the kind's name) and the one dispatch ([`run_kind`], [`in_figure`], [`moves`]). No other
+//! code matches on a case's kind to run it.
+//!
+//! Adding a kind (docs/case-format.md, "Adding a kind"): its case type in spine-case, its line in
+//! the registry, its runner here (`impl RunKind`), its section in docs/case-format.md and a
+//! paper case. The test at the end of this file registers a small kind of its own the same way.
+
+use crate::error::RunError;
+use crate::figure::FigureRecipes;
+use crate::files::OutputFile;
+use crate::output::RunOutput;
+use crate::progress::Progress;
+use crate::run_case::Overrides;
+use spine_case::Case;
+
+/// What a runner is given besides its case.
+pub struct RunContext<'a> {
+    /// Changes from the command line or the Python call.
+    pub overrides: &'a Overrides,
+    /// The recipes that draw figure cases.
+    pub recipes: &'a dyn FigureRecipes,
+    /// Where a long run reports how far it is.
+    pub progress: &'a mut dyn FnMut(Progress<'_>),
+}
+
+/// The result of a kind: `result.json`'s body (serialised with the kind's name as its `"kind"`),
+/// the summary a person reads (`Display`), whether it is clean (exit code 0, else 3) and the
+/// files written beside it.
+pub trait KindOutput: serde::Serialize + std::fmt::Display + Clone + std::fmt::Debug {
+    /// Clean: every solver converged, every equilibrium reported is stable and every solver check
+    /// passed.
+    fn is_clean(&self) -> bool;
+
+    /// The files written beside `result.json` (CSV tables, figures), in writing order.
+    fn files(&self) -> Vec<OutputFile> {
+        Vec::new()
+    }
+
+    /// Why the result is not clean, one line each, where it carries its reasons as a typed field;
+    /// empty otherwise (the summary says why).
+    fn not_clean_reasons(&self) -> Vec<String> {
+        Vec::new()
+    }
+}
+
+/// How a case type runs.
+pub trait RunKind {
+    /// What a run gives.
+    type Output: KindOutput;
+
+    /// Whether the kind's runs move, so that `--animate` can draw them.
+    const MOVES: bool = false;
+
+    /// Checks the case (with its overrides) and runs it.
+    fn run(&self, cx: &mut RunContext<'_>) -> Result<Self::Output, RunError>;
+
+    /// The run as a run of a figure (what a recipe draws), or `None` for a kind a figure cannot
+    /// hold.
+    fn in_figure(&self, _progress: &mut dyn FnMut(Progress<'_>)) -> Option<Result<RunOutput, RunError>> {
+        None
+    }
+}
+
+/// Makes the result enum and the dispatch of a list of kinds (the registry's, or a test's own):
+/// `KindResult` (one variant per kind, holding its runner's output, and one per command that is
+/// not a kind: `study`, `sensitivity`, `figure_sensitivity`, `sweep`), `run_kind`, `in_figure` and
+/// `moves`. `Case` is the case enum of the same list, in scope where this is expanded.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! define_results {
+    ($( $(#[$doc:meta])* $kind:ident($parsed:ty) = $name:literal, )+) => {
+        $crate::define_results! {
+            @kinds [$( $(#[$doc])* $kind($parsed) = $name, )+]
+            @commands [
+                /// `spine study`: the C_K study of eq. (34) on a design case.
+                Study($crate::study::StudyResult) = "study",
+                /// `spine sensitivity` on a design case.
+                Sensitivity($crate::sensitivity::SensitivityResult) = "sensitivity",
+                /// `spine sensitivity` on a figure case: each design run's sensitivities.
+                FigureSensitivity($crate::sensitivity::FigureSensitivityResult) = "figure_sensitivity",
+                /// `spine sweep`: an optimum followed along a parameter.
+                Sweep($crate::sweep::SweepCaseResult) = "sweep",
+            ]
+        }
+    };
+    (
+        @kinds [$( $(#[$kdoc:meta])* $kind:ident($parsed:ty) = $kname:literal, )+]
+        @commands [$( $(#[$cdoc:meta])* $command:ident($output:ty) = $cname:literal, )+]
+    ) => {
+        /// What any case computed, by kind: `"kind"` in `result.json` is the kind's name (the
+        /// case file's; `study`, `sensitivity`, `figure_sensitivity` and `sweep` for the
+        /// commands of those names), derived here and nowhere else.
+        #[derive(Clone, Debug, serde::Serialize)]
+        #[serde(tag = "kind")]
+        // One value per run: boxing the large variants would buy nothing.
+        #[allow(clippy::large_enum_variant)]
+        pub enum KindResult {
+            $( $(#[$kdoc])* #[serde(rename = $kname)] $kind(<$parsed as $crate::RunKind>::Output), )+
+            $( $(#[$cdoc])* #[serde(rename = $cname)] $command($output), )+
+        }
+
+        impl KindResult {
+            /// `result.json`'s `"kind"` (serde's tag of the variant), without serialising.
+            pub fn kind(&self) -> &'static str {
+                match self {
+                    $( Self::$kind(_) => $kname, )+
+                    $( Self::$command(_) => $cname, )+
+                }
+            }
+
+            /// See [`KindOutput::is_clean`]($crate::KindOutput::is_clean).
+            pub fn is_clean(&self) -> bool {
+                match self {
+                    $( Self::$kind(r) => $crate::KindOutput::is_clean(r), )+
+                    $( Self::$command(r) => $crate::KindOutput::is_clean(r), )+
+                }
+            }
+
+            /// See [`KindOutput::files`]($crate::KindOutput::files).
+            pub fn files(&self) -> Vec<$crate::OutputFile> {
+                match self {
+                    $( Self::$kind(r) => $crate::KindOutput::files(r), )+
+                    $( Self::$command(r) => $crate::KindOutput::files(r), )+
+                }
+            }
+
+            /// See [`KindOutput::not_clean_reasons`]($crate::KindOutput::not_clean_reasons).
+            pub fn not_clean_reasons(&self) -> Vec<String> {
+                match self {
+                    $( Self::$kind(r) => $crate::KindOutput::not_clean_reasons(r), )+
+                    $( Self::$command(r) => $crate::KindOutput::not_clean_reasons(r), )+
+                }
+            }
+        }
+
+        impl std::fmt::Display for KindResult {
+            /// The summary a user reads: status, the numbers that show it, and warnings.
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                match self {
+                    $( Self::$kind(r) => std::fmt::Display::fmt(r, f), )+
+                    $( Self::$command(r) => std::fmt::Display::fmt(r, f), )+
+                }
+            }
+        }
+
+        /// Runs a case of any kind with its runner ([`RunKind::run`]($crate::RunKind::run)).
+        pub fn run_kind(case: &Case, cx: &mut $crate::RunContext<'_>) -> Result<KindResult, $crate::RunError> {
+            match case {
+                $( Case::$kind(c) => $crate::RunKind::run(c, cx).map(KindResult::$kind), )+
+            }
+        }
+
+        /// Runs a case as a run of a figure ([`RunKind::in_figure`]($crate::RunKind::in_figure)).
+        pub fn in_figure(
+            case: &Case,
+            progress: &mut dyn FnMut($crate::Progress<'_>),
+        ) -> Result<$crate::RunOutput, $crate::RunError> {
+            match case {
+                $( Case::$kind(c) => $crate::RunKind::in_figure(c, progress)
+                    .unwrap_or(Err($crate::RunError::WrongKind { command: "a figure's run", needs: "a design, dynamic or twolink", kind: $kname })), )+
+            }
+        }
+
+        /// Whether a case's runs move ([`RunKind::MOVES`]($crate::RunKind::MOVES)).
+        pub fn moves(case: &Case) -> bool {
+            match case {
+                $( Case::$kind(_) => <$parsed as $crate::RunKind>::MOVES, )+
+            }
+        }
+    };
+}
+
+spine_case::case_kinds!(crate::define_results);
+
+#[cfg(test)]
+mod tests {
+    //! The add-a-kind recipe, followed by a kind of this test's own: a case type, its runner and
+    //! its line in a registry (here a list of two kinds handed to the same macros that make the
+    //! workspace's), then parsed, run and written as any kind is.
+
+    use crate::{KindOutput, RunContext, RunError, RunKind};
+    use serde::{Deserialize, Serialize};
+
+    /// 1. The case type: `"kind": "tally"` counts the links of a chain and the springs they need.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, spine_case::__private::schemars::JsonSchema)]
+    #[schemars(crate = "spine_case::__private::schemars")]
+    #[serde(deny_unknown_fields)]
+    pub struct TallyCase {
+        #[serde(default)]
+        pub title: String,
+        pub chain: spine_case::ChainSpec,
+    }
+
+    impl TallyCase {
+        pub fn validate(&self) -> Result<spine_model::Chain, spine_case::CaseError> {
+            self.chain.validate()
+        }
+    }
+
+    /// 2. Its result and its runner.
+    #[derive(Clone, Debug, Serialize)]
+    pub struct TallyResult {
+        pub links: usize,
+        pub springs: usize,
+    }
+
+    impl std::fmt::Display for TallyResult {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            writeln!(f, "{} links, {} springs", self.links, self.springs)
+        }
+    }
+
+    impl KindOutput for TallyResult {
+        fn is_clean(&self) -> bool {
+            self.springs == self.links + 1
+        }
+    }
+
+    impl RunKind for TallyCase {
+        type Output = TallyResult;
+        fn run(&self, _: &mut RunContext<'_>) -> Result<TallyResult, RunError> {
+            let chain = self.validate()?;
+            Ok(TallyResult { links: chain.n_links(), springs: chain.n_links() + 1 })
+        }
+    }
+
+    /// 3. The registry line (this test's registry: the equilibrium kind and the new one).
+    // The commands' variants and a few methods are not used by this test.
+    #[allow(dead_code)]
+    mod registry {
+        use super::TallyCase;
+        macro_rules! test_kinds {
+            ($($then:tt)+) => {
+                $($then)+! {
+                    Equilibrium(spine_case::EquilibriumCase) = "equilibrium",
+                    /// `"kind": "tally"`.
+                    Tally(TallyCase) = "tally",
+                }
+            };
+        }
+        test_kinds!(spine_case::define_cases);
+        test_kinds!(crate::define_results);
+    }
+
+    #[test]
+    fn a_kind_added_by_the_recipe_parses_runs_and_writes_its_result() {
+        use registry::{json_schema, run_kind, Case, KindResult, KINDS};
+        assert_eq!(KINDS, ["equilibrium", "tally"]);
+        let case = Case::from_json(r#"{ "kind": "tally", "chain": { "links": 4, "length_x": 1.0 } }"#).unwrap();
+        assert_eq!(case.kind(), "tally");
+        case.check().unwrap();
+        let overrides = crate::Overrides::default();
+        let mut cx = RunContext { overrides: &overrides, recipes: &crate::NoRecipes, progress: &mut crate::quiet };
+        let result = run_kind(&case, &mut cx).unwrap();
+        assert!(matches!(result, KindResult::Tally(TallyResult { links: 4, springs: 5 })));
+        assert!(result.is_clean());
+        assert_eq!(result.kind(), "tally");
+        let json = crate::with_timings(&result);
+        assert_eq!(json["kind"], "tally");
+        assert_eq!(json["springs"], 5);
+        assert_eq!(result.to_string(), "4 links, 5 springs\n");
+        // Errors name the field, as for every kind; the schema has the new kind's alternative.
+        let bad = Case::from_json(r#"{ "kind": "tally", "chain": { "links": 0, "length_x": 1.0 } }"#).unwrap();
+        assert!(bad.check().unwrap_err().to_string().starts_with("chain.links"));
+        let unknown = Case::from_json(r#"{ "kind": "tallies" }"#).unwrap_err().to_string();
+        assert!(unknown.contains("one of equilibrium, tally"), "{unknown}");
+        assert_eq!(json_schema()["oneOf"][1]["properties"]["kind"]["const"], "tally");
+        // The kind cannot be a figure's run (its runner gives no figure run).
+        let in_figure = registry::in_figure(&case, &mut crate::quiet).unwrap_err().to_string();
+        assert!(in_figure.contains("\"tally\""), "{in_figure}");
+        assert!(!registry::moves(&case));
+    }
+}
