@@ -160,8 +160,8 @@ fn optimum_parameters(c: &mut Criterion) {
     let valid = fig5.validate().expect("valid case");
     let start = solve_design(&valid.problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true).unwrap();
     assert!(start.is_clean());
-    let problem_at = |v: f64| -> Result<spine_design::DesignProblem, String> {
-        fig5.with_parameter("loads.p_y", v).and_then(|c| c.validate()).map(|v| v.problem).map_err(|e| e.to_string())
+    let problem_at = |v: f64| -> Result<spine_design::DesignProblem, spine_case::FieldError> {
+        Ok(fig5.with_parameter("loads.p_y", v).and_then(|c| c.validate())?.problem)
     };
     let sweep = Sweep::new("loads.p_y", &problem_at, &valid.settings, SweepSettings::new(-1.0, -20.0, 40)).unwrap();
     let followed = sweep.follow(&start.design).expect("the sweep runs");

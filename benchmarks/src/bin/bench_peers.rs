@@ -22,7 +22,7 @@ use serde_json::json;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
-use spine_design::settings::ExtraOption;
+use spine_design::settings::{ExtraOption, LinearSolver};
 use spine_design::start_point::FullSpaceStart;
 use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
 use spine_model::{Design, State};
@@ -65,11 +65,11 @@ fn ours_with(
     valid: &spine_case::ValidDesign,
     n: usize,
     refined: bool,
-    linear_solver: Option<&str>,
+    linear_solver: Option<LinearSolver>,
 ) -> Option<SolverRun> {
     let mut settings = valid.settings.clone();
-    if let Some(name) = linear_solver {
-        settings.ipopt_options.insert("linear_solver".into(), ExtraOption::Str(name.into()));
+    if let Some(solver) = linear_solver {
+        settings.linear_solver = solver;
     }
     if refined {
         settings.refine = Refine::Ladder(peers::bench_ladder(n)?);
@@ -83,7 +83,7 @@ fn ours_with(
     eprintln!(
         "N = {n}: ours {}{} ({}) {} in {:.3} s ({} iterations{}), J = {:.9e}",
         if refined { "refined" } else { "cold" },
-        linear_solver.map_or(String::new(), |s| format!(", linear_solver {s}")),
+        linear_solver.map_or(String::new(), |s| format!(", linear_solver {}", s.ipopt().name())),
         run.ipopt_version,
         run.status,
         run.wall_seconds,
@@ -225,7 +225,7 @@ fn measure(python: &str, n: usize, dir: &Path) -> PeerRow {
 
     let cold = ours(&valid, n, false).expect("a cold run");
     let ours_refined = ours(&valid, n, true).or_else(|| Some(cold.clone()));
-    let ours_mumps = ours_with(&valid, n, false, Some("mumps"));
+    let ours_mumps = ours_with(&valid, n, false, Some(LinearSolver::Mumps));
     let ours = cold;
 
     let out_path = dir.join(format!("casadi-{n}.json"));

@@ -15,6 +15,16 @@ pub enum CaseError {
     Invalid(FieldError),
 }
 
+/// A case error as the field error it carries (for callers below spine-case, which take a
+/// [`FieldError`]).
+impl From<CaseError> for FieldError {
+    fn from(e: CaseError) -> Self {
+        match e {
+            CaseError::Parse(e) | CaseError::Invalid(e) => e,
+        }
+    }
+}
+
 /// An options type's own check (`SolverSettings::validate`, `Forcing::validate`, …) as a case error.
 impl From<FieldError> for CaseError {
     fn from(e: FieldError) -> Self {

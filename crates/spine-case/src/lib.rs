@@ -98,6 +98,7 @@ pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;
 pub use read::{read_text, ReadError};
 pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};
+pub use spine_check::FieldError;
 pub use twolink_case::{TwoLinkCase, ValidTwoLink};
 
 /// What the macros [`case_kinds!`] and [`define_cases!`] expand to needs, for a crate that

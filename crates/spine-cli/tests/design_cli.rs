@@ -81,7 +81,7 @@ fn multistart_reports_the_best_clean_optimum_with_every_optimum_in_full() {
     case["delta_d"] = serde_json::json!(-0.05);
     // The point needs a run whose own start misses the best optimum: with MUMPS it does (with the
     // default factorisation the case's own start reaches the best optimum here).
-    case["solver"]["ipopt_options"]["linear_solver"] = serde_json::json!("mumps");
+    case["solver"]["linear_solver"] = serde_json::json!("mumps");
     let dir = tmpdir("best-clean");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("case.json");

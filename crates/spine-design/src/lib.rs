@@ -71,4 +71,5 @@ pub use certificate::solve_design;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
 pub use settings::{Formulation, ScalingMethod, SolverSettings};
-pub use solve::{run_solver, DesignError, SolverRun};
+pub use solve::{ipopt_solve, run_solver, DesignError, SolverRun};
+pub use warnings::{DesignWarning, LoadCase};

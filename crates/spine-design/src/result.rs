@@ -11,7 +11,7 @@ use serde::Serialize;
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::{end_x, link_lengths, node_positions};
 use spine_model::{energy, Design, LinkLoads, State};
-use spine_solve::{solve_static, stability, EquilibriumSolution, Stability, StaticSolution};
+use spine_solve::{solve_static, stability, EquilibriumSolution, EquilibriumStatus, Stability, StaticSolution};
 
 /// One load state of the result.
 #[derive(Clone, Debug, Serialize)]
@@ -34,8 +34,10 @@ pub struct StateReport {
 pub struct LoadPathCheck {
     /// Both paths reach their full load and end within `1e-6` rad of the optimiser's states.
     pub consistent: bool,
-    pub passive_status: String,
-    pub loaded_status: String,
+    /// How the passive path ended.
+    pub passive_status: EquilibriumStatus,
+    /// How the loaded path ended; `null` when the passive path did not reach its load.
+    pub loaded_status: Option<EquilibriumStatus>,
     /// Largest `|θ_optimiser − θ_path|`, rad (∞ when a path did not reach its load).
     pub passive_angle_difference: f64,
     pub loaded_angle_difference: f64,
@@ -54,8 +56,8 @@ impl LoadPathCheck {
         let loaded_angle_difference = difference(loaded, path.loaded.as_ref());
         LoadPathCheck {
             consistent: passive_angle_difference <= 1e-6 && loaded_angle_difference <= 1e-6,
-            passive_status: path.passive.status.describe(),
-            loaded_status: path.loaded.as_ref().map_or("not reached".into(), |l| l.status.describe()),
+            passive_status: path.passive.status,
+            loaded_status: path.loaded.as_ref().map(|l| l.status),
             passive_angle_difference,
             loaded_angle_difference,
         }
@@ -169,8 +171,8 @@ impl DesignResult {
             warnings.push(DesignWarning::OffLoadPath {
                 passive_difference: load_path.passive_angle_difference,
                 loaded_difference: load_path.loaded_angle_difference,
-                passive_status: load_path.passive_status.clone(),
-                loaded_status: load_path.loaded_status.clone(),
+                passive_status: load_path.passive_status,
+                loaded_status: load_path.loaded_status,
             });
         }
 

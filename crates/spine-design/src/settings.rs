@@ -65,6 +65,38 @@ impl BarrierStrategy {
     }
 }
 
+/// The factorisation of Ipopt's KKT matrices (case field `solver.linear_solver`; docs/design.md,
+/// "Linear solver").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum LinearSolver {
+    /// The workspace's own sparse `LDLᵀ` with exact inertia (`spine-kkt`), which Ipopt reaches
+    /// through its Pardiso interface once installed ([`LinearSolver::ready`]). Thread-safe.
+    #[default]
+    Spine,
+    /// The MUMPS that the Ipopt library ships (one solve at a time per process).
+    Mumps,
+}
+
+impl LinearSolver {
+    /// Ipopt's option value for this solver.
+    pub fn ipopt(self) -> spine_ipopt::LinearSolver {
+        match self {
+            Self::Spine => spine_ipopt::LinearSolver::Pardiso,
+            Self::Mumps => spine_ipopt::LinearSolver::Mumps,
+        }
+    }
+
+    /// Makes the solver loadable by Ipopt: installs the workspace's `LDLᵀ` as Ipopt's Pardiso
+    /// library (once per process; [`spine_kkt::install`]). MUMPS needs nothing.
+    pub fn ready(self) -> Result<(), spine_kkt::KktError> {
+        match self {
+            Self::Spine => spine_kkt::install(),
+            Self::Mumps => Ok(()),
+        }
+    }
+}
+
 /// How the full space's states are Ipopt's variables (case field `solver.state_variables`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
@@ -141,6 +173,8 @@ pub struct SolverSettings {
     pub scaling: ScalingMethod,
     /// Ipopt `mu_strategy`: `"monotone"` or `"adaptive"`.
     pub barrier_strategy: BarrierStrategy,
+    /// The factorisation of Ipopt's KKT matrices: `"spine"` (the workspace's own) or `"mumps"`.
+    pub linear_solver: LinearSolver,
     /// Reduced space only: second derivatives from differences of the adjoint gradients
     /// ("adjoint-differences", the default) or Ipopt's L-BFGS ("limited-memory").
     pub reduced_hessian: ReducedHessian,
@@ -167,6 +201,7 @@ impl Default for SolverSettings {
             max_iterations: 3000,
             scaling: ScalingMethod::GradientBased,
             barrier_strategy: BarrierStrategy::Monotone,
+            linear_solver: LinearSolver::Spine,
             reduced_hessian: ReducedHessian::AdjointDifferences,
             continuation: ContinuationOptions { residual_tolerance: 1e-11, ..ContinuationOptions::default() },
             ipopt_options: BTreeMap::new(),
@@ -176,9 +211,6 @@ impl Default for SolverSettings {
         }
     }
 }
-
-/// The linear solver of every design solve unless the case names one (see [`SolverSettings::ipopt`]).
-pub const DEFAULT_LINEAR_SOLVER: &str = "spine";
 
 /// `acceptable_obj_change_tol` of every design solve (see [`SolverSettings::ipopt`]).
 pub const ACCEPTABLE_OBJ_CHANGE: f64 = 1e-10;
@@ -211,9 +243,9 @@ impl SolverSettings {
             .integer("mumps_pivot_order", MUMPS_PIVOT_ORDER)
             // The workspace's own sparse LDLᵀ (`crates/spine-kkt`): every paper case reaches the
             // same optima and claims as with MUMPS, and an iteration costs 25–50 % less
-            // (docs/design.md, "Linear solver"). `linear_solver: "mumps"` in `ipopt_options` selects
-            // the MUMPS that the Ipopt library ships.
-            .string("linear_solver", DEFAULT_LINEAR_SOLVER);
+            // (docs/design.md, "Linear solver"). `solver.linear_solver: "mumps"` selects the MUMPS
+            // that the Ipopt library ships.
+            .string("linear_solver", self.linear_solver.ipopt().name());
         for (name, value) in &self.ipopt_options {
             let value = match value {
                 ExtraOption::Int(i) => OptionValue::Int(*i),
@@ -281,7 +313,6 @@ const CASE_IPOPT_OPTIONS: &[(&str, Allowed)] = &[
     ("warm_start_slack_bound_push", Allowed::Number),
     ("warm_start_slack_bound_frac", Allowed::Number),
     ("warm_start_mult_bound_push", Allowed::Number),
-    ("linear_solver", Allowed::OneOf(&["spine", "mumps"])),
     ("mumps_pivot_order", Allowed::Integer),
     ("mumps_mem_percent", Allowed::Integer),
     ("mumps_scaling", Allowed::Integer),
@@ -297,6 +328,7 @@ const TYPED_OPTIONS: &[(&str, &str)] = &[
     ("constr_viol_tol", "solver.constraint_tolerance"),
     ("max_iter", "solver.max_iterations"),
     ("mu_strategy", "solver.barrier_strategy"),
+    ("linear_solver", "solver.linear_solver"),
     ("nlp_scaling_method", "solver.scaling"),
 ];
 

@@ -19,6 +19,22 @@ pub enum DesignError {
     /// Ipopt rejected the problem or its options before iterating.
     #[error(transparent)]
     Setup(#[from] SetupError),
+    /// The workspace's linear solver could not be installed as Ipopt's Pardiso library.
+    #[error("the linear solver could not be loaded: {0}")]
+    LinearSolver(#[source] spine_kkt::KktError),
+}
+
+/// Ipopt on `nlp` with `options`, the linear solver they name made ready first: where they name
+/// Pardiso, the workspace's own `LDLᵀ` is installed as Ipopt's Pardiso library
+/// ([`crate::settings::LinearSolver::ready`]). Every eq. (33) solve goes through here.
+pub fn ipopt_solve(
+    nlp: &mut dyn spine_ipopt::Problem,
+    options: &spine_ipopt::Options,
+) -> Result<Solution, DesignError> {
+    if options.get("linear_solver") == Some(&OptionValue::Str(spine_ipopt::LinearSolver::Pardiso.name().into())) {
+        crate::settings::LinearSolver::Spine.ready().map_err(DesignError::LinearSolver)?;
+    }
+    Ok(spine_ipopt::solve(nlp, options)?)
 }
 
 /// What Ipopt returned for eq. (33), before it is checked: the design, the states, the solver's
@@ -104,7 +120,7 @@ pub fn run_solver(
                     start_seconds = clock.elapsed().as_secs_f64();
                     let mut nlp = FullSpaceNlp::new(problem, state_form, &start, &passive, &loaded);
                     nlp.on_iteration = Some(observer);
-                    let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
+                    let solution = ipopt_solve(&mut nlp, &options)?;
                     let (design, states) = refine::solution_parts(&nlp, &solution.x);
                     (solution, design, states)
                 }
@@ -115,7 +131,7 @@ pub fn run_solver(
             let mut nlp =
                 ReducedSpaceNlp::new(problem, &start, settings.continuation.clone(), settings.reduced_hessian);
             nlp.on_iteration = Some(observer);
-            let solution = spine_ipopt::solve(&mut nlp, &options).map_err(DesignError::Setup)?;
+            let solution = ipopt_solve(&mut nlp, &options)?;
             let design = nlp.design(&solution.x);
             let states = nlp.evaluate(&solution.x).map(|e| (e.passive.clone(), e.loaded.clone()));
             (solution, design, states, nlp.equilibrium_evaluations)
@@ -192,7 +208,7 @@ pub fn resolve_from(
     let (design, notes) = problem.project_start(start.design);
     let mut nlp = FullSpaceNlp::new(problem, start.form, &design, &start.states.0, &start.states.1);
     nlp.multipliers = start.multipliers.cloned();
-    let solution = spine_ipopt::solve(&mut nlp, options).map_err(DesignError::Setup)?;
+    let solution = ipopt_solve(&mut nlp, options)?;
     let (design, states) = refine::solution_parts(&nlp, &solution.x);
     let run = Finished {
         formulation: Formulation::Full,
@@ -248,7 +264,7 @@ impl LevelRun<'_> {
         let mut nlp = FullSpaceNlp::new(self.level, self.form, self.design, &self.states.0, &self.states.1);
         nlp.multipliers = multipliers(&nlp);
         nlp.on_iteration = Some(&mut watched);
-        let solution = spine_ipopt::solve(&mut nlp, options).map_err(DesignError::Setup)?;
+        let solution = ipopt_solve(&mut nlp, options)?;
         let (design, states) = refine::solution_parts(&nlp, &solution.x);
         Ok((solution, design, states))
     }

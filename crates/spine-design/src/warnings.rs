@@ -1,6 +1,7 @@
 //! What can make a design result not clean, each with its numbers.
 
 use serde::Serialize;
+use spine_solve::EquilibriumStatus;
 
 /// Which of the two equilibria of eq. (33).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -23,7 +24,12 @@ pub enum DesignWarning {
     NoEquilibria,
     /// The optimiser's equilibria are not the ones reached by loading the design (largest angle
     /// differences, rad, and the statuses of the two paths).
-    OffLoadPath { passive_difference: f64, loaded_difference: f64, passive_status: String, loaded_status: String },
+    OffLoadPath {
+        passive_difference: f64,
+        loaded_difference: f64,
+        passive_status: EquilibriumStatus,
+        loaded_status: Option<EquilibriumStatus>,
+    },
     /// The reported design and states break a constraint of eq. (33) by more than allowed: the
     /// part (a field of [`Violations`]), its recomputed violation and the allowance (its unit).
     /// Ipopt's status alone does not show this: it judges its own last iterate, which a bound
@@ -47,10 +53,13 @@ impl std::fmt::Display for DesignWarning {
                 write!(f, "the equilibrium {name} is unstable (smallest reduced-Hessian eigenvalue {eigenvalue})")
             }
             Self::NoEquilibria => write!(f, "the final design has no equilibria on its load path"),
-            Self::OffLoadPath { passive_difference, loaded_difference, passive_status, loaded_status } => write!(
-                f,
-                "the optimiser's equilibria are not the ones reached by loading the design (differences {passive_difference:.3e} and {loaded_difference:.3e} rad; paths: {passive_status}, {loaded_status})"
-            ),
+            Self::OffLoadPath { passive_difference, loaded_difference, passive_status, loaded_status } => {
+                let loaded = loaded_status.map_or("loaded path not reached".into(), |s| s.to_string());
+                write!(
+                    f,
+                    "the optimiser's equilibria are not the ones reached by loading the design (differences {passive_difference:.3e} and {loaded_difference:.3e} rad; paths: {passive_status}, {loaded})"
+                )
+            }
             Self::ConstraintViolated { part, violation, allowed } => write!(
                 f,
                 "the reported design violates eq. (33): {part} {violation:.3e} (allowed {allowed:.1e}); its numbers are not those of an optimum"

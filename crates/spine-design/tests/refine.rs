@@ -214,7 +214,7 @@ fn stays_at(problem: &DesignProblem, design: &Design, states: (&State, &State)) 
     }
     let form = s.state_variables.resolve(problem, &s);
     let mut nlp = FullSpaceNlp::new(problem, form, design, states.0, states.1);
-    let solution = spine_ipopt::solve(&mut nlp, &s.ipopt()).unwrap();
+    let solution = spine_design::ipopt_solve(&mut nlp, &s.ipopt()).unwrap();
     (solution.objective, solution.iterations, solution.status.is_optimal())
 }
 

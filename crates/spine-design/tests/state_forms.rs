@@ -27,7 +27,7 @@ fn restart(problem: &DesignProblem, form: StateForm, r: &DesignResult) -> (f64, 
         State { theta: s.theta.clone(), lambda: s.lambda }
     };
     let mut nlp = FullSpaceNlp::new(problem, form, &r.design, &state(&r.passive), &state(&r.loaded));
-    let solution = spine_ipopt::solve(&mut nlp, &settings.ipopt()).unwrap();
+    let solution = spine_design::ipopt_solve(&mut nlp, &settings.ipopt()).unwrap();
     (solution.objective, solution.iterations, solution.status.is_optimal())
 }
 

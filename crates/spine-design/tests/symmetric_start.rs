@@ -8,14 +8,13 @@
 
 use spine_design::fixtures::{arch_start, paper_problem};
 use spine_design::multistart::mirror;
-use spine_design::settings::ExtraOption;
+use spine_design::settings::LinearSolver;
 use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
 use spine_model::Design;
 
-fn solve(start: &Design, linear_solver: &str) -> DesignResult {
+fn solve(start: &Design, linear_solver: LinearSolver) -> DesignResult {
     let problem = paper_problem(10, -5.0, -400.0, -0.02, 1.0);
-    let mut settings = SolverSettings::default();
-    settings.ipopt_options.insert("linear_solver".into(), ExtraOption::Str(linear_solver.into()));
+    let settings = SolverSettings { linear_solver, ..SolverSettings::default() };
     solve_design(&problem, start, Formulation::Full, &settings, &mut |_| true).unwrap()
 }
 
@@ -35,13 +34,13 @@ fn moved_start(direction: usize, size: f64) -> Design {
 
 #[test]
 fn near_the_symmetric_start_both_linear_solvers_reach_one_optimum_up_to_its_mirror_image() {
-    let reference = solve(&moved_start(0, 1e-6), "spine");
+    let reference = solve(&moved_start(0, 1e-6), LinearSolver::Spine);
     assert!(reference.is_clean(), "{:?}", reference.warnings);
     let image = mirror(&reference.design);
     for direction in 0..4 {
-        for linear_solver in ["spine", "mumps"] {
+        for linear_solver in [LinearSolver::Spine, LinearSolver::Mumps] {
             let r = solve(&moved_start(direction, 1e-6), linear_solver);
-            let what = format!("direction {direction}, {linear_solver}");
+            let what = format!("direction {direction}, {linear_solver:?}");
             assert!(r.is_clean(), "{what}: {:?}", r.warnings);
             let rel = (r.objective - reference.objective).abs() / reference.objective;
             assert!(rel <= 1e-8, "{what}: J = {} against {}", r.objective, reference.objective);

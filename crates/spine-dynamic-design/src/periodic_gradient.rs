@@ -57,9 +57,10 @@ pub struct GradientReport {
     pub status: GradientStatus,
     pub converged: bool,
     pub iterations: usize,
-    /// `uniform`, `case`, `ga` (the genetic algorithm's best), or `case (no uniform springs meet
-    /// δ_d)`.
-    pub start: String,
+    /// Where the method started: `uniform`, `case` or `ga` (the genetic algorithm's best).
+    pub start: GradientStart,
+    /// Uniform springs were asked for but none meet δ_d: the case's springs were the start.
+    pub uniform_not_found: bool,
     /// Forcing periods of every simulation (one more than the start needs to settle).
     pub periods: usize,
     /// The uniform start's springs, N·m/rad, when it was found.
@@ -286,8 +287,8 @@ pub fn design_by_gradient(
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
     let mut root_search_simulations = 0;
     let (start, start_name, uniform_stiffness) = match gradient.start {
-        GradientStart::Case => (given.iter().map(|k| k.log10()).collect(), "case".to_string(), None),
-        GradientStart::Ga => (given.iter().map(|k| k.log10()).collect(), "ga".to_string(), None),
+        GradientStart::Case => (given.iter().map(|k| k.log10()).collect(), GradientStart::Case, None),
+        GradientStart::Ga => (given.iter().map(|k| k.log10()).collect(), GradientStart::Ga, None),
         GradientStart::Uniform => {
             // min_t X − δ_d rises with the springs (a stiffer arch moves less); a design that
             // buckles or whose simulation fails counts as too soft (−∞).
@@ -308,10 +309,10 @@ pub fn design_by_gradient(
             let ends = (residual(lo), residual(hi));
             if ends.0 < 0.0 && ends.1 >= 0.0 {
                 let u = illinois((lo, hi), ends, &mut residual, &|r| r.abs() <= 1e-3 * settings.tolerance, 1e-9);
-                (vec![u; given.len()], "uniform".to_string(), Some(10f64.powf(u)))
+                (vec![u; given.len()], GradientStart::Uniform, Some(10f64.powf(u)))
             } else {
                 let start = given.iter().map(|k| k.log10()).collect();
-                (start, "case (no uniform springs meet δ_d)".to_string(), None)
+                (start, GradientStart::Case, None)
             }
         }
     };
@@ -358,6 +359,7 @@ pub fn design_by_gradient(
         converged,
         iterations: sol.iterations,
         start: start_name,
+        uniform_not_found: gradient.start == GradientStart::Uniform && start_name == GradientStart::Case,
         periods,
         uniform_stiffness,
         root_search_simulations,

@@ -44,7 +44,7 @@ fn eq37_searches_lower_the_strain_energy_and_keep_the_displacement() {
     settings.gradient.start = spine_dynamic_design::periodic_settings::GradientStart::Ga;
     let g = design_periodic(&p, forcing.clone(), delta_d, SearchMethod::Gradient, &settings, &mut |_| {}).unwrap();
     let report = g.gradient.as_ref().unwrap();
-    assert_eq!(report.start, "ga");
+    assert_eq!(report.start, spine_dynamic_design::periodic_settings::GradientStart::Ga);
     let ga = g.search.as_ref().expect("the GA's result");
     assert!(g.finished() && g.feasible && g.relative_error <= 1e-6, "{} {}", g.status(), g.relative_error);
     assert_eq!(g.simulations, 1 + ga.evaluations + report.root_search_simulations + report.gradient_simulations);

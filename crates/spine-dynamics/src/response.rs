@@ -41,8 +41,9 @@ pub struct StaticEnds {
     /// `X_{N+1}(θ1) − L_x` and `X_{N+1}(θ2) − L_x`, m.
     pub passive_displacement: f64,
     pub loaded_displacement: f64,
-    pub passive_status: String,
-    pub loaded_status: String,
+    /// How the two load paths ended (always stable: an unstable end is [`DynamicsError`]).
+    pub passive_status: EquilibriumStatus,
+    pub loaded_status: EquilibriumStatus,
 }
 
 impl StaticEnds {
@@ -58,10 +59,10 @@ impl StaticEnds {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DynamicsError {
     /// The passive path from `θ0` did not end at a certified stable `θ1`.
-    #[error("the passive equilibrium θ1 is not a stable start: {}", .status.describe())]
+    #[error("the passive equilibrium θ1 is not a stable start: {status}")]
     UnstableStart { status: EquilibriumStatus },
     /// The loaded path did not end at a certified stable `θ2`.
-    #[error("the loaded equilibrium θ2 is not stable, so the response has no static final value: {}", .status.describe())]
+    #[error("the loaded equilibrium θ2 is not stable, so the response has no static final value: {status}")]
     UnstableEnd { status: EquilibriumStatus },
 }
 
@@ -101,8 +102,8 @@ impl DynamicProblem {
             x2,
             passive_displacement: x1 - lx,
             loaded_displacement: x2 - lx,
-            passive_status: sol.passive.status.describe(),
-            loaded_status: loaded.status.describe(),
+            passive_status: sol.passive.status,
+            loaded_status: loaded.status,
         })
     }
 }

@@ -25,9 +25,11 @@
 //! ever unwinds through C frames.
 //!
 //! Ipopt factorises its KKT matrices with the MUMPS it ships (option `linear_solver = "mumps"`,
-//! this crate's default) or with the workspace's own sparse `LDLᵀ` (`spine-kkt`, `"spine"`, the
-//! default of eq. (33)'s design solves), which Ipopt reaches through its Pardiso interface. MUMPS is not thread-safe (Debian's Ipopt 3.11.9 aborts when
-//! two MUMPS solves overlap): [`solve`] holds a process-wide lock for MUMPS solves only.
+//! this crate's default) or through its Pardiso interface (`"pardiso"`), where the workspace's own
+//! sparse `LDLᵀ` (`spine-kkt`) answers once its caller has installed it (spine-design does, for
+//! eq. (33)'s design solves; this crate knows no client). MUMPS is not thread-safe (Debian's Ipopt
+//! 3.11.9 aborts when two MUMPS solves overlap): [`solve`] holds a process-wide lock for MUMPS
+//! solves only.
 //!
 //! ```
 //! use spine_ipopt::{solve, Options, Problem};
@@ -218,9 +220,6 @@ pub enum SetupError {
     /// Ipopt refused an option (unknown name or wrong type).
     #[error("Ipopt rejected the option {0}")]
     InvalidOption(String),
-    /// The workspace's linear solver could not be loaded into Ipopt.
-    #[error("the linear solver could not be loaded: {0}")]
-    LinearSolver(String),
     /// `CreateIpoptProblem` refused the sizes (for example no variable, or constraints without
     /// Jacobian entries).
     #[error("Ipopt could not create the problem ({0})")]
@@ -231,27 +230,29 @@ pub enum SetupError {
 /// `linear_solver`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LinearSolver {
-    /// The workspace's own frontal `LDLᵀ` with exact inertia (`spine-kkt`), reached through Ipopt's
-    /// Pardiso interface (Ipopt is told `linear_solver pardiso`). Thread-safe; the default of
-    /// eq. (33)'s design solves (`spine_design::settings::DEFAULT_LINEAR_SOLVER`, docs/design.md).
-    Spine,
+    /// Ipopt's Pardiso interface, which loads a Pardiso library at run time (`dlopen` of
+    /// `libpardiso.so`). The caller makes one loadable first: the workspace's own frontal `LDLᵀ`
+    /// with exact inertia installs itself as that library (`spine_kkt::install`, called by
+    /// spine-design before its solves; docs/design.md, "Linear solver"). Solves run in several
+    /// threads at once.
+    Pardiso,
     /// MUMPS, as the Ipopt library ships it (not thread-safe: one solve at a time): this crate's
     /// default.
     Mumps,
 }
 
 impl LinearSolver {
-    /// The option value: `"spine"` or `"mumps"`.
+    /// Ipopt's option value: `"pardiso"` or `"mumps"`.
     pub fn name(self) -> &'static str {
         match self {
-            Self::Spine => "spine",
+            Self::Pardiso => "pardiso",
             Self::Mumps => "mumps",
         }
     }
 
     /// The solver of an option value, if it is one of the two.
     pub fn from_name(name: &str) -> Option<Self> {
-        [Self::Spine, Self::Mumps].into_iter().find(|s| s.name() == name)
+        [Self::Pardiso, Self::Mumps].into_iter().find(|s| s.name() == name)
     }
 }
 
@@ -329,8 +330,7 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
     })
 }
 
-/// Our defaults (see [`solve`]), then `options`; the linear solver they name, installed when it is
-/// the workspace's own.
+/// Our defaults (see [`solve`]), then `options`; the linear solver they name.
 fn session_options(options: &Options, has_hessian: bool) -> Result<(Options, LinearSolver), SetupError> {
     let mut all_options = Options::new()
         .string("sb", "yes")
@@ -345,11 +345,7 @@ fn session_options(options: &Options, has_hessian: bool) -> Result<(Options, Lin
         Some(OptionValue::Str(name)) => LinearSolver::from_name(name),
         _ => None,
     }
-    .ok_or_else(|| SetupError::InvalidOption("linear_solver (allowed: spine, mumps)".into()))?;
-    if linear_solver == LinearSolver::Spine {
-        spine_kkt::install().map_err(|e| SetupError::LinearSolver(e.to_string()))?;
-        all_options.set("linear_solver", OptionValue::Str("pardiso".into()));
-    }
+    .ok_or_else(|| SetupError::InvalidOption("linear_solver (allowed: pardiso, mumps)".into()))?;
     Ok((all_options, linear_solver))
 }
 

@@ -153,7 +153,8 @@ fn ipopt_3_11_reads_the_replaced_cpu_clock() {
 /// optimum from every thread.
 #[test]
 fn solves_from_several_threads_all_succeed_with_either_linear_solver() {
-    for linear_solver in [LinearSolver::Mumps, LinearSolver::Spine] {
+    spine_kkt::install().unwrap();
+    for linear_solver in [LinearSolver::Mumps, LinearSolver::Pardiso] {
         let threads: Vec<_> = (0..4)
             .map(|_| {
                 std::thread::spawn(move || {
@@ -171,13 +172,14 @@ fn solves_from_several_threads_all_succeed_with_either_linear_solver() {
     }
 }
 
-/// With `linear_solver = "spine"` Ipopt factorises with the workspace's own solver (its counters
-/// move, MUMPS's default does not move them), it reaches the optimum MUMPS reaches, and an unknown
-/// linear solver is a setup error.
+/// With the workspace's solver installed (`spine_kkt::install`) and `linear_solver = "pardiso"`,
+/// Ipopt factorises with it (its counters move, MUMPS's default does not move them), it reaches the
+/// optimum MUMPS reaches, and an unknown linear solver is a setup error.
 #[test]
 fn the_workspaces_linear_solver_is_used_when_asked_and_agrees_with_mumps() {
+    spine_kkt::install().unwrap();
     let before = spine_kkt::pardiso::counters();
-    let ours = solve(&mut Hs071::new(), &tight().string("linear_solver", "spine")).unwrap();
+    let ours = solve(&mut Hs071::new(), &tight().string("linear_solver", "pardiso")).unwrap();
     let after = spine_kkt::pardiso::counters();
     assert!(after.factorizations > before.factorizations && after.solves > before.solves);
     let mumps = solve(&mut Hs071::new(), &tight()).unwrap();

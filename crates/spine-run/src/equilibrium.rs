@@ -71,7 +71,7 @@ impl EquilibriumReport {
     fn new(sol: &EquilibriumSolution, lengths: &[f64], design: &Design) -> Self {
         Self {
             status: sol.status,
-            status_text: sol.status.describe(),
+            status_text: sol.status.to_string(),
             load_factor: sol.load_factor,
             theta: sol.state.theta.clone(),
             lambda: sol.state.lambda,

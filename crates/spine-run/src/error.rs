@@ -49,8 +49,8 @@ pub enum RunError {
     #[error(transparent)]
     Option(FieldError),
     /// A worker process of a multi-start failed (it could not start, or ended without an answer).
-    #[error("{0}")]
-    Worker(String),
+    #[error(transparent)]
+    Worker(#[from] WorkerError),
     /// Shards that cannot be merged (mismatched, missing, incomplete).
     #[error(transparent)]
     Merge(#[from] MergeError),
@@ -102,10 +102,100 @@ impl RunError {
 pub enum MergeError {
     #[error("no shards given")]
     Empty,
-    #[error("{0}")]
-    Mismatch(String),
-    #[error("{0}")]
-    Incomplete(String),
+    /// A shard file of another format.
+    #[error("shard format \"{}\", expected \"{expected}\"", spine_check::shown(.found))]
+    Format { found: String, expected: &'static str },
+    #[error("shard.index {index} of shard.count {count}: 1 ≤ index ≤ count ≤ {max} expected")]
+    ShardNumber { index: usize, count: usize, max: usize },
+    #[error("overrides.starts {starts}: at most {max} expected")]
+    TooManyStarts { starts: usize, max: usize },
+    #[error("shard {shard} ran another case file than shard {first}")]
+    OtherCase { shard: String, first: String },
+    /// Shards run with other overrides (or one of a census, the other not).
+    #[error(
+        "shard {shard} ran with other settings ({}) than shard {first} ({})",
+        settings_text(.settings, *.batch),
+        settings_text(.first_settings, *.first_batch)
+    )]
+    OtherSettings {
+        shard: String,
+        settings: crate::DesignOverrides,
+        batch: Option<usize>,
+        first: String,
+        first_settings: crate::DesignOverrides,
+        first_batch: Option<usize>,
+    },
+    /// The case the shards carry is not a valid design case.
     #[error("the shards' case: {0}")]
-    Case(String),
+    Case(#[source] CaseError),
+    #[error(
+        "shard {shard} holds a batch of a census to a stated confidence, but its case and overrides set no confidence"
+    )]
+    NotACensus { shard: String },
+    #[error("shard {shard}: batch {batch}, expected 1 ≤ batch ≤ {count} (the cap allows {count})")]
+    BatchNumber { shard: String, batch: usize, count: usize },
+    /// Batches of a census missing below the last one given (the first ten).
+    #[error("a census's batches 1..={last} expected; missing batch {}", crate::text::numbers(.missing))]
+    MissingBatches { last: usize, missing: Vec<usize> },
+    #[error("batch 1 holds no start 0")]
+    NoStartZero,
+    #[error("shard {shard} and shard {other}: one batch is split into one number of shards")]
+    ShardCounts { shard: String, other: String },
+    /// Shards of one multi-start (or batch) missing (the first ten of `missing_count`) or given
+    /// more than once.
+    #[error("{count} shards{} expected; {}", batch.map(|b| format!(" of batch {b}")).unwrap_or_default(), missing_text(*.missing_count, .missing, .twice))]
+    MissingShards { count: usize, batch: Option<usize>, missing: Vec<usize>, missing_count: usize, twice: Vec<usize> },
+    #[error("shard {shard} is incomplete: {solved} of its {expected} starts solved (stopped early?)")]
+    IncompleteShard { shard: String, solved: usize, expected: usize },
+    /// A shard's run does not fit the case's problem (edited or from another case).
+    #[error("shard {shard}, start {start}: {reason}")]
+    OtherProblem {
+        shard: String,
+        start: usize,
+        #[source]
+        reason: FieldError,
+    },
+}
+
+/// A shard's settings as a person reads them: its overrides, and its batch.
+fn settings_text(overrides: &crate::DesignOverrides, batch: Option<usize>) -> String {
+    let mut text = serde_json::to_string(overrides).unwrap_or_default();
+    if let Some(b) = batch {
+        text += &format!(", batch {b}");
+    }
+    text
+}
+
+/// The missing and doubled shards of [`MergeError::MissingShards`].
+fn missing_text(missing_count: usize, missing: &[usize], twice: &[usize]) -> String {
+    let mut parts = Vec::new();
+    if missing_count > 0 {
+        parts.push(format!("missing {} ({missing_count} of them)", crate::text::numbers(missing)));
+    }
+    if !twice.is_empty() {
+        parts.push(format!("given more than once {}", crate::text::numbers(twice)));
+    }
+    parts.join("; ")
+}
+
+/// Why a worker process of a multi-start failed.
+#[derive(Debug, thiserror::Error)]
+pub enum WorkerError {
+    #[error("{}: cannot start a worker: {source}", .program.display())]
+    Start {
+        program: std::path::PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("a worker started without its pipes")]
+    NoPipes,
+    #[error("a worker stopped answering: {0}")]
+    Lost(#[source] std::io::Error),
+    #[error("a worker ended before answering (see its message above)")]
+    Ended,
+    /// The worker's own error, as its text (what crosses the process boundary).
+    #[error("{0}")]
+    Failed(String),
+    #[error("a worker's answer is not a run: {0}")]
+    NotARun(#[source] serde_json::Error),
 }

@@ -95,7 +95,7 @@ pub use dynamics::{
     DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,
 };
 pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
-pub use error::{MergeError, RunError};
+pub use error::{MergeError, RunError, WorkerError};
 pub use figure::{run_figure, FigureOutput, FigureRecipes, FigureResult, FigureRunResult, NamedRun, NoRecipes};
 pub use files::{samples_csv, FileContent, OutputFile};
 pub use kind::{in_figure, moves, run_kind, KindOutput, KindResult, RunContext, RunKind};

@@ -87,10 +87,9 @@ pub struct Shard {
 fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
     match spine_case::Case::from_json(text)? {
         spine_case::Case::Design(c) => Ok(c),
-        other => Err(RunError::Option(spine_check::FieldError::new(
-            "--shard",
-            format!("a multi-start shards \"design\" cases, not \"{}\"", other.kind()),
-        ))),
+        other => {
+            Err(RunError::WrongKind { command: "a sharded multi-start", needs: "a \"design\"", kind: other.kind() })
+        }
     }
 }
 
@@ -172,62 +171,38 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
     let first = shards.first().ok_or(MergeError::Empty)?.clone();
     for s in &shards {
         if s.format != SHARD_FORMAT {
-            let format = spine_check::shown(&s.format);
-            return Err(MergeError::Mismatch(format!("shard format \"{format}\", expected \"{SHARD_FORMAT}\"")).into());
+            return Err(MergeError::Format { found: s.format.clone(), expected: SHARD_FORMAT }.into());
         }
         let ShardSpec { index, count } = s.shard;
         if !(1..=spine_case::MAX_STARTS).contains(&count) || !(1..=count).contains(&index) {
-            return Err(MergeError::Mismatch(format!(
-                "shard.index {index} of shard.count {count}: 1 ≤ index ≤ count ≤ {} expected",
-                spine_case::MAX_STARTS
-            ))
-            .into());
+            return Err(MergeError::ShardNumber { index, count, max: spine_case::MAX_STARTS }.into());
         }
         if let Some(starts) = s.overrides.starts.filter(|&n| n > spine_case::MAX_STARTS) {
-            return Err(MergeError::Mismatch(format!(
-                "overrides.starts {starts}: at most {} expected",
-                spine_case::MAX_STARTS
-            ))
-            .into());
+            return Err(MergeError::TooManyStarts { starts, max: spine_case::MAX_STARTS }.into());
         }
         if s.case != first.case {
-            return Err(MergeError::Mismatch(format!(
-                "shard {} ran another case file than shard {}",
-                s.name(),
-                first.name()
-            ))
-            .into());
+            return Err(MergeError::OtherCase { shard: s.name(), first: first.name() }.into());
         }
         let same_count = s.batch.is_some() || s.shard.count == first.shard.count;
         if s.overrides != first.overrides || !same_count || s.batch.is_some() != first.batch.is_some() {
-            let settings = |o: &Shard| {
-                let mut text = serde_json::to_string(&o.overrides).unwrap_or_default();
-                if let Some(b) = o.batch {
-                    text += &format!(", batch {b}");
-                }
-                text
-            };
-            return Err(MergeError::Mismatch(format!(
-                "shard {} ran with other settings ({}) than shard {} ({})",
-                s.name(),
-                settings(s),
-                first.name(),
-                settings(&first)
-            ))
+            return Err(MergeError::OtherSettings {
+                shard: s.name(),
+                settings: s.overrides,
+                batch: s.batch,
+                first: first.name(),
+                first_settings: first.overrides,
+                first_batch: first.batch,
+            }
             .into());
         }
     }
-    let case = design_case(&first.case).map_err(|e| MergeError::Case(e.to_string()))?;
-    let mut valid = case.validate().map_err(|e| MergeError::Case(e.to_string()))?;
+    let case = design_case(&first.case)?;
+    let mut valid = case.validate().map_err(MergeError::Case)?;
     first.overrides.apply(&mut valid);
     shards.sort_by_key(|s| (s.batch, s.shard.index));
     let Some(target) = valid.multistart.confidence else {
         if first.batch.is_some() {
-            return Err(MergeError::Mismatch(format!(
-                "shard {} holds a batch of a census to a stated confidence, but its case and overrides set no confidence",
-                first.name()
-            ))
-            .into());
+            return Err(MergeError::NotACensus { shard: first.name() }.into());
         }
         let runs = complete_runs(&valid, shards)?;
         let mut result = census(&case, &valid, runs)?;
@@ -240,13 +215,7 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
     for s in shards {
         let b = s.batch.unwrap_or(0);
         if !(1..=batches.count()).contains(&b) {
-            return Err(MergeError::Mismatch(format!(
-                "shard {}: batch {b}, expected 1 ≤ batch ≤ {} (the cap allows {})",
-                s.name(),
-                batches.count(),
-                batches.count()
-            ))
-            .into());
+            return Err(MergeError::BatchNumber { shard: s.name(), batch: b, count: batches.count() }.into());
         }
         match by_batch.last_mut() {
             Some((last, group)) if *last == b => group.push(s),
@@ -257,17 +226,12 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
     let missing: Vec<usize> =
         (1..=*given.last().unwrap_or(&0)).filter(|b| given.binary_search(b).is_err()).take(10).collect();
     if !missing.is_empty() {
-        return Err(MergeError::Incomplete(format!(
-            "a census's batches 1..={} expected; missing batch {}",
-            given.last().unwrap_or(&0),
-            crate::text::numbers(&missing)
-        ))
-        .into());
+        return Err(MergeError::MissingBatches { last: *given.last().unwrap_or(&0), missing }.into());
     }
     let mut groups = by_batch.into_iter();
     let (_, first_batch) = groups.next().ok_or(MergeError::Empty)?;
     let mut runs = complete_runs(&valid, first_batch)?.into_iter();
-    let own = runs.next().ok_or_else(|| MergeError::Incomplete("batch 1 holds no start 0".into()))?;
+    let own = runs.next().ok_or(MergeError::NoStartZero)?;
     let mut census = ConfidenceCensus::new(&valid, target, own)?;
     let mut done = census.add_batch(runs.collect())?;
     let mut unused_batches = Vec::new();
@@ -308,14 +272,8 @@ impl Shard {
 fn complete_runs(valid: &spine_case::ValidDesign, shards: Vec<Shard>) -> Result<Vec<SolverRun>, RunError> {
     let first = shards.first().ok_or(MergeError::Empty)?;
     let count = first.shard.count;
-    let within = first.batch.map(|b| format!(" of batch {b}")).unwrap_or_default();
     if let Some(other) = shards.iter().find(|s| s.shard.count != count) {
-        return Err(MergeError::Mismatch(format!(
-            "shard {} and shard {}: one batch is split into one number of shards",
-            first.name(),
-            other.name()
-        ))
-        .into());
+        return Err(MergeError::ShardCounts { shard: first.name(), other: other.name() }.into());
     }
     let indices: Vec<usize> = shards.iter().map(|s| s.shard.index).collect();
     let twice: Vec<usize> = indices.windows(2).filter(|w| w[0] == w[1]).map(|w| w[0]).collect();
@@ -325,31 +283,23 @@ fn complete_runs(valid: &spine_case::ValidDesign, shards: Vec<Shard>) -> Result<
         // Every index is in 1..=count (checked above), at most 10⁵ of them.
         let missing: Vec<usize> = (1..=count).filter(|k| distinct.binary_search(k).is_err()).take(10).collect();
         let missing_count = count - distinct.len();
-        let mut parts = Vec::new();
-        if missing_count > 0 {
-            parts.push(format!("missing {} ({} of them)", crate::text::numbers(&missing), missing_count));
-        }
-        if !twice.is_empty() {
-            parts.push(format!("given more than once {}", crate::text::numbers(&twice)));
-        }
-        return Err(MergeError::Incomplete(format!("{count} shards{within} expected; {}", parts.join("; "))).into());
+        return Err(MergeError::MissingShards { count, batch: first.batch, missing, missing_count, twice }.into());
     }
     let mut runs = Vec::new();
     for s in shards {
         let expected = s.expected(valid);
         let got: Vec<usize> = s.runs.iter().map(|(i, _)| *i).collect();
         if !s.complete || got != expected {
-            return Err(MergeError::Incomplete(format!(
-                "shard {} is incomplete: {} of its {} starts solved (stopped early?)",
-                s.name(),
-                got.len(),
-                expected.len()
-            ))
-            .into());
+            return Err(
+                MergeError::IncompleteShard { shard: s.name(), solved: got.len(), expected: expected.len() }.into()
+            );
         }
         for (start, run) in &s.runs {
-            run.fits(&valid.problem)
-                .map_err(|e| MergeError::Mismatch(format!("shard {}, start {start}: {e}", s.name())))?;
+            run.fits(&valid.problem).map_err(|reason| MergeError::OtherProblem {
+                shard: s.name(),
+                start: *start,
+                reason,
+            })?;
         }
         runs.extend(s.runs);
     }

@@ -11,6 +11,7 @@ pub use crate::sweep_census::{CensusPlan, CensusPoint};
 use crate::workers::Workers;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase};
+use spine_check::FieldError;
 use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult, SweepSettings};
 use spine_design::DesignProblem;
 use std::fmt::Write as _;
@@ -47,8 +48,8 @@ pub fn run_design_sweep(
     let start = run_design_case(c, &first, workers, progress)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
     progress(Progress::Done { message: format!("following the optimum over {} points", settings.points) });
-    let problem_at = |v: f64| -> Result<DesignProblem, String> {
-        case_at(c, overrides, name, v).map(|valid| valid.problem).map_err(|e| e.to_string())
+    let problem_at = |v: f64| -> Result<DesignProblem, FieldError> {
+        case_at(c, overrides, name, v).map(|valid| valid.problem).map_err(FieldError::from)
     };
     let sweep = Sweep::new(name, &problem_at, &first.settings, settings).map_err(sweep_error)?;
     // A start that is not clean is the start run's finding (exit 3 with its result), as `spine

@@ -41,3 +41,8 @@ pub fn list(values: &[f64], decimals: usize) -> String {
 pub fn numbers(values: &[usize]) -> String {
     values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(", ")
 }
+
+/// Items as a person reads a list: `a, b, c` (each by its `Display`).
+pub fn joined<T: std::fmt::Display>(items: &[T]) -> String {
+    items.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")
+}

@@ -11,7 +11,7 @@
 //! A time limit or an interrupt stops handing out starts; solves still in flight are abandoned
 //! (their workers are killed), so the census holds the starts completed.
 
-use crate::error::RunError;
+use crate::error::{RunError, WorkerError};
 use serde::{Deserialize, Serialize};
 use spine_design::{run_solver, SolverRun};
 use spine_model::Design;
@@ -116,13 +116,13 @@ fn start_worker(command: &WorkerCommand) -> Result<(Child, Pipes), RunError> {
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
-        .map_err(|e| RunError::Worker(format!("{}: cannot start a worker: {e}", command.program.display())))?;
+        .map_err(|source| WorkerError::Start { program: command.program.clone(), source })?;
     match (child.stdin.take(), child.stdout.take()) {
         (Some(input), Some(output)) => Ok((child, Pipes { input, output: BufReader::new(output) })),
         _ => {
             let _ = child.kill();
             let _ = child.wait();
-            Err(RunError::Worker("a worker started without its pipes".into()))
+            Err(WorkerError::NoPipes.into())
         }
     }
 }
@@ -132,17 +132,17 @@ impl Pipes {
     fn solve(&mut self, task: &Task) -> Result<SolverRun, RunError> {
         let mut line = serde_json::to_string(task).expect("tasks serialise");
         line.push('\n');
-        let lost = |e: std::io::Error| RunError::Worker(format!("a worker stopped answering: {e}"));
+        let lost = WorkerError::Lost;
         self.input.write_all(line.as_bytes()).map_err(lost)?;
         self.input.flush().map_err(lost)?;
         let mut answer = String::new();
         if self.output.read_line(&mut answer).map_err(lost)? == 0 {
-            return Err(RunError::Worker("a worker ended before answering (see its message above)".into()));
+            return Err(WorkerError::Ended.into());
         }
         match serde_json::from_str(&answer) {
             Ok(Answer::Run(run)) => Ok(*run),
-            Ok(Answer::Error(message)) => Err(RunError::Worker(message)),
-            Err(e) => Err(RunError::Worker(format!("a worker's answer is not a run: {e}"))),
+            Ok(Answer::Error(message)) => Err(WorkerError::Failed(message).into()),
+            Err(e) => Err(WorkerError::NotARun(e).into()),
         }
     }
 }

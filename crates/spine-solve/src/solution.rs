@@ -33,10 +33,12 @@ impl EquilibriumStatus {
     pub fn is_stable(&self) -> bool {
         matches!(self, Self::Stable)
     }
+}
 
+impl std::fmt::Display for EquilibriumStatus {
     /// One line for people.
-    pub fn describe(&self) -> String {
-        match *self {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let text: String = match *self {
             Self::Stable => "converged, stable".into(),
             Self::Unstable { critical_load_factor } => format!(
                 "converged at full load but UNSTABLE: stability lost at {:.6} of the load (buckling)",
@@ -55,7 +57,8 @@ impl EquilibriumStatus {
                 format!("NOT converged: the time limit passed at {load_factor:.6} of the load")
             }
             Self::Interrupted { load_factor } => format!("NOT converged: interrupted at {load_factor:.6} of the load"),
-        }
+        };
+        f.write_str(&text)
     }
 }
 

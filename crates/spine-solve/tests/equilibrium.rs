@@ -271,8 +271,8 @@ fn a_stall_of_load_control_is_not_reported_as_a_fold() {
     assert_eq!(fold_by_arclength(&arch, &default.passive.state), None, "the oracle found a fold");
     let fine = solve_static(&arch, &ContinuationOptions { max_angle_step: 0.002, ..ContinuationOptions::default() });
     let (a, b) = (default.loaded.unwrap(), fine.loaded.unwrap());
-    assert_eq!(a.status, EquilibriumStatus::Stable, "{}", a.status.describe());
-    assert_eq!(b.status, EquilibriumStatus::Stable, "{}", b.status.describe());
+    assert_eq!(a.status, EquilibriumStatus::Stable, "{}", a.status);
+    assert_eq!(b.status, EquilibriumStatus::Stable, "{}", b.status);
     let difference = a.state.theta.iter().zip(&b.state.theta).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     assert!(difference < 1e-9, "{difference}");
 }
@@ -308,7 +308,7 @@ fn steep_arch_reaches_the_full_load_on_its_stable_path() {
     let default = solve_static(&p, &ContinuationOptions::default());
     let fine = solve_static(&p, &ContinuationOptions { max_angle_step: 0.002, ..ContinuationOptions::default() });
     let (a, b) = (default.loaded.unwrap(), fine.loaded.unwrap());
-    assert_eq!(a.status, EquilibriumStatus::Stable, "{}", a.status.describe());
+    assert_eq!(a.status, EquilibriumStatus::Stable, "{}", a.status);
     assert_eq!(b.status, EquilibriumStatus::Stable);
     let difference = a.state.theta.iter().zip(&b.state.theta).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     assert!(difference < 1e-9, "{difference}");

@@ -52,7 +52,7 @@ pub struct Optimum<'a> {
 pub struct Parameter<'a> {
     pub name: String,
     pub value: f64,
-    pub problem_at: Box<dyn Fn(f64) -> Result<DesignProblem, String> + 'a>,
+    pub problem_at: Box<dyn Fn(f64) -> Result<DesignProblem, spine_check::FieldError> + 'a>,
 }
 
 /// Why sensitivities could not be computed.
@@ -60,7 +60,11 @@ pub struct Parameter<'a> {
 pub enum SensitivityError {
     /// The problem could not be rebuilt with the parameter changed.
     #[error("parameter `{name}`: {reason}")]
-    Parameter { name: String, reason: String },
+    Parameter {
+        name: String,
+        #[source]
+        reason: spine_check::FieldError,
+    },
     /// The rebuilt problem has another size (a parameter must not change the number of links).
     #[error("parameter `{0}` changes the problem's size")]
     Size(String),

@@ -83,7 +83,10 @@ impl SweepSettings {
 pub enum SweepError {
     /// The problem could not be built at a parameter value.
     #[error("parameter: {0}")]
-    Parameter(String),
+    Parameter(#[source] spine_check::FieldError),
+    /// The sensitivities along the branch could not be computed.
+    #[error(transparent)]
+    Sensitivity(#[from] crate::sensitivity::SensitivityError),
     /// Ipopt could not start.
     #[error(transparent)]
     Solver(#[from] DesignError),
@@ -230,7 +233,7 @@ pub struct Sweep<'a> {
     /// The parameter's name (for the sensitivities' report).
     pub name: &'a str,
     /// The problem at a parameter value.
-    pub problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, String> + 'a),
+    pub problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, spine_check::FieldError> + 'a),
     /// The case's solver settings (the corrector tightens them).
     pub solver: &'a SolverSettings,
     pub settings: SweepSettings,
@@ -242,7 +245,7 @@ pub struct Sweep<'a> {
 impl<'a> Sweep<'a> {
     pub fn new(
         name: &'a str,
-        problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, String> + 'a),
+        problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, spine_check::FieldError> + 'a),
         solver: &'a SolverSettings,
         settings: SweepSettings,
     ) -> Result<Self, SweepError> {

@@ -160,7 +160,7 @@ impl Sweep<'_> {
                     value: parameter,
                     problem_at: Box::new(|v| (self.problem_at)(v)),
                 };
-                Some(sensitivities(&optimum, &[swept]).map_err(|e| SweepError::Parameter(e.to_string()))?)
+                Some(sensitivities(&optimum, &[swept])?)
             }
             _ => None,
         };

@@ -1,18 +1,27 @@
 //! `spine sensitivity`: an eq. (33) optimum (one start, full space) and its derivatives with
 //! respect to the case's parameters ([`spine_design::sensitivity`]), with a CSV per parameter.
+//!
+//! Modules: `differentiate` (the polishing re-solve and the derivatives, or why there are none),
+//! `not_clean` (why a result is not clean), `figure` (every design run of a figure case).
 
-use crate::design::{run_design_case, states, DesignCaseResult, DesignOverrides};
+mod differentiate;
+mod figure;
+mod not_clean;
+
+pub use differentiate::{differentiate, NoSensitivity};
+pub use figure::{run_figure_sensitivity, FigureSensitivityResult, RunSensitivity, SkippedRun};
+pub use not_clean::NotClean;
+
+use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
 use crate::error::RunError;
 use crate::files::OutputFile;
 use crate::progress::Progress;
 use crate::workers::Workers;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
-use spine_design::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport};
-use spine_design::DesignResult;
+use spine_design::sensitivity::{Derivative, SensitivityReport};
 use std::fmt::Write;
 
-/// `result.json` of `spine sensitivity`: the optimum and its sensitivities.
 #[derive(Clone, Debug, Serialize)]
 pub struct SensitivityResult {
     pub title: String,
@@ -22,7 +31,7 @@ pub struct SensitivityResult {
     pub sensitivity: Option<SensitivityReport>,
     /// Why there is no `sensitivity` block, where there is none.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub no_sensitivity: Option<String>,
+    pub no_sensitivity: Option<NoSensitivity>,
     /// Why the result is not clean (exit code 3), one entry per reason; absent when it is clean.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub not_clean: Vec<NotClean>,
@@ -56,7 +65,7 @@ pub fn run_design_sensitivity(
     let (differentiated, polish_seconds) = if design.result.is_clean() {
         differentiate(c, &valid, overrides, &names, &design.result)?
     } else {
-        (Err("the optimum is not clean (see the design's status and warnings)".into()), 0.0)
+        (Err(NoSensitivity::OptimumNotClean), 0.0)
     };
     let (sensitivity, no_sensitivity) = match differentiated {
         Ok(report) => (Some(report), None),
@@ -65,7 +74,7 @@ pub fn run_design_sensitivity(
     let files =
         sensitivity.as_ref().map(|s| s.parameters.iter().map(|p| csv_name(&p.name)).collect()).unwrap_or_default();
     let sensitivity_seconds = clock.elapsed().as_secs_f64() - solve_seconds - polish_seconds;
-    let not_clean = NotClean::of(&design, sensitivity.as_ref(), no_sensitivity.as_deref());
+    let not_clean = NotClean::of(&design, sensitivity.as_ref(), no_sensitivity.as_ref());
     Ok(SensitivityResult {
         title: design.title.clone(),
         design,
@@ -77,72 +86,6 @@ pub fn run_design_sensitivity(
         polish_seconds,
         sensitivity_seconds,
     })
-}
-
-/// The sensitivities of a design case's optimum `first` (a clean result of `valid`'s problem):
-/// re-solved tightly from it (see `spine_design::sensitivity::polish`), then, when that ends clean
-/// on the same optimum, differentiated with respect to `names`. Returns the report (or why there
-/// is none: the polishing solve's status, or how far it moved `J`) and the polishing solve's wall
-/// time.
-pub fn differentiate(
-    c: &DesignCase,
-    valid: &ValidDesign,
-    overrides: &DesignOverrides,
-    names: &[String],
-    first: &DesignResult,
-) -> Result<(Result<SensitivityReport, String>, f64), RunError> {
-    let values = names.iter().map(|name| c.parameter_value(name)).collect::<Result<Vec<f64>, CaseError>>()?;
-    let problem = &valid.problem;
-    let clock = std::time::Instant::now();
-    let polished = polish(problem, &first.design, &valid.settings).map_err(RunError::Design)?;
-    let multipliers = polished.multipliers.clone();
-    let design = polished.check(problem, &valid.settings);
-    let polish_seconds = clock.elapsed().as_secs_f64();
-    let moved = (design.objective - first.objective).abs() / first.objective.abs().max(1e-12);
-    let shape_moved =
-        design.design.theta0.iter().zip(&first.design.theta0).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    // The same optimum as the certificate judges it (`J` within 1e-6, or a little lower along a
-    // flat valley of `K` with the same shape); another local optimum moves more.
-    let same = spine_design::certificate::same_optimum(first, &design);
-    let why_not = if !design.is_clean() {
-        Some(format!(
-            "the polishing re-solve (tol 1e-12) from the optimum did not end clean: {} after {} iterations{}",
-            design.solver.status,
-            design.solver.iterations,
-            design.warnings.iter().map(|w| format!("; {w}")).collect::<String>()
-        ))
-    } else if !same {
-        Some(format!(
-            "the polishing re-solve (tol 1e-12) moved J by {moved:.1e} relative (to {:.10e} J) and θ0 by {shape_moved:.1e} rad: another optimum",
-            design.objective
-        ))
-    } else {
-        None
-    };
-    let (Some(multipliers), None, Some((passive, loaded))) = (&multipliers, &why_not, states(&design)) else {
-        let why = why_not.unwrap_or_else(|| "the polished optimum has no multipliers or equilibria".into());
-        return Ok((Err(why), polish_seconds));
-    };
-    let layout = design.solver.layout(problem.n_links());
-    let heights = problem.node_heights(&design.design.theta0);
-    let x = layout.pack(&design.design, problem.stiffness_scale, &passive, &loaded, &heights);
-    let parameters: Vec<Parameter<'_>> = names
-        .iter()
-        .zip(&values)
-        .map(|(name, &value)| Parameter {
-            name: name.clone(),
-            value,
-            problem_at: Box::new(move |v| {
-                let mut changed = c.with_parameter(name, v).and_then(|c| c.validate()).map_err(|e| e.to_string())?;
-                overrides.apply(&mut changed);
-                Ok(changed.problem)
-            }),
-        })
-        .collect();
-    let optimum = Optimum { problem, layout, x: &x, multipliers };
-    let report = sensitivities(&optimum, &parameters)
-        .map_err(|e| RunError::Case(CaseError::invalid("--param", e.to_string())))?;
-    Ok((Ok(report), polish_seconds))
 }
 
 /// With `spine design --sensitivity` (`overrides.sensitivity`): the derivatives of `result`'s
@@ -220,55 +163,6 @@ fn csv(derivatives: &[(&str, &Derivative)]) -> String {
     out
 }
 
-/// Why a sensitivity result is not clean (in `result.json`: `{"reason": "no_derivative", …}`).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(tag = "reason", rename_all = "snake_case")]
-pub enum NotClean {
-    /// The optimum is not clean: its status, warnings and certificate say why.
-    Optimum { status: spine_ipopt::Status },
-    /// No sensitivities were computed, and why.
-    NoSensitivities { why: String },
-    /// A parameter has neither a two-sided derivative nor both one-sided ones, and why.
-    NoDerivative { parameter: String, why: String },
-}
-
-impl NotClean {
-    /// The reasons a result with this optimum and these sensitivities is not clean (none: clean).
-    fn of(design: &DesignCaseResult, report: Option<&SensitivityReport>, no_sensitivity: Option<&str>) -> Vec<Self> {
-        let mut reasons = Vec::new();
-        if !design.result.is_clean() {
-            reasons.push(Self::Optimum { status: design.result.solver.status });
-        }
-        match report {
-            None => reasons
-                .push(Self::NoSensitivities { why: no_sensitivity.unwrap_or("the optimum is not clean").to_string() }),
-            Some(report) => reasons.extend(
-                report
-                    .parameters
-                    .iter()
-                    .filter(|p| p.derivative.is_none() && (p.increase.is_none() || p.decrease.is_none()))
-                    .map(|p| Self::NoDerivative {
-                        parameter: p.name.clone(),
-                        why: p.note.clone().unwrap_or_else(|| "the conditions fail".into()),
-                    }),
-            ),
-        }
-        reasons
-    }
-}
-
-impl std::fmt::Display for NotClean {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Optimum { status } => {
-                write!(f, "the optimum is not clean (Ipopt: {status}; see its warnings and certificate)")
-            }
-            Self::NoSensitivities { why } => write!(f, "no sensitivities: {why}"),
-            Self::NoDerivative { parameter, why } => write!(f, "no derivative with respect to {parameter}: {why}"),
-        }
-    }
-}
-
 impl crate::KindOutput for SensitivityResult {
     fn not_clean_reasons(&self) -> Vec<String> {
         self.not_clean.iter().map(ToString::to_string).collect()
@@ -305,11 +199,8 @@ impl std::fmt::Display for SensitivityResult {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}", self.design)?;
         let Some(report) = &self.sensitivity else {
-            return writeln!(
-                f,
-                "NO SENSITIVITIES: {}",
-                self.no_sensitivity.as_deref().unwrap_or("the optimum is not clean")
-            );
+            let why = self.no_sensitivity.as_ref().unwrap_or(&NoSensitivity::OptimumNotClean);
+            return writeln!(f, "NO SENSITIVITIES: {why}");
         };
         let c = &report.conditions;
         writeln!(
@@ -359,101 +250,6 @@ impl std::fmt::Display for SensitivityResult {
                 p.value,
                 if p.affine { "" } else { " (not affine: central difference)" }
             )?;
-        }
-        Ok(())
-    }
-}
-
-/// `spine sensitivity` on a figure case: the sensitivities of each static design run's optimum
-/// (the figure's dynamics runs have no eq. (33) optimum and are listed as skipped).
-#[derive(Clone, Debug, Serialize)]
-pub struct FigureSensitivityResult {
-    pub figure: String,
-    pub title: String,
-    pub runs: Vec<RunSensitivity>,
-    /// Runs that are not design cases, by name with their kind.
-    pub skipped: Vec<String>,
-}
-
-/// One design run of a figure with its sensitivities.
-#[derive(Clone, Debug, Serialize)]
-pub struct RunSensitivity {
-    pub name: String,
-    pub label: String,
-    pub result: SensitivityResult,
-}
-
-/// The sensitivities of every design run of a figure case (`runs`: the figure's validated runs),
-/// each run as [`run_design_sensitivity`] runs a design case.
-pub fn run_figure_sensitivity(
-    case: &spine_case::FigureCase,
-    runs: &[spine_case::ValidRun],
-    overrides: &DesignOverrides,
-    workers: Option<&Workers>,
-    names: &[String],
-    progress: &mut dyn FnMut(Progress<'_>),
-) -> Result<FigureSensitivityResult, RunError> {
-    let mut out = Vec::new();
-    let mut skipped = Vec::new();
-    for (index, run) in runs.iter().enumerate() {
-        let spine_case::Case::Design(c) = &run.case else {
-            skipped.push(format!("{} ({})", run.name, run.case.kind()));
-            continue;
-        };
-        // The optimum each panel draws from the run's own start is differentiated; a figure's
-        // census of the best design (`multistart.confidence`) is not repeated here.
-        let mut c = c.clone();
-        c.multistart.confidence = None;
-        let mut result = run_design_sensitivity(&c, overrides, workers, names, progress)
-            .map_err(|e| RunError::InRun { index, name: run.name.clone(), source: Box::new(e) })?;
-        result.files.iter_mut().for_each(|f| *f = format!("{}_{f}", run.name));
-        out.push(RunSensitivity { name: run.name.clone(), label: run.label.clone(), result });
-    }
-    if out.is_empty() {
-        let message =
-            format!("figure {:?} has no design runs to differentiate (its runs: {})", case.figure, skipped.join(", "));
-        return Err(RunError::Case(CaseError::invalid("runs", message)));
-    }
-    let title = case.shown_title();
-    Ok(FigureSensitivityResult { figure: case.figure.clone(), title, runs: out, skipped })
-}
-
-impl crate::KindOutput for FigureSensitivityResult {
-    fn not_clean_reasons(&self) -> Vec<String> {
-        let reasons = |run: &RunSensitivity| {
-            run.result.not_clean.iter().map(|r| format!("{}: {r}", run.name)).collect::<Vec<_>>()
-        };
-        self.runs.iter().flat_map(reasons).collect()
-    }
-
-    /// Clean when every design run's sensitivities are.
-    fn is_clean(&self) -> bool {
-        self.runs.iter().all(|r| r.result.is_clean())
-    }
-
-    /// Each run's CSVs, prefixed with the run's name: `<run>_sensitivity_<name>.csv`.
-    fn files(&self) -> Vec<OutputFile> {
-        self.runs
-            .iter()
-            .flat_map(|r| {
-                r.result.files().into_iter().map(move |mut f| {
-                    f.name = format!("{}_{}", r.name, f.name);
-                    f
-                })
-            })
-            .collect()
-    }
-}
-
-impl std::fmt::Display for FigureSensitivityResult {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(f, "{}: sensitivities of {} design runs", self.title, self.runs.len())?;
-        for r in &self.runs {
-            writeln!(f, "── run {} ({}) ──", r.name, r.label)?;
-            r.result.fmt(f)?;
-        }
-        if !self.skipped.is_empty() {
-            writeln!(f, "skipped (not design runs): {}", self.skipped.join(", "))?;
         }
         Ok(())
     }
