@@ -53,7 +53,7 @@ pub enum RunError {
     Worker(#[from] WorkerError),
     /// Shards that cannot be merged (mismatched, missing, incomplete).
     #[error(transparent)]
-    Merge(#[from] MergeError),
+    Merge(Box<MergeError>),
     /// A run of a figure failed.
     #[error("runs[{index}] ({name}): {source}")]
     InRun {
@@ -62,6 +62,12 @@ pub enum RunError {
         #[source]
         source: Box<RunError>,
     },
+}
+
+impl From<MergeError> for RunError {
+    fn from(e: MergeError) -> Self {
+        Self::Merge(Box::new(e))
+    }
 }
 
 impl RunError {
