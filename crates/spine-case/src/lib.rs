@@ -7,6 +7,8 @@
 //! Further modules:
 //!
 //! * `design_case`: `"kind": "design"`: the static design problem of eq. (33).
+//! * `dynamic_kinds`: The three dynamic kinds (`simulate`, `damping`, `periodic`): one case
+//!   format, a case type per kind that knows its task.
 //! * `dynamics_case`: `"kind": "simulate" | "damping" | "periodic"`: the dynamics of Sec. 5.2 — a
 //!   step or periodic response, the damping design of eq. (35), the periodic-load design of eq.
 //!   (37).
@@ -71,6 +73,7 @@ macro_rules! case_kinds {
 
 mod case;
 mod design_case;
+mod dynamic_kinds;
 mod dynamics_case;
 mod dynamics_specs;
 mod equilibrium_case;
@@ -86,9 +89,9 @@ mod twolink_case;
 
 pub use case::{json_schema, Case, ValidRun, KINDS};
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
+pub use dynamic_kinds::{DampingCase, DynamicKind, PeriodicCase, SimulateCase};
 pub use dynamics_case::{
-    DampingCase, DampingDesignSpec, DesignSource, DynamicKind, DynamicsCase, DynamicsTask, PeriodicCase,
-    PeriodicDesignSpec, SimulateCase, StaticDesignSpec, ValidDynamics,
+    DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics,
 };
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;

@@ -21,6 +21,8 @@
 //!
 //! * [`census`]: How complete a multi-start's census of local optima is: a Bayesian estimate in the
 //!   manner of Boender and Rinnooy Kan.
+//! * `ipopt_allowed`: The Ipopt options a case file may set in `solver.ipopt_options`, and their
+//!   check: numerical settings only, one way to set each.
 //! * `layout`: Where each quantity of eq. (33) sits in the full-space variable and constraint
 //!   vectors (the table of `crate::full_space`).
 //! * `solver_report`: Ipopt's account of a design run: status, iterations, infeasibilities, counts,
@@ -52,6 +54,7 @@ pub mod certificate;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod full_space;
+mod ipopt_allowed;
 mod layout;
 pub mod multistart;
 pub mod problem;

@@ -21,6 +21,8 @@
 //!   unseen) ≤ P.
 //! * `design`: Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //!   multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
+//! * `design_summary`: The summary of a design case that a person reads (`spine design`): the
+//!   multi-start's census, the solver's status, the optimum, its certificate and its warnings.
 //! * `dynamics`: Kinds `simulate`, `damping` and `periodic`: the dynamics of Sec. 5.2 on a given
 //!   design or on the eq. (33) design of the case.
 //! * `dynamics_summary`: The summary of a dynamic case that a person reads (`spine simulate`,
@@ -63,6 +65,7 @@ pub mod animation;
 pub mod claims;
 pub mod confidence;
 mod design;
+mod design_summary;
 mod dynamics;
 mod dynamics_summary;
 mod equilibrium;

@@ -2,6 +2,7 @@
 //! One module per kind of figure; this one holds the pieces they share.
 
 mod dynamic;
+mod periodic;
 mod statics;
 mod twolink;
 
@@ -31,7 +32,7 @@ pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<Figure
         "fig3" | "fig4" | "fig6" | "fig7" | "fig8" => statics::design_figure(figure, title, runs),
         "fig5" => statics::load_sweep_figure(title, runs),
         "fig9" => dynamic::step_designs_figure(title, runs),
-        "fig10" => dynamic::periodic_design_figure(title, runs),
+        "fig10" => periodic::periodic_design_figure(title, runs),
         "fig11" => dynamic::pulse_figure(title, runs),
         "fig12" => dynamic::rise_time_figure(title, runs),
         other => Err(FieldError::new("figure", format!("no recipe for {other:?}"))),

@@ -1,0 +1,167 @@
+//! The summary of a design case that a person reads (`spine design`): the multi-start's census,
+//! the solver's status, the optimum, its certificate and its warnings, each number with its unit.
+
+use crate::design::DesignCaseResult;
+use crate::text::list;
+use spine_design::multistart::MultiStartSummary;
+
+impl DesignCaseResult {
+    /// The multi-start's census: its optima and which one is reported.
+    fn fmt_multistart(&self, summary: &MultiStartSummary, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "multi-start: {} runs (the case's start and {} seeded starts, seed {}), {} converged, {} distinct optima",
+            summary.starts,
+            summary.starts - 1,
+            summary.seed,
+            summary.converged,
+            summary.optima.len()
+        )?;
+        for (k, o) in summary.optima.iter().enumerate() {
+            writeln!(
+                f,
+                "  optimum {k}: J = {:.10e} J, reached by {} run(s), first from start {}{}{}",
+                o.objective(),
+                o.count,
+                o.starts[0],
+                o.mirror_of.map_or(String::new(), |m| format!(" (mirror image of optimum {m})")),
+                if o.clean { "" } else { " (not clean: see its warnings in result.json)" }
+            )?;
+        }
+        if let Some(c) = &summary.confidence {
+            writeln!(
+                f,
+                "census to confidence: target P(a better one unseen) ≤ {} {} after {} batch(es) of {} seeded starts (cap {})",
+                c.target,
+                if c.reached { "REACHED" } else { "NOT REACHED" },
+                c.batches,
+                c.batch,
+                c.cap
+            )?;
+        }
+        let e = &summary.census;
+        let number =
+            |v: Option<f64>, digits: usize| v.map_or("n/a (too few runs)".to_string(), |v| format!("{v:.digits$}"));
+        writeln!(
+            f,
+            "census (Boender-Rinnooy Kan): {} clean optima from {} runs; estimated number of optima {}, P(all seen) {}, P(a better one unseen) {}",
+            e.distinct,
+            e.searches,
+            number(e.estimated_optima, 1),
+            number(e.probability_all_seen, 3),
+            number(e.probability_better_unseen, 3)
+        )?;
+        match summary.best_clean() {
+            Some(_) if self.reported_start == 0 => {
+                writeln!(f, "reported below: the best clean optimum, reached from the case's own start")?
+            }
+            Some(_) => writeln!(
+                f,
+                "reported below: the best clean optimum, reached first from seeded start {}",
+                self.reported_start
+            )?,
+            None => writeln!(f, "no start reached a clean optimum; reported below: the case's own start")?,
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for DesignCaseResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(summary) = &self.multistart {
+            self.fmt_multistart(summary, f)?;
+        }
+        let r = &self.result;
+        writeln!(
+            f,
+            "{} — {} links, {} space, C_K = {}",
+            self.title,
+            r.design.theta0.len(),
+            r.formulation.name(),
+            r.stiffness_scale
+        )?;
+        writeln!(
+            f,
+            "Ipopt: {} after {} iterations ({:.3} s, {:.3} s in evaluations)",
+            r.solver.status, r.solver.iterations, r.solver.ipopt_seconds, r.solver.evaluation_seconds
+        )?;
+        if let Some(refinement) = &r.refinement {
+            for l in &refinement.levels {
+                let restarts = match l.restarts {
+                    0 => String::new(),
+                    1 => " (1 restart)".to_string(),
+                    r => format!(" ({r} restarts)"),
+                };
+                writeln!(
+                    f,
+                    "  level {:>5} links ({} start): {} after {} iterations{restarts}, J = {:.10e} J",
+                    l.links, l.start, l.status, l.iterations, l.objective
+                )?;
+            }
+        }
+        writeln!(f, "J = U(θ1) = {:.10e} J", r.objective)?;
+        if let Some(v) = &r.violations {
+            writeln!(
+                f,
+                "largest constraint violation {:.2e} (equilibria {:.1e} / {:.1e} N·m, end {:.1e} m)",
+                v.max, v.passive_equilibrium, v.loaded_equilibrium, v.end_displacement
+            )?;
+        }
+        match r.end_displacement {
+            Some(d) => writeln!(f, "end displacement X(θ2) − L_x = {d:.9e} m (target δ_d = {:.9e} m)", r.delta_d)?,
+            None => writeln!(f, "end displacement: none")?,
+        }
+        for (name, s) in [("θ1 passive", &r.passive), ("θ2 loaded", &r.loaded)] {
+            if let Some(s) = s {
+                let eig = s.stability.min_eigenvalue.map_or("none".into(), |e| format!("{e:.4e}"));
+                writeln!(
+                    f,
+                    "{name:<11} {} (smallest reduced-Hessian eigenvalue {eig} N·m/rad)",
+                    if s.stability.stable { "stable" } else { "UNSTABLE" }
+                )?;
+            }
+        }
+        match &r.certificate {
+            Some(c) => writeln!(
+                f,
+                "second-order certificate: {} ({} free variables, {} active rows, null space {}, {} weakly active; smallest curvature {}; reduced KKT inertia {})",
+                c.status,
+                c.free_variables,
+                c.active_rows,
+                c.null_space_dimension,
+                c.weakly_active,
+                c.smallest_curvature.map_or("none (a vertex or too large to form)".into(), |v| format!("{v:.3e}")),
+                c.reduced_kkt_inertia.map_or("n/a".into(), |i| format!("{i:?}"))
+            )?,
+            None => writeln!(f, "second-order certificate: none (the run did not converge)")?,
+        }
+        for e in &r.escapes {
+            writeln!(
+                f,
+                "NOTE: left a point that is not a minimum (J = {:.10e} J, certificate {}) by {}; reached J = {:.10e} J",
+                e.objective,
+                e.status.map_or("none", |s| s.name()),
+                e.how.name(),
+                e.reached
+            )?;
+        }
+        writeln!(f, "θ0 (rad) = {}", list(&r.design.theta0, 6))?;
+        writeln!(f, "K (N·m/rad) = {}", list(&r.design.stiffness, 3))?;
+        for note in &r.start_notes {
+            writeln!(f, "start: {note}")?;
+        }
+        for w in &r.warnings {
+            writeln!(f, "WARNING: {w}")?;
+        }
+        if let Some(s) = &self.sensitivity {
+            let given = s.parameters.iter().filter(|p| p.derivative.is_some()).count();
+            writeln!(
+                f,
+                "sensitivity: conditions {}; derivatives for {given} of {} parameters (result.json: sensitivity)",
+                if s.conditions.hold { "hold" } else { "FAIL (see result.json: sensitivity.conditions)" },
+                s.parameters.len()
+            )?;
+        }
+        Ok(())
+    }
+}
