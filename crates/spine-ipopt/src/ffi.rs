@@ -6,31 +6,10 @@
 //! `bool` from 3.14); `build.rs` reads the header of the library it links and sets
 //! `cfg(ipopt_c99_bool)` accordingly, so the declarations always match the library.
 
+use crate::c_bool::{from_c, to_c, Bool};
 pub(crate) use crate::context::{Context, Finish, Start};
 use crate::{IterationInfo, OptionValue, SetupError};
 use std::ffi::{c_char, c_int, c_void, CString};
-
-#[cfg(ipopt_c99_bool)]
-type Bool = bool;
-#[cfg(not(ipopt_c99_bool))]
-type Bool = c_int;
-
-#[cfg(ipopt_c99_bool)]
-fn to_c(b: bool) -> Bool {
-    b
-}
-#[cfg(not(ipopt_c99_bool))]
-fn to_c(b: bool) -> Bool {
-    b as c_int
-}
-#[cfg(ipopt_c99_bool)]
-fn from_c(b: Bool) -> bool {
-    b
-}
-#[cfg(not(ipopt_c99_bool))]
-fn from_c(b: Bool) -> bool {
-    b != 0
-}
 
 type Index = c_int;
 type UserData = *mut c_void;

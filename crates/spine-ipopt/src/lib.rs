@@ -66,6 +66,7 @@
 //! ```
 #![deny(unsafe_code)]
 
+mod c_bool;
 mod context;
 #[allow(unsafe_code)]
 mod ffi;
