@@ -1,8 +1,8 @@
 //! The command line: subcommands, their arguments, and the overrides they make to a case.
 
 use crate::parse::{
-    parse_batch, parse_confidence, parse_every, parse_frame_width, parse_frames, parse_jobs, parse_magnify,
-    parse_starts, parse_time_limit,
+    parse_batch, parse_confidence, parse_every, parse_formulation, parse_frame_width, parse_frames, parse_jobs,
+    parse_magnify, parse_method, parse_starts, parse_time_limit,
 };
 use clap::{Parser, Subcommand};
 use spine_design::Formulation;
@@ -93,8 +93,8 @@ pub struct DesignArgs {
     pub run: RunArgs,
     /// Formulation of eq. (33): `full` (simultaneous, exact sparse Hessian) or `reduced`
     /// (equilibria by continuation, adjoint gradients); default: the case file's.
-    #[arg(long, value_parser = ["full", "reduced"])]
-    pub formulation: Option<String>,
+    #[arg(long, value_parser = parse_formulation)]
+    pub formulation: Option<Formulation>,
     /// Extra seeded feasible starts (multi-start), at most 100000; default: the case file's.
     #[arg(long, value_parser = parse_starts)]
     pub starts: Option<usize>,
@@ -161,8 +161,8 @@ pub struct PeriodicArgs {
     pub run: RunArgs,
     /// Method for eq. (37): `ga` (genetic algorithm), `pattern` (pattern search) or `gradient`
     /// (Ipopt with exact sensitivities); default: the case file's.
-    #[arg(long, value_parser = ["ga", "pattern", "gradient"])]
-    pub method: Option<String>,
+    #[arg(long, value_parser = parse_method)]
+    pub method: Option<SearchMethod>,
     #[command(flatten)]
     pub animate: AnimateArgs,
 }
@@ -316,27 +316,21 @@ impl DesignArgs {
 
     fn design_overrides(&self) -> spine_run::Overrides {
         let design = spine_run::DesignOverrides {
-            formulation: self.formulation.as_deref().map(|f| {
-                if f == "reduced" {
-                    Formulation::Reduced
-                } else {
-                    Formulation::Full
-                }
-            }),
-            // With `--confidence`, `--starts` is the cap; absent, the largest allowed.
-            starts: self.starts.or(self.confidence.map(|_| 0)),
+            formulation: self.formulation,
+            starts: self.starts,
             seed: self.seed,
             confidence: self.confidence,
             refine: self.refine,
             sensitivity: self.sensitivity,
-        };
+        }
+        .with_confidence_cap();
         spine_run::Overrides { design, ..Default::default() }
     }
 }
 
 impl PeriodicArgs {
     pub fn overrides(&self) -> spine_run::Overrides {
-        let method = self.method.as_deref().and_then(SearchMethod::from_name);
+        let method = self.method;
         spine_run::Overrides {
             dynamics: spine_run::DynamicsOverrides { method },
             animation: self.animate.options(),

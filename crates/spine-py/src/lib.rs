@@ -33,10 +33,14 @@ use convert::{case_from, run_error};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use spine_run::option_values as values;
 use std::time::Duration;
 
-/// Longest `time_limit` accepted, s (the CLI's `--time-limit` bound).
-const MAX_TIME_LIMIT: f64 = 1e6;
+/// A keyword argument checked by the same function as the CLI's option
+/// ([`spine_run::option_values`]); a value outside its range is a `ValueError` naming it.
+fn checked<T, U>(name: &str, value: Option<T>, check: impl Fn(T) -> Result<U, String>) -> PyResult<Option<U>> {
+    value.map(check).transpose().map_err(|why| PyValueError::new_err(format!("{name}: {why}")))
+}
 
 /// Runs `work` on a worker thread with the GIL released; Ctrl-C (Python's `KeyboardInterrupt`)
 /// stops it at its next check and is raised once it has stopped.
@@ -111,47 +115,19 @@ fn run_case(
 ) -> PyResult<CaseResult> {
     let case = case_from(py, case)?;
     let mut overrides = spine_run::Overrides::default();
-    if let Some(n) = starts {
-        if n > spine_case::MAX_STARTS {
-            return Err(PyValueError::new_err(format!("starts: at most {}, got {n}", spine_case::MAX_STARTS)));
-        }
-        overrides.design.starts = Some(n);
+    overrides.design = spine_run::DesignOverrides {
+        starts: checked("starts", starts, values::starts)?,
+        seed,
+        confidence: checked("confidence", confidence, values::confidence)?,
+        formulation: checked("formulation", formulation, values::formulation)?,
+        ..Default::default()
     }
-    overrides.design.seed = seed;
-    if let Some(p) = confidence {
-        if !(p > 0.0 && p < 1.0) {
-            return Err(PyValueError::new_err(format!(
-                "confidence: a probability strictly between 0 and 1 (e.g. 0.01), got {p}"
-            )));
-        }
-        overrides.design.confidence = Some(p);
-        // As on the command line: `starts` is then the cap, absent the largest allowed.
-        overrides.design.starts = overrides.design.starts.or(Some(0));
-    }
-    overrides.design.formulation = match formulation {
-        None => None,
-        Some("full") => Some(spine_design::Formulation::Full),
-        Some("reduced") => Some(spine_design::Formulation::Reduced),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!("formulation: \"full\" or \"reduced\", got {other:?}")))
-        }
-    };
-    overrides.dynamics.method = match method {
-        None => None,
-        Some(name) => Some(spine_dynamic_design::SearchMethod::from_name(name).ok_or_else(|| {
-            PyValueError::new_err(format!("method: \"ga\", \"pattern\" or \"gradient\", got {name:?}"))
-        })?),
-    };
-    if let Some(s) = time_limit {
-        if !(s > 0.0 && s <= MAX_TIME_LIMIT) {
-            return Err(PyValueError::new_err(format!(
-                "time_limit: seconds must be > 0 and at most {MAX_TIME_LIMIT:e}, got {s}"
-            )));
-        }
-        overrides.time_limit = Some(Duration::from_secs_f64(s));
-    }
+    .with_confidence_cap();
+    overrides.dynamics.method = checked("method", method, values::method)?;
+    overrides.time_limit = checked("time_limit", time_limit, values::time_limit)?;
     if animate || frames.is_some() || frame_width.is_some() || magnify.is_some() {
         let d = spine_run::AnimationOptions::default();
+        // Checked by the run itself (`AnimationOptions::validate`, errors named `animation.*`).
         overrides.animation = Some(spine_run::AnimationOptions {
             frames: frames.unwrap_or(d.frames),
             width: frame_width.unwrap_or(d.width),

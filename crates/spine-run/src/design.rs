@@ -129,6 +129,15 @@ pub struct DesignOverrides {
 }
 
 impl DesignOverrides {
+    /// With a confidence and no `starts`, `starts` is the census's cap: 0, the largest allowed
+    /// (the CLI's `--confidence` and flexspine's `confidence=` alike).
+    pub fn with_confidence_cap(mut self) -> Self {
+        if self.confidence.is_some() {
+            self.starts = self.starts.or(Some(0));
+        }
+        self
+    }
+
     pub fn apply(&self, valid: &mut ValidDesign) {
         if let Some(f) = self.formulation {
             valid.formulation = f;

@@ -33,6 +33,8 @@
 //! * `error`: Why a run could not give a result, with its cause.
 //! * [`metrics`]: Measures of a static design that the paper's claims are about, each a plain
 //!   function of the design and its start.
+//! * [`option_values`]: The values of the options a run takes from the command line or from a
+//!   Python call, each checked once (the CLI and flexspine call the same functions).
 //! * `progress`: What a long run reports while it works (a front end draws it; the library prints
 //!   nothing).
 //! * [`sensitivity`]: `spine sensitivity`: an eq. (33) optimum (one start, full space) and its
@@ -74,6 +76,7 @@ mod figure;
 mod files;
 mod kind;
 pub mod metrics;
+pub mod option_values;
 mod output;
 mod progress;
 mod result;
