@@ -114,8 +114,7 @@ fn run_case(
     magnify: Option<f64>,
 ) -> PyResult<CaseResult> {
     let case = case_from(py, case)?;
-    let mut overrides = spine_run::Overrides::default();
-    overrides.design = spine_run::DesignOverrides {
+    let design = spine_run::DesignOverrides {
         starts: checked("starts", starts, values::starts)?,
         seed,
         confidence: checked("confidence", confidence, values::confidence)?,
@@ -123,17 +122,23 @@ fn run_case(
         ..Default::default()
     }
     .with_confidence_cap();
-    overrides.dynamics.method = checked("method", method, values::method)?;
-    overrides.time_limit = checked("time_limit", time_limit, values::time_limit)?;
-    if animate || frames.is_some() || frame_width.is_some() || magnify.is_some() {
+    // Animation options are checked by the run itself (`AnimationOptions::validate`, errors named
+    // `animation.*`).
+    let animation = (animate || frames.is_some() || frame_width.is_some() || magnify.is_some()).then(|| {
         let d = spine_run::AnimationOptions::default();
-        // Checked by the run itself (`AnimationOptions::validate`, errors named `animation.*`).
-        overrides.animation = Some(spine_run::AnimationOptions {
+        spine_run::AnimationOptions {
             frames: frames.unwrap_or(d.frames),
             width: frame_width.unwrap_or(d.width),
             magnification: magnify,
-        });
-    }
+        }
+    });
+    let overrides = spine_run::Overrides {
+        design,
+        dynamics: spine_run::DynamicsOverrides { method: checked("method", method, values::method)? },
+        time_limit: checked("time_limit", time_limit, values::time_limit)?,
+        animation,
+        workers: None,
+    };
     let result = interruptible(py, || {
         spine_run::run_case(&case, &overrides, &spine_paper::PaperFigures, &mut spine_run::quiet)
     })?
