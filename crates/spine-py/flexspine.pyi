@@ -130,8 +130,10 @@ class Result:
     def summary(self) -> str:
         """The summary the CLI prints."""
     @property
-    def series(self) -> dict[str, dict[str, Array]]:
-        """The CSV tables of the result (response.csv, …) as {column: array}."""
+    def series(self) -> dict[str, dict[str, Union[Array, list[str]]]]:
+        """The tables the CLI writes as CSV (response.csv, …) as {column: values}, straight from
+        the typed columns: numbers and counts as float arrays (a missing cell is NaN), labels
+        (statuses, run names) as lists of strings."""
     @property
     def derivatives(self) -> Optional[dict[str, Any]]:
         """Sensitivity results: {parameter: {"theta0", "stiffness", "theta1", "theta2": array,

@@ -4,7 +4,7 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyTimeoutError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
-use spine_run::FileContent;
+use spine_run::{Cells, FileContent};
 
 /// The case `obj` describes: a dictionary (case-file format), JSON text (starts with `{`), or the
 /// path of a case file (`str` or `os.PathLike`). Parsed and checked as the CLI does; bad input is
@@ -57,29 +57,26 @@ pub fn run_error(e: spine_run::RunError) -> PyErr {
     }
 }
 
-/// The CSV tables of a result as `{file name: {column: numpy array}}`.
+/// The tables of a result as `{file name: {column: values}}`, straight from the typed columns:
+/// numbers and counts as numpy float arrays (a missing cell is NaN), labels as lists of strings.
 pub fn series_of<'py>(py: Python<'py>, result: &spine_run::CaseResult) -> PyResult<Bound<'py, PyDict>> {
     let all = PyDict::new(py);
     for file in result.files() {
-        let FileContent::Text(text) = &file.content else { continue };
-        if !file.name.ends_with(".csv") {
-            continue;
-        }
-        let mut lines = text.lines();
-        let Some(header) = lines.next() else { continue };
-        let names: Vec<&str> = header.split(',').collect();
-        let mut columns = vec![Vec::new(); names.len()];
-        for line in lines {
-            for (column, cell) in columns.iter_mut().zip(line.split(',')) {
-                // Columns that are not numbers (labels) become NaN.
-                column.push(cell.trim().parse::<f64>().unwrap_or(f64::NAN));
+        let FileContent::Table(table) = &file.content else { continue };
+        let columns = PyDict::new(py);
+        for column in &table.columns {
+            match &column.cells {
+                Cells::Numbers(v) => {
+                    let values = v.iter().map(|x| x.unwrap_or(f64::NAN)).collect();
+                    columns.set_item(&column.name, PyArray1::from_vec(py, values))?
+                }
+                Cells::Counts(v) => {
+                    columns.set_item(&column.name, PyArray1::from_vec(py, v.iter().map(|&n| n as f64).collect()))?
+                }
+                Cells::Labels(v) => columns.set_item(&column.name, v.clone())?,
             }
         }
-        let table = PyDict::new(py);
-        for (name, column) in names.iter().zip(columns) {
-            table.set_item(name, PyArray1::from_vec(py, column))?;
-        }
-        all.set_item(&file.name, table)?;
+        all.set_item(&file.name, columns)?;
     }
     Ok(all)
 }

@@ -110,9 +110,9 @@ impl CaseResult {
         self.to_dict(py)?.get_item(key)
     }
 
-    /// The time series the CLI writes as CSV beside `result.json` (`response.csv`,
-    /// `response_T0.1.csv`, …), each a dictionary of numpy arrays keyed by column (`t_s`,
-    /// `end_displacement_m`, `theta_1_rad`, …).
+    /// The tables the CLI writes as CSV beside `result.json` (`response.csv`,
+    /// `response_T0.1.csv`, …), each a dictionary keyed by column (`t_s`, `end_displacement_m`,
+    /// `theta_1_rad`, …): numpy arrays of numbers and counts, lists of strings for labels.
     #[getter]
     fn series<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         series_of(py, &self.inner)

@@ -4,7 +4,7 @@
 use crate::animation::{Animation, AnimationOptions, Track};
 use crate::design::{run_design, StaticDesign};
 use crate::error::RunError;
-use crate::files::{samples_csv, FileContent, OutputFile};
+use crate::files::{samples_table, FileContent, OutputFile};
 use crate::output::RunOutput;
 use crate::progress::Progress;
 use serde::{Serialize, Serializer};
@@ -355,7 +355,7 @@ impl crate::KindOutput for DynamicsResult {
     /// `response.csv` (step, periodic, eq. (37)), or `response_T{T_d}.csv` and
     /// `periodic_T{T_d}.csv` for each eq. (35) target.
     fn files(&self) -> Vec<OutputFile> {
-        let csv = |name: String, samples| OutputFile { name, content: FileContent::Text(samples_csv(samples)) };
+        let csv = |name: String, samples| OutputFile::table(name, samples_table(samples));
         let mut files = Vec::new();
         if let Some(r) = &self.step_response {
             files.push(csv("response.csv".into(), &r.samples));

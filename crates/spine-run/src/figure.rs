@@ -63,7 +63,7 @@ pub struct FigureOutput {
     /// File stem → figure (written as `STEM.svg`, `STEM.png` and `STEM.pdf`).
     pub figures: Vec<(String, spine_plot::Figure)>,
     /// File name → CSV text.
-    pub tables: Vec<(String, String)>,
+    pub tables: Vec<(String, crate::Table)>,
     /// File stem → animation of the chain's motion (written as `STEM.gif`).
     pub animations: Vec<(String, Animation)>,
     pub claims: Vec<Claim>,
@@ -99,7 +99,7 @@ pub struct FigureResult {
     #[serde(skip)]
     pub figures: Vec<(String, spine_plot::Figure)>,
     #[serde(skip)]
-    pub tables: Vec<(String, String)>,
+    pub tables: Vec<(String, crate::Table)>,
     /// File stem → animation (written as `STEM.gif`).
     #[serde(skip)]
     pub animations: Vec<(String, Animation)>,
@@ -178,7 +178,7 @@ impl crate::KindOutput for FigureResult {
 
     /// The recipe's CSV tables, then its figures, then its animations.
     fn files(&self) -> Vec<OutputFile> {
-        let tables = self.tables.iter().map(|(name, text)| OutputFile::text(name.clone(), text.clone()));
+        let tables = self.tables.iter().map(|(name, table)| OutputFile::table(name.clone(), table.clone()));
         let figures = self
             .figures
             .iter()

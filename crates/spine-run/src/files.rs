@@ -1,11 +1,12 @@
 //! The files a result writes beside `result.json` (CSV tables, figures).
 
 use spine_dynamics::response::Sample;
-use std::fmt::Write as _;
 
 /// A file written beside `result.json`.
 pub enum FileContent {
-    /// A CSV table or other text.
+    /// A table, written as CSV.
+    Table(crate::table::Table),
+    /// Text (written as it is).
     Text(String),
     /// A figure, written as `NAME.svg`, `NAME.png` and `NAME.pdf`.
     Figure(spine_plot::Figure),
@@ -23,22 +24,24 @@ impl OutputFile {
     pub fn text(name: impl Into<String>, text: String) -> Self {
         Self { name: name.into(), content: FileContent::Text(text) }
     }
+
+    /// A table, written as CSV under `name`.
+    pub fn table(name: impl Into<String>, table: crate::table::Table) -> Self {
+        Self { name: name.into(), content: FileContent::Table(table) }
+    }
 }
 
 /// `t, load_factor, delta, end_displacement, theta_1..theta_N` with full precision.
-pub fn samples_csv(samples: &[Sample]) -> String {
+pub fn samples_table(samples: &[Sample]) -> crate::table::Table {
     let n = samples.first().map_or(0, |s| s.theta.len());
-    let mut text = String::from("t_s,load_factor,delta_m,end_displacement_m");
-    for i in 1..=n {
-        let _ = write!(text, ",theta_{i}_rad");
+    let column = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
+    let mut table = crate::table::Table::new()
+        .numbers("t_s", column(&|s| s.t))
+        .numbers("load_factor", column(&|s| s.load_factor))
+        .numbers("delta_m", column(&|s| s.delta))
+        .numbers("end_displacement_m", column(&|s| s.end_displacement));
+    for i in 0..n {
+        table = table.numbers(format!("theta_{}_rad", i + 1), column(&|s| s.theta[i]));
     }
-    text.push('\n');
-    for s in samples {
-        let _ = write!(text, "{:e},{:e},{:e},{:e}", s.t, s.load_factor, s.delta, s.end_displacement);
-        for t in &s.theta {
-            let _ = write!(text, ",{t:e}");
-        }
-        text.push('\n');
-    }
-    text
+    table
 }

@@ -48,6 +48,8 @@
 //!   estimate.
 //! * `sweep_figure`: The figure of a followed sweep: `J*` (followed and best known) and the design
 //!   against the parameter, with the events marked.
+//! * [`table`]: A table written as CSV beside `result.json`: typed columns written through the
+//!   `csv` crate, read by the Python package column by column.
 //! * [`text`]: Numbers for a person to read: a quantity with its unit and a precision that fits it,
 //!   a list of values.
 //!
@@ -87,6 +89,7 @@ pub mod study;
 pub mod sweep;
 mod sweep_census;
 mod sweep_figure;
+pub mod table;
 pub mod text;
 mod twolink;
 pub mod workers;
@@ -103,10 +106,11 @@ pub use dynamics::{
 pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
 pub use error::{MergeError, RunError, WorkerError};
 pub use figure::{run_figure, FigureOutput, FigureRecipes, FigureResult, FigureRunResult, NamedRun, NoRecipes};
-pub use files::{samples_csv, FileContent, OutputFile};
+pub use files::{samples_table, FileContent, OutputFile};
 pub use kind::{in_figure, moves, run_kind, KindOutput, KindResult, RunContext, RunKind};
 pub use output::RunOutput;
 pub use progress::{quiet, Progress};
 pub use result::{with_timings, CaseResult};
 pub use run_case::{run_case, run_sensitivity, run_study, run_sweep, Overrides};
+pub use table::{Cells, Column, Table};
 pub use twolink::{run_twolink_case, TwoLinkResult};

@@ -9,12 +9,12 @@ use crate::error::RunError;
 use crate::files::{FileContent, OutputFile};
 use crate::metrics::DesignChange;
 use crate::progress::Progress;
+use crate::table::Table;
 use crate::workers::{solve_starts, Task, Workers};
 use serde::Serialize;
 use spine_case::ValidDesign;
 use spine_design::{DesignResult, ScalingMethod};
 use spine_plot::{Figure, Panel, Series};
-use std::fmt::Write as _;
 
 /// `C_K = 10^(k/2)` for `k = 0..=8`: 1 to 10⁴ in half-decades.
 pub fn half_decades() -> Vec<f64> {
@@ -227,27 +227,21 @@ impl CkStudy {
     }
 
     /// The table: one row per solve.
-    pub fn csv(&self) -> String {
-        let mut text = String::from("stiffness_scale,scaling,status,clean,iterations,objective_j,stiffness_cv,stiffness_max_over_min,theta0_change_rad,theta0_relative_change,stiffness_relative_change\n");
-        for r in &self.rows {
-            let c = &r.change;
-            let _ = writeln!(
-                text,
-                "{:e},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
-                r.stiffness_scale,
-                scaling_name(r.scaling),
-                r.status,
-                r.clean,
-                r.iterations,
-                r.objective,
-                c.stiffness_variation,
-                c.stiffness_max_over_min,
-                c.theta0_change,
-                c.theta0_relative_change,
-                c.stiffness_relative_change
-            );
-        }
-        text
+    pub fn table(&self) -> Table {
+        let rows = &self.rows;
+        let column = |f: &dyn Fn(&CkRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+        Table::new()
+            .numbers("stiffness_scale", column(&|r| r.stiffness_scale))
+            .labels("scaling", rows.iter().map(|r| scaling_name(r.scaling)))
+            .labels("status", rows.iter().map(|r| r.status))
+            .labels("clean", rows.iter().map(|r| r.clean))
+            .counts("iterations", rows.iter().map(|r| r.iterations))
+            .numbers("objective_j", column(&|r| r.objective))
+            .numbers("stiffness_cv", column(&|r| r.change.stiffness_variation))
+            .numbers("stiffness_max_over_min", column(&|r| r.change.stiffness_max_over_min))
+            .numbers("theta0_change_rad", column(&|r| r.change.theta0_change))
+            .numbers("theta0_relative_change", column(&|r| r.change.theta0_relative_change))
+            .numbers("stiffness_relative_change", column(&|r| r.change.stiffness_relative_change))
     }
 
     /// Stiffness spread and shape change against `log10 C_K`, one series per scaling.
@@ -364,7 +358,7 @@ impl crate::KindOutput for StudyResult {
     /// `ck_study.csv` and `figure` (SVG and PNG).
     fn files(&self) -> Vec<OutputFile> {
         vec![
-            OutputFile::text("ck_study.csv", self.sweep.csv()),
+            OutputFile::table("ck_study.csv", self.sweep.table()),
             OutputFile { name: "figure".into(), content: FileContent::Figure(self.sweep.figure(&self.title)) },
         ]
     }

@@ -8,13 +8,13 @@ use crate::files::{FileContent, OutputFile};
 use crate::progress::Progress;
 use crate::sweep_census::{case_at, census};
 pub use crate::sweep_census::{CensusPlan, CensusPoint};
+use crate::table::Table;
 use crate::workers::Workers;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase};
 use spine_check::FieldError;
 use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult, SweepSettings};
 use spine_design::DesignProblem;
-use std::fmt::Write as _;
 
 /// `result.json` of `spine sweep`.
 #[derive(Clone, Debug, Serialize)]
@@ -95,31 +95,23 @@ fn sweep_error(e: SweepError) -> RunError {
 impl SweepCaseResult {
     /// One row per point: the parameter, `objective` (J*), θ0*, K*, the end displacement, the
     /// status, and the best-known J* where a census ran there.
-    pub fn csv(&self) -> String {
-        let n = self.sweep.points.first().map_or(0, |p| p.design.theta0.len());
-        let mut text = format!("{},objective_J", self.sweep.parameter);
-        (1..=n).for_each(|i| {
-            let _ = write!(text, ",theta0_{i}_rad");
-        });
-        (1..=n + 1).for_each(|j| {
-            let _ = write!(text, ",K_{j}_Nm_per_rad");
-        });
-        text.push_str(",end_displacement_m,status,best_known_objective_J\n");
-        for (k, p) in self.sweep.points.iter().enumerate() {
-            let _ = write!(text, "{:e},{:e}", p.parameter, p.objective);
-            p.design.theta0.iter().chain(&p.design.stiffness).for_each(|v| {
-                let _ = write!(text, ",{v:e}");
-            });
-            let best = self.census.iter().find(|c| c.point == k).and_then(|c| c.best_objective);
-            let status = p.status.name();
-            let _ = writeln!(
-                text,
-                ",{},{status},{}",
-                p.end_displacement.map_or(String::new(), |d| format!("{d:e}")),
-                best.map_or(String::new(), |b| format!("{b:e}"))
-            );
+    pub fn table(&self) -> Table {
+        let points = &self.sweep.points;
+        let n = points.first().map_or(0, |p| p.design.theta0.len());
+        let mut table = Table::new()
+            .numbers(self.sweep.parameter.clone(), points.iter().map(|p| p.parameter))
+            .numbers("objective_J", points.iter().map(|p| p.objective));
+        for i in 0..n {
+            table = table.numbers(format!("theta0_{}_rad", i + 1), points.iter().map(|p| p.design.theta0[i]));
         }
-        text
+        for j in 0..=n {
+            table = table.numbers(format!("K_{}_Nm_per_rad", j + 1), points.iter().map(|p| p.design.stiffness[j]));
+        }
+        let best = |k: usize| self.census.iter().find(|c| c.point == k).and_then(|c| c.best_objective);
+        table
+            .optional("end_displacement_m", points.iter().map(|p| p.end_displacement))
+            .labels("status", points.iter().map(|p| p.status.name()))
+            .optional("best_known_objective_J", (0..points.len()).map(best))
     }
 }
 
@@ -219,7 +211,7 @@ impl crate::KindOutput for SweepCaseResult {
     /// `sweep.csv` and the figure.
     fn files(&self) -> Vec<OutputFile> {
         vec![
-            OutputFile::text("sweep.csv", self.csv()),
+            OutputFile::table("sweep.csv", self.table()),
             OutputFile {
                 name: "sweep".into(),
                 content: FileContent::Figure(crate::sweep_figure::figure(&self.title, &self.sweep, &self.census)),

@@ -107,7 +107,7 @@ fn the_census_reports_the_best_known_optimum_and_its_completeness() {
         let e = c.estimate.as_ref().expect("a multi-start");
         assert!(e.searches <= 7 && e.distinct >= 1 && e.reached.iter().sum::<usize>() == e.searches);
     }
-    let csv = r.csv();
+    let csv = r.table().to_csv();
     assert_eq!(csv.lines().count(), 4, "{csv}");
     assert!(
         csv.lines().nth(1).unwrap().rsplit(',').next().is_some_and(|b| !b.is_empty()),

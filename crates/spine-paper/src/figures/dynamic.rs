@@ -8,7 +8,7 @@ use serde_json::json;
 use spine_dynamic_design::DampingDesign;
 use spine_dynamics::{PeriodicResponse, StepResponse};
 use spine_run::text::quantity;
-use spine_run::{samples_csv, Animation, Track};
+use spine_run::{samples_table, Animation, Track};
 use std::f64::consts::LN_10;
 
 /// RMS misfit of `Δ∞(1 − e^{−τt})`, as a fraction of `|Δ∞|`, below which a response is "first-order-like".
@@ -190,9 +190,9 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
         let s = Shapes::of_ends(&used.spans, &used.design, &r.ends);
         shapes.push(s.panel(&format!("({}) {}: undeformed and deformed", letter(2 * columns + k), run.title())));
         tracks.push(Track::new(run.title(), &used.spans, &used.design.theta0, &r.samples));
-        out.tables.push((format!("response_{}.csv", run.name), samples_csv(&r.samples)));
-        out.tables.push((format!("shape_{}.csv", run.name), s.csv()));
-        out.tables.push((format!("damping_{}.csv", run.name), values_csv("damping_n_m_s_per_rad", &d.damping)));
+        out.tables.push((format!("response_{}.csv", run.name), samples_table(&r.samples)));
+        out.tables.push((format!("shape_{}.csv", run.name), s.table()));
+        out.tables.push((format!("damping_{}.csv", run.name), values_table("damping_n_m_s_per_rad", &d.damping)));
         out.claims.extend(damping_claims(run.name, d, true));
         out.summary.insert(run.name.to_string(), damping_summary(d));
     }
@@ -203,12 +203,8 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
     Ok(out)
 }
 
-pub(super) fn values_csv(column: &str, v: &[f64]) -> String {
-    let mut text = format!("index,{column}\n");
-    for (j, x) in v.iter().enumerate() {
-        let _ = writeln!(text, "{},{x:e}", j + 1);
-    }
-    text
+pub(super) fn values_table(column: &str, v: &[f64]) -> Table {
+    Table::new().counts("index", 1..=v.len()).numbers(column, v.iter().copied())
 }
 
 /// Fig. 12: one damping run with several targets; one response panel per target and the dampers.
@@ -228,8 +224,8 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutp
             k,
         ));
         bars.push(Series::bars(format!("T_d = {t} s"), points(&d.damping, 1)).colour(k));
-        out.tables.push((format!("response_T{t}.csv"), samples_csv(&d.response.samples)));
-        out.tables.push((format!("damping_T{t}.csv"), values_csv("damping_n_m_s_per_rad", &d.damping)));
+        out.tables.push((format!("response_T{t}.csv"), samples_table(&d.response.samples)));
+        out.tables.push((format!("damping_T{t}.csv"), values_table("damping_n_m_s_per_rad", &d.damping)));
         out.claims.extend(damping_claims(&format!("T_d = {t} s"), d, false));
         list.push(damping_summary(d));
     }
@@ -265,8 +261,8 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
     let fig = Figure::new(title, 2)
         .with(periodic_panel("(a) pulsating force and end-point motion", r, r.ends.loaded_displacement, None))
         .with(shapes);
-    out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
-    out.tables.push(("damping.csv".into(), values_csv("damping_n_m_s_per_rad", &d.damping)));
+    out.tables.push(("response.csv".into(), samples_table(&r.samples)));
+    out.tables.push(("damping.csv".into(), values_table("damping_n_m_s_per_rad", &d.damping)));
     out.animations.push((
         "animation".into(),
         Animation {

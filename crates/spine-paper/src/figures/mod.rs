@@ -12,8 +12,9 @@ use spine_dynamics::response::Sample;
 use spine_model::kinematics::{link_lengths, node_positions};
 use spine_model::Design;
 use spine_plot::{Figure, Panel, Series};
-use spine_run::{Claim, DynamicOutput, FigureOutput, FigureRecipes, NamedRun, RunOutput, StaticDesign, UsedDesign};
-use std::fmt::Write as _;
+use spine_run::{
+    Claim, DynamicOutput, FigureOutput, FigureRecipes, NamedRun, RunOutput, StaticDesign, Table, UsedDesign,
+};
 
 /// The paper's recipes, by figure name: what `spine case` and `flexspine` pass to the run path.
 #[derive(Clone, Copy, Debug, Default)]
@@ -94,22 +95,27 @@ impl Shapes {
             .with(Series::line_markers("passive + axial θ₂", self.loaded.clone()).colour(3))
     }
 
-    fn csv(&self) -> String {
-        let mut text = String::from("node,x0_m,y0_m,x1_m,y1_m,x2_m,y2_m\n");
-        for (j, ((a, b), c)) in self.unloaded.iter().zip(&self.passive).zip(&self.loaded).enumerate() {
-            let _ = writeln!(text, "{},{:e},{:e},{:e},{:e},{:e},{:e}", j + 1, a.0, a.1, b.0, b.1, c.0, c.1);
-        }
-        text
+    fn table(&self) -> Table {
+        let rows = self.unloaded.len().min(self.passive.len()).min(self.loaded.len());
+        let x = |p: &[(f64, f64)]| p[..rows].iter().map(|q| q.0).collect::<Vec<_>>();
+        let y = |p: &[(f64, f64)]| p[..rows].iter().map(|q| q.1).collect::<Vec<_>>();
+        Table::new()
+            .counts("node", 1..=rows)
+            .numbers("x0_m", x(&self.unloaded))
+            .numbers("y0_m", y(&self.unloaded))
+            .numbers("x1_m", x(&self.passive))
+            .numbers("y1_m", y(&self.passive))
+            .numbers("x2_m", x(&self.loaded))
+            .numbers("y2_m", y(&self.loaded))
     }
 }
 
-fn design_csv(design: &Design) -> String {
-    let mut text = String::from("index,theta0_rad,stiffness_n_m_per_rad\n");
-    for (j, k) in design.stiffness.iter().enumerate() {
-        let t = design.theta0.get(j).map_or(String::new(), |t| format!("{t:e}"));
-        let _ = writeln!(text, "{},{t},{k:e}", j + 1);
-    }
-    text
+fn design_table(design: &Design) -> Table {
+    let rows = design.stiffness.len();
+    Table::new()
+        .counts("index", 1..=rows)
+        .optional("theta0_rad", (0..rows).map(|j| design.theta0.get(j).copied()))
+        .numbers("stiffness_n_m_per_rad", design.stiffness.iter().copied())
 }
 
 fn stiffness_panel(title: &str, series: Vec<Series>) -> Panel {

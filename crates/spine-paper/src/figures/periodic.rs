@@ -1,13 +1,13 @@
 //! Fig. 10: the periodic-load design of eq. (37), the GA's design beside the gradient method's,
 //! with the claims on the end point's motion.
 
-use super::dynamic::values_csv;
+use super::dynamic::values_table;
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::PeriodicDesign;
 use spine_dynamics::PeriodicResponse;
 use spine_run::text::{quantity, END_DISPLACEMENT};
-use spine_run::{samples_csv, Animation, Track};
+use spine_run::{samples_table, Animation, Track};
 
 /// Relative gap allowed between a measured time and the time the paper reads off its figure.
 const PAPER_TIME_TOLERANCE: f64 = 0.20;
@@ -87,9 +87,9 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     }
     let fig = Figure::new(title, 2).with(stiffness_panel("(a) nodal stiffness", bars)).with(motion);
     let fig = shape_panels.into_iter().fold(fig, Figure::with);
-    out.tables.push(("response.csv".into(), samples_csv(&r.samples)));
-    out.tables.push(("stiffness.csv".into(), values_csv("stiffness_n_m_per_rad", &p.stiffness)));
-    out.tables.push(("shape.csv".into(), shapes.csv()));
+    out.tables.push(("response.csv".into(), samples_table(&r.samples)));
+    out.tables.push(("stiffness.csv".into(), values_table("stiffness_n_m_per_rad", &p.stiffness)));
+    out.tables.push(("shape.csv".into(), shapes.table()));
     out.animations.push((
         "animation".into(),
         Animation {
@@ -109,7 +109,7 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     out.claims.extend(periodic_design_claims(run.name, p));
     out.summary.insert(run.name.to_string(), summary(p));
     if let (Some(other_run), Some((_, q))) = (beside, &other) {
-        out.tables.push((format!("stiffness_{}.csv", q.method), values_csv("stiffness_n_m_per_rad", &q.stiffness)));
+        out.tables.push((format!("stiffness_{}.csv", q.method), values_table("stiffness_n_m_per_rad", &q.stiffness)));
         out.claims.push(Claim::solver(
             other_run.name,
             &format!("eq. (37) by {}: the end point reaches δ_d under the periodic force", q.method.describe()),

@@ -134,8 +134,8 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
                 vec![Series::bars("", points(&d.result.design.stiffness, 1)).colour(k)],
             ));
             panel += 2;
-            out.tables.push((format!("shape_{}{suffix}.csv", run.name), shapes.csv()));
-            out.tables.push((format!("design_{}{suffix}.csv", run.name), design_csv(&d.result.design)));
+            out.tables.push((format!("shape_{}{suffix}.csv", run.name), shapes.table()));
+            out.tables.push((format!("design_{}{suffix}.csv", run.name), design_table(&d.result.design)));
             let scope = format!("{}{}", run.name, if census.is_some() { " best" } else { "" });
             let (claims, mut summary) = design_claims(&scope, d);
             if let Some(b) = census {
@@ -228,16 +228,16 @@ pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOut
     let mut shape = Panel::new("(a) design angle θ₀ under various loads", "link i", "θ₀,ᵢ (rad)").x_integer();
     let mut stiffness =
         Panel::new("(b) nodal stiffness K under various loads", "node j", "Kⱼ (N·m/rad)").x_integer().y_log();
-    let mut table = String::from("run,index,theta0_rad,stiffness_n_m_per_rad\n");
+    let mut table = Table::new();
     for (k, run) in runs.iter().enumerate() {
         let s = expect_design(run)?;
         let d = &s.result.design;
         shape = shape.with(Series::line_markers(run.title(), points(&d.theta0, 1)).colour(k));
         stiffness = stiffness.with(Series::line_markers(run.title(), points(&d.stiffness, 1)).colour(k));
-        for (j, kj) in d.stiffness.iter().enumerate() {
-            let t = d.theta0.get(j).map_or(String::new(), |t| format!("{t:e}"));
-            let _ = writeln!(table, "{},{},{t},{kj:e}", run.name, j + 1);
-        }
+        let mut rows = design_table(d);
+        let run_names = spine_run::Cells::Labels(vec![run.name.to_string(); d.stiffness.len()]);
+        rows.columns.insert(0, spine_run::Column { name: "run".into(), cells: run_names });
+        table.extend(rows);
         let (claims, summary) = design_claims(run.name, s);
         out.claims.extend(claims);
         out.summary.insert(run.name.to_string(), summary);

@@ -163,22 +163,16 @@ fn optimum_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
 }
 
 /// `twolink.csv`: every δ of the study with the exact and closed-form answers.
-fn study_table(study: &spine_solve::twolink::Study) -> String {
-    let mut table = String::from("delta_m,theta0_exact_rad,theta0_eq10_printed_rad,theta0_eq10_rad,theta0_eq10_first_order_rad,stiffness_eq11_n_m_per_rad,ratio_eq17_printed,ratio_corrected\n");
-    let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
-    for r in &study.rows {
-        let _ = writeln!(
-            table,
-            "{:e},{},{:e},{:e},{:e},{},{},{}",
-            r.delta,
-            opt(r.theta0_exact),
-            r.theta0_eq10_printed,
-            r.theta0_eq10,
-            r.theta0_first_order,
-            opt(r.stiffness_eq11),
-            opt(r.ratio_eq17_printed),
-            opt(r.ratio)
-        );
-    }
-    table
+fn study_table(study: &spine_solve::twolink::Study) -> Table {
+    let rows = &study.rows;
+    let column = |f: &dyn Fn(&spine_solve::twolink::StudyRow) -> Option<f64>| rows.iter().map(f).collect::<Vec<_>>();
+    Table::new()
+        .optional("delta_m", column(&|r| Some(r.delta)))
+        .optional("theta0_exact_rad", column(&|r| r.theta0_exact))
+        .optional("theta0_eq10_printed_rad", column(&|r| Some(r.theta0_eq10_printed)))
+        .optional("theta0_eq10_rad", column(&|r| Some(r.theta0_eq10)))
+        .optional("theta0_eq10_first_order_rad", column(&|r| Some(r.theta0_first_order)))
+        .optional("stiffness_eq11_n_m_per_rad", column(&|r| r.stiffness_eq11))
+        .optional("ratio_eq17_printed", column(&|r| r.ratio_eq17_printed))
+        .optional("ratio_corrected", column(&|r| r.ratio))
 }

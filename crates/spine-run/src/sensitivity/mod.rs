@@ -20,7 +20,6 @@ use crate::workers::Workers;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
 use spine_design::sensitivity::{Derivative, SensitivityReport};
-use std::fmt::Write;
 
 #[derive(Clone, Debug, Serialize)]
 pub struct SensitivityResult {
@@ -144,21 +143,20 @@ fn csv_name(name: &str) -> String {
 
 /// One row per link (and the end spring): `i, dθ0, dK, dθ1, dθ2` of the two-sided derivative, or
 /// of the one-sided ones for an increase and a decrease.
-fn csv(derivatives: &[(&str, &Derivative)]) -> String {
-    let mut out = String::from("direction,link,dtheta0_rad,dstiffness_Nm_per_rad,dtheta1_rad,dtheta2_rad\n");
+fn table(derivatives: &[(&str, &Derivative)]) -> crate::Table {
+    let mut out = crate::Table::new();
     for (direction, d) in derivatives {
-        for j in 0..d.stiffness.len() {
-            let angle = |v: &[f64]| v.get(j).map_or(String::new(), |x| format!("{x:e}"));
-            let _ = writeln!(
-                out,
-                "{direction},{},{},{:e},{},{}",
-                j + 1,
-                angle(&d.theta0),
-                d.stiffness[j],
-                angle(&d.theta1),
-                angle(&d.theta2)
-            );
-        }
+        let rows = d.stiffness.len();
+        let angle = |v: &[f64]| (0..rows).map(|j| v.get(j).copied()).collect::<Vec<_>>();
+        out.extend(
+            crate::Table::new()
+                .labels("direction", std::iter::repeat_n(direction, rows))
+                .counts("link", 1..=rows)
+                .optional("dtheta0_rad", angle(&d.theta0))
+                .numbers("dstiffness_Nm_per_rad", d.stiffness.iter().copied())
+                .optional("dtheta1_rad", angle(&d.theta1))
+                .optional("dtheta2_rad", angle(&d.theta2)),
+        );
     }
     out
 }
@@ -189,7 +187,7 @@ impl crate::KindOutput for SensitivityResult {
                         up.iter().map(|d| ("increase", d)).chain(down.iter().map(|d| ("decrease", d))).collect()
                     }
                 };
-                OutputFile::text(csv_name(&p.name), csv(&rows))
+                OutputFile::table(csv_name(&p.name), table(&rows))
             })
             .collect()
     }

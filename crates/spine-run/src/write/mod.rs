@@ -99,6 +99,10 @@ impl Folder {
                     stage.create(&name, text.as_bytes()).map_err(&io)?;
                     written.push(name);
                 }
+                FileContent::Table(table) => {
+                    stage.create(&name, table.to_csv().as_bytes()).map_err(&io)?;
+                    written.push(name);
+                }
                 FileContent::Figure(figure) => {
                     let svg = figure.to_svg().map_err(|e| WriteError::Io(format!("{name}.svg: {e}")))?;
                     stage.create(&format!("{name}.svg"), svg.as_bytes()).map_err(&io)?;
