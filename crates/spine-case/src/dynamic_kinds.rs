@@ -1,32 +1,9 @@
 //! The three dynamic kinds (`simulate`, `damping`, `periodic`): one case format
 //! ([`DynamicsCase`]), a case type per kind that knows its task.
 
-use crate::dynamics_case::{DynamicsCase, ValidDynamics};
+use crate::dynamics_case::{DynamicKind, DynamicsCase, ValidDynamics};
 use crate::CaseError;
 use serde::{Deserialize, Serialize};
-
-/// The three dynamic kinds: one case format, three tasks.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DynamicKind {
-    /// A step or periodic response (Sec. 5.2).
-    Simulate,
-    /// The damping design, eq. (35).
-    Damping,
-    /// The periodic-load design, eq. (37).
-    Periodic,
-}
-
-impl DynamicKind {
-    /// The kind's name in a case file.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Simulate => "simulate",
-            Self::Damping => "damping",
-            Self::Periodic => "periodic",
-        }
-    }
-}
 
 /// The case types of the three dynamic kinds: a [`DynamicsCase`] that knows its kind, so that a
 /// case is checked for its task by its type (`SimulateCase::validate`), never by a kind string.

@@ -4,7 +4,6 @@
 pub use crate::dynamics_specs::{DampingDesignSpec, PeriodicDesignSpec, StaticDesignSpec};
 
 use crate::design_case::{DesignCase, MultiStartSpec, ValidDesign};
-use crate::dynamic_kinds::DynamicKind;
 use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
@@ -47,6 +46,29 @@ pub struct DynamicsCase {
     pub damping_design: Option<DampingDesignSpec>,
     #[serde(default)]
     pub periodic_design: Option<PeriodicDesignSpec>,
+}
+
+/// The three dynamic kinds: one case format, three tasks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DynamicKind {
+    /// A step or periodic response (Sec. 5.2).
+    Simulate,
+    /// The damping design, eq. (35).
+    Damping,
+    /// The periodic-load design, eq. (37).
+    Periodic,
+}
+
+impl DynamicKind {
+    /// The kind's name in a case file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Simulate => "simulate",
+            Self::Damping => "damping",
+            Self::Periodic => "periodic",
+        }
+    }
 }
 
 /// Where the design of a dynamic case comes from.

@@ -89,9 +89,10 @@ mod twolink_case;
 
 pub use case::{json_schema, Case, ValidRun, KINDS};
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
-pub use dynamic_kinds::{DampingCase, DynamicKind, PeriodicCase, SimulateCase};
+pub use dynamic_kinds::{DampingCase, PeriodicCase, SimulateCase};
 pub use dynamics_case::{
-    DampingDesignSpec, DesignSource, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec, ValidDynamics,
+    DampingDesignSpec, DesignSource, DynamicKind, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec,
+    ValidDynamics,
 };
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;

@@ -16,6 +16,7 @@
 //! * [`ode`]: the ODE interface the integrators solve.
 //! * [`response`]: the step response (`T_90`, `Δ∞`, the static ends it moves between, drift).
 //! * [`periodic`]: the settled response to a periodic axial force.
+//! * [`sample`]: one sample of the motion (time, load factor, end displacement, angles).
 //! * [`overdamping`]: whether a step response is over-damped (no turn back, no overshoot).
 //! * `fixtures` (feature `testing`): chains with their responses for tests, benchmarks and
 //!   examples.
@@ -55,6 +56,7 @@ pub mod linearization;
 pub mod newton;
 pub mod ode;
 pub mod rates;
+pub mod sample;
 pub mod system;
 
 pub use eom::Dynamics;

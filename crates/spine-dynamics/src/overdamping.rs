@@ -2,7 +2,7 @@
 //! back. The paper chooses the dampers' lower limit "through trial and error" to ensure an
 //! over-damped structure (Sec. 4.2); this measures it on the sampled response.
 
-use crate::response::Sample;
+use crate::sample::Sample;
 use serde::Serialize;
 
 /// A retreat smaller than this fraction of the swing is not counted as a reversal (the samples'

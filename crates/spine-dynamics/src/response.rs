@@ -5,6 +5,7 @@
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
 use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
+pub use crate::sample::Sample;
 use crate::system::{Parameters, SpineOde};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -130,21 +131,6 @@ impl Drift {
         self.max_constraint_rate_dense = self.max_constraint_rate_dense.max(other.max_constraint_rate_dense);
         self.max_projection = self.max_projection.max(other.max_projection);
     }
-}
-
-/// One sample of the motion.
-#[derive(Clone, Debug, Serialize)]
-pub struct Sample {
-    /// Time, s.
-    pub t: f64,
-    /// Load factor `s(t)` of the actuation.
-    pub load_factor: f64,
-    /// End displacement from the start, `X_{N+1}(t) − X_{N+1}(θ1)`, m.
-    pub delta: f64,
-    /// `X_{N+1}(t) − L_x`, m.
-    pub end_displacement: f64,
-    /// Link angles, rad.
-    pub theta: Vec<f64>,
 }
 
 /// Samples `count` equally spaced instants of a trajectory, and its drift.

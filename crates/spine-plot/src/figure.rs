@@ -1,10 +1,11 @@
 //! A figure: a titled grid of panels, drawn to SVG, PNG and PDF.
 
-use crate::draw::{draw_lines, draw_panel, register_font, MARGIN};
+use crate::draw::{draw_lines, draw_panel};
 use crate::error::{err, PlotError};
 use crate::layout::{lay_out, FigureLayout};
 use crate::panel::Panel;
 use crate::pdf::{canonical_pdf, usvg_options};
+use crate::style::{register_font, MARGIN};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

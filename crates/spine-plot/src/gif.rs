@@ -6,9 +6,9 @@
 //! After the first, a frame is stored as the rectangle that changed since the previous one, its
 //! unchanged pixels transparent, which keeps a 100-frame animation to a few hundred kB.
 
-use crate::draw::COLOURS;
 use crate::error::{err, PlotError};
 use crate::figure::Figure;
+use crate::style::COLOURS;
 use plotters::style::RGBColor;
 use std::borrow::Cow;
 use std::collections::HashMap;

@@ -4,9 +4,9 @@
 //! figure's checks read it ([`Figure::layout`](crate::Figure::layout)).
 
 use crate::axes::{in_axis_coordinates, ranges};
-use crate::draw::{CAPTION_SIZE, LEGEND_SIZE, MARGIN, TITLE_SIZE, X_LABEL_AREA, Y_LABEL_AREA};
 use crate::panel::{LegendPlace, Panel, Scale};
 use crate::series::Style;
+use crate::style::{CAPTION_SIZE, LEGEND_SIZE, MARGIN, TITLE_SIZE, X_LABEL_AREA, Y_LABEL_AREA};
 use crate::text::{width, FittedText};
 
 /// A rectangle in pixels, `y` downwards.
@@ -323,7 +323,7 @@ fn lay_out_panel(panel: &Panel, cell: Rect, caption: FittedText, caption_band: f
             }
         });
     }
-    let fit = |text: &str, length: f64| FittedText::fit(text, crate::draw::AXIS_LABEL_SIZE, 9.0, 1, length).size;
+    let fit = |text: &str, length: f64| FittedText::fit(text, crate::style::AXIS_LABEL_SIZE, 9.0, 1, length).size;
     PanelLayout {
         cell,
         caption,

@@ -17,6 +17,8 @@
 //! * `pdf`: svg2pdf's output made deterministic: its hash-ordered resource dictionaries sorted in
 //!   place.
 //! * `series`: A series of `(x, y)` points and how it is drawn.
+//! * `style`: The house style of every figure: the layout's sizes, the font (embedded, registered
+//!   once) and the colours of successive series.
 //!
 //! ```
 //! use spine_plot::{Figure, Panel, Series};
@@ -37,6 +39,7 @@ mod layout;
 mod panel;
 mod pdf;
 mod series;
+mod style;
 mod text;
 
 pub use check::LayoutProblem;

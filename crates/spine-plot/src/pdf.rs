@@ -1,7 +1,7 @@
 //! svg2pdf's output made deterministic: its hash-ordered resource dictionaries sorted in place;
 //! usvg set up with the embedded font.
 
-use crate::draw::FONT;
+use crate::style::FONT;
 use svg2pdf::usvg;
 
 /// usvg's options with the embedded font as the only face: the SVG asks for the generic family

@@ -1,7 +1,7 @@
 //! Text as the figure lays it out: widths in the embedded font, lines wrapped and shrunk to fit a
 //! width, and the characters the font cannot draw.
 
-use crate::draw::{register_font, FAMILY, FONT};
+use crate::style::{register_font, FAMILY, FONT};
 use ab_glyph::Font as _;
 use plotters::style::IntoFont;
 

@@ -3,48 +3,16 @@
 
 use crate::confidence::{Batches, ConfidenceCensus};
 use crate::error::RunError;
+use crate::output::{BestDesign, StaticDesign};
 use crate::progress::Progress;
 use crate::workers::{solve_starts, Task, Workers};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use spine_case::{DesignCase, ValidDesign};
-use spine_design::adjoint::{adjoint_hand, ReducedGradients};
+use spine_design::adjoint::adjoint_hand;
 use spine_design::certificate::settle;
 use spine_design::multistart::{cluster, feasible_starts, settle_all, ConfidenceRun, MultiStartSummary};
-use spine_design::refine::Refine;
-use spine_design::{run_solver, DesignProblem, DesignResult, Formulation, SolverRun};
+use spine_design::{run_solver, DesignResult, SolverRun};
 use spine_model::{Design, State};
-
-/// An eq. (33) run with what the figures need besides the solver's result.
-#[derive(Clone, Debug, Serialize)]
-pub struct StaticDesign {
-    pub result: DesignResult,
-    /// The start after projection into the bounds, the point the changes are measured from.
-    pub start: Design,
-    /// `dJ/d(θ0, K)` and `dX_{N+1}/d(θ0, K)` at the optimum (hand adjoint, Appendix I/II).
-    #[serde(skip)]
-    pub gradients: Option<ReducedGradients>,
-    #[serde(skip)]
-    pub problem: DesignProblem,
-    /// With `multistart.confidence`: the best clean optimum of a census to that confidence, beside
-    /// the optimum from the case's own start (the paper's), with the census that found it.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub best: Option<Box<BestDesign>>,
-}
-
-/// The best design of a census, as a figure draws it beside the paper-start optimum.
-#[derive(Clone, Debug, Serialize)]
-pub struct BestDesign {
-    /// The best clean optimum, checked and certified, with its gradients (for the claims).
-    pub design: StaticDesign,
-    /// The start that reached it first (0: the case's own).
-    pub reported_start: usize,
-    /// Whether it is the optimum the case's own start reached.
-    pub same_as_start: bool,
-    /// Distinct optima found, the census estimate and how the census ran.
-    pub optima: usize,
-    pub census: spine_design::census::CensusEstimate,
-    pub confidence: ConfidenceRun,
-}
 
 /// The passive and loaded states of a result, where it has both.
 pub(crate) fn states(result: &DesignResult) -> Option<(State, State)> {
@@ -108,53 +76,6 @@ fn static_design(valid: &ValidDesign, result: DesignResult) -> StaticDesign {
     let (start, _) = valid.problem.project_start(&valid.start);
     let gradients = states(&result).and_then(|(s1, s2)| adjoint_hand(&valid.problem, &result.design, &s1, &s2).ok());
     StaticDesign { result, start, gradients, problem: valid.problem.clone(), best: None }
-}
-
-/// Changes to a design case from the command line (each `None` keeps the case file's value).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct DesignOverrides {
-    pub formulation: Option<Formulation>,
-    /// Extra seeded feasible starts.
-    pub starts: Option<usize>,
-    pub seed: Option<u64>,
-    /// `--confidence P`: the census runs until P(a better optimum unseen) ≤ P
-    /// (`multistart.confidence`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub confidence: Option<f64>,
-    pub refine: Option<Refine>,
-    /// `spine design --sensitivity`: the derivatives of the reported optimum with respect to the
-    /// case's parameters ([`crate::sensitivity::differentiate`]) in the result.
-    #[serde(default)]
-    pub sensitivity: bool,
-}
-
-impl DesignOverrides {
-    /// With a confidence and no `starts`, `starts` is the census's cap: 0, the largest allowed
-    /// (the CLI's `--confidence` and flexspine's `confidence=` alike).
-    pub fn with_confidence_cap(mut self) -> Self {
-        if self.confidence.is_some() {
-            self.starts = self.starts.or(Some(0));
-        }
-        self
-    }
-
-    pub fn apply(&self, valid: &mut ValidDesign) {
-        if let Some(f) = self.formulation {
-            valid.formulation = f;
-        }
-        if let Some(s) = self.starts {
-            valid.multistart.starts = s;
-        }
-        if let Some(s) = self.seed {
-            valid.multistart.seed = s;
-        }
-        if let Some(p) = self.confidence {
-            valid.multistart.confidence = Some(p);
-        }
-        if let Some(r) = self.refine {
-            valid.settings.refine = r;
-        }
-    }
 }
 
 /// `result.json` of kind `design`: the solver's result from the case's start or, with
@@ -321,28 +242,5 @@ impl crate::KindOutput for DesignCaseResult {
     /// reached a clean optimum.
     fn is_clean(&self) -> bool {
         self.result.is_clean() && self.multistart.as_ref().and_then(|m| m.confidence.as_ref()).is_none_or(|c| c.reached)
-    }
-}
-
-impl crate::RunKind for DesignCase {
-    type Output = DesignCaseResult;
-
-    /// Eq. (33) from the case's start and its seeded starts ([`run_design_case`]), with the
-    /// sensitivities of the reported optimum when asked for.
-    fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<DesignCaseResult, RunError> {
-        let mut valid = self.validate()?;
-        cx.overrides.design.apply(&mut valid);
-        let mut result = run_design_case(self, &valid, cx.overrides.workers.as_ref(), cx.progress)?;
-        crate::sensitivity::attach(self, &valid, &cx.overrides.design, &mut result)?;
-        Ok(result)
-    }
-
-    /// Eq. (33) from the case's own start, with what a figure draws ([`run_design`]).
-    fn in_figure(&self, _: &mut dyn FnMut(Progress<'_>)) -> Option<Result<crate::RunOutput, RunError>> {
-        Some(
-            self.validate()
-                .map_err(RunError::from)
-                .and_then(|valid| Ok(crate::RunOutput::Design(Box::new(run_design(&valid)?)))),
-        )
     }
 }

@@ -2,46 +2,16 @@
 //! the eq. (33) design of the case.
 
 use crate::animation::{Animation, AnimationOptions, Track};
-use crate::design::{run_design, StaticDesign};
+use crate::design::run_design;
 use crate::error::RunError;
 use crate::files::{samples_table, FileContent, OutputFile};
-use crate::output::RunOutput;
+use crate::output::{DynamicOutput, RunOutput, UsedDesign};
 use crate::progress::Progress;
 use serde::{Serialize, Serializer};
 use spine_case::{DampingCase, DesignSource, DynamicKind, DynamicsTask, PeriodicCase, SimulateCase, ValidDynamics};
 use spine_dynamic_design::{design_damping, design_periodic, DampingDesign, PeriodicDesign, SearchMethod};
 use spine_dynamics::{periodic_response, step_response, DynamicProblem, Forcing, PeriodicResponse, StepResponse};
 use spine_model::{Design, Structure};
-
-/// The design a dynamic run used: given, or from eq. (33) first.
-#[derive(Clone, Debug, Serialize)]
-pub struct UsedDesign {
-    pub design: Design,
-    /// Horizontal spans `a_i` of the chain, m (to draw its shapes).
-    pub spans: Vec<f64>,
-    pub static_design: Option<StaticDesign>,
-}
-
-/// What a dynamic run computed.
-#[derive(Clone, Debug, Serialize)]
-#[serde(tag = "task", rename_all = "snake_case")]
-pub enum DynamicOutput {
-    Step {
-        response: StepResponse,
-    },
-    Periodic {
-        response: PeriodicResponse,
-    },
-    /// Eq. (35): one design per target, and each design's response to a periodic forcing when the
-    /// case gives one.
-    Damping {
-        designs: Vec<DampingDesign>,
-        periodic: Vec<PeriodicResponse>,
-    },
-    PeriodicDesign {
-        design: Box<PeriodicDesign>,
-    },
-}
 
 /// The design of a dynamic case: given, or found by eq. (33) first, which must end clean.
 pub fn resolve_design(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
@@ -73,21 +43,6 @@ pub fn dynamic_problem(valid: &ValidDynamics, design: &Design, damping: &[f64]) 
     let structure =
         Structure { chain: valid.chain.clone(), passive: valid.passive.clone(), actuation: valid.actuation.clone() };
     DynamicProblem { structure, design: design.clone(), damping: damping.to_vec() }
-}
-
-/// Changes to a dynamic case from the command line.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DynamicsOverrides {
-    /// The search of eq. (37) (kind `periodic`).
-    pub method: Option<SearchMethod>,
-}
-
-impl DynamicsOverrides {
-    pub fn apply(&self, valid: &mut ValidDynamics) {
-        if let (Some(m), DynamicsTask::Periodic { method, .. }) = (self.method, &mut valid.task) {
-            *method = m;
-        }
-    }
 }
 
 /// Runs a dynamic case: its design (which must end clean), then its task.

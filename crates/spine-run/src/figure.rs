@@ -4,72 +4,14 @@ use crate::animation::{Animation, AnimationOptions};
 use crate::claims::{Check, Claim};
 use crate::error::RunError;
 use crate::files::{FileContent, OutputFile};
-use crate::kind::KindOutput;
+use crate::kind::{FigureRun, KindOutput};
 use crate::output::RunOutput;
 use crate::progress::Progress;
+use crate::recipes::{FigureRecipes, NamedRun};
+use crate::table::Table;
 use serde::Serialize;
 use serde_json::{Map, Value};
 use spine_case::{FigureCase, Notes, ValidRun};
-use spine_check::FieldError;
-
-/// The recipes that turn a figure case's runs into its panels, tables and checked claims, by the
-/// figure's name (`"figure": "fig6"`). The paper's are `spine_paper::PaperFigures`.
-pub trait FigureRecipes: Sync {
-    /// Draws the runs of figure `figure`. Errors say which run does not fit the recipe.
-    /// The error names the run that does not fit (`runs.NAME`) or the figure (`figure`).
-    fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError>;
-}
-
-/// No recipes: a figure case is refused ([`RunError::Recipe`]). For callers that run only
-/// solver kinds.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NoRecipes;
-
-impl FigureRecipes for NoRecipes {
-    fn draw(&self, figure: &str, _: &str, _: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
-        Err(FieldError::new(
-            "figure",
-            format!("no recipe for {figure:?}: figure cases are drawn by spine-paper's recipes"),
-        ))
-    }
-}
-
-/// A run of a figure, with its result: what a recipe reads.
-pub struct NamedRun<'a> {
-    pub name: &'a str,
-    pub label: &'a str,
-    pub output: &'a RunOutput,
-}
-
-impl NamedRun<'_> {
-    /// A recipe's refusal of this run, named `runs.NAME`.
-    pub fn error(&self, message: impl Into<String>) -> FieldError {
-        FieldError::new(format!("runs.{}", self.name), message)
-    }
-
-    /// The label, or the name when the case gives none.
-    pub fn title(&self) -> &str {
-        if self.label.is_empty() {
-            self.name
-        } else {
-            self.label
-        }
-    }
-}
-
-/// Everything a recipe makes.
-#[derive(Default)]
-pub struct FigureOutput {
-    /// File stem → figure (written as `STEM.svg`, `STEM.png` and `STEM.pdf`).
-    pub figures: Vec<(String, spine_plot::Figure)>,
-    /// File name → CSV text.
-    pub tables: Vec<(String, crate::Table)>,
-    /// File stem → animation of the chain's motion (written as `STEM.gif`).
-    pub animations: Vec<(String, Animation)>,
-    pub claims: Vec<Claim>,
-    /// Numbers the report and the cross-figure checks read back (`result.json` → `summary`).
-    pub summary: Map<String, Value>,
-}
 
 /// One run of a figure with its result.
 #[derive(Clone, Debug, Serialize)]
@@ -99,18 +41,19 @@ pub struct FigureResult {
     #[serde(skip)]
     pub figures: Vec<(String, spine_plot::Figure)>,
     #[serde(skip)]
-    pub tables: Vec<(String, crate::Table)>,
+    pub tables: Vec<(String, Table)>,
     /// File stem → animation (written as `STEM.gif`).
     #[serde(skip)]
     pub animations: Vec<(String, Animation)>,
 }
 
-/// Runs every run of `case` (checked as `runs`), then its recipe; its animations (if any) are
-/// drawn with `animation`, or the default options.
+/// Runs every run of `case` (checked as `runs`) with `figure_run` (the registry's dispatch), then
+/// its recipe; its animations (if any) are drawn with `animation`, or the default options.
 pub fn run_figure(
     case: &FigureCase,
     runs: &[ValidRun],
     recipes: &dyn FigureRecipes,
+    figure_run: &FigureRun,
     animation: Option<AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<FigureResult, RunError> {
@@ -121,7 +64,7 @@ pub fn run_figure(
     for (index, r) in runs.iter().enumerate() {
         let stage = format!("run {} ({})", r.name, r.case.kind());
         let started = std::time::Instant::now();
-        let output = crate::kind::in_figure(&r.case, &mut |p| match p {
+        let output = figure_run(&r.case, &mut |p| match p {
             Progress::Step { done, total, .. } => progress(Progress::Step { stage: &stage, done, total }),
             Progress::Done { .. } => progress(p),
         })
@@ -210,6 +153,6 @@ impl crate::RunKind for FigureCase {
     const MOVES: bool = true;
 
     fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<FigureResult, RunError> {
-        run_figure(self, &self.validate()?, cx.recipes, cx.overrides.animation, cx.progress)
+        run_figure(self, &self.validate()?, cx.recipes, cx.figure_run, cx.overrides.animation, cx.progress)
     }
 }

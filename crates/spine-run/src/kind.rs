@@ -4,17 +4,18 @@
 //! is the kind's name) and the one dispatch ([`run_kind`], [`in_figure`], [`moves`]). No other
 //! code matches on a case's kind to run it.
 //!
-//! Adding a kind (docs/case-format.md, "Adding a kind"): its case type in spine-case, its line in
-//! the registry, its runner here (`impl RunKind`), its section in docs/case-format.md and a
-//! paper case. The test at the end of this file registers a small kind of its own the same way.
+//! The registry itself (the macro's expansion for the workspace's kinds) is in `registry.rs`, above
+//! the runners; this file is below them. Adding a kind (docs/case-format.md, "Adding a kind"): its
+//! case type in spine-case, its line in the registry, its runner (`impl RunKind`), its section in
+//! docs/case-format.md and a paper case. The test in `registry.rs` registers a small kind of its own
+//! the same way.
 
 use crate::error::RunError;
-use crate::figure::FigureRecipes;
 use crate::files::OutputFile;
 use crate::output::RunOutput;
+use crate::overrides::Overrides;
 use crate::progress::Progress;
-use crate::run_case::Overrides;
-use spine_case::Case;
+use crate::recipes::FigureRecipes;
 
 /// What a runner is given besides its case.
 pub struct RunContext<'a> {
@@ -24,7 +25,13 @@ pub struct RunContext<'a> {
     pub recipes: &'a dyn FigureRecipes,
     /// Where a long run reports how far it is.
     pub progress: &'a mut dyn FnMut(Progress<'_>),
+    /// How a figure runs its runs: the registry's dispatch ([`crate::in_figure`]), handed down so
+    /// that the figure's runner does not depend on the registry that holds it.
+    pub figure_run: &'a FigureRun,
 }
+
+/// A case run as a run of a figure ([`RunKind::in_figure`] of its kind).
+pub type FigureRun = dyn Fn(&spine_case::Case, &mut dyn FnMut(Progress<'_>)) -> Result<RunOutput, RunError> + Sync;
 
 /// The result of a kind: `result.json`'s body (serialised with the kind's name as its `"kind"`),
 /// the summary a person reads (`Display`), whether it is clean (exit code 0, else 3) and the
@@ -171,106 +178,4 @@ macro_rules! define_results {
             }
         }
     };
-}
-
-spine_case::case_kinds!(crate::define_results);
-
-#[cfg(test)]
-mod tests {
-    //! The add-a-kind recipe, followed by a kind of this test's own: a case type, its runner and
-    //! its line in a registry (here a list of two kinds handed to the same macros that make the
-    //! workspace's), then parsed, run and written as any kind is.
-
-    use crate::{KindOutput, RunContext, RunError, RunKind};
-    use serde::{Deserialize, Serialize};
-
-    /// 1. The case type: `"kind": "tally"` counts the links of a chain and the springs they need.
-    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, spine_case::__private::schemars::JsonSchema)]
-    #[schemars(crate = "spine_case::__private::schemars")]
-    #[serde(deny_unknown_fields)]
-    pub struct TallyCase {
-        #[serde(default)]
-        pub title: String,
-        pub chain: spine_case::ChainSpec,
-    }
-
-    impl TallyCase {
-        pub fn validate(&self) -> Result<spine_model::Chain, spine_case::CaseError> {
-            self.chain.validate()
-        }
-    }
-
-    /// 2. Its result and its runner.
-    #[derive(Clone, Debug, Serialize)]
-    pub struct TallyResult {
-        pub links: usize,
-        pub springs: usize,
-    }
-
-    impl std::fmt::Display for TallyResult {
-        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            writeln!(f, "{} links, {} springs", self.links, self.springs)
-        }
-    }
-
-    impl KindOutput for TallyResult {
-        fn is_clean(&self) -> bool {
-            self.springs == self.links + 1
-        }
-    }
-
-    impl RunKind for TallyCase {
-        type Output = TallyResult;
-        fn run(&self, _: &mut RunContext<'_>) -> Result<TallyResult, RunError> {
-            let chain = self.validate()?;
-            Ok(TallyResult { links: chain.n_links(), springs: chain.n_links() + 1 })
-        }
-    }
-
-    /// 3. The registry line (this test's registry: the equilibrium kind and the new one).
-    // The commands' variants and a few methods are not used by this test.
-    #[allow(dead_code)]
-    mod registry {
-        use super::TallyCase;
-        macro_rules! test_kinds {
-            ($($then:tt)+) => {
-                $($then)+! {
-                    Equilibrium(spine_case::EquilibriumCase) = "equilibrium",
-                    /// `"kind": "tally"`.
-                    Tally(TallyCase) = "tally",
-                }
-            };
-        }
-        test_kinds!(spine_case::define_cases);
-        test_kinds!(crate::define_results);
-    }
-
-    #[test]
-    fn a_kind_added_by_the_recipe_parses_runs_and_writes_its_result() {
-        use registry::{json_schema, run_kind, Case, KindResult, KINDS};
-        assert_eq!(KINDS, ["equilibrium", "tally"]);
-        let case = Case::from_json(r#"{ "kind": "tally", "chain": { "links": 4, "length_x": 1.0 } }"#).unwrap();
-        assert_eq!(case.kind(), "tally");
-        case.check().unwrap();
-        let overrides = crate::Overrides::default();
-        let mut cx = RunContext { overrides: &overrides, recipes: &crate::NoRecipes, progress: &mut crate::quiet };
-        let result = run_kind(&case, &mut cx).unwrap();
-        assert!(matches!(result, KindResult::Tally(TallyResult { links: 4, springs: 5 })));
-        assert!(result.is_clean());
-        assert_eq!(result.kind(), "tally");
-        let json = crate::with_timings(&result);
-        assert_eq!(json["kind"], "tally");
-        assert_eq!(json["springs"], 5);
-        assert_eq!(result.to_string(), "4 links, 5 springs\n");
-        // Errors name the field, as for every kind; the schema has the new kind's alternative.
-        let bad = Case::from_json(r#"{ "kind": "tally", "chain": { "links": 0, "length_x": 1.0 } }"#).unwrap();
-        assert!(bad.check().unwrap_err().to_string().starts_with("chain.links"));
-        let unknown = Case::from_json(r#"{ "kind": "tallies" }"#).unwrap_err().to_string();
-        assert!(unknown.contains("one of equilibrium, tally"), "{unknown}");
-        assert_eq!(json_schema()["oneOf"][1]["properties"]["kind"]["const"], "tally");
-        // The kind cannot be a figure's run (its runner gives no figure run).
-        let in_figure = registry::in_figure(&case, &mut crate::quiet).unwrap_err().to_string();
-        assert!(in_figure.contains("\"tally\""), "{in_figure}");
-        assert!(!registry::moves(&case));
-    }
 }

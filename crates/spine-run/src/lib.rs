@@ -21,6 +21,7 @@
 //!   unseen) ≤ P.
 //! * `design`: Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //!   multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
+//! * `design_kind`: Kind `design`'s runner: eq. (33), then the sensitivities when asked.
 //! * `design_summary`: The summary of a design case that a person reads (`spine design`): the
 //!   multi-start's census, the solver's status, the optimum, its certificate and its warnings.
 //! * `dynamics`: Kinds `simulate`, `damping` and `periodic`: the dynamics of Sec. 5.2 on a given
@@ -35,6 +36,11 @@
 //!   function of the design and its start.
 //! * [`option_values`]: The values of the options a run takes from the command line or from a
 //!   Python call, each checked once (the CLI and flexspine call the same functions).
+//! * `overrides`: Changes to a case from the command line or a Python call.
+//! * `registry`: The registry of the workspace's kinds expanded into the one result enum and the
+//!   one dispatch.
+//! * `kind`: What a kind's runner and result provide (`RunKind`, `KindOutput`, `RunContext`).
+//! * `recipes`: The recipes that draw a figure case's runs: what a recipe reads and what it makes.
 //! * `progress`: What a long run reports while it works (a front end draws it; the library prints
 //!   nothing).
 //! * [`sensitivity`]: `spine sensitivity`: an eq. (33) optimum (one start, full space) and its
@@ -69,6 +75,7 @@ pub mod animation;
 pub mod claims;
 pub mod confidence;
 mod design;
+mod design_kind;
 mod design_summary;
 mod dynamics;
 mod dynamics_summary;
@@ -80,7 +87,10 @@ mod kind;
 pub mod metrics;
 pub mod option_values;
 mod output;
+mod overrides;
 mod progress;
+mod recipes;
+mod registry;
 mod result;
 mod run_case;
 pub mod sensitivity;
@@ -98,19 +108,22 @@ pub mod write;
 pub use animation::{Animation, AnimationOptions, Track};
 pub use claims::{Check, Claim};
 pub use confidence::CONFIDENCE_BATCH;
-pub use design::{run_design, run_design_case, BestDesign, DesignCaseResult, DesignOverrides, StaticDesign};
+pub use design::{run_design, run_design_case, DesignCaseResult};
 pub use dynamics::{
-    dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicOutput,
-    DynamicsDesign, DynamicsOverrides, DynamicsResult, Eq33Summary, UsedDesign,
+    dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicsDesign,
+    DynamicsResult, Eq33Summary,
 };
 pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
 pub use error::{MergeError, RunError, WorkerError};
-pub use figure::{run_figure, FigureOutput, FigureRecipes, FigureResult, FigureRunResult, NamedRun, NoRecipes};
+pub use figure::{run_figure, FigureResult, FigureRunResult};
 pub use files::{samples_table, FileContent, OutputFile};
-pub use kind::{in_figure, moves, run_kind, KindOutput, KindResult, RunContext, RunKind};
-pub use output::RunOutput;
+pub use kind::{FigureRun, KindOutput, RunContext, RunKind};
+pub use output::{BestDesign, DynamicOutput, RunOutput, StaticDesign, TwoLinkResult, UsedDesign};
+pub use overrides::{DesignOverrides, DynamicsOverrides, Overrides};
 pub use progress::{quiet, Progress};
+pub use recipes::{FigureOutput, FigureRecipes, NamedRun, NoRecipes};
+pub use registry::{in_figure, moves, run_kind, KindResult};
 pub use result::{with_timings, CaseResult};
-pub use run_case::{run_case, run_sensitivity, run_study, run_sweep, Overrides};
+pub use run_case::{run_case, run_sensitivity, run_study, run_sweep};
 pub use table::{Cells, Column, Table};
-pub use twolink::{run_twolink_case, TwoLinkResult};
+pub use twolink::run_twolink_case;

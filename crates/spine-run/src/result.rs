@@ -3,7 +3,7 @@
 //! still gives its result, marked `"stopped": "time_limit"` and never clean.
 
 use crate::files::OutputFile;
-use crate::kind::KindResult;
+use crate::registry::KindResult;
 use serde::Serialize;
 use serde_json::{Map, Value};
 

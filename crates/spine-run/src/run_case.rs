@@ -1,35 +1,15 @@
 //! Running a case file: [`run_case`] (any kind) and [`run_study`] (the C_K study), each under
 //! the run's time limit, to a typed [`CaseResult`].
 
-use crate::design::DesignOverrides;
-use crate::dynamics::DynamicsOverrides;
 use crate::error::RunError;
-use crate::figure::FigureRecipes;
-use crate::kind::{moves, run_kind, KindResult, RunContext};
+use crate::kind::RunContext;
+use crate::overrides::Overrides;
 use crate::progress::Progress;
+use crate::recipes::FigureRecipes;
+use crate::registry::{moves, run_kind, KindResult};
 use crate::result::CaseResult;
-use crate::workers;
 use spine_case::Case;
 use spine_check::FieldError;
-
-/// Changes to a case from the command line (each `None` keeps the case file's value).
-#[derive(Clone, Debug, Default)]
-pub struct Overrides {
-    pub design: DesignOverrides,
-    pub dynamics: DynamicsOverrides,
-    /// Wall-clock limit of the whole run (`None`: none). When it passes, Ipopt stops at its next
-    /// iteration, the integrator at its next step, equilibrium continuation at its next step, the
-    /// GA and pattern search at their next generation or poll, a multi-start before its next
-    /// start; the run returns what it reached, marked [`CaseResult::stopped`] (exit code 3).
-    pub time_limit: Option<std::time::Duration>,
-    /// Animations: a dynamic run (`simulate`, `damping`, `periodic`) writes `animation.gif` when
-    /// set; a figure with an animation (fig9–fig11) always writes one, with these options when
-    /// set and the defaults otherwise.
-    pub animation: Option<crate::animation::AnimationOptions>,
-    /// Worker processes for the seeded starts of a multi-start (`None`, or one job: every solve in
-    /// this process). The census is the same either way.
-    pub workers: Option<workers::Workers>,
-}
 
 /// Runs `run` under `overrides.time_limit`; a run the limit stopped is marked, or, when the limit
 /// left nothing to report (a figure whose recipe needs every run), is [`RunError::TimeLimit`].
@@ -86,7 +66,9 @@ pub fn run_case(
             )));
         }
     }
-    limited(overrides, || run_kind(case, &mut RunContext { overrides, recipes, progress }))
+    limited(overrides, || {
+        run_kind(case, &mut RunContext { overrides, recipes, progress, figure_run: &crate::registry::in_figure })
+    })
 }
 
 /// The C_K study of eq. (34) on a design case (overrides applied), over `values`.

@@ -15,10 +15,11 @@
 //! that did not says which batch comes next ([`Merged::next_batch`]).
 
 use crate::confidence::{Batches, ConfidenceCensus};
-use crate::design::{census, confidence_result, solve_all, DesignOverrides};
+use crate::design::{census, confidence_result, solve_all};
 use crate::error::{MergeError, RunError};
-use crate::kind::KindResult;
+use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
+use crate::registry::KindResult;
 use crate::result::CaseResult;
 use crate::workers::Workers;
 use serde::{Deserialize, Serialize};

@@ -2,9 +2,10 @@
 //! ([`spine_design::sweep`]), with a census (multi-start) at every k-th point saying whether the
 //! followed optimum is still the best known.
 
-use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
+use crate::design::{run_design_case, DesignCaseResult};
 use crate::error::RunError;
 use crate::files::{FileContent, OutputFile};
+use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::sweep_census::{case_at, census};
 pub use crate::sweep_census::{CensusPlan, CensusPoint};

@@ -1,8 +1,9 @@
 //! The census along a followed sweep: a multi-start at every k-th point says whether the followed
 //! optimum is still the best known, with the multi-start's completeness estimate.
 
-use crate::design::{run_design_case, DesignOverrides};
+use crate::design::run_design_case;
 use crate::error::RunError;
+use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::workers::Workers;
 use serde::Serialize;

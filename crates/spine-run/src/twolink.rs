@@ -1,23 +1,8 @@
 //! Kind `twolink`: the two-link analysis of Sec. 3, closed forms beside the exact solution.
 
-use serde::Serialize;
+use crate::output::TwoLinkResult;
 use spine_case::{TwoLinkCase, ValidTwoLink};
-use spine_solve::twolink::{study, Study};
-
-/// `result.json` of kind `twolink`.
-#[derive(Clone, Debug, Serialize)]
-pub struct TwoLinkResult {
-    pub title: String,
-    /// Link length `L`, m.
-    pub length: f64,
-    /// `K`, N·m/rad.
-    pub stiffness: f64,
-    /// Transverse load `P_Y` at the middle node and axial load `P_X` at the end, N.
-    pub p_y: f64,
-    pub p_x: f64,
-    pub study: Study,
-    pub total_seconds: f64,
-}
+use spine_solve::twolink::study;
 
 /// The study of Sec. 3 on the case's δ values.
 pub fn run_twolink_case(case: &TwoLinkCase, valid: &ValidTwoLink) -> TwoLinkResult {

@@ -2,7 +2,6 @@
 //! periodic-load design of eq. (37)), Fig. 11 (a fast design under a pulse train), Fig. 12 (damping
 //! designs for three rise times).
 
-use super::periodic::periodic_panel;
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::DampingDesign;
@@ -201,10 +200,6 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
     let title = "Fig. 9: step responses of the eq. (35) designs".to_string();
     out.animations.push(("animation".into(), Animation { title, tracks, options: Default::default() }));
     Ok(out)
-}
-
-pub(super) fn values_table(column: &str, v: &[f64]) -> Table {
-    Table::new().counts("index", 1..=v.len()).numbers(column, v.iter().copied())
 }
 
 /// Fig. 12: one damping run with several targets; one response panel per target and the dampers.

@@ -126,3 +126,25 @@ fn stiffness_panel(title: &str, series: Vec<Series>) -> Panel {
 fn letter(k: usize) -> char {
     (b'a' + k as u8) as char
 }
+
+fn values_table(column: &str, v: &[f64]) -> Table {
+    Table::new().counts("index", 1..=v.len()).numbers(column, v.iter().copied())
+}
+
+/// End displacement `X − L_x` and the load factor drawn to the scale of `scale` (m).
+fn periodic_panel(title: &str, r: &spine_dynamics::PeriodicResponse, scale: f64, target: Option<f64>) -> Panel {
+    let t_end = r.samples.last().map_or(0.0, |s| s.t);
+    let mut panel = Panel::new(title, "t (s)", spine_run::text::END_DISPLACEMENT)
+        .with(Series::line("end-point motion", r.samples.iter().map(|s| (s.t, s.end_displacement)).collect()).colour(0))
+        .with(
+            Series::dashed(
+                format!("load factor s(t) × {scale:.3} m"),
+                r.samples.iter().map(|s| (s.t, s.load_factor * scale)).collect(),
+            )
+            .colour(1),
+        );
+    if let Some(d) = target {
+        panel = panel.with(Series::dashed(format!("δ_d = {d} m"), vec![(0.0, d), (t_end, d)]).colour(3));
+    }
+    panel
+}

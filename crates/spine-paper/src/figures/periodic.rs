@@ -1,34 +1,15 @@
 //! Fig. 10: the periodic-load design of eq. (37), the GA's design beside the gradient method's,
 //! with the claims on the end point's motion.
 
-use super::dynamic::values_table;
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::PeriodicDesign;
-use spine_dynamics::PeriodicResponse;
-use spine_run::text::{quantity, END_DISPLACEMENT};
+
+use spine_run::text::quantity;
 use spine_run::{samples_table, Animation, Track};
 
 /// Relative gap allowed between a measured time and the time the paper reads off its figure.
 const PAPER_TIME_TOLERANCE: f64 = 0.20;
-
-/// End displacement `X − L_x` and the load factor drawn to the scale of `scale` (m).
-pub(super) fn periodic_panel(title: &str, r: &PeriodicResponse, scale: f64, target: Option<f64>) -> Panel {
-    let t_end = r.samples.last().map_or(0.0, |s| s.t);
-    let mut panel = Panel::new(title, "t (s)", END_DISPLACEMENT)
-        .with(Series::line("end-point motion", r.samples.iter().map(|s| (s.t, s.end_displacement)).collect()).colour(0))
-        .with(
-            Series::dashed(
-                format!("load factor s(t) × {scale:.3} m"),
-                r.samples.iter().map(|s| (s.t, s.load_factor * scale)).collect(),
-            )
-            .colour(1),
-        );
-    if let Some(d) = target {
-        panel = panel.with(Series::dashed(format!("δ_d = {d} m"), vec![(0.0, d), (t_end, d)]).colour(3));
-    }
-    panel
-}
 
 /// A search method as a legend names it: GA, pattern search, gradient.
 fn short(method: spine_dynamic_design::SearchMethod) -> &'static str {

@@ -1,8 +1,9 @@
 //! The derivatives of an optimum: re-solved tightly from itself, then differentiated, or the
 //! typed reason there are none ([`NoSensitivity`]).
 
-use crate::design::{states, DesignOverrides};
+use crate::design::states;
 use crate::error::RunError;
+use crate::overrides::DesignOverrides;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
 use spine_check::FieldError;

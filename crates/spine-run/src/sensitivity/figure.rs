@@ -1,9 +1,9 @@
 //! `spine sensitivity` on a figure case: each design run's optimum and its derivatives.
 
 use super::{run_design_sensitivity, SensitivityResult};
-use crate::design::DesignOverrides;
 use crate::error::RunError;
 use crate::files::OutputFile;
+use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::workers::Workers;
 use serde::Serialize;

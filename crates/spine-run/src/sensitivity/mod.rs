@@ -12,9 +12,10 @@ pub use differentiate::{differentiate, NoSensitivity};
 pub use figure::{run_figure_sensitivity, FigureSensitivityResult, RunSensitivity, SkippedRun};
 pub use not_clean::NotClean;
 
-use crate::design::{run_design_case, DesignCaseResult, DesignOverrides};
+use crate::design::{run_design_case, DesignCaseResult};
 use crate::error::RunError;
 use crate::files::OutputFile;
+use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::workers::Workers;
 use serde::Serialize;
