@@ -71,6 +71,34 @@ impl std::fmt::Display for DesignCaseResult {
         if let Some(summary) = &self.multistart {
             self.fmt_multistart(summary, f)?;
         }
+        self.fmt_solver(f)?;
+        self.fmt_certificate(f)?;
+        let r = &self.result;
+        writeln!(f, "θ0 (rad) = {}", list(&r.design.theta0, 6))?;
+        writeln!(f, "K (N·m/rad) = {}", list(&r.design.stiffness, 3))?;
+        for note in &r.start_notes {
+            writeln!(f, "start: {note}")?;
+        }
+        for w in &r.warnings {
+            writeln!(f, "WARNING: {w}")?;
+        }
+        if let Some(s) = &self.sensitivity {
+            let given = s.parameters.iter().filter(|p| p.derivative.is_some()).count();
+            writeln!(
+                f,
+                "sensitivity: conditions {}; derivatives for {given} of {} parameters (result.json: sensitivity)",
+                if s.conditions.hold { "hold" } else { "FAIL (see result.json: sensitivity.conditions)" },
+                s.parameters.len()
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl DesignCaseResult {
+    /// The run's headline, Ipopt's status (and each level of a ladder), `J`, the violations and
+    /// the end displacement.
+    fn fmt_solver(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let r = &self.result;
         writeln!(
             f,
@@ -111,6 +139,13 @@ impl std::fmt::Display for DesignCaseResult {
             Some(d) => writeln!(f, "end displacement X(θ2) − L_x = {d:.9e} m (target δ_d = {:.9e} m)", r.delta_d)?,
             None => writeln!(f, "end displacement: none")?,
         }
+        Ok(())
+    }
+
+    /// The stability of both equilibria, the second-order certificate and any escape from a point
+    /// that is not a minimum.
+    fn fmt_certificate(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let r = &self.result;
         for (name, s) in [("θ1 passive", &r.passive), ("θ2 loaded", &r.loaded)] {
             if let Some(s) = s {
                 let eig = s.stability.min_eigenvalue.map_or("none".into(), |e| format!("{e:.4e}"));
@@ -131,7 +166,7 @@ impl std::fmt::Display for DesignCaseResult {
                 c.null_space_dimension,
                 c.weakly_active,
                 c.smallest_curvature.map_or("none (a vertex or too large to form)".into(), |v| format!("{v:.3e}")),
-                c.reduced_kkt_inertia.map_or("n/a".into(), |i| format!("{i:?}"))
+                c.reduced_kkt_inertia.map_or("n/a".into(), |[p, n, z]| format!("[{p}, {n}, {z}]"))
             )?,
             None => writeln!(f, "second-order certificate: none (the run did not converge)")?,
         }
@@ -143,23 +178,6 @@ impl std::fmt::Display for DesignCaseResult {
                 e.status.map_or("none", |s| s.name()),
                 e.how.name(),
                 e.reached
-            )?;
-        }
-        writeln!(f, "θ0 (rad) = {}", list(&r.design.theta0, 6))?;
-        writeln!(f, "K (N·m/rad) = {}", list(&r.design.stiffness, 3))?;
-        for note in &r.start_notes {
-            writeln!(f, "start: {note}")?;
-        }
-        for w in &r.warnings {
-            writeln!(f, "WARNING: {w}")?;
-        }
-        if let Some(s) = &self.sensitivity {
-            let given = s.parameters.iter().filter(|p| p.derivative.is_some()).count();
-            writeln!(
-                f,
-                "sensitivity: conditions {}; derivatives for {given} of {} parameters (result.json: sensitivity)",
-                if s.conditions.hold { "hold" } else { "FAIL (see result.json: sensitivity.conditions)" },
-                s.parameters.len()
             )?;
         }
         Ok(())
