@@ -168,7 +168,7 @@ fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
     if !merged.unused_batches.is_empty() {
         output::say(&format!(
             "NOTE: the census reached its target before batch {}: not merged (the single run would not have run them)\n",
-            spine_run::text::numbers(&merged.unused_batches)
+            spine_run::text::joined(&merged.unused_batches)
         ));
     }
     if let Some(b) = merged.next_batch {

@@ -141,7 +141,7 @@ pub enum MergeError {
     #[error("shard {shard}: batch {batch}, expected 1 ≤ batch ≤ {count} (the cap allows {count})")]
     BatchNumber { shard: String, batch: usize, count: usize },
     /// Batches of a census missing below the last one given (the first ten).
-    #[error("a census's batches 1..={last} expected; missing batch {}", crate::text::numbers(.missing))]
+    #[error("a census's batches 1..={last} expected; missing batch {}", crate::text::joined(.missing))]
     MissingBatches { last: usize, missing: Vec<usize> },
     #[error("batch 1 holds no start 0")]
     NoStartZero,
@@ -176,10 +176,10 @@ fn settings_text(overrides: &crate::DesignOverrides, batch: Option<usize>) -> St
 fn missing_text(missing_count: usize, missing: &[usize], twice: &[usize]) -> String {
     let mut parts = Vec::new();
     if missing_count > 0 {
-        parts.push(format!("missing {} ({missing_count} of them)", crate::text::numbers(missing)));
+        parts.push(format!("missing {} ({missing_count} of them)", crate::text::joined(missing)));
     }
     if !twice.is_empty() {
-        parts.push(format!("given more than once {}", crate::text::numbers(twice)));
+        parts.push(format!("given more than once {}", crate::text::joined(twice)));
     }
     parts.join("; ")
 }

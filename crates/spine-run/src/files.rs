@@ -34,14 +34,13 @@ impl OutputFile {
 /// `t, load_factor, delta, end_displacement, theta_1..theta_N` with full precision.
 pub fn samples_table(samples: &[Sample]) -> crate::table::Table {
     let n = samples.first().map_or(0, |s| s.theta.len());
-    let column = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
     let mut table = crate::table::Table::new()
-        .numbers("t_s", column(&|s| s.t))
-        .numbers("load_factor", column(&|s| s.load_factor))
-        .numbers("delta_m", column(&|s| s.delta))
-        .numbers("end_displacement_m", column(&|s| s.end_displacement));
+        .numbers("t_s", samples.iter().map(|s| s.t))
+        .numbers("load_factor", samples.iter().map(|s| s.load_factor))
+        .numbers("delta_m", samples.iter().map(|s| s.delta))
+        .numbers("end_displacement_m", samples.iter().map(|s| s.end_displacement));
     for i in 0..n {
-        table = table.numbers(format!("theta_{}_rad", i + 1), column(&|s| s.theta[i]));
+        table = table.numbers(format!("theta_{}_rad", i + 1), samples.iter().map(|s| s.theta[i]));
     }
     table
 }

@@ -1,7 +1,8 @@
 //! One dispatch per kind. A kind's runner implements [`RunKind`] on its case type and its result
 //! implements [`KindOutput`]; the registry of case kinds (`spine_case::case_kinds!`, one line per
-//! kind) then makes, through [`define_results!`], the one result enum [`KindResult`] (its serde tag
-//! is the kind's name) and the one dispatch ([`run_kind`], [`in_figure`], [`moves`]). No other
+//! kind) then makes, through [`define_results!`](crate::define_results), the one result enum
+//! [`KindResult`](crate::KindResult) (its serde tag is the kind's name) and the one dispatch
+//! ([`run_kind`](crate::run_kind), [`in_figure`](crate::in_figure), [`moves`](crate::moves)). No other
 //! code matches on a case's kind to run it.
 //!
 //! The registry itself (the macro's expansion for the workspace's kinds) is in `registry.rs`, above

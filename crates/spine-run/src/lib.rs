@@ -3,10 +3,10 @@
 //! [`run_case`] checks a case file of any kind, runs its solver and returns a [`CaseResult`]: what
 //! `result.json` holds, the files beside it, whether it is clean (exit code 0) or not (3), and the
 //! summary a user reads. Worker processes for a multi-start ([`workers`]), shards of one for a
-//! cluster ([`shard`]) and the all-or-nothing output folder ([`write`]) are here too; the CLI and
+//! cluster ([`shard`]) and the all-or-nothing output folder ([`write`](mod@write)) are here too; the CLI and
 //! the Python package only parse, call this and print. A figure case's runs are run here, and
 //! drawn by the recipes a caller passes ([`FigureRecipes`]; the paper's are `spine-paper`'s).
-//! Nothing here prints; only [`write`] writes files.
+//! Nothing here prints; only [`write`](mod@write) writes files.
 //!
 //! Further modules:
 //!

@@ -17,7 +17,7 @@ pub trait FigureRecipes: Sync {
     fn draw(&self, figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError>;
 }
 
-/// No recipes: a figure case is refused ([`RunError::Recipe`]). For callers that run only
+/// No recipes: a figure case is refused ([`RunError::Recipe`](crate::RunError::Recipe)). For callers that run only
 /// solver kinds.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NoRecipes;

@@ -229,19 +229,18 @@ impl CkStudy {
     /// The table: one row per solve.
     pub fn table(&self) -> Table {
         let rows = &self.rows;
-        let column = |f: &dyn Fn(&CkRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
         Table::new()
-            .numbers("stiffness_scale", column(&|r| r.stiffness_scale))
+            .numbers("stiffness_scale", rows.iter().map(|r| r.stiffness_scale))
             .labels("scaling", rows.iter().map(|r| scaling_name(r.scaling)))
             .labels("status", rows.iter().map(|r| r.status))
             .labels("clean", rows.iter().map(|r| r.clean))
             .counts("iterations", rows.iter().map(|r| r.iterations))
-            .numbers("objective_j", column(&|r| r.objective))
-            .numbers("stiffness_cv", column(&|r| r.change.stiffness_variation))
-            .numbers("stiffness_max_over_min", column(&|r| r.change.stiffness_max_over_min))
-            .numbers("theta0_change_rad", column(&|r| r.change.theta0_change))
-            .numbers("theta0_relative_change", column(&|r| r.change.theta0_relative_change))
-            .numbers("stiffness_relative_change", column(&|r| r.change.stiffness_relative_change))
+            .numbers("objective_j", rows.iter().map(|r| r.objective))
+            .numbers("stiffness_cv", rows.iter().map(|r| r.change.stiffness_variation))
+            .numbers("stiffness_max_over_min", rows.iter().map(|r| r.change.stiffness_max_over_min))
+            .numbers("theta0_change_rad", rows.iter().map(|r| r.change.theta0_change))
+            .numbers("theta0_relative_change", rows.iter().map(|r| r.change.theta0_relative_change))
+            .numbers("stiffness_relative_change", rows.iter().map(|r| r.change.stiffness_relative_change))
     }
 
     /// Stiffness spread and shape change against `log10 C_K`, one series per scaling.

@@ -33,16 +33,11 @@ pub fn list(values: &[f64], decimals: usize) -> String {
     text
 }
 
-/// Whole numbers as `3, 5, 7`.
+/// Items as a person reads a list: `a, b, c` (each by its `Display`).
 ///
 /// ```
-/// assert_eq!(spine_run::text::numbers(&[3, 5]), "3, 5");
+/// assert_eq!(spine_run::text::joined(&[3, 5]), "3, 5");
 /// ```
-pub fn numbers(values: &[usize]) -> String {
-    values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(", ")
-}
-
-/// Items as a person reads a list: `a, b, c` (each by its `Display`).
 pub fn joined<T: std::fmt::Display>(items: &[T]) -> String {
     items.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")
 }

@@ -208,7 +208,7 @@ fn localized_load_claims(runs: &[NamedRun<'_>], designs: &[&StaticDesign]) -> Re
         Claim::new(
             "figure",
             "\"localized stiffening of the structure\" (Sec. 5.1)",
-            format!("mean K at the more loaded nodes {} (paper numbering, base = 1) more than {:.0} % higher under the localized load than under the uniform load", spine_run::text::numbers(&nodes), 100.0 * MARGIN),
+            format!("mean K at the more loaded nodes {} (paper numbering, base = 1) more than {:.0} % higher under the localized load than under the uniform load", spine_run::text::joined(&nodes), 100.0 * MARGIN),
             k_local > (1.0 + MARGIN) * k_uniform,
             format!("mean K there: localized {k_local:.1} N·m/rad, uniform {k_uniform:.1} N·m/rad (ratio {:.3})", k_local / k_uniform),
         ),

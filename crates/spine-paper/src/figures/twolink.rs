@@ -165,14 +165,13 @@ fn optimum_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
 /// `twolink.csv`: every δ of the study with the exact and closed-form answers.
 fn study_table(study: &spine_solve::twolink::Study) -> Table {
     let rows = &study.rows;
-    let column = |f: &dyn Fn(&spine_solve::twolink::StudyRow) -> Option<f64>| rows.iter().map(f).collect::<Vec<_>>();
     Table::new()
-        .optional("delta_m", column(&|r| Some(r.delta)))
-        .optional("theta0_exact_rad", column(&|r| r.theta0_exact))
-        .optional("theta0_eq10_printed_rad", column(&|r| Some(r.theta0_eq10_printed)))
-        .optional("theta0_eq10_rad", column(&|r| Some(r.theta0_eq10)))
-        .optional("theta0_eq10_first_order_rad", column(&|r| Some(r.theta0_first_order)))
-        .optional("stiffness_eq11_n_m_per_rad", column(&|r| r.stiffness_eq11))
-        .optional("ratio_eq17_printed", column(&|r| r.ratio_eq17_printed))
-        .optional("ratio_corrected", column(&|r| r.ratio))
+        .numbers("delta_m", rows.iter().map(|r| r.delta))
+        .optional("theta0_exact_rad", rows.iter().map(|r| r.theta0_exact))
+        .numbers("theta0_eq10_printed_rad", rows.iter().map(|r| r.theta0_eq10_printed))
+        .numbers("theta0_eq10_rad", rows.iter().map(|r| r.theta0_eq10))
+        .numbers("theta0_eq10_first_order_rad", rows.iter().map(|r| r.theta0_first_order))
+        .optional("stiffness_eq11_n_m_per_rad", rows.iter().map(|r| r.stiffness_eq11))
+        .optional("ratio_eq17_printed", rows.iter().map(|r| r.ratio_eq17_printed))
+        .optional("ratio_corrected", rows.iter().map(|r| r.ratio))
 }
