@@ -143,9 +143,11 @@ class Result:
     def json(self, deterministic: bool = False) -> str:
         """`result.json`'s text; deterministic=True leaves wall times out (same input, same bytes)."""
     def to_dict(self) -> dict[str, Any]:
-        """`result.json` as a dictionary."""
+        """`result.json` as a dictionary, straight from the typed result: every array of numbers
+        a numpy array (int64 for integers, else float64 with null as NaN), rows of numbers of
+        equal length a 2-D array, other arrays (strings, objects, empty) lists."""
     def __getitem__(self, key: str) -> Any:
-        """One top-level entry of `result.json`."""
+        """One top-level entry of `result.json` (arrays as in to_dict)."""
     def gif(self) -> Optional[bytes]:
         """The animation of the chain's motion as GIF bytes, or None when the run has none."""
     def write(self, out: Union[str, os.PathLike[str]], deterministic: bool = False) -> str:

@@ -156,6 +156,107 @@ pub fn simulate_periodic_springs(
     run_periodic(d, ends, length_x, target, &settings, Some(s0))
 }
 
+/// The end's X displacement `X_{N+1} − L_x` on a trajectory of one ODE: its value, its state
+/// gradient, and the first time it reaches a level (an event on the steps).
+struct EndX<'a> {
+    d: &'a Dynamics,
+    ode: SpineOde<'a>,
+    options: &'a Options,
+    length_x: f64,
+    lipschitz: Vec<f64>,
+}
+
+impl EndX<'_> {
+    fn at(&self, y: &[f64]) -> f64 {
+        self.d.end_x(&y[..self.d.n_links()]) - self.length_x
+    }
+
+    /// The first time after `after` that the end's X displacement reaches `level`.
+    fn crossing(&self, traj: &Trajectory, after: f64, level: f64) -> Option<f64> {
+        let g = |y: &[f64]| self.at(y) - level;
+        let grad = |y: &[f64]| self.d.end_x_state_gradient(y);
+        let event = EventFunction::new(&g, &grad).with_lipschitz(&self.lipschitz);
+        first_event(&self.ode, self.options, traj, after, &event).map(|e| e.t)
+    }
+
+    /// `(t, value)` with its gradient in the springs, `∇_y X · S(t)`.
+    fn with_gradient(&self, traj: &Trajectory, t: f64, value: f64) -> EndValue {
+        let dx = self.d.end_x_state_gradient(&traj.value(t));
+        let s = traj.sensitivity(t).expect("sensitivities were propagated");
+        let gradient = (0..s.ncols()).map(|p| (0..s.nrows()).map(|i| dx[i] * s[(i, p)]).sum()).collect();
+        EndValue { t, value, gradient }
+    }
+}
+
+/// The periods simulated one after another until two in a row agree (or, with a fixed horizon,
+/// all of them), with what they add up to.
+struct Periods {
+    /// The last period simulated.
+    last: Trajectory,
+    outcome: Outcome,
+    periods_run: usize,
+    settled: bool,
+    period_change: f64,
+    first_rise_time: Option<f64>,
+    stats: Stats,
+    drift: Drift,
+    samples: Vec<Sample>,
+}
+
+/// Simulates period after period from the rest state (module docs).
+fn simulate_periods(
+    end: &EndX<'_>,
+    ends: &StaticEnds,
+    settings: &PeriodicSettings,
+    mut sensitivities: Option<DMatrix<f64>>,
+) -> Periods {
+    let d = end.d;
+    let period = d.forcing.period().expect("a periodic forcing");
+    let fixed_horizon = sensitivities.is_some();
+    let (onset, _) = onset_and_release(&d.forcing);
+    let first_level =
+        ends.passive_displacement + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
+    let mut y = ends.rest_state();
+    let (mut stats, mut drift, mut samples) = (Stats::default(), Drift::default(), Vec::new());
+    let mut previous: Option<Vec<f64>> = None;
+    let (mut settled, mut period_change, mut periods_run) = (false, f64::INFINITY, 0);
+    let (mut outcome, mut first_rise_time) = (Outcome::Completed, None);
+    let mut k = 0;
+    let last = loop {
+        let t0 = k as f64 * period;
+        let extras = Extras { sensitivities: sensitivities.take(), ..Extras::default() };
+        let traj = integrate(&end.ode, t0, &y, t0 + period, &settings.integrator, extras);
+        sensitivities = traj.end_sensitivity();
+        periods_run += 1;
+        if k == 0 {
+            first_rise_time = end.crossing(&traj, t0 + onset, first_level).map(|t| t - (t0 + onset));
+        }
+        stats.absorb(&traj.stats);
+        let (s, dr) = sample(d, &traj, settings.samples_per_period + 1, ends.x1, end.length_x);
+        drift.absorb(&dr);
+        let trace: Vec<f64> = s.iter().map(|p| p.end_displacement).collect();
+        samples.extend(s);
+        if traj.outcome != Outcome::Completed {
+            outcome = traj.outcome.clone();
+            break traj;
+        }
+        y = traj.end().to_vec();
+        if let Some(prev) = &previous {
+            period_change = relative_change(&trace, prev);
+            settled = period_change <= settings.settle_tolerance;
+            if settled && !fixed_horizon {
+                break traj;
+            }
+        }
+        previous = Some(trace);
+        k += 1;
+        if k >= settings.max_periods.max(2) {
+            break traj;
+        }
+    };
+    Periods { last, outcome, periods_run, settled, period_change, first_rise_time, stats, drift, samples }
+}
+
 /// The periodic response; with `springs` (`S(0)`), the spring sensitivities and the last period's
 /// minima (module docs).
 fn run_periodic(
@@ -167,105 +268,47 @@ fn run_periodic(
     springs: Option<DMatrix<f64>>,
 ) -> (PeriodicResponse, Option<(Vec<EndValue>, EndValue)>) {
     let clock = std::time::Instant::now();
-    let n = d.n_links();
     let period = d.forcing.period().expect("a periodic forcing");
     let fixed_horizon = springs.is_some();
     let parameters = if fixed_horizon { Parameters::Springs } else { Parameters::None };
     let ode = SpineOde { dynamics: d, parameters };
-    let mut sensitivities = springs;
-    let mut y = ends.rest_state();
-    let mut stats = Stats::default();
-    let mut drift = Drift::default();
-    let mut samples = Vec::new();
-    let mut previous: Option<Vec<f64>> = None;
-    let mut last: Option<Trajectory> = None;
-    let (mut settled, mut period_change, mut periods_run) = (false, f64::INFINITY, 0);
-    let mut outcome = Outcome::Completed;
-    let x_of = |y: &[f64]| d.end_x(&y[..n]) - length_x;
-    let grad = |y: &[f64]| d.end_x_state_gradient(y);
-    let (onset, release) = onset_and_release(&d.forcing);
-    // The first time after `after` that the end's X displacement reaches `level`, on the steps.
-    let lipschitz = d.end_x_lipschitz();
-    let crossing = |traj: &Trajectory, after: f64, level: f64| {
-        let g = |y: &[f64]| x_of(y) - level;
-        let event = EventFunction::new(&g, &grad).with_lipschitz(&lipschitz);
-        first_event(&ode, &settings.integrator, traj, after, &event).map(|e| e.t)
-    };
-    let first_level =
-        ends.passive_displacement + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
-    let mut first_rise_time = None;
-    for k in 0..settings.max_periods.max(2) {
-        let t0 = k as f64 * period;
-        let extras = Extras { sensitivities: sensitivities.take(), ..Extras::default() };
-        let traj = integrate(&ode, t0, &y, t0 + period, &settings.integrator, extras);
-        sensitivities = traj.end_sensitivity();
-        periods_run += 1;
-        if k == 0 {
-            first_rise_time = crossing(&traj, t0 + onset, first_level).map(|t| t - (t0 + onset));
-        }
-        stats.absorb(&traj.stats);
-        let (s, dr) = sample(d, &traj, settings.samples_per_period + 1, ends.x1, length_x);
-        drift.absorb(&dr);
-        let trace: Vec<f64> = s.iter().map(|p| p.end_displacement).collect();
-        samples.extend(s);
-        if traj.outcome != Outcome::Completed {
-            outcome = traj.outcome.clone();
-            last = Some(traj);
-            break;
-        }
-        y = traj.end().to_vec();
-        if let Some(prev) = &previous {
-            period_change = relative_change(&trace, prev);
-            settled = period_change <= settings.settle_tolerance;
-            if settled && !fixed_horizon {
-                last = Some(traj);
-                break;
-            }
-        }
-        previous = Some(trace);
-        last = Some(traj);
-    }
-    let traj = last.expect("at least one period");
+    let end = EndX { d, ode, options: &settings.integrator, length_x, lipschitz: d.end_x_lipschitz() };
+    let run = simulate_periods(&end, &ends, settings, springs);
+    let traj = &run.last;
     let (t_start, _) = traj.span();
-    let (minima, max) = extremes(&traj, &x_of, settings.samples_per_period * 4);
+    let (minima, max) = extremes(traj, &|y: &[f64]| end.at(y), settings.samples_per_period * 4);
     let min = minima[0];
+    let (onset, release) = onset_and_release(&d.forcing);
     let (onset, release) = (t_start + onset, t_start + release);
-    let x_onset = x_of(&traj.value(onset));
+    let x_onset = end.at(&traj.value(onset));
     let f = settings.reach_fraction;
-    let reach_level = x_onset + f * (min.0 - x_onset);
-    let reach_time = crossing(&traj, onset, reach_level).map(|t| t - onset);
+    let reach_time = end.crossing(traj, onset, x_onset + f * (min.0 - x_onset)).map(|t| t - onset);
     let return_level = min.0 + f * (ends.passive_displacement - min.0);
-    let return_time = crossing(&traj, release, return_level).map(|t| t - release);
-    let time_to_target = target.and_then(|delta_d| crossing(&traj, onset, delta_d)).map(|t| t - onset);
-    let with_gradient = |t: f64, value: f64| {
-        let dx = grad(&traj.value(t));
-        let s = traj.sensitivity(t).expect("sensitivities were propagated");
-        let gradient = (0..s.ncols()).map(|p| (0..s.nrows()).map(|i| dx[i] * s[(i, p)]).sum()).collect();
-        EndValue { t, value, gradient }
-    };
-    let values = (fixed_horizon && outcome == Outcome::Completed).then(|| {
+    let return_time = end.crossing(traj, release, return_level).map(|t| t - release);
+    let time_to_target = target.and_then(|delta_d| end.crossing(traj, onset, delta_d)).map(|t| t - onset);
+    let values = (fixed_horizon && run.outcome == Outcome::Completed).then(|| {
         let (_, t_end) = traj.span();
-        let end = with_gradient(t_end, x_of(traj.end()));
-        (minima.iter().map(|&(value, t)| with_gradient(t, value)).collect(), end)
+        let last = end.with_gradient(traj, t_end, end.at(traj.end()));
+        (minima.iter().map(|&(value, t)| end.with_gradient(traj, t, value)).collect(), last)
     });
     let response = PeriodicResponse {
-        outcome,
+        outcome: run.outcome,
         ends,
         period,
-        periods_run,
-        settled,
-        period_change,
+        periods_run: run.periods_run,
+        settled: run.settled,
+        period_change: run.period_change,
         min_end_displacement: min.0,
         time_of_minimum: min.1 - onset,
         max_end_displacement: max,
         reach_time,
         return_time,
-        first_rise_time,
+        first_rise_time: run.first_rise_time,
         time_to_target,
-        drift,
-        stats,
+        drift: run.drift,
+        stats: run.stats,
         time_seconds: clock.elapsed().as_secs_f64(),
-        samples,
+        samples: run.samples,
     };
     (response, values)
 }

@@ -68,8 +68,12 @@ impl Dynamics {
     }
 }
 
+/// What one column of rates is driven by: `(dQ, db, k)`, written into column `k`.
+type Respond<'r> = dyn FnMut(&[f64], f64, usize) + 'r;
+
 impl RatesAt<'_> {
-    /// One block of rates (module docs).
+    /// One block of rates (module docs): each column's `(dQ, db)`, then one solve for all columns
+    /// and the bordered correction `M⁻¹dQ + M⁻¹∇Φ dλ`.
     pub fn rates(&self, what: RatesIn<'_>) -> DMatrix<f64> {
         let d = self.dynamics;
         let n = d.n_links();
@@ -83,105 +87,115 @@ impl RatesAt<'_> {
             rates.fill(f64::NAN);
             return rates;
         };
-        let (trig, omega, g, mg, gmg) = (&self.trig, self.omega, &self.g, &self.mg, self.gmg);
-        let l = &d.lengths;
-        // Column `k` of `rates` collects `dQ`, `dbs[k]` its `db`; then one solve for all columns
-        // and the bordered correction `M⁻¹dQ + M⁻¹∇Φ dλ`.
         let mut dbs = vec![0.0; columns];
-        let mut dq = vec![0.0; n];
         let mut respond = |dq: &[f64], db: f64, k: usize| {
             rates.column_mut(k).copy_from_slice(dq);
             dbs[k] = db;
         };
-        // `c_ij = L_i L_j μ_max(i,j)`: `M_ij = c_ij cos(θ_i − θ_j)`, `h_i = Σ_j c_ij θ̇_j² sin(θ_i − θ_j)`.
-        let (coupling, _) = d.inertia_coefficients();
-        let c = |i: usize, j: usize| l[i] * l[j] * coupling[i.max(j)];
         match what {
-            RatesIn::Dampers | RatesIn::Springs => {
-                // The joint's relative motion: θ̇ for a damper, θ − θ0 for a spring.
-                let deflection: Vec<f64>;
-                let x: &[f64] = match what {
-                    RatesIn::Springs => {
-                        deflection = self.theta.iter().zip(&d.theta0).map(|(t, t0)| t - t0).collect();
-                        &deflection
-                    }
-                    _ => omega,
-                };
-                let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { x[i as usize] };
-                for k in 0..columns {
-                    dq.fill(0.0);
-                    let r = at(k as isize) - at(k as isize - 1);
-                    if k < n {
-                        dq[k] -= r;
-                    }
-                    if k > 0 {
-                        dq[k - 1] += r;
-                    }
-                    respond(&dq, 0.0, k);
-                }
+            RatesIn::Dampers => self.joint_forcing(self.omega, columns, &mut respond),
+            RatesIn::Springs => {
+                let deflection: Vec<f64> = self.theta.iter().zip(&d.theta0).map(|(t, t0)| t - t0).collect();
+                self.joint_forcing(&deflection, columns, &mut respond);
             }
-            RatesIn::AngularVelocities => {
-                let mut unit = vec![0.0; n];
-                for k in 0..n {
-                    unit[k] = 1.0;
-                    let damper = joint_moments(&d.damping, &unit);
-                    unit[k] = 0.0;
-                    let (sk, ck) = trig[k];
-                    for i in 0..n {
-                        let centrifugal = if i == k {
-                            0.0
-                        } else {
-                            let (si, ci) = trig[i];
-                            2.0 * c(i, k) * (si * ck - ci * sk) * omega[k]
-                        };
-                        dq[i] = -centrifugal - damper[i];
-                    }
-                    let db = 2.0 * l[k] * sk * omega[k];
-                    respond(&dq, db, k);
-                }
-            }
-            RatesIn::Angles(loads) => {
-                // The state's own θ̈ and λ.
-                let h = d.velocity_terms_from(trig, omega);
-                let (q, _, b) = d.index1_terms(LoadsAt::Given(loads), (self.theta, trig), omega, &d.damping, h);
-                let (acc, lambda) = bordered(chain.solve(&q), mg, g, b);
-                let k_m = &d.stiffness;
-                for k in 0..n {
-                    let (sk, ck) = trig[k];
-                    dq.fill(0.0);
-                    // P_k = (cos θ_k V_k − sin θ_k X_k) L_k.
-                    dq[k] += (-sk * loads.vertical[k] - ck * loads.axial[k]) * l[k];
-                    for i in (0..n).filter(|&i| i != k) {
-                        let (si, ci) = trig[i];
-                        let (cos_ik, sin_ik) = (ci * ck + si * sk, si * ck - ci * sk);
-                        let cik = c(i, k);
-                        // −∂h/∂θ_k and −(∂M/∂θ_k) θ̈, row i ≠ k and their row-k sums.
-                        dq[i] += cik * omega[k] * omega[k] * cos_ik - cik * sin_ik * acc[k];
-                        dq[k] += -cik * omega[i] * omega[i] * cos_ik - cik * sin_ik * acc[i];
-                    }
-                    // −∂(K_m (θ − θ0))/∂θ_k: the two springs at the link's ends.
-                    dq[k] -= k_m[k] + k_m[k + 1];
-                    if k > 0 {
-                        dq[k - 1] += k_m[k];
-                    }
-                    if k + 1 < n {
-                        dq[k + 1] += k_m[k + 1];
-                    }
-                    // + (∂∇Φ/∂θ_k) λ, and the constraint row's `∂b/∂θ_k − (∂∇Φ/∂θ_k)ᵀ θ̈`.
-                    dq[k] -= l[k] * sk * lambda;
-                    let db = l[k] * ck * omega[k] * omega[k] + l[k] * sk * acc[k];
-                    respond(&dq, db, k);
-                }
-            }
+            RatesIn::AngularVelocities => self.velocity_forcing(&mut respond),
+            RatesIn::Angles(loads) => self.angle_forcing(chain, loads, &mut respond),
         }
         chain.solve_columns(&mut rates);
+        let (g, mg) = (&self.g, &self.mg);
         for (k, mut column) in rates.column_iter_mut().enumerate() {
-            let dlambda = (dbs[k] - g.iter().zip(column.iter()).map(|(a, b)| a * b).sum::<f64>()) / gmg;
+            let dlambda = (dbs[k] - g.iter().zip(column.iter()).map(|(a, b)| a * b).sum::<f64>()) / self.gmg;
             for i in 0..n {
                 column[i] += mg[i] * dlambda;
             }
         }
         rates
+    }
+
+    /// `c_ij = L_i L_j μ_max(i,j)`: `M_ij = c_ij cos(θ_i − θ_j)`, `h_i = Σ_j c_ij θ̇_j² sin(θ_i − θ_j)`.
+    fn coupling(&self) -> impl Fn(usize, usize) -> f64 + '_ {
+        let l = &self.dynamics.lengths;
+        let (coupling, _) = self.dynamics.inertia_coefficients();
+        move |i, j| l[i] * l[j] * coupling[i.max(j)]
+    }
+
+    /// A damper's or a spring's column: `dQ = −r_k (e_k − e_{k−1})` with the joint's relative
+    /// motion `r_k = x_k − x_{k−1}` (`x`: `θ̇` for a damper, `θ − θ0` for a spring), `db = 0`.
+    fn joint_forcing(&self, x: &[f64], columns: usize, respond: &mut Respond<'_>) {
+        let n = x.len();
+        let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { x[i as usize] };
+        let mut dq = vec![0.0; n];
+        for k in 0..columns {
+            dq.fill(0.0);
+            let r = at(k as isize) - at(k as isize - 1);
+            if k < n {
+                dq[k] -= r;
+            }
+            if k > 0 {
+                dq[k - 1] += r;
+            }
+            respond(&dq, 0.0, k);
+        }
+    }
+
+    /// An angular velocity's column: the centrifugal terms' and the dampers' rates.
+    fn velocity_forcing(&self, respond: &mut Respond<'_>) {
+        let d = self.dynamics;
+        let (n, trig, omega, l) = (d.n_links(), &self.trig, self.omega, &d.lengths);
+        let c = self.coupling();
+        let (mut dq, mut unit) = (vec![0.0; n], vec![0.0; n]);
+        for k in 0..n {
+            unit[k] = 1.0;
+            let damper = joint_moments(&d.damping, &unit);
+            unit[k] = 0.0;
+            let (sk, ck) = trig[k];
+            for i in 0..n {
+                let centrifugal = if i == k {
+                    0.0
+                } else {
+                    let (si, ci) = trig[i];
+                    2.0 * c(i, k) * (si * ck - ci * sk) * omega[k]
+                };
+                dq[i] = -centrifugal - damper[i];
+            }
+            respond(&dq, 2.0 * l[k] * sk * omega[k], k);
+        }
+    }
+
+    /// An angle's column, where `M`, `∇Φ` and `b` move too, from the state's own `θ̈` and `λ`.
+    fn angle_forcing(&self, chain: &ArticulatedChain<f64>, loads: &LinkLoads, respond: &mut Respond<'_>) {
+        let d = self.dynamics;
+        let (n, trig, omega, l, k_m) = (d.n_links(), &self.trig, self.omega, &d.lengths, &d.stiffness);
+        let c = self.coupling();
+        let h = d.velocity_terms_from(trig, omega);
+        let (q, _, b) = d.index1_terms(LoadsAt::Given(loads), (self.theta, trig), omega, &d.damping, h);
+        let (acc, lambda) = bordered(chain.solve(&q), &self.mg, &self.g, b);
+        let mut dq = vec![0.0; n];
+        for k in 0..n {
+            let (sk, ck) = trig[k];
+            dq.fill(0.0);
+            // P_k = (cos θ_k V_k − sin θ_k X_k) L_k.
+            dq[k] += (-sk * loads.vertical[k] - ck * loads.axial[k]) * l[k];
+            for i in (0..n).filter(|&i| i != k) {
+                let (si, ci) = trig[i];
+                let (cos_ik, sin_ik) = (ci * ck + si * sk, si * ck - ci * sk);
+                let cik = c(i, k);
+                // −∂h/∂θ_k and −(∂M/∂θ_k) θ̈, row i ≠ k and their row-k sums.
+                dq[i] += cik * omega[k] * omega[k] * cos_ik - cik * sin_ik * acc[k];
+                dq[k] += -cik * omega[i] * omega[i] * cos_ik - cik * sin_ik * acc[i];
+            }
+            // −∂(K_m (θ − θ0))/∂θ_k: the two springs at the link's ends.
+            dq[k] -= k_m[k] + k_m[k + 1];
+            if k > 0 {
+                dq[k - 1] += k_m[k];
+            }
+            if k + 1 < n {
+                dq[k + 1] += k_m[k + 1];
+            }
+            // + (∂∇Φ/∂θ_k) λ, and the constraint row's `∂b/∂θ_k − (∂∇Φ/∂θ_k)ᵀ θ̈`.
+            dq[k] -= l[k] * sk * lambda;
+            respond(&dq, l[k] * ck * omega[k] * omega[k] + l[k] * sk * acc[k], k);
+        }
     }
 }
 

@@ -145,3 +145,76 @@ pub fn derivatives_of<'py>(py: Python<'py>, result: &spine_run::CaseResult) -> P
         _ => Ok(None),
     }
 }
+
+/// A JSON value of `result.json` as Python: objects as dictionaries, scalars as Python scalars,
+/// and arrays as numpy arrays where they hold numbers (integers as `int64`, others as `float64`
+/// with `null` as NaN), a list of equal-length number lists as a 2-D array; other arrays (of
+/// strings, of objects, ragged, empty) as lists of converted values.
+pub fn value_to_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match value {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => pyo3::types::PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => match n.as_i64() {
+            Some(i) => i.into_pyobject(py)?.into_any(),
+            None => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
+        },
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Object(map) => {
+            let dict = PyDict::new(py);
+            for (k, v) in map {
+                dict.set_item(k, value_to_py(py, v)?)?;
+            }
+            dict.into_any()
+        }
+        Value::Array(items) => match numeric_array(py, items)? {
+            Some(array) => array,
+            None => {
+                let list = pyo3::types::PyList::empty(py);
+                for v in items {
+                    list.append(value_to_py(py, v)?)?;
+                }
+                list.into_any()
+            }
+        },
+    })
+}
+
+/// The numbers of a JSON array, `None` unless every item is a number or `null` (at least one a
+/// number); integers stay integers when every item is one.
+fn numbers(items: &[serde_json::Value]) -> Option<Result<Vec<i64>, Vec<f64>>> {
+    if items.is_empty() || !items.iter().all(|v| v.is_number() || v.is_null()) || items.iter().all(|v| v.is_null()) {
+        return None;
+    }
+    if items.iter().all(|v| v.as_i64().is_some()) {
+        return Some(Ok(items.iter().filter_map(|v| v.as_i64()).collect()));
+    }
+    Some(Err(items.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect()))
+}
+
+/// A JSON array as a numpy array: 1-D of numbers, or 2-D from rows of numbers of equal length.
+fn numeric_array<'py>(py: Python<'py>, items: &[serde_json::Value]) -> PyResult<Option<Bound<'py, PyAny>>> {
+    use numpy::{PyArray2, PyArrayMethods};
+    if let Some(values) = numbers(items) {
+        return Ok(Some(match values {
+            Ok(ints) => PyArray1::from_vec(py, ints).into_any(),
+            Err(floats) => PyArray1::from_vec(py, floats).into_any(),
+        }));
+    }
+    let rows: Option<Vec<_>> = items.iter().map(|v| v.as_array().and_then(|r| numbers(r))).collect();
+    let Some(rows) = rows.filter(|r| !r.is_empty()) else { return Ok(None) };
+    let width = items[0].as_array().map_or(0, Vec::len);
+    if items.iter().any(|v| v.as_array().map_or(0, Vec::len) != width) {
+        return Ok(None);
+    }
+    let floats: Vec<f64> = rows
+        .into_iter()
+        .flat_map(|r| match r {
+            Ok(ints) => ints.into_iter().map(|i| i as f64).collect::<Vec<_>>(),
+            Err(floats) => floats,
+        })
+        .collect();
+    let array = PyArray1::from_vec(py, floats).reshape([items.len(), width])?;
+    let _: &Bound<'py, PyArray2<f64>> = &array;
+    Ok(Some(array.into_any()))
+}

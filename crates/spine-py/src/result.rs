@@ -1,7 +1,7 @@
 //! `flexspine.Result`: a run's result as scipy's `OptimizeResult` reads (`success`, `status`,
 //! `message`, attribute and key access), with its arrays and its folder writer.
 
-use crate::convert::{derivatives_of, series_of};
+use crate::convert::{derivatives_of, series_of, value_to_py};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -99,10 +99,11 @@ impl CaseResult {
         spine_run::write::result_json(&self.inner, deterministic)
     }
 
-    /// `result.json` as a Python dictionary (wall times under `"timings"`).
+    /// `result.json` as a Python dictionary (wall times under `"timings"`), straight from the typed
+    /// result: every array of numbers a numpy array (`int64` for integers, else `float64` with
+    /// `null` as NaN), a list of equal-length number rows a 2-D array, other arrays lists.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let text = spine_run::write::result_json(&self.inner, false);
-        py.import("json")?.call_method1("loads", (text,))
+        value_to_py(py, &self.inner.to_json())
     }
 
     /// One entry of `result.json` (`result["objective"]`, `result["loaded"]`, …).

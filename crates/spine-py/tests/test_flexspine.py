@@ -88,9 +88,15 @@ def test_equilibrium_from_python_equals_the_cli_result_byte_for_byte(tmp_path):
     text = json.loads(case.read_text())
     s = flexspine.Structure({k: text[k] for k in ("chain", "design", "loads")})
     eq = s.equilibria()
-    assert eq["loaded"]["theta"] == r["loaded"]["theta"]
+    assert np.array_equal(eq["loaded"]["theta"], r["loaded"]["theta"])
+    # Arrays of numbers come as numpy arrays straight from the typed result, nested ones too.
+    assert isinstance(r["loaded"]["theta"], np.ndarray) and r["loaded"]["theta"].dtype == np.float64
+    assert r["loaded"]["theta"].shape == (len(text["design"]["theta0"]),)
+    assert isinstance(r.loaded["stability"]["stable"], bool)
+    nodes = r["loaded"]["nodes"]  # (x, y) of every node, m: a 2-D array
+    assert nodes.shape == (len(text["design"]["theta0"]) + 1, 2) and nodes[0, 0] == 0.0
     # At θ2 the residual vanishes.
-    theta2, lam2 = np.array(eq["loaded"]["theta"]), eq["loaded"]["lambda"]
+    theta2, lam2 = eq["loaded"]["theta"], eq["loaded"]["lambda"]
     assert np.max(np.abs(s.residual(theta2, lam2))) < 1e-8
 
 

@@ -2,7 +2,7 @@
 //! the design's origin, each response's rise, settling and drift, the damping designs and the
 //! periodic design, each number with its unit.
 
-use crate::dynamics::{DesignOrigin, DynamicsResult};
+use crate::kinds::dynamics::{DesignOrigin, DynamicsResult};
 use crate::text::{list, quantity};
 use spine_dynamics::{PeriodicResponse, StepResponse};
 

@@ -21,16 +21,16 @@
 //!   unseen) ≤ P.
 //! * `design`: Kind `design`: eq. (33) with Ipopt from the case's start, and optionally from seeded
 //!   multi-starts; also the eq. (33) run a figure or a dynamic case depends on.
-//! * `design_kind`: Kind `design`'s runner: eq. (33), then the sensitivities when asked.
 //! * `design_summary`: The summary of a design case that a person reads (`spine design`): the
 //!   multi-start's census, the solver's status, the optimum, its certificate and its warnings.
-//! * `dynamics`: Kinds `simulate`, `damping` and `periodic`: the dynamics of Sec. 5.2 on a given
-//!   design or on the eq. (33) design of the case.
 //! * `dynamics_summary`: The summary of a dynamic case that a person reads (`spine simulate`,
 //!   `damping`, `periodic`): the design's origin, each response's rise, settling and drift, the
 //!   damping designs and the periodic design, each number with its unit.
-//! * `equilibrium`: Kind `equilibrium`: the passive (θ1) and loaded (θ2) equilibria of a given
-//!   design, with their stability certificates.
+//! * [`kinds`](mod@kinds): Each kind's runner, one file per kind in `src/kinds/` (every file there is a module,
+//!   declared by `automod`, so a new kind's runner needs no `mod` line): `equilibrium` (the passive
+//!   and loaded equilibria of a given design), `twolink` (Sec. 3), `design` (eq. (33), then the
+//!   sensitivities when asked), `dynamics` (`simulate`, `damping`, `periodic`: Sec. 5.2, eqs. (35),
+//!   (37)) and `figure` (a figure's runs, drawn and checked together).
 //! * `error`: Why a run could not give a result, with its cause.
 //! * [`metrics`]: Measures of a static design that the paper's claims are about, each a plain
 //!   function of the design and its start.
@@ -75,15 +75,15 @@ pub mod animation;
 pub mod claims;
 pub mod confidence;
 mod design;
-mod design_kind;
 mod design_summary;
-mod dynamics;
 mod dynamics_summary;
-mod equilibrium;
 mod error;
-mod figure;
 mod files;
 mod kind;
+/// Each kind's runner, one file per kind: every file in `src/kinds/` is a module of its own.
+pub mod kinds {
+    automod::dir!(pub "src/kinds");
+}
 pub mod metrics;
 pub mod option_values;
 mod output;
@@ -101,7 +101,6 @@ mod sweep_census;
 mod sweep_figure;
 pub mod table;
 pub mod text;
-mod twolink;
 pub mod workers;
 pub mod write;
 
@@ -109,15 +108,16 @@ pub use animation::{Animation, AnimationOptions, Track};
 pub use claims::{Check, Claim};
 pub use confidence::CONFIDENCE_BATCH;
 pub use design::{run_design, run_design_case, DesignCaseResult};
-pub use dynamics::{
+pub use error::{MergeError, RunError, WorkerError};
+pub use files::{samples_table, FileContent, OutputFile};
+pub use kind::{FigureRun, KindOutput, RunContext, RunKind};
+pub use kinds::dynamics::{
     dynamic_problem, resolve_design, run_dynamics, run_dynamics_case, DampingRun, DesignOrigin, DynamicsDesign,
     DynamicsResult, Eq33Summary,
 };
-pub use equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
-pub use error::{MergeError, RunError, WorkerError};
-pub use figure::{run_figure, FigureResult, FigureRunResult};
-pub use files::{samples_table, FileContent, OutputFile};
-pub use kind::{FigureRun, KindOutput, RunContext, RunKind};
+pub use kinds::equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
+pub use kinds::figure::{run_figure, FigureResult, FigureRunResult};
+pub use kinds::twolink::run_twolink_case;
 pub use output::{BestDesign, DynamicOutput, RunOutput, StaticDesign, TwoLinkResult, UsedDesign};
 pub use overrides::{DesignOverrides, DynamicsOverrides, Overrides};
 pub use progress::{quiet, Progress};
@@ -126,4 +126,3 @@ pub use registry::{in_figure, moves, run_kind, KindResult};
 pub use result::{with_timings, CaseResult};
 pub use run_case::{run_case, run_sensitivity, run_study, run_sweep};
 pub use table::{Cells, Column, Table};
-pub use twolink::run_twolink_case;

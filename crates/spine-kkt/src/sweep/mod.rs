@@ -32,14 +32,16 @@
 //! matrix singular.
 
 mod eliminate;
+mod replay;
 mod solves;
 
 use crate::analysis::{Analysis, Stage};
 use crate::front::{Front, ABSENT};
-use crate::pivot::{growth, Growth, Thresholds, PATIENCE};
+use crate::pivot::{Growth, Thresholds, PATIENCE};
 #[cfg(doc)]
 use crate::pivot::{BORDER_THRESHOLD, LAST_RESORT_THRESHOLD, RELAXED_THRESHOLD, SINGULAR, THRESHOLD};
 use crate::KktError;
+use replay::{prepare_search, take_over};
 
 /// The numbers of positive, negative and zero eigenvalues.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -145,16 +147,6 @@ struct Waiting {
     gone: Vec<bool>,
 }
 
-/// The search takes over: every fully summed variable of the front is a candidate, to be tested
-/// at its next chance.
-fn take_over(front: &Front, candidates: &mut Vec<usize>, stale: &mut [bool]) {
-    candidates.clear();
-    candidates.extend((0..front.len()).filter(|&slot| front.is_summed(slot)).map(|slot| front.var[slot]));
-    for &v in candidates.iter() {
-        stale[v] = true;
-    }
-}
-
 impl StageFactor {
     /// The front the sweep left: after a half of a split, what goes to the root.
     pub(crate) fn front(&self) -> &Option<Front> {
@@ -236,20 +228,8 @@ impl StageFactor {
         waiting.stale.resize(n, true);
         let mut search_ready = false;
         let mut ready_search = |waiting: &mut Waiting, recorded_step: &mut Vec<usize>| {
-            if std::mem::replace(&mut search_ready, true) {
-                return;
-            }
-            waiting.stale.fill(true);
-            waiting.period.clear();
-            waiting.period.resize(n, 0);
-            // The step after which the recorded sweep had eliminated each variable (`n`: never).
-            recorded_step.clear();
-            recorded_step.resize(if recorded.is_empty() { 0 } else { n }, n);
-            for pivot in recorded {
-                recorded_step[pivot.p] = pivot.step;
-                if let Some(r) = pivot.r {
-                    recorded_step[r] = pivot.step;
-                }
+            if !std::mem::replace(&mut search_ready, true) {
+                prepare_search(n, recorded, waiting, recorded_step);
             }
         };
         candidates.clear();
@@ -282,14 +262,7 @@ impl StageFactor {
             let last = last_step == Some(k);
             let border = if last { 0 } else { analysis.ordering.dense };
             if replaying {
-                while let Some(&pivot) = recorded.get(next).filter(|pivot| pivot.step == k) {
-                    if !self.replay(front, pivot, border) {
-                        replaying = false;
-                        break;
-                    }
-                    next += 1;
-                    recorded_gone += 1 + usize::from(pivot.r.is_some());
-                }
+                replaying = self.replay_step(front, recorded, (&mut next, &mut recorded_gone), k, border);
                 if !replaying || (last && front.len() > 0) {
                     replaying = false;
                     ready_search(waiting, recorded_step);
@@ -364,30 +337,5 @@ impl StageFactor {
         }
         debug_assert_eq!(front.len(), 0, "the root eliminates every variable");
         Ok(())
-    }
-
-    /// Takes the recorded `pivot` if its variables are fully summed in the front and it passes
-    /// its test again ([`Growth::replays`]).
-    fn replay(&mut self, front: &mut Front, pivot: Scheduled, border: usize) -> bool {
-        let sp = front.slot_of[pivot.p];
-        let sr = pivot.r.map(|r| front.slot_of[r]);
-        let fits = |slot: usize| slot != ABSENT && front.is_summed(slot);
-        if !fits(sp) || !sr.is_none_or(fits) {
-            return false;
-        }
-        match sr {
-            None => front.load(&[sp]),
-            Some(sr) => front.load(&[sp, sr]),
-        }
-        if !growth(front, sp, sr, border).is_some_and(|now| now.replays(pivot.growth, pivot.limits, border)) {
-            return false;
-        }
-        match sr {
-            None => self.pivot_one(front, sp),
-            Some(sr) => self.pivot_two(front, sp, sr),
-        }
-        self.stats.replayed += 1;
-        self.schedule.push(pivot);
-        true
     }
 }
