@@ -270,6 +270,36 @@ impl LevelRun<'_> {
     }
 }
 
+impl LevelRun<'_> {
+    /// A solve that ran past its iteration budget (`restart_after`) solved again from where it
+    /// stopped, with `options` (a small initial barrier parameter), until one converges within the
+    /// budget; the last of [`MAX_RESTARTS`] restarts has no budget. Returns the last solve (its
+    /// iterations counting every restart's) and the number of restarts.
+    fn restarted(
+        &self,
+        (mut solution, mut design, mut states): (Solution, Design, (State, State)),
+        restart_after: Option<usize>,
+        options: &spine_ipopt::Options,
+        observer: &mut dyn FnMut(&IterationInfo) -> bool,
+    ) -> Result<(Solution, Design, (State, State), usize), DesignError> {
+        let Some(restart_after) = restart_after else { return Ok((solution, design, states, 0)) };
+        let mut restarts = 0;
+        let mut budget = RestartBudget { after: 0, reached: true };
+        while budget.reached {
+            restarts += 1;
+            budget = RestartBudget {
+                after: if restarts < MAX_RESTARTS { restart_after } else { usize::MAX },
+                reached: false,
+            };
+            let from = LevelRun { design: &design, states: &states, ..*self };
+            let (mut again, d, s) = from.solve(options, &mut budget, &mut *observer, |_| None)?;
+            again.continues(&solution);
+            (solution, design, states) = (again, d, s);
+        }
+        Ok((solution, design, states, restarts))
+    }
+}
+
 /// Eq. (33) in the full space through the ladder of chain sizes (see [`crate::refine`]). Returns
 /// the solution of the last level (the problem itself) and every level's report. A coarse level
 /// that does not converge ends the ladder: the problem itself is then solved cold, and the report
@@ -315,21 +345,10 @@ fn solve_refined(
             Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper))
         };
         let start = LevelRun { level, form, design, states };
-        let (mut solution, mut design, mut states) =
-            start.solve(&options, &mut budget, &mut *observer, prolonged_multipliers)?;
-        let mut restarts = 0;
+        let first = start.solve(&options, &mut budget, &mut *observer, prolonged_multipliers)?;
         let restart_options = options.clone().number("mu_init", settings.tolerance / 10.0);
-        while budget.reached {
-            restarts += 1;
-            budget = RestartBudget {
-                after: if restarts < MAX_RESTARTS { restart_after } else { usize::MAX },
-                reached: false,
-            };
-            let from = LevelRun { level, form, design: &design, states: &states };
-            let (mut again, d, s) = from.solve(&restart_options, &mut budget, &mut *observer, |_| None)?;
-            again.continues(&solution);
-            (solution, design, states) = (again, d, s);
-        }
+        let (solution, design, states, restarts) =
+            start.restarted(first, budget.reached.then_some(restart_after), &restart_options, &mut *observer)?;
         levels.push(LevelReport {
             links: m,
             start: how,

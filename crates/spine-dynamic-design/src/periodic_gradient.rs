@@ -272,21 +272,20 @@ impl std::fmt::Display for GradientStatus {
     }
 }
 
-/// Eq. (37) by Ipopt from `given` springs (N·m/rad: the case's or the GA's best) or from the
-/// uniform springs that meet δ_d (`settings.gradient.start`): the final springs, the final point
-/// (its functions and response) and the report.
-pub fn design_by_gradient(
+/// The start of eq. (37) by gradients in `log10 K`: the given springs (the case's or the GA's
+/// best), or the uniform springs whose periodic response just meets δ_d (a root search, the given
+/// springs where no uniform value meets it); with the start's name, the uniform value (N·m/rad)
+/// and the simulations the search took.
+fn gradient_start(
     problem: &DynamicProblem,
     forcing: &Forcing,
     delta_d: f64,
     settings: &PeriodicDesignSettings,
     given: &[f64],
-    progress: &mut dyn FnMut(Progress),
-) -> Result<(Vec<f64>, Option<Eq37Point>, GradientReport), DynamicDesignError> {
-    let gradient = &settings.gradient;
+) -> (Vec<f64>, GradientStart, Option<f64>, usize) {
     let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
     let mut root_search_simulations = 0;
-    let (start, start_name, uniform_stiffness) = match gradient.start {
+    let (start, name, uniform) = match settings.gradient.start {
         GradientStart::Case => (given.iter().map(|k| k.log10()).collect(), GradientStart::Case, None),
         GradientStart::Ga => (given.iter().map(|k| k.log10()).collect(), GradientStart::Ga, None),
         GradientStart::Uniform => {
@@ -316,6 +315,24 @@ pub fn design_by_gradient(
             }
         }
     };
+    (start, name, uniform, root_search_simulations)
+}
+
+/// Eq. (37) by Ipopt from `given` springs (N·m/rad: the case's or the GA's best) or from the
+/// uniform springs that meet δ_d (`settings.gradient.start`): the final springs, the final point
+/// (its functions and response) and the report.
+pub fn design_by_gradient(
+    problem: &DynamicProblem,
+    forcing: &Forcing,
+    delta_d: f64,
+    settings: &PeriodicDesignSettings,
+    given: &[f64],
+    progress: &mut dyn FnMut(Progress),
+) -> Result<(Vec<f64>, Option<Eq37Point>, GradientReport), DynamicDesignError> {
+    let gradient = &settings.gradient;
+    let (lo, hi) = (settings.stiffness_min.log10(), settings.stiffness_max.log10());
+    let (start, start_name, uniform_stiffness, mut root_search_simulations) =
+        gradient_start(problem, forcing, delta_d, settings, given);
     // The horizon: one period more than the start needs to settle.
     let mut p = problem.clone();
     p.design.stiffness = stiffness_of(&start);

@@ -243,6 +243,18 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
     let mut h = String::from("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     let _ = writeln!(h, "<title>Reproduction report</title>\n<style>{STYLE}</style>\n</head>\n<body>");
     h.push_str("<h1>Reproduction report</h1>\n<p>Every figure of the paper, computed by <code>just paper</code>. Each claim is the paper's statement, the test this program holds it to, the verdict and the measured numbers. A <strong>solver</strong> check is about this program's own computation (converged, δ<sub>d</sub> met, T<sub>90</sub> met); a <strong>paper</strong> check is a statement of the paper. A FAIL is reported, never tuned away. The case files (<code>paper-cases/NAME.json</code>) list the paper's values and every assumption with its reason.</p>\n");
+    html_summary(&mut h, results, missing);
+    html_claims(&mut h, results);
+    html_ck(&mut h, results);
+    html_figures(&mut h, results);
+    h.push_str("<h2>Errata</h2>\n<p>The slips found in the paper (<code>docs/errata.md</code>), each with the test that proves it.</p>\n");
+    h.push_str(&markdown_table_html(&errata_table(errata).join("\n")).replacen("<table>", "<table id=\"errata\">", 1));
+    h.push_str("</body>\n</html>\n");
+    h
+}
+
+/// The report's summary table (one row per case, and one per case with no result) and the total.
+fn html_summary(h: &mut String, results: &[FolderResult], missing: &[String]) {
     let (rows, passed_count, total) = summary(results);
     h.push_str("<h2>Summary</h2>\n<table id=\"summary\">\n<tr><th>case</th><th>title</th><th>claims passed</th><th>run time (s)</th></tr>\n");
     for (r, (p, n, t)) in results.iter().zip(rows) {
@@ -262,6 +274,10 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
     }
     h.push_str("</table>\n");
     let _ = writeln!(h, "<p class=\"total\" id=\"total\">{passed_count} of {total} claims pass.</p>");
+}
+
+/// The report's claims table, verdict cells coloured, a failed claim linked to its finding.
+fn html_claims(h: &mut String, results: &[FolderResult]) {
     h.push_str("<h2>Claims</h2>\n<table id=\"claims\">\n<tr><th>case</th><th>scope</th><th>check</th><th>statement</th><th>test</th><th>verdict</th><th>measured</th></tr>\n");
     for r in results {
         for c in r.claims() {
@@ -284,6 +300,10 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
         }
     }
     h.push_str("</table>\n");
+}
+
+/// The C_K trend across Figs. 6–8 and the C_K study's conclusion, where the results hold them.
+fn html_ck(h: &mut String, results: &[FolderResult]) {
     if let Some(ck) = ck_across(results) {
         h.push_str("<h2>C_K across Figs. 6–8</h2>\n<table id=\"ck\">\n<tr><th>C<sub>K</sub></th><th>CV of K</th><th>‖θ0 − θ0<sub>start</sub>‖ (rad)</th></tr>\n");
         for (c, cv, sh) in ck.rows {
@@ -301,6 +321,10 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
     if let Some(c) = results.iter().find_map(|r| r.value.get("conclusion").and_then(Value::as_str)) {
         let _ = writeln!(h, "<h2>C_K study: conclusion</h2>\n<p>{}</p>", escape(c));
     }
+}
+
+/// Every case's figures: SVG inline, animations as `data:` URIs, with where its data are.
+fn html_figures(h: &mut String, results: &[FolderResult]) {
     h.push_str("<h2>Figures</h2>\n");
     for r in results {
         let _ = writeln!(h, "<h3 id=\"{0}\">{0}</h3>\n<p>{1}</p>", escape(&r.name), escape(r.title()));
@@ -325,10 +349,6 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
             escape(&r.name)
         );
     }
-    h.push_str("<h2>Errata</h2>\n<p>The slips found in the paper (<code>docs/errata.md</code>), each with the test that proves it.</p>\n");
-    h.push_str(&markdown_table_html(&errata_table(errata).join("\n")).replacen("<table>", "<table id=\"errata\">", 1));
-    h.push_str("</body>\n</html>\n");
-    h
 }
 
 /// A Markdown table (GitHub's syntax: `code`, **bold**, `\|` for a literal bar) as HTML, by

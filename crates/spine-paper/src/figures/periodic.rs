@@ -91,44 +91,52 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     out.summary.insert(run.name.to_string(), summary(p));
     if let (Some(other_run), Some((_, q))) = (beside, &other) {
         out.tables.push((format!("stiffness_{}.csv", q.method), values_table("stiffness_n_m_per_rad", &q.stiffness)));
-        out.claims.push(Claim::solver(
-            other_run.name,
-            &format!("eq. (37) by {}: the end point reaches δ_d under the periodic force", q.method.describe()),
-            "the method converged and min_t (X − L_x) over the last period is within the band of δ_d",
-            q.feasible && q.finished(),
-            format!(
-                "min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2e} relative); {} after {} iterations, {} simulations; U(θ1) = {:.4e} J",
-                q.min_end_displacement, q.delta_d, q.relative_error, q.status(), q.iterations(), q.simulations, q.objective
-            ),
-        ));
-        out.claims.extend(timing_claims(other_run.name, q));
-        // Not a statement of the paper: this workspace's check of its second method.
-        out.claims.push(Claim::solver(
-            "figure",
-            &format!(
-                "beside the paper: eq. (37) by {} does at least as well as the {}",
-                q.method.describe(),
-                p.method.describe()
-            ),
-            "both feasible at the same δ_d, and U(θ1) of the second run at most the first's (+1e-9 relative)",
-            p.feasible && q.feasible && q.objective <= p.objective * (1.0 + 1e-9),
-            format!(
-                // No wall times here: claims are part of result.json, which `--deterministic` keeps
-                // byte for byte (wall times are written under `timings`, which it leaves out).
-                "U(θ1): {} {:.4e} J ({} simulations), {} {:.4e} J ({} simulations); ratio {:.3}",
-                p.method,
-                p.objective,
-                p.simulations,
-                q.method,
-                q.objective,
-                q.simulations,
-                q.objective / p.objective
-            ),
-        ));
+        out.claims.extend(beside_claims(other_run.name, p, q));
         out.summary.insert(other_run.name.to_string(), summary(q));
     }
     out.figures.push(("figure".into(), fig));
     Ok(out)
+}
+
+/// The claims about a second method on the same eq. (37) problem (`name`'s design `q` beside the
+/// paper's `p`): it meets δ_d, its timings, and whether it does at least as well.
+fn beside_claims(name: &str, p: &PeriodicDesign, q: &PeriodicDesign) -> Vec<Claim> {
+    let mut claims = Vec::new();
+    claims.push(Claim::solver(
+        name,
+        &format!("eq. (37) by {}: the end point reaches δ_d under the periodic force", q.method.describe()),
+        "the method converged and min_t (X − L_x) over the last period is within the band of δ_d",
+        q.feasible && q.finished(),
+        format!(
+            "min_t (X − L_x) = {:.6} m against δ_d = {} m ({:.2e} relative); {} after {} iterations, {} simulations; U(θ1) = {:.4e} J",
+            q.min_end_displacement, q.delta_d, q.relative_error, q.status(), q.iterations(), q.simulations, q.objective
+        ),
+    ));
+    claims.extend(timing_claims(name, q));
+    // Not a statement of the paper: this workspace's check of its second method.
+    claims.push(Claim::solver(
+        "figure",
+        &format!(
+            "beside the paper: eq. (37) by {} does at least as well as the {}",
+            q.method.describe(),
+            p.method.describe()
+        ),
+        "both feasible at the same δ_d, and U(θ1) of the second run at most the first's (+1e-9 relative)",
+        p.feasible && q.feasible && q.objective <= p.objective * (1.0 + 1e-9),
+        format!(
+            // No wall times here: claims are part of result.json, which `--deterministic` keeps
+            // byte for byte (wall times are written under `timings`, which it leaves out).
+            "U(θ1): {} {:.4e} J ({} simulations), {} {:.4e} J ({} simulations); ratio {:.3}",
+            p.method,
+            p.objective,
+            p.simulations,
+            q.method,
+            q.objective,
+            q.simulations,
+            q.objective / p.objective
+        ),
+    ));
+    claims
 }
 
 /// The eq. (37) design of a Fig. 10 run.

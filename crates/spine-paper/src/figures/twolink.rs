@@ -14,6 +14,41 @@ pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldE
     };
     let (study, stiffness) = (&result.study, &result.stiffness);
     let mut out = FigureOutput::default();
+    out.figures.push(("figure".into(), study_figure(title, study, *stiffness)));
+
+    out.tables.push(("twolink.csv".into(), study_table(study)));
+
+    out.claims.extend(study_claims(study));
+    let o = &study.orders;
+    let fmt = |v: Option<f64>| v.map_or("—".into(), |p| format!("{p:.3}"));
+    let near = |v: Option<f64>, want: f64| v.is_some_and(|p| (p - want).abs() <= ORDER_MARGIN);
+    if let Some(sd) = &study.small_deflection {
+        let last = sd.rows.iter().min_by(|a, b| a.scale.total_cmp(&b.scale));
+        out.claims.push(Claim::solver(
+            "figure",
+            "eq. (26): the small-deflection two-link system (K1, K2, no K3) is the first-order limit of eqs. (8), (9)",
+            format!("relative error of Δθ from eq. (26) (second row −P_X,3 L2 sin θ0,2, erratum E8) against the general solver falls at order 1 ± {ORDER_MARGIN} as the loads shrink (three smallest scales)"),
+            near(sd.order, 1.0),
+            format!(
+                "order {} (error {} at scale {}); as printed (+P_X,3 L2 sin θ0,2): order {}, error {} — it does not converge (E8)",
+                fmt(sd.order),
+                last.and_then(|r| r.error).map_or("—".into(), |e| format!("{e:.2e}")),
+                last.map_or("—".into(), |r| format!("{:e}", r.scale)),
+                fmt(sd.order_printed),
+                last.and_then(|r| r.error_printed).map_or("—".into(), |e| format!("{e:.3}")),
+            ),
+        ));
+        out.summary.insert("small_deflection".into(), json!({ "order": sd.order, "order_printed": sd.order_printed }));
+    }
+    out.summary.insert("optima".into(), json!(study.optima));
+    out.summary.insert("orders".into(), json!(o));
+    out.summary.insert("zero_moment_angle".into(), json!(study.zero_moment_angle));
+    Ok(out)
+}
+
+/// Panels (a) the closed forms' errors against the exact θ0 and (b) the ratio R of eq. (17),
+/// printed and corrected, against log₁₀ |δ|.
+fn study_figure(title: &str, study: &spine_solve::twolink::Study, stiffness: f64) -> Figure {
     let rows: Vec<_> = study.rows.iter().filter(|r| r.theta0_exact.is_some()).collect();
     let log_err = |f: &dyn Fn(&spine_solve::twolink::StudyRow) -> Option<f64>| -> Vec<(f64, f64)> {
         rows.iter().filter_map(|r| f(r).filter(|e| *e > 0.0).map(|e| (r.delta.abs().log10(), e.log10()))).collect()
@@ -53,14 +88,16 @@ pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldE
             )
             .colour(0),
         );
-    out.figures.push(("figure".into(), Figure::new(title, 2).with(errors).with(ratio)));
+    Figure::new(title, 2).with(errors).with(ratio)
+}
 
-    out.tables.push(("twolink.csv".into(), study_table(study)));
-
+/// The closed forms' orders (errata E3), R > 1 and eq. (12)'s optima as claims.
+fn study_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
+    let mut claims = Vec::new();
     let o = &study.orders;
     let near = |v: Option<f64>, want: f64| v.is_some_and(|p| (p - want).abs() <= ORDER_MARGIN);
     let fmt = |v: Option<f64>| v.map_or("—".into(), |p| format!("{p:.3}"));
-    out.claims.push(Claim::new(
+    claims.push(Claim::new(
         "figure",
         "eqs. (10) and (11) solve eqs. (8), (9) \"for a given small δ\"",
         format!("observed orders in δ (three smallest |δ|) within {ORDER_MARGIN} of errata E3: eq. (11) relative K error 1, eq. (10) θ0 error 1, eq. (10′) θ0 error 2"),
@@ -69,36 +106,15 @@ pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldE
     ));
     let ratios: Vec<f64> = study.rows.iter().filter_map(|r| r.ratio).collect();
     let min_ratio = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-    out.claims.push(Claim::new(
+    claims.push(Claim::new(
         "figure",
         "\"R is greater than 1 … change in shape is preferred to change in stiffness\" (eq. (17))",
         "R (corrected, E5) > 1 at every δ of the case",
         !ratios.is_empty() && ratios.len() == study.rows.len() && min_ratio > 1.0,
         format!("smallest R = {min_ratio:.4e} over {} of {} δ values", ratios.len(), study.rows.len()),
     ));
-    out.claims.extend(optimum_claims(study));
-    if let Some(sd) = &study.small_deflection {
-        let last = sd.rows.iter().min_by(|a, b| a.scale.total_cmp(&b.scale));
-        out.claims.push(Claim::solver(
-            "figure",
-            "eq. (26): the small-deflection two-link system (K1, K2, no K3) is the first-order limit of eqs. (8), (9)",
-            format!("relative error of Δθ from eq. (26) (second row −P_X,3 L2 sin θ0,2, erratum E8) against the general solver falls at order 1 ± {ORDER_MARGIN} as the loads shrink (three smallest scales)"),
-            near(sd.order, 1.0),
-            format!(
-                "order {} (error {} at scale {}); as printed (+P_X,3 L2 sin θ0,2): order {}, error {} — it does not converge (E8)",
-                fmt(sd.order),
-                last.and_then(|r| r.error).map_or("—".into(), |e| format!("{e:.2e}")),
-                last.map_or("—".into(), |r| format!("{:e}", r.scale)),
-                fmt(sd.order_printed),
-                last.and_then(|r| r.error_printed).map_or("—".into(), |e| format!("{e:.3}")),
-            ),
-        ));
-        out.summary.insert("small_deflection".into(), json!({ "order": sd.order, "order_printed": sd.order_printed }));
-    }
-    out.summary.insert("optima".into(), json!(study.optima));
-    out.summary.insert("orders".into(), json!(o));
-    out.summary.insert("zero_moment_angle".into(), json!(study.zero_moment_angle));
-    Ok(out)
+    claims.extend(optimum_claims(study));
+    claims
 }
 
 /// Eq. (12) at each upper bound: the solver's check of eqs. (18)–(20) and the paper's statement
