@@ -1,8 +1,9 @@
 //! `just bench`: every benchmark of `spine-benchmarks` for N = 5 … 10 000 (criterion). Groups:
 //!
 //! * `residual`: the equilibrium residual of eq. (5);
-//! * `jacobian/{ad,hand,fd}`: residual and `∂r/∂(θ, λ)` by element-wise forward AD, by the paper's
-//!   hand-derived entries, by element-wise central differences;
+//! * `jacobian/{ad,hand,hand_fused,fd}`: residual and `∂r/∂(θ, λ)` by element-wise forward AD, by
+//!   the paper's hand-derived entries (residual and Jacobian in two loops, and fused in one), by
+//!   element-wise central differences;
 //! * `newton_step`: residual, AD Jacobian, O(N) bordered factorisation and solve;
 //! * `equilibrium_solve`: the whole `θ0 → θ1 → θ2` continuation with its stability certificates;
 //! * `gradients/{ad,hand,forward_ad,fd}`: `dJ/d(θ0, K)` and `dX/d(θ0, K)` by the AD adjoint, the
@@ -51,6 +52,9 @@ fn equilibrium(c: &mut Criterion) {
         let f = StateFixture::new(n);
         g.bench_with_input(BenchmarkId::new("ad", n), &f, |b, f| b.iter(|| black_box(f).jacobian_ad()));
         g.bench_with_input(BenchmarkId::new("hand", n), &f, |b, f| b.iter(|| black_box(f).jacobian_hand()));
+        g.bench_with_input(BenchmarkId::new("hand_fused", n), &f, |b, f| {
+            b.iter(|| black_box(f).jacobian_hand_fused())
+        });
         g.bench_with_input(BenchmarkId::new("fd", n), &f, |b, f| b.iter(|| black_box(f).jacobian_fd()));
     }
     g.finish();

@@ -80,6 +80,12 @@ impl StateFixture {
         (self.residual(), hand::state_jacobian(&self.spans, &self.design, &self.loads, &self.state))
     }
 
+    /// Residual and `∂r/∂(θ, λ)` by hand in one fused loop (one `sin_cos` and one `L_i` per
+    /// joint): the best hand code.
+    pub fn jacobian_hand_fused(&self) -> (Vec<f64>, BorderedTridiagonal) {
+        hand::residual_and_state_jacobian(&self.spans, &self.design, &self.loads, &self.state)
+    }
+
     /// Residual and `∂r/∂(θ, λ)` by element-wise central differences.
     pub fn jacobian_fd(&self) -> (Vec<f64>, BorderedTridiagonal) {
         finite_difference::residual_and_state_jacobian(

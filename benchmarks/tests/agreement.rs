@@ -21,7 +21,11 @@ fn state_jacobian_by_ad_equals_the_hand_derived_one_and_central_differences() {
         let (r_ad, ad) = f.jacobian_ad();
         let (r_hand, hand) = f.jacobian_hand();
         let (r_fd, fd) = f.jacobian_fd();
+        let (r_fused, fused) = f.jacobian_hand_fused();
         assert_eq!(r_ad, r_hand, "N = {n}: residuals");
+        assert_eq!(r_fused[..n], r_hand[..n], "N = {n}: joint residuals");
+        assert!((r_fused[n] - r_hand[n]).abs() <= 1e-15, "N = {n}: Φ");
+        assert_eq!(fused, hand.clone(), "N = {n}: the fused hand loop writes the same entries");
         assert_eq!(r_ad, r_fd, "N = {n}: residuals");
         let (ad, hand, fd) = (entries(&ad), entries(&hand), entries(&fd));
         let scale = max_abs(&ad);

@@ -20,8 +20,10 @@
 
 use crate::problem::DesignProblem;
 use spine_model::chain::spring_links;
-use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
-use spine_model::local::{self, LinkRun, SpringEnergy};
+use spine_model::jacobian::{design_transpose_mul, joint_derivatives, state_jacobian_of, JointDerivatives};
+use spine_model::local::{self, SpringEnergy};
+#[cfg(any(test, feature = "testing"))]
+use spine_model::local::LinkRun;
 use spine_model::sparse::BorderedTridiagonal;
 use spine_model::{energy, hand, kinematics, Design, LinkLoads, State};
 use spine_solve::linalg::{BorderedLu, SingularMatrix};
@@ -95,7 +97,10 @@ pub fn adjoint_hand(
     Ok(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
 }
 
-/// The adjoint gradients with every partial derivative from forward AD (see the module docs).
+/// The adjoint gradients with every partial derivative from forward AD (see the module docs):
+/// one pass per joint and state ([`joint_derivatives`]) gives the state Jacobian, the design
+/// partials kept per joint and, for the loaded state, `∂X/∂(θ, θ0)`; the adjoint is contracted
+/// with the design partials joint by joint.
 pub fn adjoint_ad(
     problem: &DesignProblem,
     design: &Design,
@@ -103,14 +108,18 @@ pub fn adjoint_ad(
     loaded: &State,
 ) -> Result<ReducedGradients, SingularMatrix> {
     let spans = &problem.structure.chain.spans;
-    let ad_adjoint = |loads: &LinkLoads, state: &State, (by_state, by_design): (Vec<f64>, Vec<f64>)| {
-        let (_, a) = residual_and_state_jacobian(spans, design, loads, state);
-        adjoint_gradient(&a, by_state, by_design, |psi| {
-            design_jacobian(spans, design, loads, state).transpose_mul_vec(psi)
-        })
+    let n = spans.len();
+    let ad_adjoint = |rows: &[JointDerivatives], (by_state, by_design): (Vec<f64>, Vec<f64>)| {
+        adjoint_gradient(&state_jacobian_of(rows), by_state, by_design, |psi| design_transpose_mul(rows, psi))
     };
-    let energy_gradient = ad_adjoint(&problem.passive_loads(), passive, energy_partials_ad(design, passive))?;
-    let end_x_gradient = ad_adjoint(&problem.total_loads(), loaded, end_partials_ad(spans, design, loaded))?;
+    let rows = joint_derivatives(spans, design, &problem.passive_loads(), passive);
+    let energy_gradient = ad_adjoint(&rows, energy_partials_ad(design, passive))?;
+    let rows = joint_derivatives(spans, design, &problem.total_loads(), loaded);
+    let mut end_x_partials = (vec![0.0; n], vec![0.0; 2 * n + 1]);
+    for (i, row) in rows.iter().enumerate() {
+        (end_x_partials.0[i], end_x_partials.1[i]) = (row.run.1[0], row.run.1[1]);
+    }
+    let end_x_gradient = ad_adjoint(&rows, end_x_partials)?;
     Ok(ReducedGradients::at(problem, design, passive, loaded, energy_gradient, end_x_gradient))
 }
 
@@ -123,6 +132,7 @@ pub fn forward_ad(
     passive: &State,
     loaded: &State,
 ) -> Result<ReducedGradients, SingularMatrix> {
+    use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
     let spans = &problem.structure.chain.spans;
     let n = spans.len();
     let direct = |loads: &LinkLoads,
@@ -212,7 +222,9 @@ fn energy_partials_ad(design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     (by_state, by_design)
 }
 
-/// `∂X/∂θ` and `∂X/∂(θ0, K)` from the AD gradients of the link runs `L_i cos θ_i`, O(N).
+/// `∂X/∂θ` and `∂X/∂(θ0, K)` from the AD gradients of the link runs `L_i cos θ_i`, O(N) (the
+/// direct method's; the adjoint takes them from its joint pass).
+#[cfg(any(test, feature = "testing"))]
 fn end_partials_ad(spans: &[f64], design: &Design, state: &State) -> (Vec<f64>, Vec<f64>) {
     let n = state.theta.len();
     let (mut by_state, mut by_design) = (vec![0.0; n], vec![0.0; 2 * n + 1]);

@@ -42,6 +42,43 @@ pub fn state_jacobian(spans: &[f64], design: &Design, loads: &LinkLoads, state: 
     jac
 }
 
+/// The residual of eq. (5) and [`state_jacobian`] in one loop, written by hand: one `sin_cos` of
+/// `θ_i` and one `L_i` per joint shared by `r_i`, its row and the border. The best hand code the
+/// AD Jacobian ([`crate::jacobian::residual_and_state_jacobian`]) is benchmarked against
+/// (`jacobian/hand_fused`); the residual is the same expression, to the bit.
+pub fn residual_and_state_jacobian(
+    spans: &[f64],
+    design: &Design,
+    loads: &LinkLoads,
+    state: &State,
+) -> (Vec<f64>, BorderedTridiagonal) {
+    let n = spans.len();
+    let k = &design.stiffness;
+    let mut jac = BorderedTridiagonal::zeros(n);
+    let mut r = Vec::with_capacity(n + 1);
+    let mut phi = 0.0;
+    let d = |i: usize| state.theta[i] - design.theta0[i];
+    for i in 0..n {
+        let length = link_length(spans[i], design.theta0[i]);
+        let (s, c) = state.theta[i].sin_cos();
+        let (before, here) = (if i > 0 { d(i - 1) } else { 0.0 }, d(i));
+        let after = if i + 1 < n { d(i + 1) } else { 0.0 };
+        let load = (c * loads.vertical[i] - s * loads.axial[i]) * length;
+        r.push((here - before) * k[i] - (after - here) * k[i + 1] - load - state.lambda * length * c);
+        phi += length * s;
+        jac.diag[i] =
+            k[i] + k[i + 1] + length * (loads.vertical[i] * s + loads.axial[i] * c) + state.lambda * length * s;
+        if i + 1 < n {
+            jac.upper[i] = -k[i + 1];
+            jac.lower[i] = -k[i + 1];
+        }
+        jac.column[i] = -length * c;
+        jac.row[i] = length * c;
+    }
+    r.push(phi);
+    (r, jac)
+}
+
 /// `ψᵀ ∂r/∂(θ0, K)` for a vector `ψ` of `N + 1` entries (joint rows, then the Φ row), without
 /// forming the matrix: the right-hand sides of eq. (46) with the `θ0`-dependence of `L_i` added.
 /// Returns `2N + 1` values, `θ0` first, then `K`.

@@ -4,8 +4,9 @@
 //! [`JointStencil`]; the derivative parts are scattered into the sparse result. Cost and memory are
 //! linear in `N`: no dense `N × N` matrix is formed.
 
-use crate::kinematics::{end_constraint, link_rise};
-use crate::residual::{slot, JointStencil};
+use crate::kinematics::link_rise;
+use crate::jet::Jet;
+use crate::residual::{slot, spring_moment, Joint, JointStencil};
 use crate::sparse::{BorderedTridiagonal, SparseMatrix};
 use crate::{Design, LinkLoads, State};
 use nalgebra::{Const, U1};
@@ -41,10 +42,14 @@ fn seeded_stencil<const M: usize>(
 /// The Jacobian is bordered tridiagonal: `∂r_i/∂θ_{i±1}` from the springs, `∂r_i/∂θ_i`,
 /// `∂r_i/∂λ = −L_i cos θ_i`, and the constraint row `∂Φ/∂θ_i = L_i cos θ_i`.
 ///
-/// One AD pass per joint gives the whole row and the border entry of the constraint row: `r_i` is
-/// `∂(U + V − λΦ)/∂θ_i`, so `∂Φ/∂θ_i = −∂r_i/∂λ` exactly (the λ-derivative of the seeded pass;
-/// `tests/local_and_hand.rs` checks it against the AD of `Φ` itself). This halves the
-/// transcendental calls against a second pass over `L_i sin θ_i`.
+/// One pass per joint through the same physics as the residual ([`spring_moment`] and
+/// [`Joint::link`]), each with only the lanes it depends on: the springs with a 3-lane [`Jet`]
+/// over the deflections `Δθ_{i−1}, Δθ_i, Δθ_{i+1}` (the stiffnesses plain numbers), the link with a
+/// 2-lane [`Jet`] over `θ_i, λ` (`θ0_i` plain, so `L_i` costs one plain `cos`). The border entry of
+/// the constraint row is the λ-derivative of the reaction: `r_i` is `∂(U + V − λΦ)/∂θ_i`, so
+/// `∂Φ/∂θ_i = −∂r_i/∂λ` exactly (`tests/local_and_hand.rs` checks it against the AD of `Φ`
+/// itself). The residual is the same expression as [`crate::residual::equilibrium_residual`]'s,
+/// to the bit, `Φ` included (its terms are the link's rise from the same pass).
 pub fn residual_and_state_jacobian(
     spans: &[f64],
     design: &Design,
@@ -54,23 +59,123 @@ pub fn residual_and_state_jacobian(
     let n = spans.len();
     let mut jac = BorderedTridiagonal::zeros(n);
     let mut r = Vec::with_capacity(n + 1);
+    let (theta, theta0, k) = (&state.theta, &design.theta0, &design.stiffness);
+    let deflection = |j: usize| theta[j] - theta0[j];
+    let mut phi = 0.0;
     for i in 0..n {
-        let st = seeded_stencil::<4>(i, design, state, slot::THETA_PREV);
-        let ri = st.residual(spans[i], loads.vertical[i], loads.axial[i]);
-        let g = ri.eps.unwrap_generic(Const::<4>, U1);
-        r.push(ri.re);
-        if st.has_prev {
-            jac.lower[i - 1] = g[slot::THETA_PREV];
+        let before = if i > 0 { deflection(i - 1) } else { 0.0 };
+        let after = if i + 1 < n { deflection(i + 1) } else { 0.0 };
+        let lanes = [before, deflection(i), after];
+        let spring = spring_moment(std::array::from_fn(|s| Jet::<3>::variable(lanes[s], s)), [k[i], k[i + 1]]);
+        let joint = Joint { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i] };
+        let link = joint.link(Jet::<2>::variable(theta[i], 0), theta0[i], Jet::variable(state.lambda, 1));
+        r.push(spring.re - link.load.re - link.reaction.re);
+        phi += link.rise.re;
+        if i > 0 {
+            jac.lower[i - 1] = spring.eps[0];
         }
-        jac.diag[i] = g[slot::THETA];
-        if st.has_next {
-            jac.upper[i] = g[slot::THETA_NEXT];
+        jac.diag[i] = spring.eps[1] - link.load.eps[0] - link.reaction.eps[0];
+        if i + 1 < n {
+            jac.upper[i] = spring.eps[2];
         }
-        jac.column[i] = g[slot::LAMBDA];
-        jac.row[i] = -g[slot::LAMBDA];
+        jac.column[i] = -link.reaction.eps[1];
+        jac.row[i] = link.reaction.eps[1];
     }
-    r.push(end_constraint(spans, &design.theta0, &state.theta));
+    // Φ = Σ L_i sin θ_i from the same pass ([`crate::kinematics::end_constraint`]'s terms).
+    r.push(phi);
     (r, jac)
+}
+
+/// Joint row `i`'s derivatives and link `i`'s terms of `Φ` and `X_{N+1}`, from one pass (see
+/// [`joint_derivatives`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JointDerivatives {
+    /// `r_i`, N·m.
+    pub residual: f64,
+    /// `∂r_i/∂(θ_{i−1}, θ_i, θ_{i+1}, λ)` (the first zero for `i = 0`, the third for `i = N − 1`).
+    pub by_state: [f64; 4],
+    /// `∂r_i/∂(θ0_{i−1}, θ0_i, θ0_{i+1}, K_i, K_{i+1})`.
+    pub by_design: [f64; 5],
+    /// `∂(L_i sin θ_i)/∂(θ_i, θ0_i)`: link `i`'s entries of `∂Φ/∂θ` and `∂Φ/∂θ0`.
+    pub rise: [f64; 2],
+    /// `L_i cos θ_i` and its derivatives `∂/∂(θ_i, θ0_i)`: link `i`'s term of `X_{N+1}`.
+    pub run: (f64, [f64; 2]),
+}
+
+/// Every joint's [`JointDerivatives`] in one pass per joint, through the same physics as the
+/// residual: the springs with a 5-lane [`Jet`] over `Δθ_{i−1}, Δθ_i, Δθ_{i+1}, K_i, K_{i+1}`
+/// (`∂/∂θ_j = ∂/∂Δθ_j`, `∂/∂θ0_j = −∂/∂Δθ_j`: the chain rule through `Δθ = θ − θ0`), the link with
+/// a 3-lane [`Jet`] over `θ_i, θ0_i, λ` giving its load, reaction, rise and run together. The
+/// design partials stay per joint, ready to be contracted with an adjoint (no triplets).
+pub fn joint_derivatives(spans: &[f64], design: &Design, loads: &LinkLoads, state: &State) -> Vec<JointDerivatives> {
+    let n = spans.len();
+    let (theta, theta0, k) = (&state.theta, &design.theta0, &design.stiffness);
+    let deflection = |j: usize| theta[j] - theta0[j];
+    (0..n)
+        .map(|i| {
+            let before = if i > 0 { deflection(i - 1) } else { 0.0 };
+            let after = if i + 1 < n { deflection(i + 1) } else { 0.0 };
+            let lanes = [before, deflection(i), after, k[i], k[i + 1]];
+            let x: [Jet<5>; 5] = std::array::from_fn(|s| Jet::variable(lanes[s], s));
+            let spring = spring_moment([x[0], x[1], x[2]], [x[3], x[4]]);
+            let joint = Joint { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i] };
+            let link = joint.link(Jet::<3>::variable(theta[i], 0), Jet::variable(theta0[i], 1), Jet::variable(state.lambda, 2));
+            let g = spring.eps;
+            let (load, reaction) = (link.load.eps, link.reaction.eps);
+            let mut row = JointDerivatives {
+                residual: spring.re - link.load.re - link.reaction.re,
+                by_state: [g[0], g[1] - load[0] - reaction[0], g[2], -reaction[2]],
+                by_design: [-g[0], -g[1] - load[1] - reaction[1], -g[2], g[3], g[4]],
+                rise: [link.rise.eps[0], link.rise.eps[1]],
+                run: (link.run.re, [link.run.eps[0], link.run.eps[1]]),
+            };
+            if i == 0 {
+                (row.by_state[0], row.by_design[0]) = (0.0, 0.0);
+            }
+            if i + 1 == n {
+                (row.by_state[2], row.by_design[2]) = (0.0, 0.0);
+            }
+            row
+        })
+        .collect()
+}
+
+/// The state Jacobian `∂r/∂(θ, λ)` (bordered tridiagonal) from the joints' derivatives.
+pub fn state_jacobian_of(rows: &[JointDerivatives]) -> BorderedTridiagonal {
+    let n = rows.len();
+    let mut jac = BorderedTridiagonal::zeros(n);
+    for (i, row) in rows.iter().enumerate() {
+        if i > 0 {
+            jac.lower[i - 1] = row.by_state[0];
+        }
+        jac.diag[i] = row.by_state[1];
+        if i + 1 < n {
+            jac.upper[i] = row.by_state[2];
+        }
+        jac.column[i] = row.by_state[3];
+        jac.row[i] = row.rise[0];
+    }
+    jac
+}
+
+/// `ψᵀ ∂[r; Φ]/∂(θ0, K)` for `ψ` of `N + 1` entries, contracted joint by joint from their
+/// derivatives: `2N + 1` values, `θ0` first, then `K`.
+pub fn design_transpose_mul(rows: &[JointDerivatives], psi: &[f64]) -> Vec<f64> {
+    let n = rows.len();
+    let mut out = vec![0.0; 2 * n + 1];
+    for (i, row) in rows.iter().enumerate() {
+        let p = psi[i];
+        if i > 0 {
+            out[i - 1] += p * row.by_design[0];
+        }
+        out[i] += p * row.by_design[1] + psi[n] * row.rise[1];
+        if i + 1 < n {
+            out[i + 1] += p * row.by_design[2];
+        }
+        out[n + i] += p * row.by_design[3];
+        out[n + i + 1] += p * row.by_design[4];
+    }
+    out
 }
 
 /// Index of design variables: `θ0_i` is column `i`, `K_j` is column `N + j` (`2N + 1` columns).

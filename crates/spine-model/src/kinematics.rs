@@ -1,10 +1,11 @@
 //! Geometry: link lengths, node positions (eq. (1)) and the end constraint `Φ` (eq. (2)).
 
+use crate::jet::Elementary;
 use crate::Scalar;
 
 /// Length of a link of horizontal span `span` (m) designed at angle `theta0`:
 /// `L = a / cos θ0` (paper, Sec. 5 "length constraint"), m.
-pub fn link_length<D: Scalar>(span: f64, theta0: D) -> D {
+pub fn link_length<D: Elementary>(span: f64, theta0: D) -> D {
     theta0.cos().recip() * span
 }
 
@@ -29,7 +30,7 @@ pub fn node_positions<D: Scalar>(lengths: &[D], theta: &[D]) -> Vec<(D, D)> {
 }
 
 /// Height of link `i`'s far end above its near end, `L_i sin θ_i`, m: one term of `Φ`.
-pub fn link_rise<D: Scalar>(span: f64, theta0: D, theta: D) -> D {
+pub fn link_rise<D: Elementary>(span: f64, theta0: D, theta: D) -> D {
     link_length(span, theta0) * theta.sin()
 }
 

@@ -29,6 +29,8 @@
 //!   (`crate::jacobian`) and the paper's hand-derived entries (`crate::hand`).
 //! * [`hand`]: Derivatives written by hand from the paper's Appendix I (eqs. (46)–(53)), corrected
 //!   for the link length `L_i = a_i / cos θ0_i` of Sec. 5 (errata E7).
+//! * [`jet`]: A branch-free forward-mode dual number of fixed width ([`jet::Jet`]), and the few
+//!   operations the joint kernels use ([`jet::Elementary`], which every [`Scalar`] implements).
 //! * [`kinematics`]: Geometry: link lengths, node positions (eq. (1)) and the end constraint `Φ`
 //!   (eq. (2)).
 //! * [`local`]: Local elements: scalar functions of a few variables, written once over `Scalar`,
@@ -63,6 +65,7 @@ pub mod finite_difference;
 pub mod fixtures;
 pub mod hand;
 pub mod jacobian;
+pub mod jet;
 pub mod kinematics;
 pub mod loads;
 pub mod local;

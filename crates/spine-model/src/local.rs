@@ -1,4 +1,4 @@
-//! Local elements: scalar functions of a few variables, written once over [`Scalar`], whose
+//! Local elements: scalar functions of a few variables, written once over [`Elementary`], whose
 //! gradients and Hessians come from forward AD with fixed-size duals.
 //!
 //! Every function of the design problem (eq. (33)) is a sum of such elements: a joint residual
@@ -15,7 +15,7 @@
 
 use crate::kinematics::{link_length, link_rise};
 use crate::residual::{slot, Joint, JointStencil};
-use crate::Scalar;
+use crate::jet::{Elementary, Jet};
 use nalgebra::{Const, U1};
 use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};
 
@@ -26,7 +26,7 @@ pub trait Element<const M: usize> {
     const HESSIAN_PAIRS: &'static [(usize, usize)];
 
     /// The value at the local variables `x`.
-    fn eval<D: Scalar>(&self, x: &[D; M]) -> D;
+    fn eval<D: Elementary>(&self, x: &[D; M]) -> D;
 
     /// The local Hessian at `x`; entries outside [`Element::HESSIAN_PAIRS`] (and their mirror
     /// images) may be left zero. The default is one forward pass with second-order duals over all
@@ -45,8 +45,17 @@ pub fn value<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> f64 {
     element.eval(x)
 }
 
-/// Value and gradient of an element by one forward pass with `DualSVec64<M>`.
+/// Value and gradient of an element by one forward pass with a branch-free [`Jet<M>`] (every
+/// slot seeded, so no lane is optional).
 pub fn gradient<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> (f64, [f64; M]) {
+    let seeded: [Jet<M>; M] = std::array::from_fn(|k| Jet::variable(x[k], k));
+    let r = element.eval(&seeded);
+    (r.re, r.eps)
+}
+
+/// Value and gradient of an element by one forward pass with num-dual's `DualSVec64<M>`: the
+/// reference [`gradient`] is tested against.
+pub fn gradient_num_dual<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> (f64, [f64; M]) {
     let seeded: [DualSVec64<M>; M] = std::array::from_fn(|k| DualSVec64::from_re(x[k]).derivative(k));
     let r = element.eval(&seeded);
     let g = r.eps.unwrap_generic(Const::<M>, U1);
@@ -108,7 +117,7 @@ impl Element<{ slot::COUNT }> for JointResidual {
         bilinear_hessian(self, x, [THETA, LAMBDA, THETA0], [STIFFNESS_LEFT, STIFFNESS_RIGHT], angles)
     }
 
-    fn eval<D: Scalar>(&self, x: &[D; slot::COUNT]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; slot::COUNT]) -> D {
         let mut values = *x;
         values[slot::STIFFNESS_LEFT] = x[slot::STIFFNESS_LEFT] * self.stiffness_scale;
         values[slot::STIFFNESS_RIGHT] = x[slot::STIFFNESS_RIGHT] * self.stiffness_scale;
@@ -164,7 +173,7 @@ impl Element<{ joint_slot::COUNT }> for DeflectionJointResidual {
         bilinear_hessian(self, x, [U, LAMBDA, THETA0], [STIFFNESS_LEFT, STIFFNESS_RIGHT], [U_PREV, U, U_NEXT])
     }
 
-    fn eval<D: Scalar>(&self, x: &[D; joint_slot::COUNT]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; joint_slot::COUNT]) -> D {
         use joint_slot::*;
         let joint = Joint { span: self.span, vertical: self.vertical, axial: self.axial };
         let stiffness = [x[STIFFNESS_LEFT] * self.stiffness_scale, x[STIFFNESS_RIGHT] * self.stiffness_scale];
@@ -223,7 +232,7 @@ pub struct LinkRise {
 }
 
 /// `θ_i` from a link element's first local variable (`θ_i` itself, or `u_i` with `θ0_i` second).
-fn link_angle<D: Scalar>(x: &[D; 2], deflection: bool) -> D {
+fn link_angle<D: Elementary>(x: &[D; 2], deflection: bool) -> D {
     if deflection {
         x[1] + x[0]
     } else {
@@ -233,7 +242,7 @@ fn link_angle<D: Scalar>(x: &[D; 2], deflection: bool) -> D {
 
 impl Element<2> for LinkRise {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(0, 0), (1, 0), (1, 1)];
-    fn eval<D: Scalar>(&self, x: &[D; 2]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; 2]) -> D {
         link_rise(self.span, x[1], link_angle(x, self.deflection))
     }
 }
@@ -248,7 +257,7 @@ pub struct LinkRun {
 
 impl Element<2> for LinkRun {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(0, 0), (1, 0), (1, 1)];
-    fn eval<D: Scalar>(&self, x: &[D; 2]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; 2]) -> D {
         link_length(self.span, x[1]) * link_angle(x, self.deflection).cos()
     }
 }
@@ -263,7 +272,7 @@ pub struct HeightStep {
 
 impl Element<3> for HeightStep {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(2, 2)];
-    fn eval<D: Scalar>(&self, x: &[D; 3]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; 3]) -> D {
         x[0] - x[1] - x[2].tan() * self.span
     }
 }
@@ -292,7 +301,7 @@ impl Element<5> for SpringEnergy {
         (4, 2),
         (4, 3),
     ];
-    fn eval<D: Scalar>(&self, x: &[D; 5]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; 5]) -> D {
         let rel = (x[2] - x[3]) - (x[0] - x[1]);
         x[4] * self.stiffness_scale * rel * rel * 0.5
     }
@@ -307,7 +316,7 @@ pub struct DeflectionSpringEnergy {
 
 impl Element<3> for DeflectionSpringEnergy {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[(0, 0), (1, 0), (1, 1), (2, 0), (2, 1)];
-    fn eval<D: Scalar>(&self, x: &[D; 3]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; 3]) -> D {
         let rel = x[1] - x[0];
         x[2] * self.stiffness_scale * rel * rel * 0.5
     }
@@ -319,7 +328,7 @@ pub struct Difference;
 
 impl Element<2> for Difference {
     const HESSIAN_PAIRS: &'static [(usize, usize)] = &[];
-    fn eval<D: Scalar>(&self, x: &[D; 2]) -> D {
+    fn eval<D: Elementary>(&self, x: &[D; 2]) -> D {
         x[0] - x[1]
     }
 }

@@ -10,7 +10,9 @@
 //! dual numbers (see [`crate::jacobian`]).
 
 use crate::kinematics::{end_constraint, link_length};
-use crate::{Design, LinkLoads, Scalar, State};
+use crate::jet::Elementary;
+use crate::{Design, LinkLoads, State};
+use std::ops::Mul;
 
 /// Slot numbers of the local variables of one joint row.
 pub mod slot {
@@ -36,7 +38,7 @@ pub struct JointStencil<D> {
     pub has_next: bool,
 }
 
-impl<D: Scalar> JointStencil<D> {
+impl<D: Elementary> JointStencil<D> {
     /// Gathers row `i`'s slots from the global vectors, passing each `(slot, value)` through `lift`
     /// (identity for values, a seeded dual number for derivatives).
     pub fn gather(
@@ -88,23 +90,70 @@ pub struct Joint {
     pub axial: f64,
 }
 
+/// The springs' moment on link `i`, N·m: `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i)`
+/// (eq. (47)). `deflections` are `[Δθ_{i−1}, Δθ_i, Δθ_{i+1}]` (rad, `Δθ = θ − θ0`, zero for a
+/// missing neighbour), `stiffness` `[K_i, K_{i+1}]` (N·m/rad). Linear in the deflections,
+/// bilinear in the stiffnesses and the deflections.
+///
+/// The spring term takes the deflections themselves: formed as `θ − θ0` from angles of about
+/// 0.5 rad, a deflection carries a round-off of about 1e-16 rad, which a stiffness of 1e8
+/// N·m/rad turns into 1e-8 N·m (the floor that kept eq. (33) at N = 1000 from converging while its
+/// variables were absolute angles; docs/design.md).
+///
+/// The stiffnesses may be of another number type than the deflections (plain numbers where only
+/// the deflections' derivatives are wanted).
+#[inline]
+pub fn spring_moment<D, K>(deflections: [D; 3], stiffness: [K; 2]) -> D
+where
+    D: Elementary + Mul<K, Output = D>,
+    K: Copy,
+{
+    let [d_prev, d_self, d_next] = deflections;
+    (d_self - d_prev) * stiffness[0] - (d_next - d_self) * stiffness[1]
+}
+
+/// What link `i` contributes, from one `sin_cos` of `θ_i` and one length `L_i = a_i / cos θ0_i`:
+/// the load's moment and the slider's reaction moment in joint row `i`, and the link's terms of
+/// `Φ` and of `X_{N+1}`.
+#[derive(Clone, Copy, Debug)]
+pub struct LinkTerms<D> {
+    /// `L_i (cos θ_i V_i − sin θ_i A_i)`, N·m (eq. (48)).
+    pub load: D,
+    /// `λ L_i cos θ_i = λ ∂Φ/∂θ_i`, N·m.
+    pub reaction: D,
+    /// `L_i sin θ_i`, m: the link's term of `Φ` (eq. (2)).
+    pub rise: D,
+    /// `L_i cos θ_i`, m: the link's term of `X_{N+1}`, and `∂Φ/∂θ_i`.
+    pub run: D,
+}
+
 impl Joint {
-    /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)):
-    /// `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i) − L_i (cos θ_i V_i − sin θ_i A_i) − λ L_i cos θ_i`
-    /// with `L_i = a_i / cos θ0_i`. `deflections` are `[Δθ_{i−1}, Δθ_i, Δθ_{i+1}]` (rad,
-    /// `Δθ = θ − θ0`, zero for a missing neighbour), `stiffness` `[K_i, K_{i+1}]` (N·m/rad).
-    ///
-    /// The spring term takes the deflections themselves: formed as `θ − θ0` from angles of about
-    /// 0.5 rad, a deflection carries a round-off of about 1e-16 rad, which a stiffness of 1e8
-    /// N·m/rad turns into 1e-8 N·m (the floor that kept eq. (33) at N = 1000 from converging while its
-    /// variables were absolute angles; docs/design.md).
-    pub fn residual<D: Scalar>(&self, deflections: [D; 3], stiffness: [D; 2], theta: D, theta0: D, lambda: D) -> D {
-        let [d_prev, d_self, d_next] = deflections;
-        let spring = stiffness[0] * (d_self - d_prev) - stiffness[1] * (d_next - d_self);
+    /// Link `i`'s terms at angle `θ_i`, unloaded angle `θ0_i` (rad) and slider reaction `λ` (N).
+    /// `θ0_i` may be of another number type than `θ_i` and `λ` (a plain number where its
+    /// derivatives are not wanted: then `L_i` costs one plain `cos`).
+    #[inline]
+    pub fn link<D, T>(&self, theta: D, theta0: T, lambda: D) -> LinkTerms<D>
+    where
+        D: Elementary + Mul<T, Output = D>,
+        T: Elementary,
+    {
         let length = link_length(self.span, theta0);
         let (s, c) = theta.sin_cos();
-        let load = length * (c * self.vertical - s * self.axial);
-        spring - load - lambda * length * c
+        LinkTerms {
+            load: (c * self.vertical - s * self.axial) * length,
+            reaction: lambda * length * c,
+            rise: s * length,
+            run: c * length,
+        }
+    }
+
+    /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)):
+    /// `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i) − L_i (cos θ_i V_i − sin θ_i A_i) − λ L_i cos θ_i`
+    /// with `L_i = a_i / cos θ0_i`: [`spring_moment`] less [`Joint::link`]'s load and reaction.
+    #[inline]
+    pub fn residual<D: Elementary>(&self, deflections: [D; 3], stiffness: [D; 2], theta: D, theta0: D, lambda: D) -> D {
+        let link = self.link(theta, theta0, lambda);
+        spring_moment(deflections, stiffness) - link.load - link.reaction
     }
 }
 
