@@ -52,9 +52,7 @@ fn equilibrium(c: &mut Criterion) {
         let f = StateFixture::new(n);
         g.bench_with_input(BenchmarkId::new("ad", n), &f, |b, f| b.iter(|| black_box(f).jacobian_ad()));
         g.bench_with_input(BenchmarkId::new("hand", n), &f, |b, f| b.iter(|| black_box(f).jacobian_hand()));
-        g.bench_with_input(BenchmarkId::new("hand_fused", n), &f, |b, f| {
-            b.iter(|| black_box(f).jacobian_hand_fused())
-        });
+        g.bench_with_input(BenchmarkId::new("hand_fused", n), &f, |b, f| b.iter(|| black_box(f).jacobian_hand_fused()));
         g.bench_with_input(BenchmarkId::new("fd", n), &f, |b, f| b.iter(|| black_box(f).jacobian_fd()));
     }
     g.finish();

@@ -21,9 +21,9 @@
 use crate::problem::DesignProblem;
 use spine_model::chain::spring_links;
 use spine_model::jacobian::{design_transpose_mul, joint_derivatives, state_jacobian_of, JointDerivatives};
-use spine_model::local::{self, SpringEnergy};
 #[cfg(any(test, feature = "testing"))]
 use spine_model::local::LinkRun;
+use spine_model::local::{self, SpringEnergy};
 use spine_model::sparse::BorderedTridiagonal;
 use spine_model::{energy, hand, kinematics, Design, LinkLoads, State};
 use spine_solve::linalg::{BorderedLu, SingularMatrix};

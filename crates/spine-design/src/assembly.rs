@@ -69,11 +69,22 @@ pub struct Group<E, const M: usize> {
     items: Vec<Placed<E, M>>,
     jacobian_positions: Vec<[usize; M]>,
     hessian_positions: Vec<usize>,
+    /// Per pair of `E::HESSIAN_PAIRS`, its index in `E::CONSTANT_PAIRS`, if it is constant.
+    constant_index: Vec<Option<usize>>,
+    /// Per element, the values of its `E::CONSTANT_PAIRS`, taken once at registration.
+    constant_values: Vec<f64>,
 }
 
 impl<E: Element<M>, const M: usize> Group<E, M> {
     pub fn new(items: Vec<Placed<E, M>>) -> Self {
-        Group { items, jacobian_positions: Vec::new(), hessian_positions: Vec::new() }
+        let constant_index = E::HESSIAN_PAIRS.iter().map(|p| E::CONSTANT_PAIRS.iter().position(|c| c == p)).collect();
+        Group {
+            items,
+            jacobian_positions: Vec::new(),
+            hessian_positions: Vec::new(),
+            constant_index,
+            constant_values: Vec::new(),
+        }
     }
 
     fn local(&self, item: &Placed<E, M>, x: &[f64]) -> [f64; M] {
@@ -97,7 +108,13 @@ impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
     fn register(&mut self, patterns: &mut Patterns) {
         self.jacobian_positions.clear();
         self.hessian_positions.clear();
+        self.constant_values.clear();
         for item in &self.items {
+            // The constant second derivatives, the same at every point (tested per element).
+            if !E::CONSTANT_PAIRS.is_empty() {
+                let h = local::hessian(&item.element, &[0.0; M]);
+                self.constant_values.extend(E::CONSTANT_PAIRS.iter().map(|&(a, b)| h[a][b]));
+            }
             self.jacobian_positions.push(std::array::from_fn(|k| match (item.row, item.vars[k]) {
                 (Row::Constraint(r), Some(v)) => patterns.jacobian_position(r, v),
                 _ => NONE,
@@ -147,7 +164,10 @@ impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
         if pairs.is_empty() {
             return;
         }
-        for (item, positions) in self.items.iter().zip(self.hessian_positions.chunks_exact(pairs.len())) {
+        let constants = E::CONSTANT_PAIRS.len();
+        for (e, (item, positions)) in
+            self.items.iter().zip(self.hessian_positions.chunks_exact(pairs.len())).enumerate()
+        {
             let weight = match item.row {
                 Row::Objective => sigma,
                 Row::Constraint(r) => lambda[r],
@@ -155,10 +175,11 @@ impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
             if weight == 0.0 {
                 continue;
             }
-            let h = local::hessian(&item.element, &self.local(item, x));
-            for (&(a, b), &position) in pairs.iter().zip(positions) {
+            let h = item.element.varying_hessian(&self.local(item, x));
+            for ((&(a, b), &position), constant) in pairs.iter().zip(positions).zip(&self.constant_index) {
                 if position != NONE {
-                    hessian[position] += weight * h[a][b];
+                    let value = constant.map_or(h[a][b], |c| self.constant_values[e * constants + c]);
+                    hessian[position] += weight * value;
                 }
             }
         }

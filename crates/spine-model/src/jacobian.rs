@@ -4,8 +4,8 @@
 //! [`JointStencil`]; the derivative parts are scattered into the sparse result. Cost and memory are
 //! linear in `N`: no dense `N × N` matrix is formed.
 
-use crate::kinematics::link_rise;
 use crate::jet::Jet;
+use crate::kinematics::link_rise;
 use crate::residual::{slot, spring_moment, Joint, JointStencil};
 use crate::sparse::{BorderedTridiagonal, SparseMatrix};
 use crate::{Design, LinkLoads, State};
@@ -119,7 +119,11 @@ pub fn joint_derivatives(spans: &[f64], design: &Design, loads: &LinkLoads, stat
             let x: [Jet<5>; 5] = std::array::from_fn(|s| Jet::variable(lanes[s], s));
             let spring = spring_moment([x[0], x[1], x[2]], [x[3], x[4]]);
             let joint = Joint { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i] };
-            let link = joint.link(Jet::<3>::variable(theta[i], 0), Jet::variable(theta0[i], 1), Jet::variable(state.lambda, 2));
+            let link = joint.link(
+                Jet::<3>::variable(theta[i], 0),
+                Jet::variable(theta0[i], 1),
+                Jet::variable(state.lambda, 2),
+            );
             let g = spring.eps;
             let (load, reaction) = (link.load.eps, link.reaction.eps);
             let mut row = JointDerivatives {

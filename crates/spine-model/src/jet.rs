@@ -100,6 +100,7 @@ impl<const M: usize> Sub for Jet<M> {
     }
 }
 
+#[allow(clippy::suspicious_arithmetic_impl)] // the product rule adds
 impl<const M: usize> Mul for Jet<M> {
     type Output = Self;
     #[inline]
@@ -152,6 +153,128 @@ impl<const M: usize> Elementary for Jet<M> {
     }
 }
 
+/// A value with its gradient and Hessian in `M` directions, none of them optional: the
+/// second-order [`Jet`] (num-dual's `Dual2SVec64<M>` without its `Option`s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jet2<const M: usize> {
+    pub re: f64,
+    pub grad: [f64; M],
+    pub hess: [[f64; M]; M],
+}
+
+impl<const M: usize> Jet2<M> {
+    /// A constant: every derivative zero.
+    #[inline]
+    pub fn constant(re: f64) -> Self {
+        Self { re, grad: [0.0; M], hess: [[0.0; M]; M] }
+    }
+
+    /// The independent variable of direction `k`.
+    #[inline]
+    pub fn variable(re: f64, k: usize) -> Self {
+        let mut x = Self::constant(re);
+        x.grad[k] = 1.0;
+        x
+    }
+
+    /// `f(re)` by the chain rule with `f'(re)` and `f''(re)`: `∇f = f' ∇x`,
+    /// `∇²f = f' ∇²x + f'' ∇x ∇xᵀ`.
+    #[inline]
+    fn chain(self, value: f64, first: f64, second: f64) -> Self {
+        let g = self.grad;
+        Self {
+            re: value,
+            grad: g.map(|e| e * first),
+            hess: std::array::from_fn(|a| std::array::from_fn(|b| first * self.hess[a][b] + second * g[a] * g[b])),
+        }
+    }
+}
+
+impl<const M: usize> Add for Jet2<M> {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        Self {
+            re: self.re + o.re,
+            grad: std::array::from_fn(|k| self.grad[k] + o.grad[k]),
+            hess: std::array::from_fn(|a| std::array::from_fn(|b| self.hess[a][b] + o.hess[a][b])),
+        }
+    }
+}
+
+impl<const M: usize> Sub for Jet2<M> {
+    type Output = Self;
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        Self {
+            re: self.re - o.re,
+            grad: std::array::from_fn(|k| self.grad[k] - o.grad[k]),
+            hess: std::array::from_fn(|a| std::array::from_fn(|b| self.hess[a][b] - o.hess[a][b])),
+        }
+    }
+}
+
+#[allow(clippy::suspicious_arithmetic_impl)] // the product rule adds
+impl<const M: usize> Mul for Jet2<M> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        let (g, h) = (self.grad, o.grad);
+        Self {
+            re: self.re * o.re,
+            grad: std::array::from_fn(|k| g[k] * o.re + self.re * h[k]),
+            hess: std::array::from_fn(|a| {
+                std::array::from_fn(|b| self.hess[a][b] * o.re + g[a] * h[b] + h[a] * g[b] + self.re * o.hess[a][b])
+            }),
+        }
+    }
+}
+
+impl<const M: usize> Mul<f64> for Jet2<M> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, c: f64) -> Self {
+        Self { re: self.re * c, grad: self.grad.map(|e| e * c), hess: self.hess.map(|row| row.map(|e| e * c)) }
+    }
+}
+
+impl<const M: usize> Neg for Jet2<M> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+
+impl<const M: usize> Elementary for Jet2<M> {
+    #[inline]
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = self.re.sin_cos();
+        (self.chain(s, c, -s), self.chain(c, -s, -c))
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        let (s, c) = self.re.sin_cos();
+        self.chain(s, c, -s)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        let (s, c) = self.re.sin_cos();
+        self.chain(c, -s, -c)
+    }
+    #[inline]
+    fn tan(self) -> Self {
+        let t = self.re.tan();
+        let first = 1.0 + t * t;
+        self.chain(t, first, 2.0 * t * first)
+    }
+    #[inline]
+    fn recip(self) -> Self {
+        let r = self.re.recip();
+        self.chain(r, -r * r, 2.0 * r * r * r)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -173,6 +296,25 @@ mod tests {
             assert!((jet.re - dual.re).abs() <= 1e-15 * dual.re.abs().max(1.0));
             for k in 0..2 {
                 assert!((jet.eps[k] - g[k]).abs() <= 1e-14 * g[k].abs().max(1.0), "{k}: {} vs {}", jet.eps[k], g[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn a_second_order_jet_agrees_with_num_dual() {
+        use num_dual::Dual2SVec64;
+        for (x, y) in [(0.3, -1.2), (1.1, 0.7), (-0.4, 2.5)] {
+            let jet = kernel(Jet2::<2>::variable(x, 0), Jet2::<2>::variable(y, 1));
+            let dual = kernel(Dual2SVec64::<2>::from_re(x).derivative(0), Dual2SVec64::<2>::from_re(y).derivative(1));
+            let g = dual.v1.unwrap_generic(nalgebra::U1, nalgebra::Const::<2>);
+            let h = dual.v2.unwrap_generic(nalgebra::Const::<2>, nalgebra::Const::<2>);
+            assert!((jet.re - dual.re).abs() <= 1e-15 * dual.re.abs().max(1.0));
+            for a in 0..2 {
+                assert!((jet.grad[a] - g[a]).abs() <= 1e-14 * g[a].abs().max(1.0), "{a}");
+                for b in 0..2 {
+                    let (mine, theirs) = (jet.hess[a][b], h[(a, b)]);
+                    assert!((mine - theirs).abs() <= 1e-13 * theirs.abs().max(1.0), "{a}{b}: {mine} vs {theirs}");
+                }
             }
         }
     }

@@ -13,9 +13,9 @@
 //! round-off of about 1e-16 rad, which a stiff spring turns into a residual above the solver's
 //! tolerance ([`crate::residual::Joint::residual`]). Geometry uses `θ = θ0 + u`.
 
+use crate::jet::{Elementary, Jet, Jet2};
 use crate::kinematics::{link_length, link_rise};
 use crate::residual::{slot, Joint, JointStencil};
-use crate::jet::{Elementary, Jet};
 use nalgebra::{Const, U1};
 use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};
 
@@ -37,6 +37,20 @@ pub trait Element<const M: usize> {
         Self: Sized,
     {
         full_hessian(self, x).2
+    }
+
+    /// Pairs of [`Element::HESSIAN_PAIRS`] whose second derivative is the same at every `x` (a
+    /// bilinear `factor × angle` term): an assembly takes them once, when it registers the element,
+    /// and [`Element::varying_hessian`] may leave them out (tested: constant at random points).
+    const CONSTANT_PAIRS: &'static [(usize, usize)] = &[];
+
+    /// The local Hessian at `x` without the [`Element::CONSTANT_PAIRS`] (they may be left zero);
+    /// the default is [`Element::hessian`].
+    fn varying_hessian(&self, x: &[f64; M]) -> [[f64; M]; M]
+    where
+        Self: Sized,
+    {
+        self.hessian(x)
     }
 }
 
@@ -67,9 +81,21 @@ pub fn hessian<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> [[f6
     element.hessian(x)
 }
 
-/// Value, gradient and Hessian of an element by one forward pass with `Dual2SVec64<M>` over all
-/// its slots: the reference for every specialised [`Element::hessian`].
+/// Value, gradient and Hessian of an element by one forward pass with a branch-free second-order
+/// [`Jet2<M>`] over all its slots: the default [`Element::hessian`].
 pub fn full_hessian<const M: usize, E: Element<M>>(element: &E, x: &[f64; M]) -> (f64, [f64; M], [[f64; M]; M]) {
+    let seeded: [Jet2<M>; M] = std::array::from_fn(|k| Jet2::variable(x[k], k));
+    let r = element.eval(&seeded);
+    (r.re, r.grad, r.hess)
+}
+
+/// Value, gradient and Hessian of an element by one forward pass with num-dual's
+/// `Dual2SVec64<M>` over all its slots: the reference for [`full_hessian`] and every specialised
+/// [`Element::hessian`].
+pub fn full_hessian_num_dual<const M: usize, E: Element<M>>(
+    element: &E,
+    x: &[f64; M],
+) -> (f64, [f64; M], [[f64; M]; M]) {
     let seeded: [Dual2SVec64<M>; M] = std::array::from_fn(|k| Dual2SVec64::from_re(x[k]).derivative(k));
     let r = element.eval(&seeded);
     let g = r.v1.unwrap_generic(U1, Const::<M>);
@@ -107,14 +133,24 @@ impl Element<{ slot::COUNT }> for JointResidual {
         (slot::THETA0, slot::THETA0),
     ];
 
+    /// `∂²r/∂K∂angle = ±C_K`: the eight stiffness × angle pairs, listed first above.
+    const CONSTANT_PAIRS: &'static [(usize, usize)] = JointResidual::HESSIAN_PAIRS.split_at(8).0;
+
     /// The residual is linear in `θ_{i±1}`, `θ0_{i±1}`, `K_i`, `K_{i+1}` and `λ`, and its only
-    /// products of these are `K × angle`: second-order duals over `(θ_i, λ, θ0_i)` give the
+    /// products of these are `K × angle`: second-order jets over `(θ_i, λ, θ0_i)` give the
     /// nonlinear block, one hyper-dual pass (`ε₁` over the two stiffnesses, `ε₂` over the six
     /// angles) the bilinear block. About a third of the work of [`full_hessian`].
     fn hessian(&self, x: &[f64; slot::COUNT]) -> [[f64; slot::COUNT]; slot::COUNT] {
         use slot::*;
         let angles = [THETA_PREV, THETA, THETA_NEXT, THETA0_PREV, THETA0, THETA0_NEXT];
-        bilinear_hessian(self, x, [THETA, LAMBDA, THETA0], [STIFFNESS_LEFT, STIFFNESS_RIGHT], angles)
+        let mut h = self.varying_hessian(x);
+        mixed_block(self, x, &mut h, [STIFFNESS_LEFT, STIFFNESS_RIGHT], angles);
+        h
+    }
+
+    /// The nonlinear block over `(θ_i, λ, θ0_i)` only.
+    fn varying_hessian(&self, x: &[f64; slot::COUNT]) -> [[f64; slot::COUNT]; slot::COUNT] {
+        core_hessian(self, x, [slot::THETA, slot::LAMBDA, slot::THETA0])
     }
 
     fn eval<D: Elementary>(&self, x: &[D; slot::COUNT]) -> D {
@@ -166,11 +202,21 @@ impl Element<{ joint_slot::COUNT }> for DeflectionJointResidual {
         (joint_slot::THETA0, joint_slot::THETA0),
     ];
 
+    /// `∂²r/∂k∂u = ±C_K`: the four stiffness × deflection pairs, listed first above.
+    const CONSTANT_PAIRS: &'static [(usize, usize)] = DeflectionJointResidual::HESSIAN_PAIRS.split_at(4).0;
+
     /// The residual is linear in `u_{i±1}`, `k_i`, `k_{i+1}` and `λ`, and its only products of
     /// these are `k × u`: as [`JointResidual`]'s, with the three deflections as the angles.
     fn hessian(&self, x: &[f64; joint_slot::COUNT]) -> [[f64; joint_slot::COUNT]; joint_slot::COUNT] {
         use joint_slot::*;
-        bilinear_hessian(self, x, [U, LAMBDA, THETA0], [STIFFNESS_LEFT, STIFFNESS_RIGHT], [U_PREV, U, U_NEXT])
+        let mut h = self.varying_hessian(x);
+        mixed_block(self, x, &mut h, [STIFFNESS_LEFT, STIFFNESS_RIGHT], [U_PREV, U, U_NEXT]);
+        h
+    }
+
+    /// The nonlinear block over `(u_i, λ, θ0_i)` only.
+    fn varying_hessian(&self, x: &[f64; joint_slot::COUNT]) -> [[f64; joint_slot::COUNT]; joint_slot::COUNT] {
+        core_hessian(self, x, [joint_slot::U, joint_slot::LAMBDA, joint_slot::THETA0])
     }
 
     fn eval<D: Elementary>(&self, x: &[D; joint_slot::COUNT]) -> D {
@@ -181,27 +227,36 @@ impl Element<{ joint_slot::COUNT }> for DeflectionJointResidual {
     }
 }
 
-/// The local Hessian of an element whose only nonlinearity outside the `core` slots is bilinear,
-/// `factor × angle`: second-order duals over `core` give the nonlinear block, one hyper-dual pass
-/// (`ε₁` over `factors`, `ε₂` over `angles`) the bilinear block. Still AD of [`Element::eval`].
-fn bilinear_hessian<const M: usize, const C: usize, const F: usize, const A: usize, E: Element<M>>(
+/// The block of the local Hessian over the `core` slots (the element's nonlinear ones), by one
+/// pass of second-order jets seeded there; the rest left zero. Still AD of [`Element::eval`].
+fn core_hessian<const M: usize, const C: usize, E: Element<M>>(
     element: &E,
     x: &[f64; M],
     core: [usize; C],
-    factors: [usize; F],
-    angles: [usize; A],
 ) -> [[f64; M]; M] {
     let mut h = [[0.0; M]; M];
-    let seeded: [Dual2SVec64<C>; M] = std::array::from_fn(|k| {
-        let d = Dual2SVec64::from_re(x[k]);
-        core.iter().position(|&c| c == k).map_or(d, |p| d.derivative(p))
+    let seeded: [Jet2<C>; M] = std::array::from_fn(|k| {
+        core.iter().position(|&c| c == k).map_or(Jet2::constant(x[k]), |p| Jet2::variable(x[k], p))
     });
-    let v2 = element.eval(&seeded).v2.unwrap_generic(Const::<C>, Const::<C>);
+    let v2 = element.eval(&seeded).hess;
     for (a, &sa) in core.iter().enumerate() {
         for (b, &sb) in core.iter().enumerate() {
-            h[sa][sb] = v2[(a, b)];
+            h[sa][sb] = v2[a][b];
         }
     }
+    h
+}
+
+/// The bilinear block `∂²/∂factor∂angle` of an element whose only nonlinearity outside its core
+/// slots is `factor × angle`, written into `h` (both triangles), by one hyper-dual pass (`ε₁` over
+/// `factors`, `ε₂` over `angles`).
+fn mixed_block<const M: usize, const F: usize, const A: usize, E: Element<M>>(
+    element: &E,
+    x: &[f64; M],
+    h: &mut [[f64; M]; M],
+    factors: [usize; F],
+    angles: [usize; A],
+) {
     let mixed: [HyperDualSVec64<F, A>; M] = std::array::from_fn(|k| {
         let mut d = HyperDualSVec64::from_re(x[k]);
         if let Some(p) = factors.iter().position(|&f| f == k) {
@@ -219,7 +274,6 @@ fn bilinear_hessian<const M: usize, const C: usize, const F: usize, const A: usi
             h[sb][sa] = e12[(a, b)];
         }
     }
-    h
 }
 
 /// A link's rise `L_i sin θ_i = a_i sin θ_i / cos θ0_i`, m; local variables `[θ_i, θ0_i]`, or

@@ -9,8 +9,8 @@
 //! `K_i, K_{i+1}`: the nine slots of a [`JointStencil`]. Derivatives seed some of these slots with
 //! dual numbers (see [`crate::jacobian`]).
 
-use crate::kinematics::{end_constraint, link_length};
 use crate::jet::Elementary;
+use crate::kinematics::{end_constraint, link_length};
 use crate::{Design, LinkLoads, State};
 use std::ops::Mul;
 

@@ -32,10 +32,34 @@ fn check_element<const M: usize, E: Element<M>>(element: &E, name: &str, scale: 
         let (v, g) = local::gradient(element, &x);
         let (v2, g2, h_full) = local::full_hessian(element, &x);
         let h = local::hessian(element, &x);
+        // The branch-free jets against num-dual's duals: the same derivatives.
+        let (_, g_nd) = local::gradient_num_dual(element, &x);
+        let (_, _, h_nd) = local::full_hessian_num_dual(element, &x);
+        for a in 0..M {
+            assert!((g[a] - g_nd[a]).abs() <= 1e-13 * g_nd[a].abs().max(1.0), "{name} ∂/∂x{a}: jet vs num-dual");
+            for b in 0..M {
+                let (mine, theirs) = (h_full[a][b], h_nd[a][b]);
+                assert!(
+                    (mine - theirs).abs() <= 1e-13 * theirs.abs().max(1.0),
+                    "{name} ({a}, {b}): {mine} vs {theirs}"
+                );
+            }
+        }
         assert!((v - local::value(element, &x)).abs() <= 1e-14 * v.abs().max(1.0));
         assert!((v - v2).abs() <= 1e-14 * v.abs().max(1.0));
         let gmax = g.iter().fold(1e-12f64, |m, a| m.max(a.abs()));
         let hmax = h_full.iter().flatten().fold(1e-12f64, |m, a| m.max(a.abs()));
+        // The constant pairs are constant (the assembly takes them once, at zero), and the
+        // varying Hessian agrees with the full one everywhere else.
+        let (at_zero, varying) = (local::hessian(element, &[0.0; M]), element.varying_hessian(&x));
+        for &(a, b) in E::HESSIAN_PAIRS {
+            if E::CONSTANT_PAIRS.contains(&(a, b)) {
+                assert_eq!(h_full[a][b], at_zero[a][b], "{name} ({a}, {b}) is declared constant");
+            } else {
+                assert!((varying[a][b] - h_full[a][b]).abs() <= 1e-13 * hmax, "{name} ({a}, {b}): varying Hessian");
+            }
+        }
+        assert!(E::CONSTANT_PAIRS.iter().all(|p| E::HESSIAN_PAIRS.contains(p)), "{name}: constant pairs declared");
         for &(a, b) in E::HESSIAN_PAIRS {
             assert!(
                 (h[a][b] - h_full[a][b]).abs() <= 1e-13 * hmax,

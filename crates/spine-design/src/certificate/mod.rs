@@ -309,8 +309,9 @@ fn cone_minimum(layout: Layout, set: &ActiveSet, matrices: &Matrices) -> Option<
 /// A weakly active bound's form counts as moved off the bound above this (unit directions).
 const SIGN_TOLERANCE: f64 = 1e-9;
 
-/// The certificate of a full-space point `x` (layout order) with Ipopt's `multipliers`, and a
-/// direction of negative curvature where the status is `not_a_minimum`.
+/// The certificate of a full-space point `x` (layout order) with Ipopt's `multipliers`, and the
+/// direction of the smallest curvature where the status is `not_a_minimum` (negative) or
+/// `weak_minimum` (zero within tolerance).
 pub fn certify(
     problem: &DesignProblem,
     layout: Layout,
@@ -336,8 +337,10 @@ pub fn certify(
             } else {
                 MinimumStatus::WeakMinimum
             };
+            // The direction of the smallest curvature: negative (not a minimum), or zero within
+            // tolerance (a weak minimum, probed along it: higher-order terms may descend).
             let negative = direction
-                .filter(|_| status == MinimumStatus::NotAMinimum)
+                .filter(|_| status != MinimumStatus::StrictMinimum)
                 .map(|direction| NegativeCurvature { direction, curvature: minimum });
             (status, negative, minimum.is_finite().then_some(minimum), Some(scale))
         }

@@ -11,6 +11,12 @@
 //! 3. A point with negative curvature is left along it: the design is stepped by
 //!    [`ESCAPE_STEPS`] along `±d` and eq. (33) solved again from each; the lowest clean end below
 //!    the point is taken and certified in turn.
+//! 4. A weak minimum (zero curvature along `d`, within tolerance) is probed the same way along
+//!    its flat direction: second order cannot tell a flat valley from a saddle whose descent is of
+//!    higher order or hidden in round-off (fig8's first point: curvature −2e-7 against a scale of
+//!    2e4, and a descent to a vertex 1.8e-3 lower that the tight re-solve finds or misses by
+//!    rounding). An end lower by more than [`FLAT_MARGIN`] is taken; otherwise the weak minimum
+//!    is reported.
 //!
 //! At most [`MAX_ESCAPES`] points are left; every one is listed in the result
 //! ([`crate::DesignResult::escapes`]). A result still `not_a_minimum` after that carries the
@@ -33,6 +39,10 @@ pub const MAX_ESCAPES: usize = 3;
 /// its interval. The smaller is tried first; the larger where the smaller falls back.
 pub const ESCAPE_STEPS: [f64; 2] = [0.02, 0.1];
 
+/// A probe along a weak minimum's flat direction counts only an end lower than this, relative
+/// (the tolerance of [`same_optimum`]: a flat valley's re-solves differ by less).
+pub const FLAT_MARGIN: f64 = 1e-6;
+
 /// How a point that was not a minimum was left.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -41,6 +51,9 @@ pub enum EscapeHow {
     TightResolve,
     /// A step along its direction of negative curvature, then eq. (33) again.
     NegativeCurvature,
+    /// A weak minimum: a step along its direction of zero curvature, then eq. (33) again, ended
+    /// lower.
+    FlatDirection,
     /// Eq. (33) again from its design with the run's own settings (where the inertia shows
     /// negative curvature but no direction was formed: above [`super::MAX_DENSE_FREE`] free
     /// variables or [`crate::sensitivity::MAX_WEAK`] weakly active bounds).
@@ -53,6 +66,7 @@ impl EscapeHow {
         match self {
             Self::TightResolve => "tight_resolve",
             Self::NegativeCurvature => "negative_curvature",
+            Self::FlatDirection => "flat_direction",
             Self::Restart => "restart",
         }
     }
@@ -100,12 +114,13 @@ pub fn certify_run(
 }
 
 /// Eq. (33) from `run`'s design stepped along `±d` (design variables only, [`ESCAPE_STEPS`]; the
-/// states are found again): the lowest clean end below `below` (`None` when no step reaches one).
+/// states are found again): the lowest clean end below `below` by more than `margin` relative
+/// (`None` when no step reaches one).
 fn leave(
     problem: &DesignProblem,
     run: &SolverRun,
     negative: &NegativeCurvature,
-    below: f64,
+    (below, margin): (f64, f64),
     settings: &SolverSettings,
 ) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
     let layout = run.solver.layout(problem.n_links());
@@ -137,7 +152,7 @@ fn leave(
             };
             let next = run_solver(problem, &start, Formulation::Full, settings, &mut |_| true)?;
             let result = next.clone().check(problem, settings);
-            let lower = result.objective < below * (1.0 - 1e-9);
+            let lower = result.objective < below - margin * below.abs();
             if result.is_clean() && lower && best.as_ref().is_none_or(|(_, b)| result.objective < b.objective) {
                 best = Some((next, result));
             }
@@ -217,7 +232,23 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         // (if formed), its run and its checked result.
         let (certificate, negative, from, from_result) = match tight {
             Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => (c, negative, polished_run, polished),
-            Some((c, _)) if same_optimum(&result, &polished) => return Ok(finish(result, Some(c), escapes)),
+            Some((c, flat)) if same_optimum(&result, &polished) => {
+                // A weak minimum: probed along its flat direction for a lower one.
+                let lower = match flat.filter(|_| c.status == MinimumStatus::WeakMinimum) {
+                    Some(d) => leave(problem, &polished_run, &d, (polished.objective, FLAT_MARGIN), settings)?,
+                    None => None,
+                };
+                let Some((next, reached)) = lower else { return Ok(finish(result, Some(c), escapes)) };
+                escapes.push(Escape {
+                    objective: result.objective,
+                    status: Some(c.status),
+                    how: EscapeHow::FlatDirection,
+                    curvature: c.smallest_curvature,
+                    reached: reached.objective,
+                });
+                current = next;
+                continue;
+            }
             Some(_) if polished.objective < result.objective => {
                 escapes.push(Escape {
                     objective: result.objective,
@@ -237,7 +268,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         };
         let left = from_result.objective;
         let next = match &negative {
-            Some(d) => leave(problem, &from, d, left, settings)?.map(|n| (n, EscapeHow::NegativeCurvature)),
+            Some(d) => leave(problem, &from, d, (left, 1e-9), settings)?.map(|n| (n, EscapeHow::NegativeCurvature)),
             None => restart(problem, &from, left, settings)?.map(|n| (n, EscapeHow::Restart)),
         };
         match next {
