@@ -111,6 +111,15 @@ bench:
     cargo bench -p spine-benchmarks --bench scaling
     cargo run --release --quiet -p spine-benchmarks --bin bench_report
 
+# CasADi's AD beside ours: the residual Jacobian and the Lagrangian Hessian of eq. (33) as CasADi SX
+# functions (its VM and its C code compiled with gcc -O3), on the same point, N = 10, 100, 1000 by
+# default; checks the values agree, writes benchmarks/peers/ad-results.json and RESULTS.md's table.
+bench-ad-peers *SIZES:
+    ./benchmarks/peers/setup.sh
+    cargo build --release --quiet -p spine-benchmarks --bins
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 ./target/release/bench_ad_peers benchmarks/peers/.venv/bin/python {{SIZES}}
+    ./target/release/bench_report
+
 # Global bounds on eq. (33) with SCIP 10, optional (installs the `pyscipopt` wheel, which ships
 # libscip, into benchmarks/peers/.venv-scip; nothing else depends on it): SCIP's best point, its
 # dual bound and the gap within TIME seconds; with RESULT (a `spine design` result.json of the same

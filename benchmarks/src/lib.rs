@@ -13,9 +13,11 @@
 //!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
 #![forbid(unsafe_code)]
 
+pub mod ad_peers;
 pub mod kkt;
 pub mod peers;
 pub mod report;
+pub mod targets;
 
 use spine_design::adjoint::{self, ReducedGradients};
 use spine_design::assembly::Assembled;

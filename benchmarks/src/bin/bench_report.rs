@@ -32,7 +32,29 @@ fn main() {
         }
     }
     let analysis = std::fs::read_to_string("benchmarks/analysis.md").unwrap_or_default();
-    let md = results_markdown(&measurements, &peers, &machine(), &analysis);
+    let mut md = results_markdown(&measurements, &peers, &machine(), &analysis);
+    // CasADi's AD beside ours (`just bench-ad-peers`), before the eq. (33) comparison.
+    if let Ok(text) = std::fs::read_to_string("benchmarks/peers/ad-results.json") {
+        let rows: Vec<spine_benchmarks::ad_peers::AdPeerRow> = serde_json::from_str(&text).unwrap_or_else(|e| {
+            eprintln!("bench_report: benchmarks/peers/ad-results.json: {e}");
+            std::process::exit(1)
+        });
+        let section = format!(
+            "## AD against CasADi's\n\nThe same functions built as CasADi SX functions and evaluated inside CasADi \
+             (`just bench-ad-peers`, `benchmarks/peers/casadi_ad.py`): its virtual machine and its generated C code \
+             compiled with `gcc -O3`, each mapped over a batch of evaluations so that Python's call overhead does not \
+             count; ours timed in the same run on the same point (best of 5 batches). Jacobian: the passive \
+             equilibrium rows `[r; Φ]` and `∂/∂(θ1, λ1)`; Hessian: the lower triangle of `σ∇²f + Σλ_r∇²g_r` of \
+             eq. (33). Seconds per evaluation; the last column is the largest difference of the two programs' \
+             values over the largest value. CasADi {}.\n\n{}\n",
+            rows.first().map_or("", |r| r.casadi_version.as_str()),
+            spine_benchmarks::ad_peers::table(&rows)
+        );
+        md = match md.find("## Eq. (33) against CasADi") {
+            Some(at) => format!("{}{}\n{}", &md[..at], section, &md[at..]),
+            None => md + "\n" + &section,
+        };
+    }
     std::fs::write("benchmarks/RESULTS.md", md).expect("benchmarks/RESULTS.md");
     if !measurements.is_empty() {
         let svg = figure(&measurements).to_svg().unwrap_or_else(|e| {

@@ -15,7 +15,7 @@
 
 use crate::jet::{Elementary, Jet, Jet2};
 use crate::kinematics::{link_length, link_rise};
-use crate::residual::{slot, Joint, JointStencil};
+use crate::residual::{slot, Joint, JointStencil, LinkTerms};
 use nalgebra::{Const, U1};
 use num_dual::{Dual2SVec64, DualSVec64, HyperDualSVec64};
 
@@ -148,9 +148,17 @@ impl Element<{ slot::COUNT }> for JointResidual {
         h
     }
 
-    /// The nonlinear block over `(θ_i, λ, θ0_i)` only.
+    /// The nonlinear block over `(θ_i, λ, θ0_i)` only: the springs are linear in these slots, so
+    /// the block is that of the link's terms ([`Joint::link`]), by one pass of 3-lane
+    /// second-order jets (tested against the full Hessian of [`Element::eval`]).
     fn varying_hessian(&self, x: &[f64; slot::COUNT]) -> [[f64; slot::COUNT]; slot::COUNT] {
-        core_hessian(self, x, [slot::THETA, slot::LAMBDA, slot::THETA0])
+        let joint = Joint { span: self.span, vertical: self.vertical, axial: self.axial };
+        let link = joint.link(
+            Jet2::variable(x[slot::THETA], 0),
+            Jet2::variable(x[slot::THETA0], 2),
+            Jet2::variable(x[slot::LAMBDA], 1),
+        );
+        link_block([slot::THETA, slot::LAMBDA, slot::THETA0], link)
     }
 
     fn eval<D: Elementary>(&self, x: &[D; slot::COUNT]) -> D {
@@ -214,9 +222,14 @@ impl Element<{ joint_slot::COUNT }> for DeflectionJointResidual {
         h
     }
 
-    /// The nonlinear block over `(u_i, λ, θ0_i)` only.
+    /// The nonlinear block over `(u_i, λ, θ0_i)` only, from the link's terms at `θ = θ0 + u`
+    /// (the springs are linear in these slots).
     fn varying_hessian(&self, x: &[f64; joint_slot::COUNT]) -> [[f64; joint_slot::COUNT]; joint_slot::COUNT] {
-        core_hessian(self, x, [joint_slot::U, joint_slot::LAMBDA, joint_slot::THETA0])
+        use joint_slot::*;
+        let joint = Joint { span: self.span, vertical: self.vertical, axial: self.axial };
+        let theta0 = Jet2::variable(x[THETA0], 2);
+        let link = joint.link(theta0 + Jet2::variable(x[U], 0), theta0, Jet2::variable(x[LAMBDA], 1));
+        link_block([U, LAMBDA, THETA0], link)
     }
 
     fn eval<D: Elementary>(&self, x: &[D; joint_slot::COUNT]) -> D {
@@ -227,21 +240,14 @@ impl Element<{ joint_slot::COUNT }> for DeflectionJointResidual {
     }
 }
 
-/// The block of the local Hessian over the `core` slots (the element's nonlinear ones), by one
-/// pass of second-order jets seeded there; the rest left zero. Still AD of [`Element::eval`].
-fn core_hessian<const M: usize, const C: usize, E: Element<M>>(
-    element: &E,
-    x: &[f64; M],
-    core: [usize; C],
-) -> [[f64; M]; M] {
+/// The Hessian block of a joint residual over its nonlinear slots `core` (lanes 0, 1, 2 of the
+/// jets), from its link's terms: `r = springs − load − reaction`, the springs linear there.
+fn link_block<const M: usize>(core: [usize; 3], link: LinkTerms<Jet2<3>>) -> [[f64; M]; M] {
     let mut h = [[0.0; M]; M];
-    let seeded: [Jet2<C>; M] = std::array::from_fn(|k| {
-        core.iter().position(|&c| c == k).map_or(Jet2::constant(x[k]), |p| Jet2::variable(x[k], p))
-    });
-    let v2 = element.eval(&seeded).hess;
+    let terms = link.load + link.reaction;
     for (a, &sa) in core.iter().enumerate() {
         for (b, &sb) in core.iter().enumerate() {
-            h[sa][sb] = v2[a][b];
+            h[sa][sb] = -terms.hess[a][b];
         }
     }
     h
