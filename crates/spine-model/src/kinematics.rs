@@ -5,6 +5,7 @@ use crate::Scalar;
 
 /// Length of a link of horizontal span `span` (m) designed at angle `theta0`:
 /// `L = a / cos θ0` (paper, Sec. 5 "length constraint"), m.
+#[inline(always)]
 pub fn link_length<D: Elementary>(span: f64, theta0: D) -> D {
     theta0.cos().recip() * span
 }

@@ -131,7 +131,7 @@ impl Joint {
     /// Link `i`'s terms at angle `θ_i`, unloaded angle `θ0_i` (rad) and slider reaction `λ` (N).
     /// `θ0_i` may be of another number type than `θ_i` and `λ` (a plain number where its
     /// derivatives are not wanted: then `L_i` costs one plain `cos`).
-    #[inline]
+    #[inline(always)]
     pub fn link<D, T>(&self, theta: D, theta0: T, lambda: D) -> LinkTerms<D>
     where
         D: Elementary + Mul<T, Output = D>,
