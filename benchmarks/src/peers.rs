@@ -238,6 +238,28 @@ impl PeerRow {
     }
 }
 
+/// Runs the peer script `benchmarks/peers/SCRIPT` with `python` on `args` (one thread for BLAS
+/// and OpenMP) and reads the JSON it writes to `out`, the last of `args`.
+pub fn run_script(
+    python: &str,
+    script: &str,
+    args: &[&std::path::Path],
+    out: &std::path::Path,
+) -> Result<serde_json::Value, String> {
+    let status = std::process::Command::new(python)
+        .arg(format!("benchmarks/peers/{script}"))
+        .args(args)
+        .env("OMP_NUM_THREADS", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .status()
+        .map_err(|e| format!("could not run {python}: {e}"))?;
+    if !status.success() {
+        return Err(format!("{script} exited with {status}"));
+    }
+    let text = std::fs::read_to_string(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", out.display()))
+}
+
 /// The comparison as a markdown table: every run's status (`✓` solve succeeded, `acc.`
 /// acceptable level only), iterations and wall time, then our best converged run against CasADi.
 pub fn table(rows: &[PeerRow]) -> String {

@@ -14,7 +14,6 @@ use spine_model::jacobian::residual_and_state_jacobian;
 use std::collections::HashMap;
 use std::hint::black_box;
 use std::path::Path;
-use std::process::Command;
 use std::time::Instant;
 
 /// Evaluations per timed batch: about 2·10⁵ joints, so that one batch takes milliseconds.
@@ -71,18 +70,7 @@ fn measure(python: &str, n: usize, dir: &Path) -> Result<AdPeerRow, String> {
     let point_json =
         serde_json::json!({ "x": hessian.x, "lambda": hessian.lambda, "sigma": hessian.sigma, "batch": count });
     std::fs::write(&point, point_json.to_string()).map_err(|e| e.to_string())?;
-    let status = Command::new(python)
-        .arg("benchmarks/peers/casadi_ad.py")
-        .args([&case, &point, &out])
-        .env("OMP_NUM_THREADS", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .status()
-        .map_err(|e| format!("could not run {python}: {e}"))?;
-    if !status.success() {
-        return Err(format!("casadi_ad.py exited with {status}"));
-    }
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&out).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    let v = peers::run_script(python, "casadi_ad.py", &[&case, &point, &out], &out)?;
 
     // Ours, on the same point: the passive rows at (θ1, λ1) of the fixture's start design.
     let (spans, loads) = (&design.problem.structure.chain.spans, design.problem.passive_loads());

@@ -27,7 +27,6 @@ use spine_design::start_point::FullSpaceStart;
 use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
 use spine_model::{Design, State};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
@@ -115,18 +114,7 @@ fn write(path: &Path, value: &serde_json::Value) {
 }
 
 fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(SolverRun, State, State), String> {
-    let status = Command::new(python)
-        .arg("benchmarks/peers/casadi_static.py")
-        .args([case, start, out])
-        .env("OMP_NUM_THREADS", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .status()
-        .map_err(|e| format!("could not run {python}: {e}"))?;
-    if !status.success() {
-        return Err(format!("casadi_static.py exited with {status}"));
-    }
-    let text = std::fs::read_to_string(out).map_err(|e| e.to_string())?;
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+    let v = peers::run_script(python, "casadi_static.py", &[case, start, out], out)?;
     let floats = |k: &str| -> Vec<f64> {
         v[k].as_array().map(|a| a.iter().filter_map(|x| x.as_f64()).collect()).unwrap_or_default()
     };

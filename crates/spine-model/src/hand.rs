@@ -7,6 +7,7 @@
 //! are the vertical and axial load resultants of eq. (48).
 
 use crate::kinematics::link_length;
+use crate::residual::joint_deflections;
 use crate::sparse::BorderedTridiagonal;
 use crate::{Design, LinkLoads, State};
 
@@ -29,17 +30,37 @@ pub fn state_jacobian(spans: &[f64], design: &Design, loads: &LinkLoads, state: 
     let mut jac = BorderedTridiagonal::zeros(n);
     for i in 0..n {
         let length = link_length(spans[i], design.theta0[i]);
-        let (s, c) = state.theta[i].sin_cos();
-        jac.diag[i] =
-            k[i] + k[i + 1] + length * (loads.vertical[i] * s + loads.axial[i] * c) + state.lambda * length * s;
-        if i + 1 < n {
-            jac.upper[i] = -k[i + 1];
-            jac.lower[i] = -k[i + 1];
-        }
-        jac.column[i] = -length * c;
-        jac.row[i] = length * c;
+        jacobian_row(
+            &mut jac,
+            i,
+            k,
+            (loads.vertical[i], loads.axial[i]),
+            state.lambda,
+            length,
+            state.theta[i].sin_cos(),
+        );
     }
     jac
+}
+
+/// Row `i` of [`state_jacobian`] and its border entries, from `L_i` and `(sin θ_i, cos θ_i)`.
+#[inline]
+fn jacobian_row(
+    jac: &mut BorderedTridiagonal,
+    i: usize,
+    k: &[f64],
+    (vertical, axial): (f64, f64),
+    lambda: f64,
+    length: f64,
+    (s, c): (f64, f64),
+) {
+    jac.diag[i] = k[i] + k[i + 1] + length * (vertical * s + axial * c) + lambda * length * s;
+    if i + 1 < jac.block_size() {
+        jac.upper[i] = -k[i + 1];
+        jac.lower[i] = -k[i + 1];
+    }
+    jac.column[i] = -length * c;
+    jac.row[i] = length * c;
 }
 
 /// The residual of eq. (5) and [`state_jacobian`] in one loop, written by hand: one `sin_cos` of
@@ -57,23 +78,14 @@ pub fn residual_and_state_jacobian(
     let mut jac = BorderedTridiagonal::zeros(n);
     let mut r = Vec::with_capacity(n + 1);
     let mut phi = 0.0;
-    let d = |i: usize| state.theta[i] - design.theta0[i];
     for i in 0..n {
         let length = link_length(spans[i], design.theta0[i]);
         let (s, c) = state.theta[i].sin_cos();
-        let (before, here) = (if i > 0 { d(i - 1) } else { 0.0 }, d(i));
-        let after = if i + 1 < n { d(i + 1) } else { 0.0 };
+        let [before, here, after] = joint_deflections(&state.theta, &design.theta0, i);
         let load = (c * loads.vertical[i] - s * loads.axial[i]) * length;
         r.push((here - before) * k[i] - (after - here) * k[i + 1] - load - state.lambda * length * c);
         phi += length * s;
-        jac.diag[i] =
-            k[i] + k[i + 1] + length * (loads.vertical[i] * s + loads.axial[i] * c) + state.lambda * length * s;
-        if i + 1 < n {
-            jac.upper[i] = -k[i + 1];
-            jac.lower[i] = -k[i + 1];
-        }
-        jac.column[i] = -length * c;
-        jac.row[i] = length * c;
+        jacobian_row(&mut jac, i, k, (loads.vertical[i], loads.axial[i]), state.lambda, length, (s, c));
     }
     r.push(phi);
     (r, jac)

@@ -6,7 +6,7 @@
 
 use crate::jet::Jet;
 use crate::kinematics::link_rise;
-use crate::residual::{slot, spring_moment, Joint, JointStencil};
+use crate::residual::{joint_deflections, slot, spring_moment, Joint, JointStencil};
 use crate::sparse::{BorderedTridiagonal, SparseMatrix};
 use crate::{Design, LinkLoads, State};
 use nalgebra::{Const, U1};
@@ -60,12 +60,9 @@ pub fn residual_and_state_jacobian(
     let mut jac = BorderedTridiagonal::zeros(n);
     let mut r = Vec::with_capacity(n + 1);
     let (theta, theta0, k) = (&state.theta, &design.theta0, &design.stiffness);
-    let deflection = |j: usize| theta[j] - theta0[j];
     let mut phi = 0.0;
     for i in 0..n {
-        let before = if i > 0 { deflection(i - 1) } else { 0.0 };
-        let after = if i + 1 < n { deflection(i + 1) } else { 0.0 };
-        let lanes = [before, deflection(i), after];
+        let lanes = joint_deflections(theta, theta0, i);
         let spring = spring_moment(std::array::from_fn(|s| Jet::<3>::variable(lanes[s], s)), [k[i], k[i + 1]]);
         let joint = Joint { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i] };
         let link = joint.link(Jet::<2>::variable(theta[i], 0), theta0[i], Jet::variable(state.lambda, 1));
@@ -110,12 +107,10 @@ pub struct JointDerivatives {
 pub fn joint_derivatives(spans: &[f64], design: &Design, loads: &LinkLoads, state: &State) -> Vec<JointDerivatives> {
     let n = spans.len();
     let (theta, theta0, k) = (&state.theta, &design.theta0, &design.stiffness);
-    let deflection = |j: usize| theta[j] - theta0[j];
     (0..n)
         .map(|i| {
-            let before = if i > 0 { deflection(i - 1) } else { 0.0 };
-            let after = if i + 1 < n { deflection(i + 1) } else { 0.0 };
-            let lanes = [before, deflection(i), after, k[i], k[i + 1]];
+            let [before, here, after] = joint_deflections(theta, theta0, i);
+            let lanes = [before, here, after, k[i], k[i + 1]];
             let x: [Jet<5>; 5] = std::array::from_fn(|s| Jet::variable(lanes[s], s));
             let spring = spring_moment([x[0], x[1], x[2]], [x[3], x[4]]);
             let joint = Joint { span: spans[i], vertical: loads.vertical[i], axial: loads.axial[i] };

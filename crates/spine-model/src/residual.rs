@@ -90,6 +90,16 @@ pub struct Joint {
     pub axial: f64,
 }
 
+/// Joint row `i`'s deflections `[Δθ_{i−1}, Δθ_i, Δθ_{i+1}]`, rad (`Δθ = θ − θ0`, zero for a
+/// missing neighbour): the first argument of [`spring_moment`].
+#[inline]
+pub fn joint_deflections(theta: &[f64], theta0: &[f64], i: usize) -> [f64; 3] {
+    let deflection = |j: usize| theta[j] - theta0[j];
+    let before = if i > 0 { deflection(i - 1) } else { 0.0 };
+    let after = if i + 1 < theta.len() { deflection(i + 1) } else { 0.0 };
+    [before, deflection(i), after]
+}
+
 /// The springs' moment on link `i`, N·m: `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i)`
 /// (eq. (47)). `deflections` are `[Δθ_{i−1}, Δθ_i, Δθ_{i+1}]` (rad, `Δθ = θ − θ0`, zero for a
 /// missing neighbour), `stiffness` `[K_i, K_{i+1}]` (N·m/rad). Linear in the deflections,

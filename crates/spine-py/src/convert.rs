@@ -194,7 +194,7 @@ fn numbers(items: &[serde_json::Value]) -> Option<Result<Vec<i64>, Vec<f64>>> {
 
 /// A JSON array as a numpy array: 1-D of numbers, or 2-D from rows of numbers of equal length.
 fn numeric_array<'py>(py: Python<'py>, items: &[serde_json::Value]) -> PyResult<Option<Bound<'py, PyAny>>> {
-    use numpy::{PyArray2, PyArrayMethods};
+    use numpy::PyArrayMethods;
     if let Some(values) = numbers(items) {
         return Ok(Some(match values {
             Ok(ints) => PyArray1::from_vec(py, ints).into_any(),
@@ -214,7 +214,5 @@ fn numeric_array<'py>(py: Python<'py>, items: &[serde_json::Value]) -> PyResult<
             Err(floats) => floats,
         })
         .collect();
-    let array = PyArray1::from_vec(py, floats).reshape([items.len(), width])?;
-    let _: &Bound<'py, PyArray2<f64>> = &array;
-    Ok(Some(array.into_any()))
+    Ok(Some(PyArray1::from_vec(py, floats).reshape([items.len(), width])?.into_any()))
 }
