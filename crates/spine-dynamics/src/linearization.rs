@@ -17,6 +17,9 @@ pub type Complex64 = Complex<f64>;
 pub trait ShiftedSolve<T> {
     /// `rhs ← (σ I − J̃)⁻¹ rhs` (non-finite entries when the matrix is singular).
     fn solve(&self, rhs: &mut [T]);
+    /// `rhs ← (σ I − J̃)⁻ᵀ rhs`: the transpose (not the conjugate transpose), for the adjoint
+    /// of a step ([`crate::integrator::adjoint`]).
+    fn solve_transpose(&self, rhs: &mut [T]);
 }
 
 /// `J̃` at one point `(t, y)`, ready to be factored for any shift.
@@ -30,22 +33,37 @@ pub trait Linearization {
 /// The dense Jacobian `∂f/∂y`, factored by LU with partial pivoting (`O(n³)` per shift).
 pub struct DenseJacobian(pub DMatrix<f64>);
 
-struct DenseLu<T: ComplexField>(nalgebra::LU<T, Dyn, Dyn>);
+/// The LU of `σ I − J̃`, and that of its transpose when a transposed solve first asks for it.
+struct DenseLu<T: ComplexField> {
+    matrix: DMatrix<T>,
+    lu: nalgebra::LU<T, Dyn, Dyn>,
+    transposed: std::cell::OnceCell<nalgebra::LU<T, Dyn, Dyn>>,
+}
+
+fn lu_solve<T: ComplexField + From<f64>>(lu: &nalgebra::LU<T, Dyn, Dyn>, rhs: &mut [T]) {
+    let b = DVector::from_column_slice(rhs);
+    match lu.solve(&b) {
+        Some(x) => rhs.clone_from_slice(x.as_slice()),
+        None => rhs.iter_mut().for_each(|v| *v = T::from(f64::NAN)),
+    }
+}
 
 impl<T: ComplexField + From<f64>> ShiftedSolve<T> for DenseLu<T> {
     fn solve(&self, rhs: &mut [T]) {
-        let b = DVector::from_column_slice(rhs);
-        match self.0.solve(&b) {
-            Some(x) => rhs.clone_from_slice(x.as_slice()),
-            None => rhs.iter_mut().for_each(|v| *v = T::from(f64::NAN)),
-        }
+        lu_solve(&self.lu, rhs);
+    }
+
+    fn solve_transpose(&self, rhs: &mut [T]) {
+        lu_solve(self.transposed.get_or_init(|| self.matrix.transpose().lu()), rhs);
     }
 }
 
 fn shifted<T: ComplexField + From<f64>>(jacobian: DMatrix<T>, shift: T) -> Option<Box<dyn ShiftedSolve<T>>> {
     let n = jacobian.nrows();
-    let lu = (DMatrix::<T>::identity(n, n) * shift - jacobian).lu();
-    lu.is_invertible().then(|| Box::new(DenseLu(lu)) as Box<dyn ShiftedSolve<T>>)
+    let matrix = DMatrix::<T>::identity(n, n) * shift - jacobian;
+    let lu = matrix.clone().lu();
+    lu.is_invertible()
+        .then(|| Box::new(DenseLu { matrix, lu, transposed: Default::default() }) as Box<dyn ShiftedSolve<T>>)
 }
 
 impl Linearization for DenseJacobian {

@@ -94,7 +94,8 @@ impl ChainLinearization {
         let ag = chain.solve(&g);
         let gag = dot(&g, &ag);
         let stiffness = c.stiffness.iter().map(|&v| T::from(v)).collect();
-        Some(ChainFactor { data: Rc::clone(&self.0), inv, chain, g, ag, gag, stiffness })
+        let damping = c.damping.iter().map(|&v| T::from(v)).collect();
+        Some(ChainFactor { data: Rc::clone(&self.0), inv, chain, g, ag, gag, sigma, stiffness, damping })
     }
 }
 
@@ -155,8 +156,10 @@ struct ChainFactor<T> {
     g: Vec<T>,
     ag: Vec<T>,
     gag: T,
-    /// `K_1..K_{N+1}` in the number type.
+    /// `σ`; `K_1..K_{N+1}` and `C_1..C_{N+1}` in the number type.
+    sigma: T,
     stiffness: Vec<T>,
+    damping: Vec<T>,
 }
 
 impl<T: ChainNumber> ShiftedSolve<T> for ChainFactor<T> {
@@ -175,6 +178,31 @@ impl<T: ChainNumber> ShiftedSolve<T> for ChainFactor<T> {
         for i in 0..n {
             let u = au[i] - mu * self.ag[i];
             r1[i] = (r1[i] + u) * self.inv;
+            r2[i] = u;
+        }
+    }
+
+    /// `(σ I − J̃)ᵀ = [[σ I, K̃ W], [−I, σ I + C_m W]]` (`W`, `K̃`, `C_m` symmetric): with `w = W u`
+    /// the second row gives `x = σ u + C_m w − r₂` and the first `u + B w = b`, `B = (C_m +
+    /// K̃/σ)/σ`, `b = (r₁/σ + r₂)/σ`; `w = W u` is `M w − μ ∇Φ = u`, `∇Φᵀ w = 0`, so `(M + B) w − μ
+    /// ∇Φ = b`: the bordered system of [`Self::solve`] with another right-hand side, then `u = b −
+    /// B w`.
+    fn solve_transpose(&self, rhs: &mut [T]) {
+        let c = &self.data;
+        let n = c.trig.len();
+        let (r1, r2) = rhs.split_at_mut(n);
+        let mut w: Vec<T> = (0..n).map(|i| (r1[i] * self.inv + r2[i]) * self.inv).collect();
+        let b = w.clone();
+        self.chain.solve_in_place([&mut w]);
+        let mu = dot(&self.g, &w) / self.gag;
+        for (wi, &agi) in w.iter_mut().zip(&self.ag) {
+            *wi -= mu * agi;
+        }
+        let damped = joint_moments(&self.damping, &w);
+        let sprung = c.stiffness_times(&self.stiffness, &w);
+        for i in 0..n {
+            let u = b[i] - (damped[i] + sprung[i] * self.inv) * self.inv;
+            r1[i] = self.sigma * u + damped[i] - r2[i];
             r2[i] = u;
         }
     }
@@ -258,6 +286,58 @@ mod tests {
                     assert!((a[i] - b[i]).norm() < 1e-9 * scale, "N={n} σ={shift} [{i}]: {} vs {}", a[i], b[i]);
                 }
             }
+        }
+    }
+
+    /// The transposed solve is the transpose of the solve: `aᵀ (F⁻¹ b) = (F⁻ᵀ a)ᵀ b` for the
+    /// structured factor in motion (where `J̃` is not symmetric in any sense), real and complex,
+    /// and the dense LU's transposed solve agrees with the structured one at rest.
+    #[test]
+    fn the_transposed_solve_is_the_transpose_of_the_solve() {
+        let problem = arch_problem(7, 30.0);
+        let ends = problem.static_ends(&Default::default()).expect("stable ends");
+        let d = problem.dynamics(Forcing::Step);
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
+        let traj = crate::integrate(
+            &ode,
+            0.0,
+            &ends.rest_state(),
+            0.02,
+            &Default::default(),
+            crate::integrator::Extras::default(),
+        );
+        let y = traj.end().to_vec();
+        let fast = ChainLinearization::new(&d, 0.02, 0.02, &y);
+        let (a, b) = (pattern(14, 0.37), pattern(14, 1.9));
+        let dot_r = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+        for sigma in [5.0, 3e2, 4e4] {
+            let f = fast.factor_real(sigma).unwrap();
+            let (mut fb, mut fa) = (b.clone(), a.clone());
+            f.solve(&mut fb);
+            f.solve_transpose(&mut fa);
+            let (left, right) = (dot_r(&a, &fb), dot_r(&fa, &b));
+            assert!((left - right).abs() <= 1e-12 * left.abs().max(right.abs()), "σ = {sigma}: {left} vs {right}");
+            let shift = Complex64::new(0.6 * sigma, -0.8 * sigma);
+            let f = fast.factor_complex(shift).unwrap();
+            let ac: Vec<Complex64> = a.iter().zip(&b).map(|(&x, &y)| Complex64::new(x, y)).collect();
+            let bc: Vec<Complex64> = b.iter().zip(pattern(14, 0.2)).map(|(&x, y)| Complex64::new(x, y)).collect();
+            let (mut fb, mut fa) = (bc.clone(), ac.clone());
+            f.solve(&mut fb);
+            f.solve_transpose(&mut fa);
+            let dot_c = |x: &[Complex64], y: &[Complex64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<Complex64>();
+            let (left, right) = (dot_c(&ac, &fb), dot_c(&fa, &bc));
+            assert!((left - right).norm() <= 1e-12 * left.norm().max(right.norm()), "σ = {shift}: {left} vs {right}");
+        }
+        let (d, y) = at_rest(6);
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
+        let dense = DenseJacobian(ode.jacobian(0.0, 0.0, &y));
+        let fast = ChainLinearization::new(&d, 0.0, 0.0, &y);
+        let (mut p, mut q) = (pattern(12, 0.8), pattern(12, 0.8));
+        fast.factor_real(50.0).unwrap().solve_transpose(&mut p);
+        dense.factor_real(50.0).unwrap().solve_transpose(&mut q);
+        let scale = q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..12 {
+            assert!((p[i] - q[i]).abs() < 1e-9 * scale, "[{i}]: {} vs {}", p[i], q[i]);
         }
     }
 

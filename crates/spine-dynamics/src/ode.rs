@@ -43,6 +43,10 @@ pub trait OdeSystem {
     fn project(&self, _y: &mut [f64]) {}
     /// `S ← (∂ project / ∂y) S` at the unprojected `y` (default: identity).
     fn project_sensitivities(&self, _y: &[f64], _s: &mut DMatrix<f64>) {}
+    /// `a ← (∂ project / ∂y)ᵀ a` at the unprojected `y`, the transpose of
+    /// [`OdeSystem::project_sensitivities`] (default: identity; a system that projects supplies
+    /// both).
+    fn project_adjoint(&self, _y: &[f64], _a: &mut [f64]) {}
     /// Instants in `(t0, t1)` where `f` is discontinuous in `t`, increasing.
     fn breakpoints(&self, _t0: f64, _t1: f64) -> Vec<f64> {
         Vec::new()

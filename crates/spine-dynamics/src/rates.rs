@@ -200,6 +200,50 @@ impl RatesAt<'_> {
 }
 
 impl Dynamics {
+    /// `a ← (∂ project/∂y)ᵀ a` at the unprojected `y`: the transpose of [`Self::project_tangent`]
+    /// for one row vector (the adjoint of a step, [`crate::integrator::adjoint`]), in reverse
+    /// order: the velocity projection, then the sweeps from the last to the first.
+    pub fn project_adjoint(&self, y: &[f64], a: &mut [f64]) {
+        let n = self.n_links();
+        let l = &self.lengths;
+        let omega = &y[n..];
+        // Each sweep's `∇Φ`, `∂∇Φ` (diagonal), `s = Φ/|∇Φ|²` and `|∇Φ|²`, then the final angles'.
+        let mut theta = y[..n].to_vec();
+        let mut sweeps: Vec<(Vec<f64>, Vec<f64>, f64, f64)> = Vec::with_capacity(crate::eom::PROJECTION_SWEEPS + 1);
+        for k in 0..=crate::eom::PROJECTION_SWEEPS {
+            let (mut g, mut curvature, mut phi) = (vec![0.0; n], vec![0.0; n], 0.0);
+            for i in 0..n {
+                let (si, ci) = theta[i].sin_cos();
+                phi += l[i] * si;
+                g[i] = l[i] * ci;
+                curvature[i] = -l[i] * si;
+            }
+            let gg: f64 = g.iter().map(|v| v * v).sum();
+            let step = phi / gg;
+            if k < crate::eom::PROJECTION_SWEEPS {
+                for i in 0..n {
+                    theta[i] -= g[i] * step;
+                }
+            }
+            sweeps.push((g, curvature, step, gg));
+        }
+        let (a_theta, a_omega) = a.split_at_mut(n);
+        let (g, curvature, _, gg) = sweeps.pop().expect("the final angles");
+        let rate = g.iter().zip(omega).map(|(x, w)| x * w).sum::<f64>() / gg;
+        let b: f64 = g.iter().zip(a_omega.iter()).map(|(x, w)| x * w).sum();
+        for i in 0..n {
+            a_theta[i] -= a_omega[i] * rate * curvature[i]
+                + b * (curvature[i] * omega[i] - 2.0 * rate * g[i] * curvature[i]) / gg;
+            a_omega[i] -= b * g[i] / gg;
+        }
+        for (g, curvature, step, gg) in sweeps.iter().rev() {
+            let b: f64 = g.iter().zip(a_theta.iter()).map(|(x, w)| x * w).sum();
+            for i in 0..n {
+                a_theta[i] -= curvature[i] * step * a_theta[i] + b * (g[i] - 2.0 * step * g[i] * curvature[i]) / gg;
+            }
+        }
+    }
+
     /// `S ← (∂ project/∂y) S` at the unprojected `y` ([`Dynamics::project`]: Gauss–Newton sweeps
     /// of `θ` onto `Φ = 0`, then `θ̇` onto `Φ̇ = 0`), for all columns of `S` at once in real
     /// arithmetic: each sweep `θ ← θ − ∇Φ s`, `s = Φ/|∇Φ|²`, moves a direction `dθ` by

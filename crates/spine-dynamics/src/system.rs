@@ -144,6 +144,10 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.project_tangent(y, s);
     }
 
+    fn project_adjoint(&self, y: &[f64], a: &mut [f64]) {
+        self.dynamics.project_adjoint(y, a);
+    }
+
     fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
         self.dynamics.forcing.breakpoints(t0, t1)
     }

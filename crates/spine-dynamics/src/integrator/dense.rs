@@ -50,7 +50,8 @@ impl Interval {
         Self { collocation, t0, t1, y0, y1, f0, f1, sens }
     }
 
-    fn weights(&self, t: f64) -> ([f64; 4], [f64; 4]) {
+    /// The cubic Hermite weights `(b, ḃ)` of `(y₀, ẏ₀, y₁, ẏ₁)` at `t`.
+    pub(super) fn weights(&self, t: f64) -> ([f64; 4], [f64; 4]) {
         let h = self.t1 - self.t0;
         hermite(((t - self.t0) / h).clamp(0.0, 1.0), h)
     }

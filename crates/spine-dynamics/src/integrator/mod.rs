@@ -26,6 +26,7 @@
 //! and driver), [`crate::newton`] (the chain's Newton matrices), [`dense`] (dense output and events); this file
 //! holds what the drivers share (stops, landing on breakpoints, projection).
 
+pub mod adjoint;
 mod dense;
 mod event;
 mod options;

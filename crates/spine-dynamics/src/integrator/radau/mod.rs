@@ -23,6 +23,7 @@
 //! the step-size prediction), [`sensitivities`] (the step's forward sensitivities); this file is
 //! the driver.
 
+pub(super) mod adjoint;
 mod sensitivities;
 mod stages;
 
@@ -34,8 +35,8 @@ use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 use sensitivities::step_sensitivities;
 use stages::{
-    carried_contraction, collocation, factor, newton_tol, predict_factor, Collocation, Factors, Polynomial, Stages,
-    Workspace,
+    carried_contraction, collocation, factor, newton_tol, predict_factor, Collocation, Factors, Orientation,
+    Polynomial, Stages, Workspace,
 };
 use stages::{C, E, NEWTON_MAXITER};
 
@@ -236,7 +237,7 @@ impl<'a> Run<'a> {
             sys.rhs_into(t + C[i] * h_step, piece, &yi, fi);
         };
         let carried = carried_contraction(*contraction);
-        let col = collocation(&mut stage, guess, fa, &norm, *tol, carried, NEWTON_MAXITER, work);
+        let col = collocation(Orientation::Stages, &mut stage, guess, fa, &norm, *tol, carried, NEWTON_MAXITER, work);
         stats.newton_failures += usize::from(col.is_none());
         if let Some(col) = &col {
             *contraction = col.contraction(carried);

@@ -4,7 +4,7 @@
 
 use super::super::options::Stats;
 use super::super::DENSE_AFTER;
-use super::stages::{collocation, Factors, Stages, Workspace, A, C};
+use super::stages::{collocation, Factors, Orientation, Stages, Workspace, A, C};
 use crate::ode::OdeSystem;
 use nalgebra::DMatrix;
 
@@ -65,8 +65,18 @@ pub(super) fn step_sensitivities(
         // When the linear iteration does not converge (not seen in the tests: the stages' own
         // iteration converged with the same matrices), the first-order guess `c_i h Ṡ₀` stands. No
         // contraction is carried in (∞): it runs at least two iterations, to round-off.
-        let dz = collocation(&mut stage, guess.clone(), factors, &norm, 1e-13, f64::INFINITY, 60, &mut work)
-            .map_or(guess, |c| c.z);
+        let dz = collocation(
+            Orientation::Stages,
+            &mut stage,
+            guess.clone(),
+            factors,
+            &norm,
+            1e-13,
+            f64::INFINITY,
+            60,
+            &mut work,
+        )
+        .map_or(guess, |c| c.z);
         for j in 0..n {
             s1[(j, k)] += dz[2][j];
         }

@@ -36,6 +36,28 @@ pub(super) const TI: [[f64; 3]; 3] = [
     [-4.178_718_591_551_904_28, -0.327_682_820_761_062_37, 0.476_623_554_500_550_44],
     [0.502_872_634_945_786_82, -2.571_926_949_855_605_22, 0.596_039_204_828_224_92],
 ];
+/// Which collocation system [`collocation`] solves: a step's stages, `Z = h (A ⊗ I) F(Z)`, or
+/// the adjoint of an accepted step, `V = h (Aᵀ ⊗ I) G(V)`. With `A⁻ᵀ = T⁻ᵀ Λᵀ Tᵀ` the adjoint
+/// iterates on `Tᵀ V`, its complex pair has the shift `(α + iβ)/h` and its Newton matrices are the
+/// transposes `(σ I − J̃)ᵀ` of the step's (for the real `J̃`, `((α + iβ)/h I − J̃ᵀ)⁻¹ r =
+/// conj(((α − iβ)/h I − J̃)⁻ᵀ conj(r))`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Orientation {
+    Stages,
+    Adjoint,
+}
+
+impl Orientation {
+    /// The transform into the iteration's variables and back.
+    fn transforms(self) -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
+        let transpose = |m: [[f64; 3]; 3]| std::array::from_fn(|r| std::array::from_fn(|c| m[c][r]));
+        match self {
+            Self::Stages => (TI, T),
+            Self::Adjoint => (transpose(T), transpose(TI)),
+        }
+    }
+}
+
 /// The collocation polynomial `y(t₀ + x h) = y₀ + Σ_k (Σ_i Z_i P_ik) x^{k+1}`: the guess of the next
 /// step's stages.
 pub(super) const P: [[f64; 3]; 3] = [
@@ -129,6 +151,7 @@ pub(super) fn carried_contraction(last: f64) -> f64 {
 /// allocates nothing for them).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn collocation(
+    orientation: Orientation,
     stage: &mut StageFunction<'_>,
     z0: Stages,
     factors: &Factors,
@@ -150,11 +173,14 @@ pub(super) fn collocation(
             }
         }
     };
-    transform(&TI, &z0, w);
+    let adjoint = orientation == Orientation::Adjoint;
+    let (into, back) = orientation.transforms();
+    transform(&into, &z0, w);
     let mut z = z0;
     let mut previous: Option<f64> = None;
     let mut rate;
-    let (mu, mu_c) = (MU_REAL / h, Complex64::new(MU_ALPHA, -MU_BETA) / h);
+    let beta = if adjoint { MU_BETA } else { -MU_BETA };
+    let (mu, mu_c) = (MU_REAL / h, Complex64::new(MU_ALPHA, beta) / h);
     for k in 0..max_iterations {
         for (i, (fi, zi)) in f.iter_mut().zip(&z).enumerate() {
             stage(i, zi, fi);
@@ -162,15 +188,22 @@ pub(super) fn collocation(
         if f.iter().flatten().any(|v| !v.is_finite()) {
             return None;
         }
-        transform(&TI, f, tf);
+        transform(&into, f, tf);
         for (j, x) in real.iter_mut().enumerate() {
             *x = tf[0][j] - mu * w[0][j];
         }
         for (j, x) in complex.iter_mut().enumerate() {
             *x = Complex64::new(tf[1][j], tf[2][j]) - mu_c * Complex64::new(w[1][j], w[2][j]);
         }
-        factors.real.solve(real);
-        factors.complex.solve(complex);
+        if adjoint {
+            factors.real.solve_transpose(real);
+            complex.iter_mut().for_each(|c| *c = c.conj());
+            factors.complex.solve_transpose(complex);
+            complex.iter_mut().for_each(|c| *c = c.conj());
+        } else {
+            factors.real.solve(real);
+            factors.complex.solve(complex);
+        }
         dw[0].copy_from_slice(real);
         for (j, c) in complex.iter().enumerate() {
             (dw[1][j], dw[2][j]) = (c.re, c.im);
@@ -194,7 +227,7 @@ pub(super) fn collocation(
         for (wr, dr) in w.iter_mut().zip(dw.iter()) {
             wr.iter_mut().zip(dr).for_each(|(a, b)| *a += b);
         }
-        transform(&T, w, &mut z);
+        transform(&back, w, &mut z);
         // Stalled at round-off, a correction a tenth of the tolerance, or a predicted remaining
         // error below it: done.
         let stalled = slow && noise;

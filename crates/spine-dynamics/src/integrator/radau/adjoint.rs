@@ -1,0 +1,181 @@
+//! The discrete adjoint of an accepted Radau IIA step: the transpose of its internal
+//! differentiation ([`super::sensitivities`]), so that a backward sweep gives the same gradients
+//! as the forward sensitivities, to round-off, with one sweep per output instead of one column
+//! per parameter.
+//!
+//! The step `y₁ = P(y₀ + Z₃)` (`P` the projection) with stages `Z = h (A ⊗ I) F(y₀ + Z)` has the
+//! tangent `dZ = h (A ⊗ I) (J_j (dy₀ + dZ_j) + ∂f/∂p_j dp)_j`. For an adjoint `λ₁` of `y₁`, with
+//! `μ = Pᵀ λ₁` and `V` solving `V_j = h Σ_i a_ij (J_iᵀ V_i + δ_i3 μ)` (the stage system with `Aᵀ`,
+//! [`Orientation::Adjoint`]),
+//!
+//! `λ₁ᵀ dy₁ = (μ + Σ_j J_jᵀ V_j)ᵀ dy₀ + (Σ_j ∂f/∂p_jᵀ V_j)ᵀ dp`.
+//!
+//! The stage values come back from the stored collocation polynomial (`Z_i = y(t₀ + c_i h) − y₀`);
+//! `J_j` and `∂f/∂p_j` are the system's at the stage points; the adjoint stage system is solved
+//! by the stages' own transformed iteration with the transposed Newton matrices (`O(N)` for the
+//! chain), to round-off, or, where that iteration does not converge, by one LU of the
+//! `3n × 3n` matrix.
+
+use super::super::dense::Interval;
+use super::super::options::Stats;
+use super::stages::{collocation, factor, Factors, Orientation, Stages, Workspace, A, C};
+use crate::ode::OdeSystem;
+use nalgebra::{DMatrix, DVector};
+
+/// The Newton matrices of the last step swept back, kept while the step size does not change (as
+/// the forward run keeps them) and refreshed when the adjoint iteration slows.
+#[derive(Default)]
+pub(in crate::integrator) struct AdjointWork {
+    factors: Option<Factors>,
+    work: Workspace,
+}
+
+/// Iterations after which the next step takes fresh Newton matrices.
+const SLOW: usize = 4;
+
+/// `(λ₀, ∂/∂p)` of an accepted step for the adjoints `λ₁` (columns) of its end: see the module
+/// docs. `None` when the interval has no collocation polynomial (not a Radau IIA step) or its
+/// Newton matrices are singular.
+pub(in crate::integrator) fn step_adjoint(
+    sys: &dyn OdeSystem,
+    iv: &Interval,
+    lambda1: &DMatrix<f64>,
+    work: &mut AdjointWork,
+    stats: &mut Stats,
+) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    let q = iv.collocation.as_ref()?;
+    let (n, m) = (iv.y0.len(), lambda1.ncols());
+    let h = iv.t1 - iv.t0;
+    // Any time inside the step is inside its smooth piece of `f`.
+    let piece = 0.5 * (iv.t0 + iv.t1);
+    let z: Stages = std::array::from_fn(|i| {
+        let x = C[i];
+        (0..n).map(|j| x * (q[0][j] + x * (q[1][j] + x * q[2][j]))).collect()
+    });
+    let unprojected: Vec<f64> = (0..n).map(|j| iv.y0[j] + z[2][j]).collect();
+    let mut mu = lambda1.clone();
+    for mut column in mu.column_iter_mut() {
+        sys.project_adjoint(&unprojected, column.as_mut_slice());
+    }
+    stats.jacobian_evaluations += 3;
+    let (jac, params): (Vec<DMatrix<f64>>, Vec<DMatrix<f64>>) = (0..3)
+        .map(|i| {
+            let yi: Vec<f64> = (0..n).map(|j| iv.y0[j] + z[i][j]).collect();
+            sys.jacobian_and_params(iv.t0 + C[i] * h, piece, &yi)
+        })
+        .unzip();
+    let jac_t: Vec<DMatrix<f64>> = jac.iter().map(|j| j.transpose()).collect();
+    if work.factors.as_ref().is_none_or(|f| f.h != h) {
+        stats.jacobian_evaluations += 1;
+        work.factors = factor(sys.linearize(iv.t0, piece, &iv.y0).as_ref(), h, stats);
+    }
+    let mut lambda0 = mu.clone();
+    let mut gradient = DMatrix::zeros(params[0].ncols(), m);
+    for k in 0..m {
+        let mu_k: Vec<f64> = mu.column(k).iter().copied().collect();
+        let size = mu_k.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if size == 0.0 {
+            continue;
+        }
+        let v = match stage_adjoint(&jac_t, &mu_k, work, stats) {
+            Some(v) => v,
+            None => direct(&jac, &mu_k, h)?,
+        };
+        for j in 0..3 {
+            let vj = DVector::from_column_slice(&v[j]);
+            let (to_state, to_params) = (&jac_t[j] * &vj, params[j].tr_mul(&vj));
+            for (l, x) in lambda0.column_mut(k).iter_mut().zip(to_state.iter()) {
+                *l += x;
+            }
+            for (g, x) in gradient.column_mut(k).iter_mut().zip(to_params.iter()) {
+                *g += x;
+            }
+        }
+    }
+    Some((lambda0, gradient))
+}
+
+/// `V` of the module docs by the transformed iteration with the transposed Newton matrices, run to
+/// round-off relative to `h |μ|` (the size of `V`); `None` when it does not converge (the next step
+/// then refactors).
+fn stage_adjoint(jac_t: &[DMatrix<f64>], mu: &[f64], work: &mut AdjointWork, stats: &mut Stats) -> Option<Stages> {
+    let factors = work.factors.as_ref()?;
+    let n = mu.len();
+    let scale = factors.h * mu.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut stage = |i: usize, v: &[f64], out: &mut [f64]| {
+        let jv = &jac_t[i] * DVector::from_column_slice(v);
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = jv[j] + if i == 2 { mu[j] } else { 0.0 };
+        }
+    };
+    let norm = |dw: &Stages| dw.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs())) / scale;
+    let guess: Stages = std::array::from_fn(|_| vec![0.0; n]);
+    let col =
+        collocation(Orientation::Adjoint, &mut stage, guess, factors, &norm, 1e-13, f64::INFINITY, 60, &mut work.work);
+    stats.newton_iterations += col.as_ref().map_or(60, |c| c.iterations);
+    if col.as_ref().is_none_or(|c| c.iterations > SLOW) {
+        work.factors = None;
+    }
+    col.map(|c| c.z)
+}
+
+/// `V` of the module docs by one LU of `I − h (A ⊗ I) diag(J_j)`: `Mᵀ W = e₃ ⊗ μ`, `V = h (Aᵀ ⊗
+/// I) W`. `None` where the matrix is singular.
+fn direct(jac: &[DMatrix<f64>], mu: &[f64], h: f64) -> Option<Stages> {
+    use faer::linalg::solvers::Solve;
+    let n = mu.len();
+    let transposed = faer::Mat::<f64>::from_fn(3 * n, 3 * n, |r, c| {
+        // Entry (c, r) of I − h (A ⊗ I) diag(J_j).
+        let (i, j) = (c / n, r / n);
+        let identity = if r == c { 1.0 } else { 0.0 };
+        identity - h * A[i][j] * jac[j][(c % n, r % n)]
+    });
+    let rhs = faer::Mat::<f64>::from_fn(3 * n, 1, |r, _| if r >= 2 * n { mu[r - 2 * n] } else { 0.0 });
+    let w = transposed.partial_piv_lu().solve(&rhs);
+    let v: Stages =
+        std::array::from_fn(|j| (0..n).map(|r| (0..3).map(|i| h * A[i][j] * w[(i * n + r, 0)]).sum()).collect());
+    v.iter().flatten().all(|x| x.is_finite()).then_some(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::periodic_problem;
+    use crate::integrator::{integrate, Extras, Options};
+    use crate::{Forcing, Parameters, SpineOde};
+
+    /// The transformed iteration with the transposed Newton matrices solves the same adjoint stage
+    /// system as the dense LU, on the steps of a pulse-train run (J̃ ≠ J in motion), to round-off.
+    #[test]
+    fn the_adjoint_iteration_solves_what_the_dense_lu_solves() {
+        let problem = periodic_problem(5);
+        let ends = problem.static_ends(&Default::default()).unwrap();
+        let d = problem.dynamics(Forcing::PulseTrain { period: 0.2, duty: 0.5, delay: 0.0 });
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::Springs };
+        let run = integrate(&ode, 0.0, &ends.rest_state(), 0.2, &Options::default(), Extras::default());
+        let (mut work, mut stats) = (AdjointWork::default(), Stats::default());
+        let mu: Vec<f64> = (0..10).map(|i| (i as f64 * 0.9).cos()).collect();
+        let mut iterated = 0;
+        for iv in run.intervals.iter().step_by(7) {
+            let h = iv.t1 - iv.t0;
+            let q = iv.collocation.as_ref().unwrap();
+            let jac: Vec<DMatrix<f64>> = (0..3)
+                .map(|i| {
+                    let yi: Vec<f64> =
+                        (0..10).map(|j| iv.y0[j] + C[i] * (q[0][j] + C[i] * (q[1][j] + C[i] * q[2][j]))).collect();
+                    ode.jacobian_and_params(iv.t0 + C[i] * h, 0.5 * (iv.t0 + iv.t1), &yi).0
+                })
+                .collect();
+            let jac_t: Vec<DMatrix<f64>> = jac.iter().map(|j| j.transpose()).collect();
+            work.factors = factor(ode.linearize(iv.t0, 0.5 * (iv.t0 + iv.t1), &iv.y0).as_ref(), h, &mut stats);
+            let Some(v) = stage_adjoint(&jac_t, &mu, &mut work, &mut stats) else { continue };
+            iterated += 1;
+            let w = direct(&jac, &mu, h).unwrap();
+            let scale = w.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+            for (a, b) in v.iter().flatten().zip(w.iter().flatten()) {
+                assert!((a - b).abs() <= 1e-11 * scale, "{a:e} vs {b:e} (scale {scale:e}, h = {h:e})");
+            }
+        }
+        assert!(iterated >= 5, "the iteration converged on {iterated} steps");
+    }
+}
