@@ -13,9 +13,15 @@
 //!   than the start design needs to settle (`response.settle_tolerance`), at most
 //!   `response.max_periods`; the final design's response reports whether its last two periods
 //!   agree. The motion starts at rest at `θ1(K)`, so its sensitivities `S = ∂y/∂K` start at
-//!   `(dθ1/dK, 0)` and are propagated through every period with the Radau steps
-//!   ([`spine_dynamics::system::Parameters::Springs`]). At an interior minimum `Ẋ = 0`, so by the envelope
-//!   theorem `d min/dK = ∇_y X · S(t*)`.
+//!   `(dθ1/dK, 0)`. At an interior minimum `Ẋ = 0`, so by the envelope theorem `d min/dK = ∇_y X ·
+//!   S(t*)`. By default ([`Sensitivities::Adjoint`]) each simulation runs plain and keeps its
+//!   steps; when Ipopt asks for the constraint's gradient (at accepted points only, not at its
+//!   line-search trials) one backward sweep of the discrete adjoint of the Radau steps gives
+//!   `λ(0)` for both minima, and `d min/dK = λ(0)ᵀ S(0) + ∫-part`
+//!   ([`spine_dynamics::integrator::adjoint`]); the cost does not grow with the number of springs.
+//!   With [`Sensitivities::Forward`] `S` itself is propagated through every step
+//!   ([`spine_dynamics::system::Parameters::Springs`], `N + 1` columns). Both are exact derivatives
+//!   of the computed motion and agree to round-off.
 //! * **Two minima.** The minimum over time is not smooth where two local minima in time trade
 //!   places. Both enter: the lowest local minimum as the equality `(x₁ − δ_d)/|δ_d| = 0` and the
 //!   next lowest (or, when the period has one minimum, the end of the period) as
@@ -32,13 +38,14 @@
 
 use crate::bracket::illinois;
 use crate::error::DynamicDesignError;
-use crate::periodic_settings::{GradientStart, PeriodicDesignSettings};
+use crate::periodic_settings::{GradientStart, PeriodicDesignSettings, Sensitivities};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use spine_dynamics::forcing::Forcing;
-use spine_dynamics::integrator::Outcome;
-use spine_dynamics::periodic::{simulate_periodic_springs, EndValue, PeriodicResponse};
-use spine_dynamics::response::DynamicProblem;
+use spine_dynamics::integrator::{Method, Outcome};
+use spine_dynamics::periodic::{simulate_periodic_springs, EndValue, LastPeriod, PeriodicResponse, SpringGradients};
+use spine_dynamics::response::{DynamicProblem, StaticEnds};
+use spine_dynamics::Dynamics;
 use spine_ipopt::Problem;
 use spine_model::jacobian::{design_column_of_stiffness, design_jacobian, residual_and_state_jacobian};
 use spine_model::State;
@@ -65,10 +72,14 @@ pub struct GradientReport {
     pub periods: usize,
     /// The uniform start's springs, N·m/rad, when it was found.
     pub uniform_stiffness: Option<f64>,
-    /// Simulations without sensitivities (the root search and the start's settling) and with
-    /// them (Ipopt's evaluations).
+    /// Simulations of the root search and the start's settling, and of Ipopt's evaluations (with
+    /// forward sensitivities, or plain with their steps kept for the adjoint).
     pub root_search_simulations: usize,
     pub gradient_simulations: usize,
+    /// The constraint gradients' method, and the adjoint sweeps run (one per point where Ipopt
+    /// asked for them; 0 with forward sensitivities).
+    pub sensitivities: Sensitivities,
+    pub adjoint_sweeps: usize,
     /// The two constraint values at the end, `(x − δ_d)/|δ_d|` of the lowest and the next local
     /// minimum, and Ipopt's multipliers of them.
     pub constraints: [f64; 2],
@@ -78,33 +89,46 @@ pub struct GradientReport {
     pub at_upper_bound: Vec<usize>,
 }
 
-/// One design with the exact derivatives of eq. (37)'s functions in `K`.
+/// One design with eq. (37)'s functions and their exact derivatives in `K` (the constraint's by
+/// the discrete adjoint once [`Self::constraint_gradients`] asks for them).
 #[derive(Clone, Debug)]
 pub struct Eq37Point {
     /// `U(θ1)`, J, and `dU/dK`, J per N·m/rad.
     pub energy: f64,
     pub energy_gradient: Vec<f64>,
     /// The lowest local minimum of `X_{N+1} − L_x` over the last period and the next one (or the
-    /// period's end), m, with their gradients in `K`.
+    /// period's end), m, with their gradients in `K` (empty while [`Self::pending`]).
     pub minima: [EndValue; 2],
     pub response: PeriodicResponse,
+    /// What the adjoint sweep needs until it has run: the equations of motion, the kept runs and
+    /// `S(0)`.
+    pending: Option<Box<(Dynamics, LastPeriod, DMatrix<f64>)>>,
 }
 
-/// Eq. (37)'s objective and constraint functions with their `K`-gradients at `stiffness` (module
-/// docs), over `periods` forcing periods; `None` where the design has no stable equilibria or its
-/// simulation fails.
-pub fn eq37_point(
-    problem: &DynamicProblem,
-    forcing: &Forcing,
-    stiffness: &[f64],
-    delta_d: f64,
-    settings: &PeriodicDesignSettings,
-    periods: usize,
-) -> Option<Eq37Point> {
-    let mut p = problem.clone();
-    p.design.stiffness = stiffness.to_vec();
-    let ends = p.static_ends(&settings.response.continuation).ok()?;
+impl Eq37Point {
+    /// Whether the constraint gradients are still to be computed.
+    pub fn pending(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Fills the gradients of both minima if they are not there yet: one adjoint sweep for each,
+    /// side by side on rayon's pool (two cores: about the time of one sweep; the same numbers
+    /// whatever the pool's size); `false` when a sweep fails (singular Newton matrices).
+    pub fn constraint_gradients(&mut self) -> bool {
+        let Some(pending) = self.pending.take() else { return true };
+        let (d, last, s0) = &*pending;
+        let [first, second] = &mut self.minima;
+        let sweep = |m: &mut EndValue| last.adjoint_gradients(d, &mut [m], s0);
+        let (a, b) = rayon::join(|| sweep(first), || sweep(second));
+        a && b
+    }
+}
+
+/// `dθ1/dK` (the rest state's sensitivities `S(0)`, `2N × (N + 1)`) and `dU/dK` from the
+/// equilibrium `R(θ1, λ1; K) = 0`: one factorisation, a solve per spring (module docs).
+fn rest_sensitivities(p: &DynamicProblem, ends: &StaticEnds) -> Option<(DMatrix<f64>, Vec<f64>)> {
     let spans = &p.structure.chain.spans;
+    let stiffness = &p.design.stiffness;
     let n = spans.len();
     let loads = p.structure.passive_loads();
     let state = State { theta: ends.theta1.clone(), lambda: ends.lambda1 };
@@ -133,22 +157,60 @@ pub fn eq37_point(
         }
         energy_gradient[j] = 0.5 * relative(j).powi(2) + (0..n).map(|i| moments[i] * dtheta[i]).sum::<f64>();
     }
+    Some((s0, energy_gradient))
+}
+
+/// Eq. (37)'s objective and constraint functions at `stiffness` over `periods` forcing periods,
+/// with the objective's gradient and, by `settings.gradient.sensitivities`, the constraint's
+/// (forward) or what its adjoint needs ([`Eq37Point::constraint_gradients`]); `None` where the
+/// design has no stable equilibria or its simulation fails.
+pub fn eq37_values(
+    problem: &DynamicProblem,
+    forcing: &Forcing,
+    stiffness: &[f64],
+    delta_d: f64,
+    settings: &PeriodicDesignSettings,
+    periods: usize,
+) -> Option<Eq37Point> {
+    let mut p = problem.clone();
+    p.design.stiffness = stiffness.to_vec();
+    let ends = p.static_ends(&settings.response.continuation).ok()?;
+    let (s0, energy_gradient) = rest_sensitivities(&p, &ends)?;
     let energy = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);
     let d = p.dynamics(forcing.clone());
-    let (response, values) = simulate_periodic_springs(
-        &d,
-        ends,
-        p.structure.chain.length_x(),
-        Some(delta_d),
-        &settings.response,
-        s0,
-        periods,
-    );
-    let (mut minima, end) = values?;
+    let adjoint = sensitivities_used(settings) == Sensitivities::Adjoint;
+    let gradients = if adjoint { SpringGradients::Adjoint } else { SpringGradients::Forward(s0.clone()) };
+    let length_x = p.structure.chain.length_x();
+    let (response, last) =
+        simulate_periodic_springs(&d, ends, length_x, Some(delta_d), &settings.response, gradients, periods);
+    let mut last = last?;
     // One minimum in the period: the second constraint is the period's end (inactive).
-    let second = if minima.len() > 1 { minima.swap_remove(1) } else { end };
-    let first = minima.swap_remove(0);
-    Some(Eq37Point { energy, energy_gradient, minima: [first, second], response })
+    let second = if last.minima.len() > 1 { last.minima.swap_remove(1) } else { last.end.clone() };
+    let first = last.minima.swap_remove(0);
+    let pending = adjoint.then(|| Box::new((d, last, s0)));
+    Some(Eq37Point { energy, energy_gradient, minima: [first, second], response, pending })
+}
+
+/// [`eq37_values`] with the constraint gradients computed.
+pub fn eq37_point(
+    problem: &DynamicProblem,
+    forcing: &Forcing,
+    stiffness: &[f64],
+    delta_d: f64,
+    settings: &PeriodicDesignSettings,
+    periods: usize,
+) -> Option<Eq37Point> {
+    let mut point = eq37_values(problem, forcing, stiffness, delta_d, settings, periods)?;
+    point.constraint_gradients().then_some(point)
+}
+
+/// The sensitivities a run uses: the adjoint needs Radau IIA's stored steps (module docs of
+/// [`Sensitivities`]).
+pub fn sensitivities_used(settings: &PeriodicDesignSettings) -> Sensitivities {
+    match (settings.gradient.sensitivities, settings.response.integrator.method) {
+        (Sensitivities::Adjoint, Method::Radau5) => Sensitivities::Adjoint,
+        _ => Sensitivities::Forward,
+    }
 }
 
 /// The cached last point of the Ipopt problem.
@@ -164,16 +226,33 @@ struct Eq37<'a> {
     energy_scale: f64,
     cache: Option<Cached>,
     simulations: usize,
+    /// Adjoint sweeps run (constraint gradients asked for at a new point).
+    sweeps: usize,
     progress: &'a mut dyn FnMut(Progress),
 }
 
 impl Eq37<'_> {
+    /// The functions at `u` (one plain simulation per new point).
     fn point(&mut self, u: &[f64]) -> Option<&Eq37Point> {
         if self.cache.as_ref().is_none_or(|(x, _)| x.as_slice() != u) {
             self.simulations += 1;
             let point =
-                eq37_point(self.problem, self.forcing, &stiffness_of(u), self.delta_d, self.settings, self.periods);
+                eq37_values(self.problem, self.forcing, &stiffness_of(u), self.delta_d, self.settings, self.periods);
             self.cache = Some((u.to_vec(), point));
+        }
+        self.cache.as_ref().and_then(|(_, p)| p.as_ref())
+    }
+
+    /// The functions at `u` with the constraint gradients (an adjoint sweep the first time they are
+    /// asked for at a point: Ipopt asks at accepted points only).
+    fn point_with_gradients(&mut self, u: &[f64]) -> Option<&Eq37Point> {
+        self.point(u)?;
+        let point = self.cache.as_mut().and_then(|(_, p)| p.as_mut())?;
+        if point.pending() {
+            self.sweeps += 1;
+            if !point.constraint_gradients() {
+                return None;
+            }
         }
         self.cache.as_ref().and_then(|(_, p)| p.as_ref())
     }
@@ -234,7 +313,7 @@ impl Problem for Eq37<'_> {
     }
     fn jacobian_values(&mut self, x: &[f64], _: bool, values: &mut [f64]) -> bool {
         let scale = self.delta_d.abs();
-        let Some(p) = self.point(x) else { return false };
+        let Some(p) = self.point_with_gradients(x) else { return false };
         let rows: Vec<f64> = p.minima.iter().flat_map(|m| in_log10(x, &m.gradient).map(|g| g / scale)).collect();
         values.copy_from_slice(&rows);
         true
@@ -350,6 +429,7 @@ pub fn design_by_gradient(
         start: start.clone(),
         cache: None,
         simulations: 0,
+        sweeps: 0,
         progress,
     };
     eq37.energy_scale = eq37.point(&start).map_or(1.0, |p| p.energy.abs().max(1e-300));
@@ -363,8 +443,9 @@ pub fn design_by_gradient(
         .string("mu_strategy", "adaptive");
     let sol = spine_ipopt::solve(&mut eq37, &options)
         .map_err(|source| DynamicDesignError::Ipopt { equation: "37", source })?;
-    // The final point out of the cache (evaluated there unless Ipopt's last trial was elsewhere).
-    eq37.point(&sol.x);
+    // The final point out of the cache (evaluated there unless Ipopt's last trial was elsewhere),
+    // with its constraint gradients.
+    eq37.point_with_gradients(&sol.x);
     let point = eq37.cache.take().and_then(|(_, p)| p);
     let at_bound = |bound: f64| (0..sol.x.len()).filter(|&j| (sol.x[j] - bound).abs() <= AT_BOUND).collect();
     // A stop from outside makes the evaluations fail before Ipopt's next iteration asks: say so
@@ -381,6 +462,8 @@ pub fn design_by_gradient(
         uniform_stiffness,
         root_search_simulations,
         gradient_simulations: eq37.simulations,
+        sensitivities: sensitivities_used(settings),
+        adjoint_sweeps: eq37.sweeps,
         constraints: [sol.g[0], sol.g[1]],
         multipliers: [sol.lambda[0], sol.lambda[1]],
         at_lower_bound: at_bound(lo),

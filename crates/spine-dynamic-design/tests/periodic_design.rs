@@ -132,6 +132,36 @@ fn eq37_gradients_match_central_differences_of_the_whole_periodic_simulation() {
     check_gradient("release minimum", &k, &release.gradient, &value(false), 1e-5);
 }
 
+/// The constraint gradients by the discrete adjoint (the default) equal those by forward
+/// sensitivities to 1e-8 relative, for both minima of the two-minima design and for a 7-link
+/// chain under the periodic fixture's pulses; the adjoint's values come from a plain run.
+#[test]
+fn adjoint_constraint_gradients_equal_the_forward_ones() {
+    use spine_dynamic_design::periodic_gradient::eq37_values;
+    use spine_dynamic_design::periodic_settings::Sensitivities;
+    let (p3, forcing3, settings3, k3) = two_minima();
+    let p7 = problem(7);
+    let forcing7 = Forcing::PulseTrain { period: 0.4, duty: 0.5, delay: 0.0 };
+    let k7: Vec<f64> = (0..8).map(|j| 1500.0 + 150.0 * j as f64).collect();
+    for (p, forcing, settings, k, periods) in
+        [(p3, forcing3, settings3, k3, PERIODS), (p7, forcing7, PeriodicDesignSettings::default(), k7, 3)]
+    {
+        let mut adjoint = eq37_values(&p, &forcing, &k, -0.01, &settings, periods).unwrap();
+        assert!(adjoint.pending() && adjoint.minima[0].gradient.is_empty(), "values first, gradients on demand");
+        assert!(adjoint.constraint_gradients() && !adjoint.pending());
+        let mut forward_settings = settings.clone();
+        forward_settings.gradient.sensitivities = Sensitivities::Forward;
+        let forward = eq37_point(&p, &forcing, &k, -0.01, &forward_settings, periods).unwrap();
+        for (a, f) in adjoint.minima.iter().zip(&forward.minima) {
+            assert_eq!((a.t, a.value), (f.t, f.value), "the same run");
+            let scale = f.gradient.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+            for (j, (x, y)) in a.gradient.iter().zip(&f.gradient).enumerate() {
+                assert!((x - y).abs() <= 1e-8 * scale, "N = {}, K_{j}: adjoint {x:e} vs forward {y:e}", k.len() - 1);
+            }
+        }
+    }
+}
+
 /// The gradient method from the two-minima design, asked for 5 % more displacement: Ipopt
 /// converges with the lowest minimum on δ_d, the other one not below it, and the result's
 /// numbers agree with a plain re-simulation of the final springs.

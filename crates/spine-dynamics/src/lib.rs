@@ -58,6 +58,7 @@ pub mod ode;
 pub mod rates;
 pub mod sample;
 pub mod system;
+pub mod vjp;
 
 pub use eom::Dynamics;
 pub use forcing::Forcing;

@@ -39,6 +39,13 @@ pub trait OdeSystem {
     fn jacobian_and_params(&self, t: f64, piece: f64, y: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
         (self.jacobian(t, piece, y), self.rhs_params(t, piece, y))
     }
+    /// `f`'s vector–Jacobian products at `(t, y)`, for any number of vectors (the adjoint's,
+    /// [`crate::integrator::adjoint`]; default: through the dense
+    /// [`OdeSystem::jacobian_and_params`]).
+    fn vector_jacobian(&self, t: f64, piece: f64, y: &[f64]) -> Box<dyn VectorJacobian + '_> {
+        let (jac, params) = self.jacobian_and_params(t, piece, y);
+        Box::new(DenseProducts { jac_t: jac.transpose(), params_t: params.transpose() })
+    }
     /// Moves `y` onto the invariant manifold (default: nothing).
     fn project(&self, _y: &mut [f64]) {}
     /// `S ← (∂ project / ∂y) S` at the unprojected `y` (default: identity).
@@ -50,5 +57,37 @@ pub trait OdeSystem {
     /// Instants in `(t0, t1)` where `f` is discontinuous in `t`, increasing.
     fn breakpoints(&self, _t0: f64, _t1: f64) -> Vec<f64> {
         Vec::new()
+    }
+}
+
+/// `(vᵀ ∂f/∂y, vᵀ ∂f/∂p)` at one point ([`OdeSystem::vector_jacobian`]).
+pub trait VectorJacobian {
+    /// The number of parameters `p`.
+    fn n_params(&self) -> usize;
+    /// `vᵀ ∂f/∂y` into `state` (of `v`'s length) and `vᵀ ∂f/∂p` into `params`.
+    fn products_into(&self, v: &[f64], state: &mut [f64], params: &mut [f64]);
+    /// Both, allocated.
+    fn products(&self, v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (mut state, mut params) = (vec![0.0; v.len()], vec![0.0; self.n_params()]);
+        self.products_into(v, &mut state, &mut params);
+        (state, params)
+    }
+}
+
+/// The dense products: `(∂f/∂y)ᵀ v` and `(∂f/∂p)ᵀ v`.
+pub struct DenseProducts {
+    pub jac_t: DMatrix<f64>,
+    pub params_t: DMatrix<f64>,
+}
+
+impl VectorJacobian for DenseProducts {
+    fn n_params(&self) -> usize {
+        self.params_t.nrows()
+    }
+
+    fn products_into(&self, v: &[f64], state: &mut [f64], params: &mut [f64]) {
+        let v = DVector::from_column_slice(v);
+        state.copy_from_slice((&self.jac_t * &v).as_slice());
+        params.copy_from_slice((&self.params_t * &v).as_slice());
     }
 }

@@ -19,6 +19,7 @@
 
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
+use crate::integrator::adjoint::{adjoint, Term};
 use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
 use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
 use crate::system::{Parameters, SpineOde};
@@ -133,27 +134,77 @@ pub struct EndValue {
     pub value: f64,
     /// `d value / dK`, m per N·m/rad: `∇_y X · S(t)` (at an interior minimum `Ẋ = 0`, so the
     /// minimum's own shift in time does not enter, the envelope theorem; the period's end is a
-    /// fixed time).
+    /// fixed time). Empty until [`LastPeriod::adjoint_gradients`] fills it when the run kept its
+    /// steps for the adjoint.
     pub gradient: Vec<f64>,
 }
 
-/// [`simulate_periodic`] with the sensitivities to the springs: `S(0) = s0` (`2N × (N + 1)`, the
-/// rates of the rest state `(θ1, 0)`), always `periods` periods (at least 2; a horizon that does
-/// not depend on the springs, so that the minima are smooth functions of them; `settled` and
-/// `period_change` are still reported), the local minima of the last period with their
-/// gradients, lowest first, and the value at the period's end with its gradient (none of these
-/// when the simulation failed).
+/// How the springs' gradients of the last period's values are had (`S(0)`, `2N × (N + 1)`, is the
+/// rates of the rest state `(θ1, 0)`).
+#[derive(Clone, Debug)]
+pub enum SpringGradients {
+    /// Forward sensitivities from `S(0)` through every step (the reference path, and the one for
+    /// TR-BDF2 runs).
+    Forward(DMatrix<f64>),
+    /// None during the run: every period's run is kept, and [`LastPeriod::adjoint_gradients`]
+    /// gives the gradients of the values asked for by the discrete adjoint
+    /// ([`crate::integrator::adjoint`]), at the cost of about one run per sweep whatever the
+    /// number of springs.
+    Adjoint,
+}
+
+/// The local minima of the last period, lowest first, and the value at the period's end, of a
+/// fixed-horizon run ([`simulate_periodic_springs`]).
+#[derive(Clone, Debug)]
+pub struct LastPeriod {
+    pub minima: Vec<EndValue>,
+    pub end: EndValue,
+    /// Every period's run, for the adjoint (empty with forward sensitivities).
+    runs: Vec<Trajectory>,
+}
+
+impl LastPeriod {
+    /// Fills the spring gradients of `values` (taken from [`Self::minima`] and [`Self::end`]) by
+    /// one adjoint sweep over the kept runs for the start sensitivities `s0`; `false` when the runs
+    /// were not kept or are not Radau IIA runs.
+    pub fn adjoint_gradients(&self, d: &Dynamics, values: &mut [&mut EndValue], s0: &DMatrix<f64>) -> bool {
+        let ode = SpineOde { dynamics: d, parameters: Parameters::Springs };
+        let outputs: Vec<Vec<Term>> = values
+            .iter()
+            .map(|v| {
+                let run = self.runs.iter().find(|r| r.span().1 >= v.t).or(self.runs.last());
+                let y = run.map_or_else(Vec::new, |r| r.value(v.t));
+                vec![Term { t: v.t, weights: d.end_x_state_gradient(&y) }]
+            })
+            .collect();
+        let runs: Vec<&Trajectory> = self.runs.iter().collect();
+        let Some((gradients, _)) = (!runs.is_empty()).then(|| adjoint(&ode, &runs, &outputs)).flatten() else {
+            return false;
+        };
+        for (v, g) in values.iter_mut().zip(gradients) {
+            v.gradient = g.total(s0);
+        }
+        true
+    }
+}
+
+/// [`simulate_periodic`] with the springs' gradients of the last period's values: always
+/// `periods` periods (at least 2; a horizon that does not depend on the springs, so that the
+/// minima are smooth functions of them; `settled` and `period_change` are still reported), the
+/// local minima of the last period, lowest first, and the value at the period's end, with their
+/// gradients by forward sensitivities, or without them and the runs kept for the adjoint
+/// ([`SpringGradients`]; none of these when the simulation failed).
 pub fn simulate_periodic_springs(
     d: &Dynamics,
     ends: StaticEnds,
     length_x: f64,
     target: Option<f64>,
     settings: &PeriodicSettings,
-    s0: DMatrix<f64>,
+    gradients: SpringGradients,
     periods: usize,
-) -> (PeriodicResponse, Option<(Vec<EndValue>, EndValue)>) {
+) -> (PeriodicResponse, Option<LastPeriod>) {
     let settings = PeriodicSettings { max_periods: periods, ..settings.clone() };
-    run_periodic(d, ends, length_x, target, &settings, Some(s0))
+    run_periodic(d, ends, length_x, target, &settings, Some(gradients))
 }
 
 /// The end's X displacement `X_{N+1} − L_x` on a trajectory of one ODE: its value, its state
@@ -193,6 +244,8 @@ impl EndX<'_> {
 struct Periods {
     /// The last period simulated.
     last: Trajectory,
+    /// The periods before it, when kept for the adjoint.
+    earlier: Vec<Trajectory>,
     outcome: Outcome,
     periods_run: usize,
     settled: bool,
@@ -208,11 +261,17 @@ fn simulate_periods(
     end: &EndX<'_>,
     ends: &StaticEnds,
     settings: &PeriodicSettings,
-    mut sensitivities: Option<DMatrix<f64>>,
+    gradients: Option<SpringGradients>,
 ) -> Periods {
     let d = end.d;
     let period = d.forcing.period().expect("a periodic forcing");
-    let fixed_horizon = sensitivities.is_some();
+    let fixed_horizon = gradients.is_some();
+    let keep = matches!(gradients, Some(SpringGradients::Adjoint));
+    let mut sensitivities = match gradients {
+        Some(SpringGradients::Forward(s0)) => Some(s0),
+        _ => None,
+    };
+    let mut earlier = Vec::new();
     let (onset, _) = onset_and_release(&d.forcing);
     let first_level =
         ends.passive_displacement + settings.reach_fraction * (ends.loaded_displacement - ends.passive_displacement);
@@ -253,8 +312,11 @@ fn simulate_periods(
         if k >= settings.max_periods.max(2) {
             break traj;
         }
+        if keep {
+            earlier.push(traj);
+        }
     };
-    Periods { last, outcome, periods_run, settled, period_change, first_rise_time, stats, drift, samples }
+    Periods { last, earlier, outcome, periods_run, settled, period_change, first_rise_time, stats, drift, samples }
 }
 
 /// The periodic response; with `springs` (`S(0)`), the spring sensitivities and the last period's
@@ -265,12 +327,13 @@ fn run_periodic(
     length_x: f64,
     target: Option<f64>,
     settings: &PeriodicSettings,
-    springs: Option<DMatrix<f64>>,
-) -> (PeriodicResponse, Option<(Vec<EndValue>, EndValue)>) {
+    springs: Option<SpringGradients>,
+) -> (PeriodicResponse, Option<LastPeriod>) {
     let clock = std::time::Instant::now();
     let period = d.forcing.period().expect("a periodic forcing");
     let fixed_horizon = springs.is_some();
-    let parameters = if fixed_horizon { Parameters::Springs } else { Parameters::None };
+    let forward = matches!(springs, Some(SpringGradients::Forward(_)));
+    let parameters = if forward { Parameters::Springs } else { Parameters::None };
     let ode = SpineOde { dynamics: d, parameters };
     let end = EndX { d, ode, options: &settings.integrator, length_x, lipschitz: d.end_x_lipschitz() };
     let run = simulate_periods(&end, &ends, settings, springs);
@@ -288,8 +351,12 @@ fn run_periodic(
     let time_to_target = target.and_then(|delta_d| end.crossing(traj, onset, delta_d)).map(|t| t - onset);
     let values = (fixed_horizon && run.outcome == Outcome::Completed).then(|| {
         let (_, t_end) = traj.span();
-        let last = end.with_gradient(traj, t_end, end.at(traj.end()));
-        (minima.iter().map(|&(value, t)| end.with_gradient(traj, t, value)).collect(), last)
+        let value = |t: f64, value: f64| match forward {
+            true => end.with_gradient(traj, t, value),
+            false => EndValue { t, value, gradient: Vec::new() },
+        };
+        let last = value(t_end, end.at(traj.end()));
+        (minima.iter().map(|&(v, t)| value(t, v)).collect::<Vec<_>>(), last)
     });
     let response = PeriodicResponse {
         outcome: run.outcome,
@@ -310,6 +377,13 @@ fn run_periodic(
         time_seconds: clock.elapsed().as_secs_f64(),
         samples: run.samples,
     };
+    let values = values.map(|(minima, end)| {
+        let mut runs = run.earlier;
+        if !forward {
+            runs.push(run.last);
+        }
+        LastPeriod { minima, end, runs }
+    });
     (response, values)
 }
 

@@ -6,7 +6,9 @@ use crate::eom::{Dynamics, Scratch};
 use crate::integrator::OdeSystem;
 use crate::linearization::Linearization;
 use crate::newton::ChainLinearization;
+use crate::ode::{DenseProducts, VectorJacobian};
 use crate::rates::{RatesAt, RatesIn};
+use crate::vjp::AccelerationAdjoint;
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
@@ -144,12 +146,44 @@ impl OdeSystem for SpineOde<'_> {
         self.dynamics.project_tangent(y, s);
     }
 
+    /// `O(N)` per product ([`crate::vjp`]): `(vᵀ ∂f/∂y, vᵀ ∂f/∂p)` with `f = (θ̇, θ̈)`, so `vᵀ
+    /// ∂f/∂θ = v_θ̇ᵀ ∂θ̈/∂θ` and `vᵀ ∂f/∂θ̇ = v_θ + v_θ̇ᵀ ∂θ̈/∂θ̇`. Where `M(θ)` has no factorisation,
+    /// the dense path (NaN).
+    fn vector_jacobian(&self, t: f64, piece: f64, y: &[f64]) -> Box<dyn VectorJacobian + '_> {
+        match self.dynamics.acceleration_adjoint(t, piece, y, self.parameters) {
+            Some(at) => Box::new(ChainProducts(at)),
+            None => {
+                let (jac, params) = self.jacobian_and_params(t, piece, y);
+                Box::new(DenseProducts { jac_t: jac.transpose(), params_t: params.transpose() })
+            }
+        }
+    }
+
     fn project_adjoint(&self, y: &[f64], a: &mut [f64]) {
         self.dynamics.project_adjoint(y, a);
     }
 
     fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
         self.dynamics.forcing.breakpoints(t0, t1)
+    }
+}
+
+/// [`SpineOde`]'s vector–Jacobian products by [`AccelerationAdjoint`].
+struct ChainProducts(AccelerationAdjoint);
+
+impl VectorJacobian for ChainProducts {
+    fn n_params(&self) -> usize {
+        self.0.n_params()
+    }
+
+    fn products_into(&self, v: &[f64], state: &mut [f64], params: &mut [f64]) {
+        let n = v.len() / 2;
+        let (v_theta, v_omega) = v.split_at(n);
+        let (angles, velocities) = state.split_at_mut(n);
+        self.0.products_into(v_omega, angles, velocities, params);
+        for (s, t) in velocities.iter_mut().zip(v_theta) {
+            *s += t;
+        }
     }
 }
 

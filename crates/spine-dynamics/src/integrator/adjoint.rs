@@ -114,12 +114,12 @@ fn seed_end(
     if b_rate == 0.0 {
         return;
     }
-    let (jac, params) = sys.jacobian_and_params(t, 0.5 * (iv.t0 + iv.t1), y);
-    let c = DVector::from_column_slice(&term.weights) * b_rate;
-    for (l, x) in lambda.column_mut(k).iter_mut().zip(jac.tr_mul(&c).iter()) {
+    let c: Vec<f64> = term.weights.iter().map(|w| w * b_rate).collect();
+    let (to_state, to_params) = sys.vector_jacobian(t, 0.5 * (iv.t0 + iv.t1), y).products(&c);
+    for (l, x) in lambda.column_mut(k).iter_mut().zip(to_state) {
         *l += x;
     }
-    for (d, x) in direct.column_mut(k).iter_mut().zip(params.tr_mul(&c).iter()) {
+    for (d, x) in direct.column_mut(k).iter_mut().zip(to_params) {
         *d += x;
     }
 }

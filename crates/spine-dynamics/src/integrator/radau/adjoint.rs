@@ -11,7 +11,8 @@
 //! `λ₁ᵀ dy₁ = (μ + Σ_j J_jᵀ V_j)ᵀ dy₀ + (Σ_j ∂f/∂p_jᵀ V_j)ᵀ dp`.
 //!
 //! The stage values come back from the stored collocation polynomial (`Z_i = y(t₀ + c_i h) − y₀`);
-//! `J_j` and `∂f/∂p_j` are the system's at the stage points; the adjoint stage system is solved
+//! the products with `J_jᵀ` and `∂f/∂p_jᵀ` are the system's at the stage points
+//! ([`OdeSystem::vector_jacobian`], `O(N)` each for the chain); the adjoint stage system is solved
 //! by the stages' own transformed iteration with the transposed Newton matrices (`O(N)` for the
 //! chain), to round-off, or, where that iteration does not converge, by one LU of the
 //! `3n × 3n` matrix.
@@ -19,19 +20,32 @@
 use super::super::dense::Interval;
 use super::super::options::Stats;
 use super::stages::{collocation, factor, Factors, Orientation, Stages, Workspace, A, C};
-use crate::ode::OdeSystem;
-use nalgebra::{DMatrix, DVector};
+use crate::ode::{OdeSystem, VectorJacobian};
+use nalgebra::DMatrix;
 
 /// The Newton matrices of the last step swept back, kept while the step size does not change (as
 /// the forward run keeps them) and refreshed when the adjoint iteration slows.
 #[derive(Default)]
 pub(in crate::integrator) struct AdjointWork {
     factors: Option<Factors>,
+    /// The iteration slowed: the next step takes fresh Newton matrices.
+    stale: bool,
     work: Workspace,
 }
 
-/// Iterations after which the next step takes fresh Newton matrices.
-const SLOW: usize = 4;
+/// The adjoint iteration stops when its predicted remaining error is below this, relative to `h
+/// |μ|`: the gradients come out within about 1e-11 relative of the forward sensitivities (which
+/// run their own iteration to 1e-13) over thousands of steps, far inside what an optimiser needs.
+const TOLERANCE: f64 = 1e-12;
+
+/// The Newton matrices of a step size within this relative margin of a step's precondition its
+/// adjoint iteration (the forward run changes the step size at most steps; refactoring at each
+/// would cost about as much as the iterations).
+const REFACTOR_MARGIN: f64 = 0.1;
+
+/// A contraction rate above which the next step takes fresh Newton matrices (the stale `J̃`
+/// contracts at about 0.01 on the chain's steps).
+const SLOW: f64 = 0.1;
 
 /// `(λ₀, ∂/∂p)` of an accepted step for the adjoints `λ₁` (columns) of its end: see the module
 /// docs. `None` when the interval has no collocation polynomial (not a Radau IIA step) or its
@@ -58,36 +72,35 @@ pub(in crate::integrator) fn step_adjoint(
         sys.project_adjoint(&unprojected, column.as_mut_slice());
     }
     stats.jacobian_evaluations += 3;
-    let (jac, params): (Vec<DMatrix<f64>>, Vec<DMatrix<f64>>) = (0..3)
-        .map(|i| {
-            let yi: Vec<f64> = (0..n).map(|j| iv.y0[j] + z[i][j]).collect();
-            sys.jacobian_and_params(iv.t0 + C[i] * h, piece, &yi)
-        })
-        .unzip();
-    let jac_t: Vec<DMatrix<f64>> = jac.iter().map(|j| j.transpose()).collect();
-    if work.factors.as_ref().is_none_or(|f| f.h != h) {
+    let points: Vec<(f64, Vec<f64>)> =
+        (0..3).map(|i| (iv.t0 + C[i] * h, (0..n).map(|j| iv.y0[j] + z[i][j]).collect())).collect();
+    let products: Vec<Box<dyn VectorJacobian + '_>> =
+        points.iter().map(|(ti, yi)| sys.vector_jacobian(*ti, piece, yi)).collect();
+    if work.stale || work.factors.as_ref().is_none_or(|f| (f.h / h - 1.0).abs() > REFACTOR_MARGIN) {
+        work.stale = false;
         stats.jacobian_evaluations += 1;
         work.factors = factor(sys.linearize(iv.t0, piece, &iv.y0).as_ref(), h, stats);
     }
     let mut lambda0 = mu.clone();
-    let mut gradient = DMatrix::zeros(params[0].ncols(), m);
+    let mut gradient = DMatrix::zeros(sys.n_params(), m);
     for k in 0..m {
         let mu_k: Vec<f64> = mu.column(k).iter().copied().collect();
-        let size = mu_k.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        if size == 0.0 {
+        if mu_k.iter().all(|v| *v == 0.0) {
             continue;
         }
-        let v = match stage_adjoint(&jac_t, &mu_k, work, stats) {
+        let v = match stage_adjoint(&products, &mu_k, h, work, stats) {
             Some(v) => v,
-            None => direct(&jac, &mu_k, h)?,
+            None => {
+                let jac: Vec<DMatrix<f64>> = points.iter().map(|(ti, yi)| sys.jacobian(*ti, piece, yi)).collect();
+                direct(&jac, &mu_k, h)?
+            }
         };
-        for j in 0..3 {
-            let vj = DVector::from_column_slice(&v[j]);
-            let (to_state, to_params) = (&jac_t[j] * &vj, params[j].tr_mul(&vj));
-            for (l, x) in lambda0.column_mut(k).iter_mut().zip(to_state.iter()) {
+        for (vj, pj) in v.iter().zip(&products) {
+            let (to_state, to_params) = pj.products(vj);
+            for (l, x) in lambda0.column_mut(k).iter_mut().zip(to_state) {
                 *l += x;
             }
-            for (g, x) in gradient.column_mut(k).iter_mut().zip(to_params.iter()) {
+            for (g, x) in gradient.column_mut(k).iter_mut().zip(to_params) {
                 *g += x;
             }
         }
@@ -97,25 +110,30 @@ pub(in crate::integrator) fn step_adjoint(
 
 /// `V` of the module docs by the transformed iteration with the transposed Newton matrices, run to
 /// round-off relative to `h |μ|` (the size of `V`); `None` when it does not converge (the next step
-/// then refactors).
-fn stage_adjoint(jac_t: &[DMatrix<f64>], mu: &[f64], work: &mut AdjointWork, stats: &mut Stats) -> Option<Stages> {
+/// then refactors, as after a slow contraction).
+fn stage_adjoint(
+    products: &[Box<dyn VectorJacobian + '_>],
+    mu: &[f64],
+    h: f64,
+    work: &mut AdjointWork,
+    stats: &mut Stats,
+) -> Option<Stages> {
     let factors = work.factors.as_ref()?;
-    let n = mu.len();
-    let scale = factors.h * mu.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = h * mu.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut params = vec![0.0; products[0].n_params()];
     let mut stage = |i: usize, v: &[f64], out: &mut [f64]| {
-        let jv = &jac_t[i] * DVector::from_column_slice(v);
-        for (j, o) in out.iter_mut().enumerate() {
-            *o = jv[j] + if i == 2 { mu[j] } else { 0.0 };
+        products[i].products_into(v, out, &mut params);
+        if i == 2 {
+            out.iter_mut().zip(mu).for_each(|(o, m)| *o += m);
         }
     };
     let norm = |dw: &Stages| dw.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs())) / scale;
-    let guess: Stages = std::array::from_fn(|_| vec![0.0; n]);
-    let col =
-        collocation(Orientation::Adjoint, &mut stage, guess, factors, &norm, 1e-13, f64::INFINITY, 60, &mut work.work);
+    // The first-order guess `V_j = h a_3j μ` (the terms in `J` left out).
+    let guess: Stages = std::array::from_fn(|j| mu.iter().map(|m| h * A[2][j] * m).collect());
+    let orientation = Orientation::Adjoint(h);
+    let col = collocation(orientation, &mut stage, guess, factors, &norm, TOLERANCE, f64::INFINITY, 60, &mut work.work);
     stats.newton_iterations += col.as_ref().map_or(60, |c| c.iterations);
-    if col.as_ref().is_none_or(|c| c.iterations > SLOW) {
-        work.factors = None;
-    }
+    work.stale |= col.as_ref().is_none_or(|c| c.rate.is_some_and(|r| r > SLOW));
     col.map(|c| c.z)
 }
 
@@ -142,6 +160,7 @@ mod tests {
     use super::*;
     use crate::fixtures::periodic_problem;
     use crate::integrator::{integrate, Extras, Options};
+    use crate::ode::DenseProducts;
     use crate::{Forcing, Parameters, SpineOde};
 
     /// The transformed iteration with the transposed Newton matrices solves the same adjoint stage
@@ -166,9 +185,15 @@ mod tests {
                     ode.jacobian_and_params(iv.t0 + C[i] * h, 0.5 * (iv.t0 + iv.t1), &yi).0
                 })
                 .collect();
-            let jac_t: Vec<DMatrix<f64>> = jac.iter().map(|j| j.transpose()).collect();
+            let products: Vec<Box<dyn VectorJacobian>> = jac
+                .iter()
+                .map(|j| {
+                    Box::new(DenseProducts { jac_t: j.transpose(), params_t: DMatrix::zeros(0, 10) })
+                        as Box<dyn VectorJacobian>
+                })
+                .collect();
             work.factors = factor(ode.linearize(iv.t0, 0.5 * (iv.t0 + iv.t1), &iv.y0).as_ref(), h, &mut stats);
-            let Some(v) = stage_adjoint(&jac_t, &mu, &mut work, &mut stats) else { continue };
+            let Some(v) = stage_adjoint(&products, &mu, h, &mut work, &mut stats) else { continue };
             iterated += 1;
             let w = direct(&jac, &mu, h).unwrap();
             let scale = w.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
