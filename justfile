@@ -164,6 +164,13 @@ lint:
     cargo clippy --workspace --all-targets --quiet -- -D warnings
     cargo fmt --all --check
 
+# Eq. (37)'s gradients: the discrete adjoint against forward sensitivities (per gradient, N = 7,
+# 20, 50) and eq. (37) by gradients (adjoint, forward) against the GA (N = 7, 50), one run; writes
+# its section of benchmarks/DYNAMICS.md (about 5 min).
+bench-gradients *ARGS:
+    cargo build --release --quiet -p spine-benchmarks --bins
+    ./target/release/dynamic_gradients {{ARGS}}
+
 # Eq. (33) scaling table (full and reduced space) on the scaled family of PEERS.md.
 bench-design *SIZES:
     cargo run --release --quiet -p spine-benchmarks --bin design_scaling -- {{SIZES}}

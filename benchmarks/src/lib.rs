@@ -211,3 +211,15 @@ impl HessianFixture {
         gradient
     }
 }
+
+/// The heading of `benchmarks/DYNAMICS.md`'s section written by `just bench-gradients`; `just
+/// bench-dynamics` rewrites the rest of the file and keeps it.
+pub const GRADIENTS_SECTION: &str = "## Gradients of eq. (37): the discrete adjoint against forward sensitivities";
+
+/// `text` followed by the section of `old` that starts at `heading` (if any).
+pub fn keep_section(text: &str, old: &str, heading: &str) -> String {
+    match old.find(heading) {
+        Some(i) => format!("{}\n\n{}", text.trim_end(), &old[i..]),
+        None => text.to_string(),
+    }
+}

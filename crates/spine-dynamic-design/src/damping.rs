@@ -2,7 +2,8 @@
 //! (the paper: 1 ≤ C ≤ 10³ N·m·s/rad), subject to the equations of motion and `T_90 = T_d`.
 //!
 //! Ipopt solves it with the constraint written as `T_90(C) / T_d − 1 = 0`; its gradient is the event
-//! sensitivity `dT_90/dC` from the integrator's forward sensitivities, and the Hessian of the
+//! sensitivity `dT_90/dC = −(∇g · S(T_90))/ġ`, by one adjoint sweep of the plain run
+//! (`spine_dynamics::integrator::adjoint`; forward sensitivities for TR-BDF2), and the Hessian of the
 //! Lagrangian is Ipopt's L-BFGS approximation (the constraint's curvature has no cheap exact form).
 //! The start is the uniform damping that meets `T_90 = T_d` (a bracketing root search on one common
 //! `ln C`: Illinois regula falsi, 8 to 11 simulations where bisection took 23), so the

@@ -4,12 +4,15 @@
 //! measured on a simulated motion ([`spine_dynamics`]) live here:
 //!
 //! * [`damping`]: eq. (35), the dampers `C` for a target rise time `T_90 = T_d` at least `½ Σ C²`
-//!   (Ipopt; the constraint's gradient from the integrator's event sensitivities).
+//!   (Ipopt; the constraint's gradient `dT_90/dC` from one adjoint sweep of the plain run at the
+//!   rise event).
 //! * [`periodic_design`]: eq. (37), the springs `K` under a periodic axial force at least strain
 //!   energy `U(θ1)`, with the settled motion reaching `δ_d`, by the paper's gradient-free searches
 //!   (genetic algorithm, pattern search) or by Ipopt with exact gradients ([`periodic_gradient`]).
-//! * [`periodic_gradient`]: eq. (37)'s objective and constraint with exact gradients: forward
-//!   sensitivities of the whole periodic motion and the envelope theorem at the minimising time.
+//! * [`periodic_gradient`]: eq. (37) by Ipopt with exact gradients: the envelope theorem at the
+//!   minimising time, the gradients by the discrete adjoint of the whole periodic motion (or
+//!   forward sensitivities), asked for at accepted points only.
+//! * [`eq37_point`]: eq. (37)'s functions at one design, with their gradients.
 //! * [`periodic_settings`]: the settings of eq. (37) and the choice of method ([`SearchMethod`]).
 //! * [`error`]: why a design could not give a result ([`DynamicDesignError`]).
 //! * `bracket`: the Illinois root bracketing both designs use for their uniform start.
@@ -27,6 +30,7 @@
 
 mod bracket;
 pub mod damping;
+pub mod eq37_point;
 pub mod error;
 pub mod periodic_design;
 pub mod periodic_gradient;

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use spine_check::require;
+pub use spine_dynamics::integrator::adjoint::Sensitivities;
 use spine_dynamics::integrator::Options;
 use spine_dynamics::periodic::PeriodicSettings;
 use spine_search::{GaSettings, PatternSettings};
@@ -118,23 +119,6 @@ pub struct GradientSettings {
     pub start: GradientStart,
     /// How the constraint's spring gradients are computed (default `adjoint`).
     pub sensitivities: Sensitivities,
-}
-
-/// How eq. (37)'s constraint gradients `d min_t X / dK` are computed: both are the exact
-/// derivative of the computed motion and agree to round-off (`tests/adjoint.rs` in
-/// spine-dynamics).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum Sensitivities {
-    /// The discrete adjoint of the Radau IIA steps: each simulation runs plain and keeps its
-    /// steps, and a backward sweep gives the gradients when Ipopt asks for them (at accepted
-    /// points, not at its line-search trials), at a cost that does not grow with the number of
-    /// springs. A TR-BDF2 run (`response.integrator.method`) falls back to `forward`.
-    #[default]
-    Adjoint,
-    /// Forward sensitivities `S = ∂y/∂K` (`N + 1` columns) through every step of every
-    /// simulation.
-    Forward,
 }
 
 impl Default for GradientSettings {

@@ -4,8 +4,8 @@
 //!   over
 //!   num-dual numbers: mass matrix, centrifugal terms, springs, dampers, loads, end constraint.
 //! * [`integrator`]: Radau IIA of order 5 (default) and TR-BDF2, L-stable and error-controlled,
-//!   with
-//!   projection onto `Φ = 0, Φ̇ = 0`, dense output, event location and forward sensitivities.
+//!   with projection onto `Φ = 0, Φ̇ = 0`, dense output, event location, forward sensitivities and
+//!   the discrete adjoint of the Radau steps ([`integrator::adjoint`]).
 //! * [`newton`]: the integrator's Newton matrices for the chain in `O(N)`, real and complex.
 //! * [`system`]: the equations of motion as an ODE in `(θ, θ̇)`, Jacobians by forward AD.
 //! * [`forcing`]: the time profile of the axial force (step, pulse train, sinusoid).
@@ -14,6 +14,8 @@
 //! * [`linearization`]: the equations of motion linearised about an equilibrium (modes, damping
 //!   ratios).
 //! * [`ode`]: the ODE interface the integrators solve.
+//! * [`parameters`]: which parameters a simulation differentiates with respect to.
+//! * [`vjp`]: the accelerations' vector–Jacobian products in `O(N)` (the adjoint's).
 //! * [`response`]: the step response (`T_90`, `Δ∞`, the static ends it moves between, drift).
 //! * [`periodic`]: the settled response to a periodic axial force.
 //! * [`sample`]: one sample of the motion (time, load factor, end displacement, angles).
@@ -55,6 +57,7 @@ pub mod integrator;
 pub mod linearization;
 pub mod newton;
 pub mod ode;
+pub mod parameters;
 pub mod rates;
 pub mod sample;
 pub mod system;

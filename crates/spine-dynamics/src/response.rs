@@ -4,7 +4,9 @@
 
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
+use crate::integrator::adjoint::{adjoint, Sensitivities, Term};
 use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
+use crate::ode::OdeSystem;
 pub use crate::sample::Sample;
 use crate::system::{Parameters, SpineOde};
 use nalgebra::DMatrix;
@@ -284,21 +286,26 @@ pub fn step_response(
 }
 
 /// Integrates the step response from `θ1` and locates the rise event; with `stop_at_rise` the run
-/// ends at the first step past the event (all an optimiser needs).
+/// ends at the first step past the event (all an optimiser needs). With `gradient`, the event's
+/// `dT_90/dC`: by forward sensitivities through every step, or by one adjoint sweep of the plain
+/// run with the output `∇g · S(T_90)` (`S(0) = 0`: `θ1` does not depend on the dampers), both
+/// `−(∇g · S(T_90)) / ġ` ([`first_event`]).
 fn run_step(
     d: &Dynamics,
     ends: &StaticEnds,
     settings: &StepSettings,
-    gradient: bool,
+    gradient: Option<Sensitivities>,
     stop_at_rise: bool,
 ) -> (Trajectory, Option<crate::integrator::Event>) {
     let n = d.n_links();
-    let ode = SpineOde { dynamics: d, parameters: if gradient { Parameters::Dampers } else { Parameters::None } };
+    let gradient = gradient.map(|s| s.for_method(settings.integrator.method));
+    let forward = gradient == Some(Sensitivities::Forward);
+    let ode = SpineOde { dynamics: d, parameters: if forward { Parameters::Dampers } else { Parameters::None } };
     let target = ends.x1 + settings.rise_fraction * (ends.x2 - ends.x1);
     let sign0 = (d.end_x(&ends.theta1) - target).signum();
     let passed = |_: f64, y: &[f64]| (d.end_x(&y[..n]) - target) * sign0 <= 0.0;
     let extras = Extras {
-        sensitivities: gradient.then(|| DMatrix::zeros(2 * n, n + 1)),
+        sensitivities: forward.then(|| DMatrix::zeros(2 * n, n + 1)),
         steps: None,
         stop: if stop_at_rise { Some(&passed) } else { None },
     };
@@ -307,17 +314,44 @@ fn run_step(
     let grad = |y: &[f64]| d.end_x_state_gradient(y);
     let lipschitz = d.end_x_lipschitz();
     // Located on the dense output, then moved onto the steps (order 5, not 3).
-    let event =
+    let mut event =
         first_event(&ode, &settings.integrator, &traj, 0.0, &EventFunction::new(&g, &grad).with_lipschitz(&lipschitz));
+    if let (Some(Sensitivities::Adjoint), Some(e)) = (gradient, event.as_mut()) {
+        e.t_sensitivity = rise_time_adjoint(d, &traj, e);
+    }
     (traj, event)
 }
 
-/// `T_90` and, with `gradient`, `dT_90/dC`, integrating only until the rise (s, s per N·m·s/rad).
+/// `dT_90/dC = −(∇g · S(T_90)) / ġ` by one adjoint sweep of the plain run `traj` (module docs of
+/// [`crate::integrator::adjoint`]); `None` when the sweep fails.
+fn rise_time_adjoint(d: &Dynamics, traj: &Trajectory, event: &crate::integrator::Event) -> Option<Vec<f64>> {
+    let ode = SpineOde { dynamics: d, parameters: Parameters::Dampers };
+    let step = traj.intervals.iter().find(|iv| iv.t0 < event.t && event.t <= iv.t1)?;
+    let dg = d.end_x_state_gradient(&event.y);
+    let mut f = vec![0.0; dg.len()];
+    ode.rhs_into(event.t, 0.5 * (step.t0 + step.t1), &event.y, &mut f);
+    let rate: f64 = dg.iter().zip(&f).map(|(a, b)| a * b).sum();
+    let (gradients, _) = adjoint(&ode, &[traj], &[vec![Term { t: event.t, weights: dg }]])?;
+    Some(gradients[0].direct.iter().map(|v| -v / rate).collect())
+}
+
+/// `T_90` and, with `gradient`, `dT_90/dC` by the adjoint (forward sensitivities for TR-BDF2),
+/// integrating only until the rise (s, s per N·m·s/rad).
 pub fn rise_time(
     d: &Dynamics,
     ends: &StaticEnds,
     settings: &StepSettings,
     gradient: bool,
+) -> (Option<f64>, Option<Vec<f64>>) {
+    rise_time_by(d, ends, settings, gradient.then_some(Sensitivities::Adjoint))
+}
+
+/// [`rise_time`] with the gradient's method.
+pub fn rise_time_by(
+    d: &Dynamics,
+    ends: &StaticEnds,
+    settings: &StepSettings,
+    gradient: Option<Sensitivities>,
 ) -> (Option<f64>, Option<Vec<f64>>) {
     let (_, event) = run_step(d, ends, settings, gradient, true);
     match event {
@@ -330,7 +364,7 @@ pub fn rise_time(
 pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gradient: bool) -> StepResponse {
     let n = d.n_links();
     let clock = std::time::Instant::now();
-    let (traj, event) = run_step(d, &ends, settings, gradient, false);
+    let (traj, event) = run_step(d, &ends, settings, gradient.then_some(Sensitivities::Adjoint), false);
     let time_seconds = clock.elapsed().as_secs_f64();
     let delta_inf = ends.x2 - ends.x1;
     let length_x = ends.x1 - ends.passive_displacement;

@@ -7,24 +7,13 @@ use crate::integrator::OdeSystem;
 use crate::linearization::Linearization;
 use crate::newton::ChainLinearization;
 use crate::ode::{DenseProducts, VectorJacobian};
+pub use crate::parameters::Parameters;
 use crate::rates::{RatesAt, RatesIn};
 use crate::vjp::AccelerationAdjoint;
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use spine_model::Scalar;
 use std::cell::RefCell;
-
-/// The parameters `p` whose sensitivities `∂y/∂p` a [`SpineOde`] propagates.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Parameters {
-    /// None: a plain simulation.
-    #[default]
-    None,
-    /// The dampers `C_1..C_{N+1}`, N·m·s/rad (eq. (35)).
-    Dampers,
-    /// The springs `K_1..K_{N+1}`, N·m/rad (eq. (37)).
-    Springs,
-}
 
 /// Index-1 form of the constrained equations of motion with projection onto `Φ = 0`, `Φ̇ = 0`
 /// after every step, with the sensitivities to `parameters`.

@@ -22,7 +22,7 @@
 
 use crate::articulated::ArticulatedChain;
 use crate::eom::{bordered, Dynamics, LoadsAt};
-use crate::system::Parameters;
+use crate::parameters::Parameters;
 use std::cell::RefCell;
 
 /// One state `(t, θ, θ̇)` prepared for any number of products (module docs).

@@ -220,7 +220,10 @@ fn main() {
         results.push(size);
     }
     let text = report::report(&results, budget);
-    std::fs::write("benchmarks/DYNAMICS.md", &text).expect("benchmarks/DYNAMICS.md");
+    // `just bench-gradients`' section stays.
+    let old = std::fs::read_to_string("benchmarks/DYNAMICS.md").unwrap_or_default();
+    let whole = spine_benchmarks::keep_section(&text, &old, spine_benchmarks::GRADIENTS_SECTION);
+    std::fs::write("benchmarks/DYNAMICS.md", &whole).expect("benchmarks/DYNAMICS.md");
     print!("{text}");
     match report::figure(&results).to_svg() {
         Ok(svg) => std::fs::write("benchmarks/dynamics-work-precision.svg", svg).expect("svg"),

@@ -23,6 +23,33 @@ use super::options::Stats;
 use super::radau::adjoint::{step_adjoint, AdjointWork};
 use super::OdeSystem;
 use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// How a design's gradients through the motion are computed (eq. (35)'s `dT_90/dC`, eq. (37)'s
+/// `d min_t X / dK`): both are the exact derivative of the computed motion and agree to
+/// round-off (`tests/adjoint.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Sensitivities {
+    /// The discrete adjoint of the Radau IIA steps ([`adjoint`]): each simulation runs plain
+    /// and keeps its steps, and a backward sweep per output gives the gradients, at a cost that
+    /// does not grow with the number of parameters. A TR-BDF2 run falls back to `forward`.
+    #[default]
+    Adjoint,
+    /// Forward sensitivities `S = ∂y/∂p` (`N + 1` columns) through every step of every
+    /// simulation.
+    Forward,
+}
+
+impl Sensitivities {
+    /// What a run by `method` uses: the adjoint needs Radau IIA's stored steps.
+    pub fn for_method(self, method: super::Method) -> Self {
+        match (self, method) {
+            (Self::Adjoint, super::Method::Radau5) => Self::Adjoint,
+            _ => Self::Forward,
+        }
+    }
+}
 
 /// One term `cᵀ S(t)` of an output.
 #[derive(Clone, Debug, PartialEq)]

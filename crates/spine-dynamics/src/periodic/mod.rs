@@ -17,13 +17,17 @@
 //! For a pulse train the onset is the rising edge and the release the falling edge; for the
 //! sinusoid `½(1 − cos Ωt)` the onset is the force's minimum and the release its maximum.
 
+mod extremes;
+mod springs;
+
+pub use springs::{EndValue, LastPeriod, SpringGradients};
+
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
-use crate::integrator::adjoint::{adjoint, Term};
 use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
 use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
 use crate::system::{Parameters, SpineOde};
-use nalgebra::DMatrix;
+use extremes::{extremes, relative_change};
 use serde::{Deserialize, Serialize};
 use spine_solve::ContinuationOptions;
 
@@ -123,69 +127,6 @@ pub fn simulate_periodic(
     settings: &PeriodicSettings,
 ) -> PeriodicResponse {
     run_periodic(d, ends, length_x, target, settings, None).0
-}
-
-/// `X_{N+1}(t) − L_x` at one time of the last simulated period (a local minimum, or the period's
-/// end) with its gradient in the springs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EndValue {
-    /// Absolute time, s, and the value, m.
-    pub t: f64,
-    pub value: f64,
-    /// `d value / dK`, m per N·m/rad: `∇_y X · S(t)` (at an interior minimum `Ẋ = 0`, so the
-    /// minimum's own shift in time does not enter, the envelope theorem; the period's end is a
-    /// fixed time). Empty until [`LastPeriod::adjoint_gradients`] fills it when the run kept its
-    /// steps for the adjoint.
-    pub gradient: Vec<f64>,
-}
-
-/// How the springs' gradients of the last period's values are had (`S(0)`, `2N × (N + 1)`, is the
-/// rates of the rest state `(θ1, 0)`).
-#[derive(Clone, Debug)]
-pub enum SpringGradients {
-    /// Forward sensitivities from `S(0)` through every step (the reference path, and the one for
-    /// TR-BDF2 runs).
-    Forward(DMatrix<f64>),
-    /// None during the run: every period's run is kept, and [`LastPeriod::adjoint_gradients`]
-    /// gives the gradients of the values asked for by the discrete adjoint
-    /// ([`crate::integrator::adjoint`]), at the cost of about one run per sweep whatever the
-    /// number of springs.
-    Adjoint,
-}
-
-/// The local minima of the last period, lowest first, and the value at the period's end, of a
-/// fixed-horizon run ([`simulate_periodic_springs`]).
-#[derive(Clone, Debug)]
-pub struct LastPeriod {
-    pub minima: Vec<EndValue>,
-    pub end: EndValue,
-    /// Every period's run, for the adjoint (empty with forward sensitivities).
-    runs: Vec<Trajectory>,
-}
-
-impl LastPeriod {
-    /// Fills the spring gradients of `values` (taken from [`Self::minima`] and [`Self::end`]) by
-    /// one adjoint sweep over the kept runs for the start sensitivities `s0`; `false` when the runs
-    /// were not kept or are not Radau IIA runs.
-    pub fn adjoint_gradients(&self, d: &Dynamics, values: &mut [&mut EndValue], s0: &DMatrix<f64>) -> bool {
-        let ode = SpineOde { dynamics: d, parameters: Parameters::Springs };
-        let outputs: Vec<Vec<Term>> = values
-            .iter()
-            .map(|v| {
-                let run = self.runs.iter().find(|r| r.span().1 >= v.t).or(self.runs.last());
-                let y = run.map_or_else(Vec::new, |r| r.value(v.t));
-                vec![Term { t: v.t, weights: d.end_x_state_gradient(&y) }]
-            })
-            .collect();
-        let runs: Vec<&Trajectory> = self.runs.iter().collect();
-        let Some((gradients, _)) = (!runs.is_empty()).then(|| adjoint(&ode, &runs, &outputs)).flatten() else {
-            return false;
-        };
-        for (v, g) in values.iter_mut().zip(gradients) {
-            v.gradient = g.total(s0);
-        }
-        true
-    }
 }
 
 /// [`simulate_periodic`] with the springs' gradients of the last period's values: always
@@ -385,75 +326,4 @@ fn run_periodic(
         LastPeriod { minima, end, runs }
     });
     (response, values)
-}
-
-/// The largest difference of two periods' end-displacement traces, as a fraction of the swing of
-/// `trace`.
-fn relative_change(trace: &[f64], previous: &[f64]) -> f64 {
-    let swing =
-        trace.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - trace.iter().cloned().fold(f64::INFINITY, f64::min);
-    let diff = trace.iter().zip(previous).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    diff / swing.max(1e-300)
-}
-
-/// The local minima of `x` over a trajectory, lowest first, as `(value, time)`, and the maximum:
-/// from its step points and `dense` equal intervals of its span, each interior minimum of those
-/// points refined by golden-section search on the dense output between its two neighbours.
-fn extremes(traj: &Trajectory, x_of: &dyn Fn(&[f64]) -> f64, dense: usize) -> (Vec<(f64, f64)>, f64) {
-    let (t_start, t_stop) = traj.span();
-    let mut points: Vec<(f64, f64)> = (0..=dense)
-        .map(|k| {
-            let t = t_start + (t_stop - t_start) * k as f64 / dense as f64;
-            (t, x_of(&traj.value(t)))
-        })
-        .chain(traj.points().map(|(t, y)| (t, x_of(y))))
-        .collect();
-    points.sort_by(|a, b| a.0.total_cmp(&b.0));
-    points.dedup_by(|a, b| a.0 == b.0);
-    let max = points.iter().fold(f64::NEG_INFINITY, |m, p| m.max(p.1));
-    let last = points.len() - 1;
-    let mut minima: Vec<(f64, f64)> = (0..=last)
-        .filter(|&k| (k == 0 || points[k].1 < points[k - 1].1) && (k == last || points[k].1 <= points[k + 1].1))
-        .map(|k| {
-            if k == 0 || k == last {
-                return (points[k].1, points[k].0);
-            }
-            let (t, x) = golden_minimum(points[k - 1].0, points[k + 1].0, &|t| x_of(&traj.value(t)));
-            if x < points[k].1 {
-                (x, t)
-            } else {
-                (points[k].1, points[k].0)
-            }
-        })
-        .collect();
-    minima.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if minima.is_empty() {
-        // A constant trace: its start.
-        minima.push((points[0].1, points[0].0));
-    }
-    (minima, max)
-}
-
-/// The minimiser of a unimodal `f` on `[a, b]` by golden-section search to round-off in `t`, and
-/// its value.
-fn golden_minimum(mut a: f64, mut b: f64, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-    let (mut fc, mut fd) = (f(c), f(d));
-    while b - a > 4.0 * f64::EPSILON * b.abs().max(1.0) && d > c {
-        if fc <= fd {
-            (b, d, fd) = (d, c, fc);
-            c = b - r * (b - a);
-            fc = f(c);
-        } else {
-            (a, c, fc) = (c, d, fd);
-            d = a + r * (b - a);
-            fd = f(d);
-        }
-    }
-    if fc <= fd {
-        (c, fc)
-    } else {
-        (d, fd)
-    }
 }
