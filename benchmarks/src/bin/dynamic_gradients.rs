@@ -16,7 +16,7 @@
 //!
 //! * **Eq. (35)**: the rise time's `dT_90/dC` by the adjoint and by forward sensitivities.
 //!
-//! Usage: `dynamic_gradients [--sweeps-only] [--gradient-sizes=7,20,50] [--rise-sizes=5,10,20]
+//! Usage: `dynamic_gradients [--sweeps-only] [--paper-only] [--gradient-sizes=7,20,50] [--rise-sizes=5,10,20]
 //! [--design-sizes=7,50]`.
 #![forbid(unsafe_code)]
 
@@ -142,9 +142,44 @@ fn design_row(p: &DynamicProblem, delta_d: f64, method: SearchMethod, settings: 
     )
 }
 
+/// `paper-cases/periodic7.json` (Fig. 10's setting) by the GA, by gradients with the adjoint and
+/// by gradients with forward sensitivities, each through the one run path of the CLI, timed in
+/// this run: the rows of the "same run" comparison.
+fn paper_case_rows() -> String {
+    let text = std::fs::read_to_string("paper-cases/periodic7.json").expect("paper-cases/periodic7.json");
+    let mut out = String::from("\n### `paper-cases/periodic7.json` (Fig. 10's setting: 7 links, δ_d = −0.05 m), the whole run as `spine periodic` runs it\n\n| method | wall time (s) | U (J) | simulations |\n|---|---|---|---|\n");
+    for (method, sensitivities) in [("ga", "adjoint"), ("gradient", "adjoint"), ("gradient", "forward")] {
+        let mut value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        value["periodic_design"]["method"] = method.into();
+        value["periodic_design"]["settings"]["gradient"] = serde_json::json!({ "sensitivities": sensitivities });
+        let case = spine_case::Case::from_json(&value.to_string()).expect("a valid case");
+        let clock = Instant::now();
+        let result =
+            spine_run::run_case(&case, &Default::default(), &spine_run::NoRecipes, &mut |_| {}).expect("a run");
+        let time = clock.elapsed().as_secs_f64();
+        let json = result.to_json();
+        let design = &json["periodic_design"];
+        let name = if method == "ga" { "GA (two threads)".to_string() } else { format!("gradient, {sensitivities}") };
+        let row = format!(
+            "| {name} | {time:.2} | {:.6} | {} |",
+            design["objective"].as_f64().unwrap_or(f64::NAN),
+            design["simulations"]
+        );
+        println!("{row}");
+        out.push_str(&row);
+        out.push('\n');
+    }
+    out
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let sweeps_only = args.iter().any(|a| a == "--sweeps-only");
+    // `--paper-only`: the periodic7 rows alone, printed (nothing written).
+    if args.iter().any(|a| a == "--paper-only") {
+        paper_case_rows();
+        return;
+    }
     let mut text = format!("{SECTION}\n\nWritten by `just bench-gradients` (benchmarks/src/bin/dynamic_gradients.rs), one run on {} core(s) (rayon's pool). The periodic fixture chain (`periodic_problem(N)`: arch of amplitude 0.3 rad over 1 m, K = 2000 N·m/rad, 0.5 kg links, −20 N per node, −1500 N pulses of period 0.4 s and duty 0.5, dampers 20 N·m·s/rad), integrator rtol 1e-6 (eq. (37)'s default).\n\n", rayon::current_num_threads());
     text.push_str("### Per gradient (3 periods; fastest of 3)\n\nThe adjoint sweeps are the two constraint minima's, side by side on the pool; `sweeps / plain` is their wall time over the plain run's (the run the values need anyway).\n\n| N | springs | steps (3 periods) | plain run (s) | adjoint sweeps (s) | sweeps / plain | forward run (s) | forward / plain | forward / (plain + sweeps) | largest gradient difference (relative) |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for n in sizes(&args, "--gradient-sizes=", &[7, 20, 50]) {
@@ -185,6 +220,7 @@ fn main() {
         writeln!(text, "| {n} | forward / adjoint wall time | {:.1}× | | | | | | |", times[1] / times[0])
             .expect("string");
     }
+    text.push_str(&paper_case_rows());
     let path = "benchmarks/DYNAMICS.md";
     let old = std::fs::read_to_string(path).unwrap_or_default();
     let kept = old.find(SECTION).map_or(old.as_str(), |i| &old[..i]).trim_end();

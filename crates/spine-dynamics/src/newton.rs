@@ -240,6 +240,17 @@ mod tests {
         (d, ends.rest_state())
     }
 
+    /// A state in motion: the step response of an `n`-link arch with dampers `damping` after 20 ms.
+    fn in_motion(n: usize, damping: f64) -> (Dynamics, Vec<f64>) {
+        let problem = arch_problem(n, damping);
+        let ends = problem.static_ends(&Default::default()).expect("stable ends");
+        let d = problem.dynamics(Forcing::Step);
+        let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
+        let extras = crate::integrator::Extras::default();
+        let y = crate::integrate(&ode, 0.0, &ends.rest_state(), 0.02, &Default::default(), extras).end().to_vec();
+        (d, y)
+    }
+
     fn pattern(len: usize, k: f64) -> Vec<f64> {
         (0..len).map(|i| ((i as f64 + 1.0) * k).sin()).collect()
     }
@@ -294,19 +305,7 @@ mod tests {
     /// and the dense LU's transposed solve agrees with the structured one at rest.
     #[test]
     fn the_transposed_solve_is_the_transpose_of_the_solve() {
-        let problem = arch_problem(7, 30.0);
-        let ends = problem.static_ends(&Default::default()).expect("stable ends");
-        let d = problem.dynamics(Forcing::Step);
-        let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
-        let traj = crate::integrate(
-            &ode,
-            0.0,
-            &ends.rest_state(),
-            0.02,
-            &Default::default(),
-            crate::integrator::Extras::default(),
-        );
-        let y = traj.end().to_vec();
+        let (d, y) = in_motion(7, 30.0);
         let fast = ChainLinearization::new(&d, 0.02, 0.02, &y);
         let (a, b) = (pattern(14, 0.37), pattern(14, 1.9));
         let dot_r = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
@@ -345,20 +344,8 @@ mod tests {
     /// simplified Newton contracts fast (measured contraction below 0.05 at the step sizes used).
     #[test]
     fn in_motion_the_structured_matrix_is_a_close_preconditioner() {
-        let problem = arch_problem(8, 50.0);
-        let ends = problem.static_ends(&Default::default()).expect("stable ends");
-        let d = problem.dynamics(Forcing::Step);
+        let (d, y) = in_motion(8, 50.0);
         let ode = SpineOde { dynamics: &d, parameters: Parameters::None };
-        // A state in motion: the step response after 20 ms.
-        let traj = crate::integrate(
-            &ode,
-            0.0,
-            &ends.rest_state(),
-            0.02,
-            &Default::default(),
-            crate::integrator::Extras::default(),
-        );
-        let y = traj.end().to_vec();
         let j = ode.jacobian(0.02, 0.02, &y);
         let fast = ChainLinearization::new(&d, 0.02, 0.02, &y);
         for sigma in [1e2, 1e3, 1e4] {

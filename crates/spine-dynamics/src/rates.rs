@@ -199,6 +199,20 @@ impl RatesAt<'_> {
     }
 }
 
+/// `∇Φ = (L_i cos θ_i)`, its diagonal derivative `(−L_i sin θ_i)` and `Φ = Σ L_i sin θ_i`: what
+/// each sweep of [`Dynamics::project`] uses.
+fn constraint_terms(lengths: &[f64], theta: &[f64]) -> (Vec<f64>, Vec<f64>, f64) {
+    let n = theta.len();
+    let (mut g, mut curvature, mut phi) = (vec![0.0; n], vec![0.0; n], 0.0);
+    for i in 0..n {
+        let (si, ci) = theta[i].sin_cos();
+        phi += lengths[i] * si;
+        g[i] = lengths[i] * ci;
+        curvature[i] = -lengths[i] * si;
+    }
+    (g, curvature, phi)
+}
+
 impl Dynamics {
     /// `a ← (∂ project/∂y)ᵀ a` at the unprojected `y`: the transpose of [`Self::project_tangent`]
     /// for one row vector (the adjoint of a step, [`crate::integrator::adjoint`]), in reverse
@@ -211,13 +225,7 @@ impl Dynamics {
         let mut theta = y[..n].to_vec();
         let mut sweeps: Vec<(Vec<f64>, Vec<f64>, f64, f64)> = Vec::with_capacity(crate::eom::PROJECTION_SWEEPS + 1);
         for k in 0..=crate::eom::PROJECTION_SWEEPS {
-            let (mut g, mut curvature, mut phi) = (vec![0.0; n], vec![0.0; n], 0.0);
-            for i in 0..n {
-                let (si, ci) = theta[i].sin_cos();
-                phi += l[i] * si;
-                g[i] = l[i] * ci;
-                curvature[i] = -l[i] * si;
-            }
+            let (g, curvature, phi) = constraint_terms(l, &theta);
             let gg: f64 = g.iter().map(|v| v * v).sum();
             let step = phi / gg;
             if k < crate::eom::PROJECTION_SWEEPS {
@@ -254,16 +262,7 @@ impl Dynamics {
         let l = &self.lengths;
         let mut theta = y[..n].to_vec();
         let omega = &y[n..];
-        let at = |theta: &[f64]| -> (Vec<f64>, Vec<f64>, f64) {
-            let (mut g, mut curvature, mut phi) = (vec![0.0; n], vec![0.0; n], 0.0);
-            for i in 0..n {
-                let (si, ci) = theta[i].sin_cos();
-                phi += l[i] * si;
-                g[i] = l[i] * ci;
-                curvature[i] = -l[i] * si;
-            }
-            (g, curvature, phi)
-        };
+        let at = |theta: &[f64]| constraint_terms(l, theta);
         let mut dg = vec![0.0; n];
         for _ in 0..crate::eom::PROJECTION_SWEEPS {
             let (g, curvature, phi) = at(&theta);
