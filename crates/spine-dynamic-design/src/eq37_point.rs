@@ -38,13 +38,17 @@ impl Eq37Point {
 
     /// Fills the gradients of both minima if they are not there yet: one adjoint sweep for each,
     /// side by side on rayon's pool (two cores: about the time of one sweep; the same numbers
-    /// whatever the pool's size); `false` when a sweep fails (singular Newton matrices).
+    /// whatever the pool's size); `false` when a sweep fails (singular Newton matrices). A failed
+    /// point stays pending, so that it never passes for one with gradients.
     pub fn constraint_gradients(&mut self) -> bool {
-        let Some(pending) = self.pending.take() else { return true };
-        let (d, last, s0) = &*pending;
+        let Some(pending) = &self.pending else { return true };
+        let (d, last, s0) = &**pending;
         let [first, second] = &mut self.minima;
         let sweep = |m: &mut EndValue| last.adjoint_gradients(d, &mut [m], s0);
         let (a, b) = rayon::join(|| sweep(first), || sweep(second));
+        if a && b {
+            self.pending = None;
+        }
         a && b
     }
 }
