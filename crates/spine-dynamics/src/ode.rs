@@ -44,7 +44,7 @@ pub trait OdeSystem {
     /// [`OdeSystem::jacobian_and_params`]).
     fn vector_jacobian(&self, t: f64, piece: f64, y: &[f64]) -> Box<dyn VectorJacobian + '_> {
         let (jac, params) = self.jacobian_and_params(t, piece, y);
-        Box::new(DenseProducts { jac_t: jac.transpose(), params_t: params.transpose() })
+        Box::new(DenseProducts::new(&jac, &params))
     }
     /// Moves `y` onto the invariant manifold (default: nothing).
     fn project(&self, _y: &mut [f64]) {}
@@ -76,8 +76,15 @@ pub trait VectorJacobian {
 
 /// The dense products: `(∂f/∂y)ᵀ v` and `(∂f/∂p)ᵀ v`.
 pub struct DenseProducts {
-    pub jac_t: DMatrix<f64>,
-    pub params_t: DMatrix<f64>,
+    jac_t: DMatrix<f64>,
+    params_t: DMatrix<f64>,
+}
+
+impl DenseProducts {
+    /// From `∂f/∂y` and `∂f/∂p`.
+    pub fn new(jacobian: &DMatrix<f64>, params: &DMatrix<f64>) -> Self {
+        Self { jac_t: jacobian.transpose(), params_t: params.transpose() }
+    }
 }
 
 impl VectorJacobian for DenseProducts {

@@ -68,6 +68,15 @@ impl Dynamics {
     }
 }
 
+/// A state's `(sin θ_i, cos θ_i)`, the factorisation of `M(θ)`, `M⁻¹∇Φ` and `∇Φᵀ M⁻¹∇Φ`, taken
+/// out of its [`RatesAt`].
+pub(crate) struct Factored {
+    pub(crate) trig: Vec<(f64, f64)>,
+    pub(crate) chain: ArticulatedChain<f64>,
+    pub(crate) mg: Vec<f64>,
+    pub(crate) gmg: f64,
+}
+
 /// What one column of rates is driven by: `(dQ, db, k)`, written into column `k`.
 type Respond<'r> = dyn FnMut(&[f64], f64, usize) + 'r;
 
@@ -162,14 +171,30 @@ impl RatesAt<'_> {
         }
     }
 
+    /// The state's own `θ̈` and `λ` under `loads`, from the factorisation of `M(θ)`.
+    fn acceleration_with(&self, chain: &ArticulatedChain<f64>, loads: &LinkLoads) -> (Vec<f64>, f64) {
+        let d = self.dynamics;
+        let h = d.velocity_terms_from(&self.trig, self.omega);
+        let (q, _, b) = d.index1_terms(LoadsAt::Given(loads), (self.theta, &self.trig), self.omega, &d.damping, h);
+        bordered(chain.solve(&q), &self.mg, &self.g, b)
+    }
+
+    /// The state's own `θ̈` and `λ` under `loads`; `None` where `M(θ)` has no factorisation.
+    pub(crate) fn state_acceleration(&self, loads: &LinkLoads) -> Option<(Vec<f64>, f64)> {
+        self.chain.as_ref().map(|chain| self.acceleration_with(chain, loads))
+    }
+
+    /// What the prepared state keeps ([`Factored`]); `None` where `M(θ)` has no factorisation.
+    pub(crate) fn into_factored(self) -> Option<Factored> {
+        Some(Factored { trig: self.trig, chain: self.chain?, mg: self.mg, gmg: self.gmg })
+    }
+
     /// An angle's column, where `M`, `∇Φ` and `b` move too, from the state's own `θ̈` and `λ`.
     fn angle_forcing(&self, chain: &ArticulatedChain<f64>, loads: &LinkLoads, respond: &mut Respond<'_>) {
         let d = self.dynamics;
         let (n, trig, omega, l, k_m) = (d.n_links(), &self.trig, self.omega, &d.lengths, &d.stiffness);
         let c = self.coupling();
-        let h = d.velocity_terms_from(trig, omega);
-        let (q, _, b) = d.index1_terms(LoadsAt::Given(loads), (self.theta, trig), omega, &d.damping, h);
-        let (acc, lambda) = bordered(chain.solve(&q), &self.mg, &self.g, b);
+        let (acc, lambda) = self.acceleration_with(chain, loads);
         let mut dq = vec![0.0; n];
         for k in 0..n {
             let (sk, ck) = trig[k];

@@ -329,7 +329,7 @@ fn rise_time_adjoint(d: &Dynamics, traj: &Trajectory, event: &crate::integrator:
     let step = traj.intervals.iter().find(|iv| iv.t0 < event.t && event.t <= iv.t1)?;
     let dg = d.end_x_state_gradient(&event.y);
     let mut f = vec![0.0; dg.len()];
-    ode.rhs_into(event.t, 0.5 * (step.t0 + step.t1), &event.y, &mut f);
+    ode.rhs_into(event.t, step.piece(), &event.y, &mut f);
     let rate: f64 = dg.iter().zip(&f).map(|(a, b)| a * b).sum();
     let (gradients, _) = adjoint(&ode, &[traj], &[vec![Term { t: event.t, weights: dg }]])?;
     Some(gradients[0].direct.iter().map(|v| -v / rate).collect())

@@ -143,7 +143,7 @@ impl OdeSystem for SpineOde<'_> {
             Some(at) => Box::new(ChainProducts(at)),
             None => {
                 let (jac, params) = self.jacobian_and_params(t, piece, y);
-                Box::new(DenseProducts { jac_t: jac.transpose(), params_t: params.transpose() })
+                Box::new(DenseProducts::new(&jac, &params))
             }
         }
     }

@@ -21,8 +21,9 @@
 //! hold all three to the transposed dense rates.
 
 use crate::articulated::ArticulatedChain;
-use crate::eom::{bordered, Dynamics, LoadsAt};
+use crate::eom::Dynamics;
 use crate::parameters::Parameters;
+use crate::rates::Factored;
 use std::cell::RefCell;
 
 /// One state `(t, θ, θ̇)` prepared for any number of products (module docs).
@@ -90,15 +91,10 @@ impl Dynamics {
     ) -> Option<AccelerationAdjoint> {
         let n = self.n_links();
         let (theta, omega) = y.split_at(n);
-        let trig: Vec<(f64, f64)> = theta.iter().map(|t| t.sin_cos()).collect();
-        let chain = ArticulatedChain::from_trig(&self.lengths, &self.masses, &trig)?;
-        let g: Vec<f64> = (0..n).map(|i| trig[i].1 * self.lengths[i]).collect();
-        let mg = chain.solve(&g);
-        let gmg: f64 = g.iter().zip(&mg).map(|(a, b)| a * b).sum();
         let loads = self.loads_at(t, piece);
-        let h = self.velocity_terms_from(&trig, omega);
-        let (q, _, b) = self.index1_terms(LoadsAt::Given(&loads), (theta, &trig), omega, &self.damping, h);
-        let (acc, lambda) = bordered(chain.solve(&q), &mg, &g, b);
+        let at = self.rates_at(theta, omega);
+        let (acc, lambda) = at.state_acceleration(&loads)?;
+        let Factored { trig, chain, mg, gmg } = at.into_factored()?;
         let (coupling, _) = self.inertia_coefficients();
         let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
         let (c_omega2, _) = coupled(&self.lengths, &coupling, &trig, &omega2);

@@ -142,7 +142,7 @@ fn seed_end(
         return;
     }
     let c: Vec<f64> = term.weights.iter().map(|w| w * b_rate).collect();
-    let (to_state, to_params) = sys.vector_jacobian(t, 0.5 * (iv.t0 + iv.t1), y).products(&c);
+    let (to_state, to_params) = sys.vector_jacobian(t, iv.piece(), y).products(&c);
     for (l, x) in lambda.column_mut(k).iter_mut().zip(to_state) {
         *l += x;
     }

@@ -50,6 +50,12 @@ impl Interval {
         Self { collocation, t0, t1, y0, y1, f0, f1, sens }
     }
 
+    /// A time inside the step, and so inside its smooth piece of `f` (steps never cross a
+    /// breakpoint of the forcing): the `piece` argument of the system's functions on this step.
+    pub fn piece(&self) -> f64 {
+        0.5 * (self.t0 + self.t1)
+    }
+
     /// The cubic Hermite weights `(b, ḃ)` of `(y₀, ẏ₀, y₁, ẏ₁)` at `t`.
     pub(super) fn weights(&self, t: f64) -> ([f64; 4], [f64; 4]) {
         let h = self.t1 - self.t0;

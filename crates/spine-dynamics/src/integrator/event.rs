@@ -34,8 +34,7 @@ pub fn first_event(
     let Some(step) = traj.interval_at(event.t).filter(|iv| iv.t0 < event.t) else {
         return Some(event);
     };
-    // Any time inside the step is inside its smooth piece of `f`.
-    let piece = 0.5 * (step.t0 + step.t1);
+    let piece = step.piece();
     let mut t = event.t;
     let mut last: Option<(Vec<f64>, Vec<f64>, f64)> = None;
     for _ in 0..NEWTON_STEPS {

@@ -57,23 +57,17 @@ pub(in crate::integrator) fn step_adjoint(
     work: &mut AdjointWork,
     stats: &mut Stats,
 ) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
-    let q = iv.collocation.as_ref()?;
-    let (n, m) = (iv.y0.len(), lambda1.ncols());
-    let h = iv.t1 - iv.t0;
-    // Any time inside the step is inside its smooth piece of `f`.
-    let piece = 0.5 * (iv.t0 + iv.t1);
-    let z: Stages = std::array::from_fn(|i| {
-        let x = C[i];
-        (0..n).map(|j| x * (q[0][j] + x * (q[1][j] + x * q[2][j]))).collect()
-    });
-    let unprojected: Vec<f64> = (0..n).map(|j| iv.y0[j] + z[2][j]).collect();
+    iv.collocation.as_ref()?;
+    let m = lambda1.ncols();
+    let (h, piece) = (iv.t1 - iv.t0, iv.piece());
+    // The stage points `y₀ + Z_i` and the unprojected end `y₀ + Z₃` on the collocation polynomial.
+    let points: Vec<(f64, Vec<f64>)> = (0..3).map(|i| (iv.t0 + C[i] * h, iv.value(iv.t0 + C[i] * h))).collect();
+    let unprojected = iv.value(iv.t1);
     let mut mu = lambda1.clone();
     for mut column in mu.column_iter_mut() {
         sys.project_adjoint(&unprojected, column.as_mut_slice());
     }
     stats.jacobian_evaluations += 3;
-    let points: Vec<(f64, Vec<f64>)> =
-        (0..3).map(|i| (iv.t0 + C[i] * h, (0..n).map(|j| iv.y0[j] + z[i][j]).collect())).collect();
     let products: Vec<Box<dyn VectorJacobian + '_>> =
         points.iter().map(|(ti, yi)| sys.vector_jacobian(*ti, piece, yi)).collect();
     if work.stale || work.factors.as_ref().is_none_or(|f| (f.h / h - 1.0).abs() > REFACTOR_MARGIN) {
@@ -177,22 +171,13 @@ mod tests {
         let mut iterated = 0;
         for iv in run.intervals.iter().step_by(7) {
             let h = iv.t1 - iv.t0;
-            let q = iv.collocation.as_ref().unwrap();
-            let jac: Vec<DMatrix<f64>> = (0..3)
-                .map(|i| {
-                    let yi: Vec<f64> =
-                        (0..10).map(|j| iv.y0[j] + C[i] * (q[0][j] + C[i] * (q[1][j] + C[i] * q[2][j]))).collect();
-                    ode.jacobian_and_params(iv.t0 + C[i] * h, 0.5 * (iv.t0 + iv.t1), &yi).0
-                })
-                .collect();
+            let jac: Vec<DMatrix<f64>> =
+                (0..3).map(|i| ode.jacobian(iv.t0 + C[i] * h, iv.piece(), &iv.value(iv.t0 + C[i] * h))).collect();
             let products: Vec<Box<dyn VectorJacobian>> = jac
                 .iter()
-                .map(|j| {
-                    Box::new(DenseProducts { jac_t: j.transpose(), params_t: DMatrix::zeros(0, 10) })
-                        as Box<dyn VectorJacobian>
-                })
+                .map(|j| Box::new(DenseProducts::new(j, &DMatrix::zeros(10, 0))) as Box<dyn VectorJacobian>)
                 .collect();
-            work.factors = factor(ode.linearize(iv.t0, 0.5 * (iv.t0 + iv.t1), &iv.y0).as_ref(), h, &mut stats);
+            work.factors = factor(ode.linearize(iv.t0, iv.piece(), &iv.y0).as_ref(), h, &mut stats);
             let Some(v) = stage_adjoint(&products, &mu, h, &mut work, &mut stats) else { continue };
             iterated += 1;
             let w = direct(&jac, &mu, h).unwrap();

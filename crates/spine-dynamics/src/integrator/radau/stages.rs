@@ -187,6 +187,9 @@ pub(super) fn collocation(
     let mut previous: Option<f64> = None;
     let mut rate;
     let beta = if adjoint { MU_BETA } else { -MU_BETA };
+    // The adjoint's linear iteration, on a norm relative to the size of its solution, may only
+    // stall at round-off.
+    let floor = if adjoint { 1e3 * tol } else { STALL_FLOOR };
     let (mu, mu_c) = (MU_REAL / h, Complex64::new(MU_ALPHA, beta) / h);
     for k in 0..max_iterations {
         for (i, (fi, zi)) in f.iter_mut().zip(&z).enumerate() {
@@ -225,9 +228,6 @@ pub(super) fn collocation(
         // ε ‖K‖/‖M‖ (about 1e-12 relative in the accelerations at N = 100), above Hairer's
         // `10 ε / rtol` floor at tight tolerances. They are a few thousandths of the local error
         // tolerance: done.
-        // The adjoint's linear iteration, on a norm relative to the size of its solution, may only
-        // stall at round-off.
-        let floor = if adjoint { 1e3 * tol } else { STALL_FLOOR };
         let noise = k >= 1 && dw_norm <= floor;
         // Diverging, or not reaching `tol` in the iterations left.
         let slow = rate.is_some_and(|r| r >= 1.0 || r.powi((max_iterations - k) as i32) / (1.0 - r) * dw_norm > tol);
