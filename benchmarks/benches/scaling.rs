@@ -165,7 +165,11 @@ fn optimum_parameters(c: &mut Criterion) {
     let problem_at = |v: f64| -> Result<spine_design::DesignProblem, spine_case::FieldError> {
         Ok(fig5.with_parameter("loads.p_y", v).and_then(|c| c.validate())?.problem)
     };
-    let sweep = Sweep::new("loads.p_y", &problem_at, &valid.settings, SweepSettings::new(-1.0, -20.0, 40)).unwrap();
+    let tangent_at = |v: f64| -> Result<spine_design::ProblemTangent, spine_case::FieldError> {
+        Ok(fig5.parameter_tangent("loads.p_y", &problem_at(v)?)?)
+    };
+    let sweep = Sweep::new("loads.p_y", &problem_at, &tangent_at, &valid.settings, SweepSettings::new(-1.0, -20.0, 40))
+        .unwrap();
     let followed = sweep.follow(&start.design).expect("the sweep runs");
     assert_eq!(followed.points.len(), 40);
     g.bench_function(BenchmarkId::new("sweep_fig5_40", 10), |b| b.iter(|| sweep.follow(black_box(&start.design))));
@@ -174,8 +178,7 @@ fn optimum_parameters(c: &mut Criterion) {
     let valid = design10.validate().expect("valid case");
     let first = solve_design(&valid.problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true).unwrap();
     let names = design10.default_parameters();
-    let overrides = spine_run::DesignOverrides::default();
-    let differentiate = || spine_run::sensitivity::differentiate(&design10, &valid, &overrides, &names, &first);
+    let differentiate = || spine_run::sensitivity::differentiate(&design10, &valid, &names, &first);
     let (report, _) = differentiate().expect("sensitivities");
     assert_eq!(report.expect("a differentiable optimum").parameters.len(), names.len());
     g.bench_function(BenchmarkId::new("polish", 10), |b| {

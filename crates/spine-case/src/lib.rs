@@ -85,6 +85,7 @@ mod parse;
 mod per_item;
 mod read;
 mod specs;
+mod tangent;
 mod twolink_case;
 
 pub use case::{json_schema, Case, ValidRun, KINDS};

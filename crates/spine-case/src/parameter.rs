@@ -22,7 +22,7 @@ fn entries(field: &str, links: usize) -> Option<usize> {
 }
 
 /// `field[index]` split into the field and the index.
-fn split(name: &str) -> Result<(&str, Option<usize>), CaseError> {
+pub(crate) fn split(name: &str) -> Result<(&str, Option<usize>), CaseError> {
     match name.split_once('[') {
         None => Ok((name, None)),
         Some((field, rest)) => {

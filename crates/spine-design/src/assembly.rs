@@ -13,6 +13,10 @@
 //!
 //! The patterns are built once by [`Patterns`]; cost per evaluation is linear in the number of
 //! elements.
+//!
+//! The rates of the values and first derivatives along a parameter of the problem
+//! ([`Assembled::rates`]) come from the same groups built from the problem's rates: element by
+//! element, one pass of a tangent jet ([`local::rates`]) where the element's constants move.
 
 use spine_model::local::{self, Element};
 // The patterns are keyed by `(row, column)` pairs of small integers: Fx hashing, not SipHash
@@ -102,9 +106,42 @@ pub trait AnyGroup {
     fn add_first_derivatives(&self, x: &[f64], gradient: &mut [f64], jacobian: &mut [f64]);
     /// Adds `σ ∇²f + Σ λ_r ∇²g_r` of the group's elements to the Hessian values.
     fn add_hessian(&self, x: &[f64], sigma: f64, lambda: &[f64], hessian: &mut [f64]);
+    /// The group as [`std::any::Any`], so that [`AnyGroup::add_rates`] can take its direction.
+    fn as_any(&self) -> &dyn std::any::Any;
+    /// Adds the exact rates along a parameter: `direction` is this group built from the problem's
+    /// rates (the same elements in the same order, each holding its constants' rates). Adds each
+    /// element's value rate to its row's and `w ∂∇e/∂p` to `rates.lagrangian_gradient`, with `w` 1
+    /// for the objective and `λ_r` for row `r`. Elements whose constants do not move are skipped.
+    ///
+    /// # Panics
+    /// If `direction` is a group of another kind or size (a programming error).
+    fn add_rates(&self, direction: &dyn AnyGroup, x: &[f64], lambda: &[f64], rates: &mut NlpRates);
 }
 
-impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
+/// The rates along a parameter of the NLP's objective, constraints and Lagrangian gradient
+/// `∇f + Σ λ_r ∇g_r` (without the bound multipliers) at a point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NlpRates {
+    pub objective: f64,
+    pub constraints: Vec<f64>,
+    pub lagrangian_gradient: Vec<f64>,
+}
+
+/// Whether any of `element`'s constants moves at `rates` (each constant passes through the lift
+/// once; the value at zero is not used).
+fn moves<E: Element<M>, const M: usize>(element: &E, rates: &E) -> bool {
+    let moving = std::cell::Cell::new(false);
+    let lift = |c: f64, r: f64| {
+        if r != 0.0 {
+            moving.set(true);
+        }
+        c
+    };
+    element.eval_moving(rates, lift, &[0.0; M]);
+    moving.get()
+}
+
+impl<E: Element<M> + 'static, const M: usize> AnyGroup for Group<E, M> {
     fn register(&mut self, patterns: &mut Patterns) {
         self.jacobian_positions.clear();
         self.hessian_positions.clear();
@@ -184,6 +221,36 @@ impl<E: Element<M>, const M: usize> AnyGroup for Group<E, M> {
             }
         }
     }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn add_rates(&self, direction: &dyn AnyGroup, x: &[f64], lambda: &[f64], rates: &mut NlpRates) {
+        let direction = direction.as_any().downcast_ref::<Self>().expect("the direction is a group of the same kind");
+        assert_eq!(direction.items.len(), self.items.len(), "the direction has the group's elements");
+        for (item, moving) in self.items.iter().zip(&direction.items) {
+            if !moves(&item.element, &moving.element) {
+                continue;
+            }
+            let (value, gradient) = local::rates(&item.element, &moving.element, &self.local(item, x));
+            let weight = match item.row {
+                Row::Objective => {
+                    rates.objective += value;
+                    1.0
+                }
+                Row::Constraint(r) => {
+                    rates.constraints[r] += value;
+                    lambda[r]
+                }
+            };
+            for (k, g) in gradient.iter().enumerate() {
+                if let Some(v) = item.vars[k] {
+                    rates.lagrangian_gradient[v] += weight * g;
+                }
+            }
+        }
+    }
 }
 
 /// An NLP assembled from groups of elements: the objective and constraints are sums of elements.
@@ -219,6 +286,19 @@ impl Assembled {
         for group in &self.groups {
             group.add_first_derivatives(x, gradient, jacobian);
         }
+    }
+
+    /// The rates at `x` along a parameter whose direction is `direction`: these groups built from
+    /// the problem's rates ([`crate::full_space::groups`]); `n` variables, `m` rows, constraint
+    /// multipliers `lambda`.
+    pub fn rates(&self, direction: &[Box<dyn AnyGroup + Send>], x: &[f64], lambda: &[f64]) -> NlpRates {
+        let mut rates =
+            NlpRates { objective: 0.0, constraints: vec![0.0; lambda.len()], lagrangian_gradient: vec![0.0; x.len()] };
+        assert_eq!(direction.len(), self.groups.len(), "one direction per group");
+        for (group, moving) in self.groups.iter().zip(direction) {
+            group.add_rates(moving.as_ref(), x, lambda, &mut rates);
+        }
+        rates
     }
 
     /// Hessian of the Lagrangian values (overwritten).

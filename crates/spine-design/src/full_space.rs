@@ -27,6 +27,7 @@
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
 pub use crate::layout::{Layout, LoadState, StateForm};
 
+use crate::numbers::{Numbers, Resultants};
 use crate::problem::DesignProblem;
 use spine_model::chain::spring_links;
 use spine_model::local::{
@@ -34,15 +35,22 @@ use spine_model::local::{
     LinkRun, SpringEnergy,
 };
 use spine_model::residual::slot;
-use spine_model::{Design, LinkLoads, State};
+use spine_model::{Design, State};
 
 /// Builds the elements of eq. (33) in the full space, with the states in `states`' form.
 pub fn assemble(problem: &DesignProblem, states: StateForm) -> Assembled {
-    let n = problem.n_links();
+    Assembled::new(groups(&Numbers::of(problem), states))
+}
+
+/// The groups of elements of eq. (33) with their constants taken from `numbers`: the problem's
+/// numbers, or their rates along a parameter (each element's constants are copies of the numbers,
+/// so the same map gives the elements' constant rates).
+pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn AnyGroup + Send>> {
+    let n = numbers.spans.len();
     let layout = Layout { n, states };
-    let spans = &problem.structure.chain.spans;
+    let spans = &numbers.spans;
     let deflection = states == StateForm::Deflection;
-    let load_states = [(LoadState::Passive, problem.passive_loads()), (LoadState::Loaded, problem.total_loads())];
+    let load_states = [(LoadState::Passive, &numbers.passive), (LoadState::Loaded, &numbers.loaded)];
     let rises = load_states
         .iter()
         .flat_map(|(state, _)| {
@@ -74,15 +82,14 @@ pub fn assemble(problem: &DesignProblem, states: StateForm) -> Assembled {
             row: Row::Constraint(layout.relative_row(i)),
         })
         .collect();
-    let groups: Vec<Box<dyn AnyGroup + Send>> = vec![
-        joints(&layout, problem, &load_states),
+    vec![
+        joints(&layout, numbers, &load_states),
         Box::new(Group::new(rises)),
         Box::new(Group::new(runs)),
-        springs(&layout, problem.stiffness_scale),
+        springs(&layout, numbers.stiffness_scale),
         Box::new(Group::new(heights)),
         Box::new(Group::new(relatives)),
-    ];
-    Assembled::new(groups)
+    ]
 }
 
 /// Joint row `i` of one load state: what both forms of its element need.
@@ -100,12 +107,12 @@ struct JointRow {
 /// on deflections. The two forms differ only in their element and its slots.
 fn joints(
     layout: &Layout,
-    problem: &DesignProblem,
-    load_states: &[(LoadState, LinkLoads)],
+    numbers: &Numbers<f64>,
+    load_states: &[(LoadState, &Resultants<f64>)],
 ) -> Box<dyn AnyGroup + Send> {
     let n = layout.n;
-    let spans = &problem.structure.chain.spans;
-    let stiffness_scale = problem.stiffness_scale;
+    let spans = &numbers.spans;
+    let stiffness_scale = numbers.stiffness_scale;
     let rows = load_states.iter().flat_map(|(state, loads)| {
         (0..n).map(move |i| JointRow {
             state: *state,
@@ -183,52 +190,6 @@ fn springs(layout: &Layout, stiffness_scale: f64) -> Box<dyn AnyGroup + Send> {
     }
 }
 
-/// Bounds shared by both formulations: `θ0` (indices `0..N`), `k` (indices `N..2N+1`) and the
-/// lifted node heights at `height(j)`; every other variable is free.
-pub(crate) fn design_variable_bounds(
-    problem: &DesignProblem,
-    lower: &mut [f64],
-    upper: &mut [f64],
-    height: impl Fn(usize) -> Option<usize>,
-) {
-    let n = problem.n_links();
-    let b = &problem.bounds;
-    let ck = problem.stiffness_scale;
-    for i in 0..n {
-        lower[i] = -b.theta0_max;
-        upper[i] = b.theta0_max;
-    }
-    for j in 0..=n {
-        lower[n + j] = b.stiffness_min[j] / ck;
-        upper[n + j] = b.stiffness_max[j] / ck;
-    }
-    for j in 1..n {
-        let v = height(j).expect("interior node has a height variable");
-        lower[v] = b.height_min;
-        upper[v] = b.height_max;
-    }
-}
-
-/// Constraint bounds shared by both formulations: every row is an equality `= 0` except the end
-/// displacement row (`X_{N+1}(θ2) = L_x + δ_d`) and the relative-angle rows (`±π/6` by default).
-pub(crate) fn design_constraint_bounds(
-    problem: &DesignProblem,
-    lower: &mut [f64],
-    upper: &mut [f64],
-    end_row: usize,
-    relative_row: impl Fn(usize) -> usize,
-) {
-    lower.fill(0.0);
-    upper.fill(0.0);
-    let target = problem.structure.chain.length_x() + problem.delta_d;
-    lower[end_row] = target;
-    upper[end_row] = target;
-    for i in 0..problem.n_links().saturating_sub(1) {
-        lower[relative_row(i)] = -problem.bounds.relative_angle_max;
-        upper[relative_row(i)] = problem.bounds.relative_angle_max;
-    }
-}
-
 /// Eq. (33) in the full space as an Ipopt problem, with exact sparse first and second
 /// derivatives from the elements.
 pub struct FullSpaceNlp<'a> {
@@ -300,10 +261,11 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
         self.layout.num_constraints()
     }
     fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        design_variable_bounds(self.problem, lower, upper, |j| self.layout.height(j));
+        Numbers::of(self.problem).variable_bounds(lower, upper, |j| self.layout.height(j));
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        design_constraint_bounds(self.problem, lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
+        Numbers::of(self.problem)
+            .constraint_bounds(lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);

@@ -57,6 +57,7 @@ pub mod full_space;
 mod ipopt_allowed;
 mod layout;
 pub mod multistart;
+mod numbers;
 pub mod problem;
 pub mod reduced_space;
 pub mod refine;
@@ -71,6 +72,7 @@ mod violations;
 mod warnings;
 
 pub use certificate::solve_design;
+pub use numbers::ProblemTangent;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
 pub use settings::{Formulation, ScalingMethod, SolverSettings};

@@ -16,7 +16,7 @@
 
 use crate::adjoint::{adjoint_hand, ReducedGradients};
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
-use crate::full_space::{design_constraint_bounds, design_variable_bounds};
+use crate::numbers::Numbers;
 use crate::problem::DesignProblem;
 use spine_model::local::{Difference, HeightStep};
 use spine_model::{Design, State};
@@ -197,10 +197,11 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
         self.layout.num_constraints()
     }
     fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        design_variable_bounds(self.problem, lower, upper, |j| self.layout.height(j));
+        Numbers::of(self.problem).variable_bounds(lower, upper, |j| self.layout.height(j));
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        design_constraint_bounds(self.problem, lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
+        Numbers::of(self.problem)
+            .constraint_bounds(lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);

@@ -2,11 +2,16 @@
 
 use crate::jet::Elementary;
 use crate::Scalar;
+use std::ops::Mul;
 
 /// Length of a link of horizontal span `span` (m) designed at angle `theta0`:
-/// `L = a / cos θ0` (paper, Sec. 5 "length constraint"), m.
+/// `L = a / cos θ0` (paper, Sec. 5 "length constraint"), m. The span may be a plain number or of
+/// the angle's number type (a span that moves with a parameter, [`crate::tangent`]).
 #[inline(always)]
-pub fn link_length<D: Elementary>(span: f64, theta0: D) -> D {
+pub fn link_length<D, C>(span: C, theta0: D) -> D
+where
+    D: Elementary + Mul<C, Output = D>,
+{
     theta0.cos().recip() * span
 }
 
@@ -31,7 +36,10 @@ pub fn node_positions<D: Scalar>(lengths: &[D], theta: &[D]) -> Vec<(D, D)> {
 }
 
 /// Height of link `i`'s far end above its near end, `L_i sin θ_i`, m: one term of `Φ`.
-pub fn link_rise<D: Elementary>(span: f64, theta0: D, theta: D) -> D {
+pub fn link_rise<D, C>(span: C, theta0: D, theta: D) -> D
+where
+    D: Elementary + Mul<C, Output = D>,
+{
     link_length(span, theta0) * theta.sin()
 }
 

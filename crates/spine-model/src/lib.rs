@@ -73,6 +73,7 @@ pub mod residual;
 pub mod rng;
 pub mod sparse;
 pub mod structure;
+pub mod tangent;
 pub mod twolink;
 
 pub use chain::{Chain, Design, State};

@@ -27,6 +27,24 @@ impl NodalLoads {
     }
 }
 
+/// The resultants `(vertical, axial)` of [`LinkLoads`] (eq. (48)) from the nodal forces `p_y`,
+/// `p_x` (N, `N + 1` each), the link masses (kg, `N`) and gravity `g` (m/s²), in any number type
+/// (plain numbers, or duals carrying their rates along a parameter of the problem).
+pub fn resultants<T: crate::Scalar>(p_y: &[T], p_x: &[T], masses: &[T], gravity: T) -> (Vec<T>, Vec<T>) {
+    let n = masses.len();
+    let mut vertical = vec![T::zero(); n];
+    let mut axial = vec![T::zero(); n];
+    let (mut sum_y, mut sum_x, mut mass_beyond) = (T::zero(), T::zero(), T::zero());
+    for i in (0..n).rev() {
+        sum_y += p_y[i + 1];
+        sum_x += p_x[i + 1];
+        vertical[i] = sum_y - gravity * (masses[i] * 0.5 + mass_beyond);
+        axial[i] = sum_x;
+        mass_beyond += masses[i];
+    }
+    (vertical, axial)
+}
+
 /// Per-link load resultants that the generalised load needs (paper eq. (48), `A P_Y` and `A P_X`):
 ///
 /// * `vertical[i] = Σ_{j>i} P_Y,j − g (½ m_i + Σ_{k>i} m_k)`, N: everything hanging beyond the
@@ -53,16 +71,7 @@ impl LinkLoads {
         assert_eq!(nodal.p_x.len(), n + 1, "p_x needs one entry per node");
         assert_eq!(nodal.p_y.len(), n + 1, "p_y needs one entry per node");
         let g = if with_weight { chain.gravity } else { 0.0 };
-        let mut vertical = vec![0.0; n];
-        let mut axial = vec![0.0; n];
-        let (mut sum_y, mut sum_x, mut mass_beyond) = (0.0, 0.0, 0.0);
-        for i in (0..n).rev() {
-            sum_y += nodal.p_y[i + 1];
-            sum_x += nodal.p_x[i + 1];
-            vertical[i] = sum_y - g * (0.5 * chain.masses[i] + mass_beyond);
-            axial[i] = sum_x;
-            mass_beyond += chain.masses[i];
-        }
+        let (vertical, axial) = resultants(&nodal.p_y, &nodal.p_x, &chain.masses, g);
         Self { vertical, axial }
     }
 

@@ -72,7 +72,10 @@ impl<D: Elementary> JointStencil<D> {
 
     /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)), from absolute angles: see
     /// [`joint_residual`].
-    pub fn residual(&self, span: f64, vertical: f64, axial: f64) -> D {
+    pub fn residual<C: Copy>(&self, span: C, vertical: C, axial: C) -> D
+    where
+        D: Mul<C, Output = D>,
+    {
         use slot::*;
         let v = &self.values;
         let deflections = [v[THETA_PREV] - v[THETA0_PREV], v[THETA] - v[THETA0], v[THETA_NEXT] - v[THETA0_NEXT]];
@@ -82,12 +85,13 @@ impl<D: Elementary> JointStencil<D> {
 }
 
 /// Link `i`'s data in its joint residual: span `a_i` (m) and load resultants `V_i`, `A_i` (N,
-/// eq. (48)).
+/// eq. (48)). Plain numbers, or of the angles' number type where they move with a parameter of
+/// the problem ([`crate::tangent`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Joint {
-    pub span: f64,
-    pub vertical: f64,
-    pub axial: f64,
+pub struct Joint<C = f64> {
+    pub span: C,
+    pub vertical: C,
+    pub axial: C,
 }
 
 /// Joint row `i`'s deflections `[Δθ_{i−1}, Δθ_i, Δθ_{i+1}]`, rad (`Δθ = θ − θ0`, zero for a
@@ -137,15 +141,15 @@ pub struct LinkTerms<D> {
     pub run: D,
 }
 
-impl Joint {
+impl<C: Copy> Joint<C> {
     /// Link `i`'s terms at angle `θ_i`, unloaded angle `θ0_i` (rad) and slider reaction `λ` (N).
     /// `θ0_i` may be of another number type than `θ_i` and `λ` (a plain number where its
     /// derivatives are not wanted: then `L_i` costs one plain `cos`).
     #[inline(always)]
     pub fn link<D, T>(&self, theta: D, theta0: T, lambda: D) -> LinkTerms<D>
     where
-        D: Elementary + Mul<T, Output = D>,
-        T: Elementary,
+        D: Elementary + Mul<T, Output = D> + Mul<C, Output = D>,
+        T: Elementary + Mul<C, Output = T>,
     {
         let length = link_length(self.span, theta0);
         let (s, c) = theta.sin_cos();
@@ -161,7 +165,10 @@ impl Joint {
     /// `K_i (Δθ_i − Δθ_{i−1}) − K_{i+1} (Δθ_{i+1} − Δθ_i) − L_i (cos θ_i V_i − sin θ_i A_i) − λ L_i cos θ_i`
     /// with `L_i = a_i / cos θ0_i`: [`spring_moment`] less [`Joint::link`]'s load and reaction.
     #[inline]
-    pub fn residual<D: Elementary>(&self, deflections: [D; 3], stiffness: [D; 2], theta: D, theta0: D, lambda: D) -> D {
+    pub fn residual<D>(&self, deflections: [D; 3], stiffness: [D; 2], theta: D, theta0: D, lambda: D) -> D
+    where
+        D: Elementary + Mul<C, Output = D>,
+    {
         let link = self.link(theta, theta0, lambda);
         spring_moment(deflections, stiffness) - link.load - link.reaction
     }

@@ -326,3 +326,67 @@ fn deflections_keep_stiff_spring_moments_to_round_off_of_themselves() {
     let r = local::value(&absolute, &x);
     assert!((r - exact).abs() > 1e-10, "absolute angles lost nothing: {r} vs {exact}");
 }
+
+/// An element's rates along a direction in its constants ([`local::rates`], one tangent-jet pass)
+/// against central differences of its value and AD gradient with the constants moved by `±h` along
+/// the direction; the plain lift gives the element's value; a direction of zeros gives zero rates.
+fn check_rates<const M: usize, E: Element<M>>(element: &E, rates: &E, still: &E, name: &str, scale: [f64; M]) {
+    use spine_model::jet::Jet;
+    let mut rng = SplitMix64::new(11);
+    for _ in 0..20 {
+        let mut x: [f64; M] = random_point(&mut rng);
+        for k in 0..M {
+            x[k] *= scale[k];
+        }
+        let (dv, dg) = local::rates(element, rates, &x);
+        assert_eq!(element.eval_moving(rates, |c, _| c, &x), element.eval(&x), "{name}: the plain lift");
+        assert_eq!(local::rates(element, still, &x), (0.0, [0.0; M]), "{name}: nothing moves");
+        let h = 1e-6;
+        let value = |t: f64| element.eval_moving(rates, |c, r| c + t * r, &x);
+        let gradient = |t: f64| {
+            let seeded: [Jet<M>; M] = std::array::from_fn(|k| Jet::variable(x[k], k));
+            element.eval_moving(rates, |c, r| Jet::constant(c + t * r), &seeded).eps
+        };
+        let fd = (value(h) - value(-h)) / (2.0 * h);
+        assert!((dv - fd).abs() <= 1e-7 * fd.abs().max(1.0), "{name}: ∂e/∂p {dv} vs {fd}");
+        let (gp, gm) = (gradient(h), gradient(-h));
+        for k in 0..M {
+            let fd = (gp[k] - gm[k]) / (2.0 * h);
+            assert!((dg[k] - fd).abs() <= 1e-7 * fd.abs().max(1.0), "{name}: ∂²e/∂x{k}∂p {} vs {fd}", dg[k]);
+        }
+    }
+}
+
+#[test]
+fn element_rates_match_central_differences_in_their_constants() {
+    let (joint, moving, still) = (
+        JointResidual { span: 0.1, vertical: -30.0, axial: 250.0, stiffness_scale: 10.0 },
+        JointResidual { span: 0.01, vertical: 3.0, axial: -20.0, stiffness_scale: 2.0 },
+        JointResidual { span: 0.0, vertical: 0.0, axial: 0.0, stiffness_scale: 0.0 },
+    );
+    let mut scale = [1.0; slot::COUNT];
+    scale[slot::LAMBDA] = 40.0;
+    check_rates(&joint, &moving, &still, "joint residual", scale);
+    let d = |j: JointResidual| DeflectionJointResidual {
+        span: j.span,
+        vertical: j.vertical,
+        axial: j.axial,
+        stiffness_scale: j.stiffness_scale,
+    };
+    let mut scale = [1.0; joint_slot::COUNT];
+    scale[joint_slot::LAMBDA] = 40.0;
+    check_rates(&d(joint), &d(moving), &d(still), "joint residual on deflections", scale);
+    for deflection in [false, true] {
+        let rise = |span| LinkRise { span, deflection };
+        check_rates(&rise(0.2), &rise(-0.5), &rise(0.0), "link rise", [1.0; 2]);
+        let run = |span| LinkRun { span, deflection };
+        check_rates(&run(0.2), &run(0.7), &run(0.0), "link run", [1.0; 2]);
+    }
+    let step = |span| HeightStep { span };
+    check_rates(&step(0.2), &step(1.5), &step(0.0), "height step", [0.1, 0.1, 1.0]);
+    let spring = |stiffness_scale| SpringEnergy { stiffness_scale };
+    check_rates(&spring(25.0), &spring(1.0), &spring(0.0), "spring energy", [1.0, 1.0, 1.0, 1.0, 40.0]);
+    let spring = |stiffness_scale| DeflectionSpringEnergy { stiffness_scale };
+    check_rates(&spring(25.0), &spring(-3.0), &spring(0.0), "spring energy on deflections", [1.0, 1.0, 40.0]);
+    check_rates(&Difference, &Difference, &Difference, "difference", [1.0; 2]);
+}

@@ -15,7 +15,7 @@ use serde::Serialize;
 use spine_case::{CaseError, DesignCase};
 use spine_check::FieldError;
 use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult, SweepSettings};
-use spine_design::DesignProblem;
+use spine_design::{DesignProblem, ProblemTangent};
 
 /// `result.json` of `spine sweep`.
 #[derive(Clone, Debug, Serialize)]
@@ -52,7 +52,11 @@ pub fn run_design_sweep(
     let problem_at = |v: f64| -> Result<DesignProblem, FieldError> {
         case_at(c, overrides, name, v).map(|valid| valid.problem).map_err(FieldError::from)
     };
-    let sweep = Sweep::new(name, &problem_at, &first.settings, settings).map_err(sweep_error)?;
+    // The case maps each parameter affinely, so its rates are the same at every value.
+    let tangent_at = |v: f64| -> Result<ProblemTangent, FieldError> {
+        c.parameter_tangent(name, &problem_at(v)?).map_err(FieldError::from)
+    };
+    let sweep = Sweep::new(name, &problem_at, &tangent_at, &first.settings, settings).map_err(sweep_error)?;
     // A start that is not clean is the start run's finding (exit 3 with its result), as `spine
     // design` reports it, not bad input.
     let followed = if !start.result.is_clean() {

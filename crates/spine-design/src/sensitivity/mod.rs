@@ -9,11 +9,11 @@
 //!   variables, one negative eigenvalue per active row, none zero), the smallest singular value of
 //!   the active rows' Jacobian measures LICQ, and the smallest active multiplier against the
 //!   smallest inactive gap measures strict complementarity ([`Conditions`]).
-//! * A parameter's derivatives of the NLP's gradient, constraints and bounds come from the exact
-//!   AD first derivatives of the problem rebuilt at `p ± h` ([`Parameter::problem_at`]): every
-//!   parameter of a case enters eq. (33) affinely except through a few bounds (`K/C_K`), and for an
-//!   affine dependence the central difference is exact to round-off; the report says, for each
-//!   parameter, whether the dependence was affine (second difference at round-off).
+//! * A parameter's rates of the NLP's gradient, constraints, objective and bounds are exact
+//!   ([`rates`]): the problem's numbers carried as duals along the parameter's [`ProblemTangent`]
+//!   (the scaled bounds `K/C_K` included), and the elements whose constants move differentiated by
+//!   one tangent-jet pass each, on the optimum's own assembled patterns. No problem is rebuilt and
+//!   nothing is differenced.
 //! * Where a bound is weakly active (strict complementarity fails), the derivative is one-sided:
 //!   for an increase and for a decrease of the parameter, the active set among the weak bounds that
 //!   keeps the linearised KKT conditions feasible (the QP of the degenerate set, by enumeration).
@@ -29,10 +29,9 @@ pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
 pub use polish::{polish, POLISH_TOLERANCE};
 
 use crate::full_space::{Layout, Multipliers};
-use crate::DesignProblem;
+use crate::{DesignProblem, ProblemTangent};
 use derivative::{derivative, one_sided, weak_candidates};
 use rates::rates;
-pub use rates::Difference;
 use serde::Serialize;
 pub(crate) use system::{licq, ActiveSystem, Matrices};
 
@@ -47,26 +46,21 @@ pub struct Optimum<'a> {
     pub multipliers: &'a Multipliers,
 }
 
-/// One parameter: its name (the case file's field path), its value, and the problem with the
-/// parameter set to another value.
-pub struct Parameter<'a> {
+/// One parameter: its name (the case file's field path), its value, and the rates of the
+/// problem's numbers along it.
+#[derive(Clone, Debug)]
+pub struct Parameter {
     pub name: String,
     pub value: f64,
-    pub problem_at: Box<dyn Fn(f64) -> Result<DesignProblem, spine_check::FieldError> + 'a>,
+    pub tangent: ProblemTangent,
 }
 
 /// Why sensitivities could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SensitivityError {
-    /// The problem could not be rebuilt with the parameter changed.
-    #[error("parameter `{name}`: {reason}")]
-    Parameter {
-        name: String,
-        #[source]
-        reason: spine_check::FieldError,
-    },
-    /// The rebuilt problem has another size (a parameter must not change the number of links).
-    #[error("parameter `{0}` changes the problem's size")]
+    /// The parameter's tangent is not shaped as the problem (a parameter must not change the
+    /// number of links).
+    #[error("parameter `{0}`: its rates are not shaped as the problem (a parameter must not change its size)")]
     Size(String),
 }
 
@@ -116,12 +110,6 @@ pub struct Derivative {
 pub struct ParameterSensitivity {
     pub name: String,
     pub value: f64,
-    /// The step `h` of the differences in `p` of the NLP's functions.
-    pub step: f64,
-    /// Central, or one-sided where `p ± h` would leave what the case allows.
-    pub difference: Difference,
-    /// Whether the NLP's functions and bounds are affine in `p` (then exact to round-off).
-    pub affine: bool,
     /// The derivative where the conditions hold.
     pub derivative: Option<Derivative>,
     /// Where a bound is weakly active: the one-sided derivatives for an increase and a decrease.
@@ -143,12 +131,10 @@ pub struct SensitivityReport {
 }
 
 /// The sensitivities of the optimum to each parameter.
-pub fn sensitivities(
-    optimum: &Optimum<'_>,
-    parameters: &[Parameter<'_>],
-) -> Result<SensitivityReport, SensitivityError> {
+pub fn sensitivities(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityReport, SensitivityError> {
     let (layout, x) = (optimum.layout, optimum.x);
-    let (at, matrices) = Matrices::at(optimum.problem, layout, x, &optimum.multipliers.constraints);
+    let assembled = crate::full_space::assemble(optimum.problem, layout.states);
+    let (at, matrices) = Matrices::of(&assembled, optimum.problem, layout, x, &optimum.multipliers.constraints);
     let set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
     // Rows that depend on others are left out of the system (their multipliers are not unique);
     // each derivative is then checked against them.
@@ -158,7 +144,7 @@ pub fn sensitivities(
     let candidates = (weak > 0 && weak <= MAX_WEAK).then(|| weak_candidates(optimum, &matrices, &set));
     let mut out = Vec::new();
     for parameter in parameters {
-        let (step, rates) = rates(optimum, &at, &matrices.jacobian_pattern, parameter)?;
+        let rates = rates(optimum, &assembled, &parameter.name, &parameter.tangent)?;
         let mut note = None;
         let solution = (weak == 0 && conditions.second_order_sufficient)
             .then(|| derivative(optimum, &matrices, &system, &rates, &at))
@@ -182,9 +168,6 @@ pub fn sensitivities(
         out.push(ParameterSensitivity {
             name: parameter.name.clone(),
             value: parameter.value,
-            step,
-            difference: rates.difference,
-            affine: rates.affine,
             derivative,
             increase,
             decrease,

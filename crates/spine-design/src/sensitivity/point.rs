@@ -2,7 +2,8 @@
 //! parameter derivatives need (values, first derivatives, bounds).
 
 use crate::assembly::Assembled;
-use crate::full_space::{assemble, design_constraint_bounds, design_variable_bounds, Layout};
+use crate::full_space::Layout;
+use crate::numbers::Numbers;
 use crate::DesignProblem;
 
 /// `f`, `g`, `∇f`, the Jacobian (in the assembled pattern) and all bounds at `x`.
@@ -18,11 +19,7 @@ pub(crate) struct Evaluation {
 }
 
 impl Evaluation {
-    pub fn at(problem: &DesignProblem, layout: Layout, x: &[f64]) -> Self {
-        Self::of(&assemble(problem, layout.states), problem, layout, x)
-    }
-
-    /// [`Evaluation::at`] with the problem's elements already assembled.
+    /// The evaluation with the problem's elements already assembled.
     pub fn of(assembled: &Assembled, problem: &DesignProblem, layout: Layout, x: &[f64]) -> Self {
         let (n, m) = (layout.num_variables(), layout.num_constraints());
         let mut constraints = vec![0.0; m];
@@ -30,19 +27,11 @@ impl Evaluation {
         let mut gradient = vec![0.0; n];
         let mut jacobian = vec![0.0; assembled.patterns.jacobian.len()];
         assembled.first_derivatives(x, &mut gradient, &mut jacobian);
+        let numbers = Numbers::of(problem);
         let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
-        design_variable_bounds(problem, &mut lower, &mut upper, |j| layout.height(j));
+        numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
         let (mut row_lower, mut row_upper) = (vec![0.0; m], vec![0.0; m]);
-        design_constraint_bounds(problem, &mut row_lower, &mut row_upper, layout.end_row(), |i| layout.relative_row(i));
+        numbers.constraint_bounds(&mut row_lower, &mut row_upper, layout.end_row(), |i| layout.relative_row(i));
         Self { objective, constraints, gradient, jacobian, lower, upper, row_lower, row_upper }
-    }
-
-    /// `∇f + Jᵀ λ`: the gradient of the Lagrangian without the bound multipliers.
-    pub fn lagrangian_gradient(&self, pattern: &[(usize, usize)], lambda: &[f64]) -> Vec<f64> {
-        let mut out = self.gradient.clone();
-        for (&(row, col), &v) in pattern.iter().zip(&self.jacobian) {
-            out[col] += v * lambda[row];
-        }
-        out
     }
 }

@@ -1,11 +1,16 @@
-//! The rates of the NLP's data (Lagrangian gradient, constraints, objective, bounds) in one
-//! parameter at the optimum, by differences of the problem rebuilt at `p ± h` (one-sided at the
-//! edge of what the case allows) with the exact AD first derivatives, and whether the dependence
-//! is affine.
+//! The rates of the NLP's data (Lagrangian gradient, constraints, objective, bounds) along one
+//! parameter at the optimum, exact: the problem's numbers carried as duals along the parameter's
+//! [`ProblemTangent`] ([`Numbers::along`]: load resultants, spans, `C_K`, the end target and the
+//! bounds, `K/C_K` included), and each element whose constants move differentiated by one pass of
+//! a tangent jet ([`crate::assembly::Assembled::rates`]). Nothing is rebuilt and nothing is
+//! differenced: the assembled patterns of the optimum are reused.
 
-use super::point::Evaluation;
-use super::{Optimum, Parameter, SensitivityError};
-use crate::DesignProblem;
+use super::{Optimum, SensitivityError};
+use crate::assembly::Assembled;
+use crate::full_space::groups;
+use crate::numbers::Numbers;
+use crate::ProblemTangent;
+use num_dual::Dual64;
 
 /// The rates of the NLP's data in one parameter at the optimum.
 pub(crate) struct Rates {
@@ -16,143 +21,138 @@ pub(crate) struct Rates {
     pub upper: Vec<f64>,
     pub row_lower: Vec<f64>,
     pub row_upper: Vec<f64>,
+    /// `dC_K/dp`.
     pub stiffness_scale: f64,
-    pub affine: bool,
-    pub difference: Difference,
 }
 
-/// Which three points the rates were differenced on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Difference {
-    /// `p − h, p, p + h`: the case allows both sides.
-    Central,
-    /// `p, p + h, p + 2h`: `p − h` is outside what the case allows (a bound at its edge, e.g.
-    /// `bounds.stiffness_min` = 0).
-    Forward,
-    /// `p − 2h, p − h, p`: `p + h` is outside what the case allows.
-    Backward,
-}
-
-impl Difference {
-    /// The points' offsets in steps of `h`, and the weights of the derivative at `p` (over `2h`)
-    /// of the parabola through them.
-    fn stencil(self) -> ([f64; 3], [f64; 3]) {
-        match self {
-            Self::Central => ([-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]),
-            Self::Forward => ([0.0, 1.0, 2.0], [-3.0, 4.0, -1.0]),
-            Self::Backward => ([-2.0, -1.0, 0.0], [1.0, -4.0, 3.0]),
-        }
-    }
-}
-
-/// The rates of the NLP's data in the parameter by differences of the rebuilt problem on three
-/// points `h` apart, central where the case allows `p ± h`, else one-sided (second order either
-/// way), and whether they are affine (the second difference at round-off).
+/// The exact rates of the NLP's data along `tangent` at the optimum, whose elements are
+/// `assembled`.
 pub(crate) fn rates(
     optimum: &Optimum<'_>,
-    at: &Evaluation,
-    pattern: &[(usize, usize)],
-    parameter: &Parameter<'_>,
-) -> Result<(f64, Rates), SensitivityError> {
-    let h = 1e-4 * parameter.value.abs().max(1.0);
-    let build = |value: f64| -> Result<DesignProblem, SensitivityError> {
-        let problem = (parameter.problem_at)(value)
-            .map_err(|reason| SensitivityError::Parameter { name: parameter.name.clone(), reason })?;
-        if problem.n_links() != optimum.problem.n_links() {
-            return Err(SensitivityError::Size(parameter.name.clone()));
-        }
-        Ok(problem)
-    };
-    let stencil = |difference: Difference| -> Result<Vec<Option<DesignProblem>>, SensitivityError> {
-        let (offsets, _) = difference.stencil();
-        offsets.iter().map(|&o| if o == 0.0 { Ok(None) } else { build(parameter.value + o * h).map(Some) }).collect()
-    };
-    let central = stencil(Difference::Central);
-    let (difference, problems) = match central {
-        Ok(p) => (Difference::Central, p),
-        Err(e) => match (stencil(Difference::Forward), stencil(Difference::Backward)) {
-            (Ok(p), _) => (Difference::Forward, p),
-            (_, Ok(p)) => (Difference::Backward, p),
-            _ => return Err(e),
-        },
-    };
-    let (layout, x) = (optimum.layout, optimum.x);
-    let (_, weights) = difference.stencil();
-    let evaluations: Vec<Evaluation> =
-        problems.iter().map(|p| Evaluation::at(p.as_ref().unwrap_or(optimum.problem), layout, x)).collect();
-    let scales: Vec<f64> = problems.iter().map(|p| p.as_ref().unwrap_or(optimum.problem).stiffness_scale).collect();
-    let lambda = &optimum.multipliers.constraints;
-    let gradients: Vec<Vec<f64>> = evaluations.iter().map(|e| e.lagrangian_gradient(pattern, lambda)).collect();
-    let scalar = |v: [f64; 3]| -> f64 {
-        if v[0] == v[1] && v[1] == v[2] {
-            0.0
-        } else {
-            // Zero weights left out: the central difference is `(p+ − p−) / 2h` to the last bit
-            // (and an infinite bound at `p` cannot make it NaN).
-            let sum = (0..3).filter(|&k| weights[k] != 0.0).fold(0.0, |s, k| s + weights[k] * v[k]);
-            sum / (2.0 * h)
-        }
-    };
-    let rate = |a: &[f64], b: &[f64], c: &[f64]| -> Vec<f64> {
-        a.iter().zip(b).zip(c).map(|((&a, &b), &c)| scalar([a, b, c])).collect()
-    };
-    let e = &evaluations;
-    // The size of the terms that cancel in `∇f + Jᵀλ` (zero at the optimum): its round-off.
-    let terms = at.gradient.iter().fold(0.0f64, |m, g| m.max(g.abs()))
-        + lambda.iter().fold(0.0f64, |m, l| m.max(l.abs())) * at.jacobian.iter().fold(0.0f64, |m, j| m.max(j.abs()));
-    let affine = [
-        (&gradients[2], &gradients[1], &gradients[0], terms),
-        (&e[2].constraints, &e[1].constraints, &e[0].constraints, 0.0),
-        (&e[2].lower, &e[1].lower, &e[0].lower, 0.0),
-        (&e[2].upper, &e[1].upper, &e[0].upper, 0.0),
-    ]
-    .iter()
-    .all(|(p, z, m, terms)| second_difference_at_round_off(p, z, m, *terms));
-    let rates = Rates {
-        lagrangian_gradient: rate(&gradients[0], &gradients[1], &gradients[2]),
-        constraints: rate(&e[0].constraints, &e[1].constraints, &e[2].constraints),
-        objective: scalar([e[0].objective, e[1].objective, e[2].objective]),
-        lower: rate(&e[0].lower, &e[1].lower, &e[2].lower),
-        upper: rate(&e[0].upper, &e[1].upper, &e[2].upper),
-        row_lower: rate(&e[0].row_lower, &e[1].row_lower, &e[2].row_lower),
-        row_upper: rate(&e[0].row_upper, &e[1].row_upper, &e[2].row_upper),
-        stiffness_scale: scalar([scales[0], scales[1], scales[2]]),
-        affine,
-        difference,
-    };
-    Ok((h, rates))
-}
-
-/// Whether `p − 2 z + m` is at the round-off of the values (or of `terms`, the size of what
-/// cancels in them), or below 1e-7 of the first difference: a dependence with curvature leaves
-/// `h` (1e-4 relative) of it.
-fn second_difference_at_round_off(p: &[f64], z: &[f64], m: &[f64], terms: f64) -> bool {
-    let first =
-        p.iter().zip(m).fold(0.0f64, |s, (a, c)| if a.is_finite() && c.is_finite() { s.max((a - c).abs()) } else { s });
-    p.iter().zip(z).zip(m).all(|((&a, &b), &c)| {
-        if !(a.is_finite() && b.is_finite() && c.is_finite()) {
-            return true;
-        }
-        let round_off = 1e3 * f64::EPSILON * (a.abs() + 2.0 * b.abs() + c.abs() + 4.0 * terms);
-        (a - 2.0 * b + c).abs() <= round_off + 1e-7 * first
+    assembled: &Assembled,
+    name: &str,
+    tangent: &ProblemTangent,
+) -> Result<Rates, SensitivityError> {
+    let (problem, layout) = (optimum.problem, optimum.layout);
+    if !tangent.fits(problem) {
+        return Err(SensitivityError::Size(name.to_string()));
+    }
+    let numbers = Numbers::along(problem, tangent);
+    let direction = groups(&numbers.rates(), layout.states);
+    let nlp = assembled.rates(&direction, optimum.x, &optimum.multipliers.constraints);
+    let (n, m) = (layout.num_variables(), layout.num_constraints());
+    let (mut lower, mut upper) = (vec![Dual64::from(f64::NEG_INFINITY); n], vec![Dual64::from(f64::INFINITY); n]);
+    numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
+    let (mut row_lower, mut row_upper) = (vec![Dual64::from(0.0); m], vec![Dual64::from(0.0); m]);
+    numbers.constraint_bounds(&mut row_lower, &mut row_upper, layout.end_row(), |i| layout.relative_row(i));
+    let rate = |v: Vec<Dual64>| -> Vec<f64> { v.iter().map(|d| d.eps).collect() };
+    Ok(Rates {
+        lagrangian_gradient: nlp.lagrangian_gradient,
+        constraints: nlp.constraints,
+        objective: nlp.objective,
+        lower: rate(lower),
+        upper: rate(upper),
+        row_lower: rate(row_lower),
+        row_upper: rate(row_upper),
+        stiffness_scale: numbers.stiffness_scale.eps,
     })
 }
 
 #[cfg(test)]
 mod tests {
-    use super::Difference;
+    use super::*;
+    use crate::full_space::{assemble, Layout, Multipliers, StateForm};
+    use crate::sensitivity::point::Evaluation;
+    use crate::DesignProblem;
+    use spine_model::rng::SplitMix64;
 
-    /// Each stencil gives the exact derivative at `p` of any quadratic: the weights (over 2h)
-    /// annihilate constants and curvature and give 1 on the slope.
+    /// `problem + t · rates` in every number.
+    fn moved(problem: &DesignProblem, rates: &DesignProblem, t: f64) -> DesignProblem {
+        let mut p = problem.clone();
+        let add = |v: &mut Vec<f64>, r: &[f64]| v.iter_mut().zip(r).for_each(|(x, r)| *x += t * r);
+        let (s, r) = (&mut p.structure, &rates.structure);
+        add(&mut s.chain.spans, &r.chain.spans);
+        add(&mut s.chain.masses, &r.chain.masses);
+        s.chain.gravity += t * r.chain.gravity;
+        add(&mut s.passive.p_x, &r.passive.p_x);
+        add(&mut s.passive.p_y, &r.passive.p_y);
+        add(&mut s.actuation.p_x, &r.actuation.p_x);
+        add(&mut s.actuation.p_y, &r.actuation.p_y);
+        p.delta_d += t * rates.delta_d;
+        p.stiffness_scale += t * rates.stiffness_scale;
+        let (b, rb) = (&mut p.bounds, &rates.bounds);
+        b.theta0_max += t * rb.theta0_max;
+        b.relative_angle_max += t * rb.relative_angle_max;
+        b.height_min += t * rb.height_min;
+        b.height_max += t * rb.height_max;
+        add(&mut b.stiffness_min, &rb.stiffness_min);
+        add(&mut b.stiffness_max, &rb.stiffness_max);
+        p
+    }
+
+    /// The exact rates along a direction in which every number of the problem moves at once
+    /// (loads, spans, masses and gravity, whose product the self-weight is, `C_K` in the elements
+    /// and in the bounds `K/C_K`, `δ_d`, every bound) against central differences of the NLP's
+    /// data evaluated on the moved problems, at a random point with random multipliers, in both
+    /// state forms.
     #[test]
-    fn stencils_are_exact_for_quadratics() {
-        for d in [Difference::Central, Difference::Forward, Difference::Backward] {
-            let (offsets, weights) = d.stencil();
-            for (power, want) in [(0, 0.0), (1, 1.0), (2, 0.0)] {
-                let got: f64 = offsets.iter().zip(weights).map(|(o, w)| w * o.powi(power)).sum::<f64>() / 2.0;
-                assert_eq!(got, want, "{d:?}, power {power}");
-            }
+    fn exact_rates_match_central_differences_of_the_moved_problems() {
+        let mut problem = crate::fixtures::paper_problem(6, -10.0, -400.0, -0.02, 100.0);
+        problem.structure.chain.masses = vec![0.2; 6];
+        let mut rng = SplitMix64::new(5);
+        let mut tangent = ProblemTangent::zero(&problem);
+        let r = tangent.rates_mut();
+        let mut random = |v: &mut Vec<f64>, size: f64| v.iter_mut().for_each(|x| *x = size * rng.uniform(-1.0, 1.0));
+        let s = &mut r.structure;
+        random(&mut s.chain.spans, 0.01);
+        random(&mut s.chain.masses, 0.1);
+        random(&mut s.passive.p_y, 3.0);
+        random(&mut s.passive.p_x, 3.0);
+        random(&mut s.actuation.p_x, 30.0);
+        random(&mut s.actuation.p_y, 3.0);
+        random(&mut r.bounds.stiffness_min, 10.0);
+        random(&mut r.bounds.stiffness_max, 100.0);
+        (s.chain.gravity, r.delta_d, r.stiffness_scale) = (0.5, 0.003, 20.0);
+        let b = &mut r.bounds;
+        (b.theta0_max, b.relative_angle_max, b.height_min, b.height_max) = (0.1, -0.05, 0.002, 0.01);
+        for states in [StateForm::Absolute, StateForm::Deflection] {
+            let layout = Layout { n: 6, states };
+            let (n, m) = (layout.num_variables(), layout.num_constraints());
+            let mut rng = SplitMix64::new(9);
+            let x: Vec<f64> = (0..n).map(|_| rng.uniform(-0.5, 0.5)).collect();
+            let lambda: Vec<f64> = (0..m).map(|_| rng.uniform(-2.0, 2.0)).collect();
+            let multipliers = Multipliers { constraints: lambda.clone(), z_lower: vec![0.0; n], z_upper: vec![0.0; n] };
+            let optimum = Optimum { problem: &problem, layout, x: &x, multipliers: &multipliers };
+            let assembled = assemble(&problem, states);
+            let exact = rates(&optimum, &assembled, "all", &tangent).unwrap();
+            let h = 1e-6;
+            let at = |t: f64| {
+                let p = moved(&problem, tangent.rates(), t);
+                let assembled = assemble(&p, states);
+                let e = Evaluation::of(&assembled, &p, layout, &x);
+                let mut gradient = e.gradient.clone();
+                for (&(row, col), &v) in assembled.patterns.jacobian.iter().zip(&e.jacobian) {
+                    gradient[col] += v * lambda[row];
+                }
+                (e, gradient, p.stiffness_scale)
+            };
+            let ((hi, g_hi, c_hi), (lo, g_lo, c_lo)) = (at(h), at(-h));
+            let check = |what: &str, exact: &[f64], hi: &[f64], lo: &[f64]| {
+                let size = exact.iter().fold(1.0f64, |s, v| s.max(v.abs()));
+                for (k, (e, (a, b))) in exact.iter().zip(hi.iter().zip(lo)).enumerate() {
+                    let fd = if a.is_finite() { (a - b) / (2.0 * h) } else { 0.0 };
+                    assert!((e - fd).abs() <= 1e-6 * size, "{states:?} {what}[{k}]: exact {e} vs {fd}");
+                }
+            };
+            check("∂(∇L)/∂p", &exact.lagrangian_gradient, &g_hi, &g_lo);
+            check("∂g/∂p", &exact.constraints, &hi.constraints, &lo.constraints);
+            check("∂f/∂p", &[exact.objective], &[hi.objective], &[lo.objective]);
+            check("lower", &exact.lower, &hi.lower, &lo.lower);
+            check("upper", &exact.upper, &hi.upper, &lo.upper);
+            check("row lower", &exact.row_lower, &hi.row_lower, &lo.row_lower);
+            check("row upper", &exact.row_upper, &hi.row_upper, &lo.row_upper);
+            check("C_K", &[exact.stiffness_scale], &[c_hi], &[c_lo]);
+            assert!(exact.lagrangian_gradient.iter().any(|&g| g != 0.0) && exact.objective != 0.0);
         }
     }
 }

@@ -26,14 +26,24 @@ impl Matrices {
         x: &[f64],
         lambda: &[f64],
     ) -> (super::point::Evaluation, Self) {
-        let assembled = crate::full_space::assemble(problem, layout.states);
-        let at = super::point::Evaluation::of(&assembled, problem, layout, x);
+        Self::of(&crate::full_space::assemble(problem, layout.states), problem, layout, x, lambda)
+    }
+
+    /// [`Matrices::at`] with the problem's elements already assembled.
+    pub fn of(
+        assembled: &crate::assembly::Assembled,
+        problem: &crate::DesignProblem,
+        layout: Layout,
+        x: &[f64],
+        lambda: &[f64],
+    ) -> (super::point::Evaluation, Self) {
+        let at = super::point::Evaluation::of(assembled, problem, layout, x);
         let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
         assembled.hessian(x, 1.0, lambda, &mut hessian);
         let matrices = Self {
-            hessian_pattern: assembled.patterns.hessian,
+            hessian_pattern: assembled.patterns.hessian.clone(),
             hessian,
-            jacobian_pattern: assembled.patterns.jacobian,
+            jacobian_pattern: assembled.patterns.jacobian.clone(),
             jacobian: at.jacobian.clone(),
         };
         (at, matrices)

@@ -19,9 +19,8 @@
 mod events;
 mod station;
 
-use crate::problem::DesignBounds;
 use crate::sensitivity::Derivative;
-use crate::{DesignError, DesignProblem, DesignResult, SolverSettings};
+use crate::{DesignBounds, DesignError, DesignProblem, DesignResult, ProblemTangent, SolverSettings};
 use serde::Serialize;
 use spine_check::{require, FieldError};
 use spine_model::Design;
@@ -232,8 +231,10 @@ enum Advance {
 pub struct Sweep<'a> {
     /// The parameter's name (for the sensitivities' report).
     pub name: &'a str,
-    /// The problem at a parameter value.
+    /// The problem at a parameter value, and the rates of its numbers along the parameter there
+    /// (for the stations' exact sensitivities).
     pub problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, spine_check::FieldError> + 'a),
+    pub tangent_at: &'a (dyn Fn(f64) -> Result<ProblemTangent, spine_check::FieldError> + 'a),
     /// The case's solver settings (the corrector tightens them).
     pub solver: &'a SolverSettings,
     pub settings: SweepSettings,
@@ -246,11 +247,12 @@ impl<'a> Sweep<'a> {
     pub fn new(
         name: &'a str,
         problem_at: &'a (dyn Fn(f64) -> Result<DesignProblem, spine_check::FieldError> + 'a),
+        tangent_at: &'a (dyn Fn(f64) -> Result<ProblemTangent, spine_check::FieldError> + 'a),
         solver: &'a SolverSettings,
         settings: SweepSettings,
     ) -> Result<Self, SweepError> {
         let bounds = problem_at(settings.from).map_err(SweepError::Parameter)?.bounds;
-        Ok(Sweep { name, problem_at, solver, settings, bounds, counters: Default::default() })
+        Ok(Sweep { name, problem_at, tangent_at, solver, settings, bounds, counters: Default::default() })
     }
 
     fn problem(&self, parameter: f64) -> Result<DesignProblem, SweepError> {

@@ -155,11 +155,8 @@ impl Sweep<'_> {
                 let heights = problem.node_heights(&run.design.theta0);
                 let x = layout.pack(&run.design, problem.stiffness_scale, passive, loaded, &heights);
                 let optimum = Optimum { problem, layout, x: &x, multipliers };
-                let swept = Parameter {
-                    name: self.name.to_string(),
-                    value: parameter,
-                    problem_at: Box::new(|v| (self.problem_at)(v)),
-                };
+                let tangent = (self.tangent_at)(parameter).map_err(SweepError::Parameter)?;
+                let swept = Parameter { name: self.name.to_string(), value: parameter, tangent };
                 Some(sensitivities(&optimum, &[swept])?)
             }
             _ => None,

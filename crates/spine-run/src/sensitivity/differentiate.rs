@@ -3,10 +3,8 @@
 
 use crate::design::states;
 use crate::error::RunError;
-use crate::overrides::DesignOverrides;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
-use spine_check::FieldError;
 use spine_design::sensitivity::{polish, sensitivities, Optimum, Parameter, SensitivityReport};
 use spine_design::DesignResult;
 
@@ -50,7 +48,6 @@ impl std::fmt::Display for NoSensitivity {
 pub fn differentiate(
     c: &DesignCase,
     valid: &ValidDesign,
-    overrides: &DesignOverrides,
     names: &[String],
     first: &DesignResult,
 ) -> Result<(Result<SensitivityReport, NoSensitivity>, f64), RunError> {
@@ -88,19 +85,11 @@ pub fn differentiate(
     let layout = design.solver.layout(problem.n_links());
     let heights = problem.node_heights(&design.design.theta0);
     let x = layout.pack(&design.design, problem.stiffness_scale, &passive, &loaded, &heights);
-    let parameters: Vec<Parameter<'_>> = names
+    let parameters = names
         .iter()
         .zip(&values)
-        .map(|(name, &value)| Parameter {
-            name: name.clone(),
-            value,
-            problem_at: Box::new(move |v| {
-                let mut changed = c.with_parameter(name, v).and_then(|c| c.validate()).map_err(FieldError::from)?;
-                overrides.apply(&mut changed);
-                Ok(changed.problem)
-            }),
-        })
-        .collect();
+        .map(|(name, &value)| Ok(Parameter { name: name.clone(), value, tangent: c.parameter_tangent(name, problem)? }))
+        .collect::<Result<Vec<Parameter>, CaseError>>()?;
     let optimum = Optimum { problem, layout, x: &x, multipliers };
     let report = sensitivities(&optimum, &parameters)
         .map_err(|e| RunError::Case(CaseError::invalid("--param", e.to_string())))?;

@@ -63,7 +63,7 @@ pub fn run_design_sensitivity(
     let solve_seconds = clock.elapsed().as_secs_f64();
     progress(Progress::Done { message: format!("the optimum's derivatives for {} parameters", names.len()) });
     let (differentiated, polish_seconds) = if design.result.is_clean() {
-        differentiate(c, &valid, overrides, &names, &design.result)?
+        differentiate(c, &valid, &names, &design.result)?
     } else {
         (Err(NoSensitivity::OptimumNotClean), 0.0)
     };
@@ -99,7 +99,7 @@ pub(crate) fn attach(
 ) -> Result<(), RunError> {
     if overrides.sensitivity && result.result.is_clean() {
         let names = c.default_parameters();
-        let (report, _) = differentiate(c, valid, overrides, &names, &result.result)?;
+        let (report, _) = differentiate(c, valid, &names, &result.result)?;
         result.sensitivity = report.ok();
     }
     Ok(())
@@ -242,13 +242,7 @@ impl std::fmt::Display for SensitivityResult {
                 }
                 _ => "not computed (the conditions fail)".into(),
             };
-            writeln!(
-                f,
-                "  {} = {}{}: {text}",
-                p.name,
-                p.value,
-                if p.affine { "" } else { " (not affine: central difference)" }
-            )?;
+            writeln!(f, "  {} = {}: {text}", p.name, p.value)?;
         }
         Ok(())
     }

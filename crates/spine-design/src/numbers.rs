@@ -1,0 +1,208 @@
+//! The numbers of eq. (33)'s NLP that come from the problem rather than from its variables: the
+//! spans, the load resultants of both load states, `C_K`, the end target `L_x + δ_d` and the
+//! bounds, in any number type. With duals carrying a [`ProblemTangent`]'s rates they give the
+//! exact rates of the elements' constants and of the bounds along a parameter of the problem (the
+//! scaled stiffness bounds `K/C_K` included), which the optimum's sensitivities need.
+
+use crate::DesignProblem;
+use num_dual::Dual64;
+use spine_model::Scalar;
+
+/// The rates of a [`DesignProblem`]'s numbers along one parameter, per unit of the parameter, held
+/// in a problem's own shape: the spans (m), masses (kg), gravity (m/s²), the nodal forces of the
+/// passive load and the actuation (N), `δ_d` (m), `C_K` and the bounds, each zero where it does not
+/// move. A case builds it for each of its parameters (`spine_case`'s `parameter_tangent`).
+#[derive(Clone, Debug)]
+pub struct ProblemTangent(DesignProblem);
+
+impl ProblemTangent {
+    /// The tangent in which nothing moves, shaped as `problem`.
+    pub fn zero(problem: &DesignProblem) -> Self {
+        let mut rates = problem.clone();
+        let zero = |v: &mut Vec<f64>| v.iter_mut().for_each(|x| *x = 0.0);
+        let s = &mut rates.structure;
+        zero(&mut s.chain.spans);
+        zero(&mut s.chain.masses);
+        s.chain.gravity = 0.0;
+        for loads in [&mut s.passive, &mut s.actuation] {
+            zero(&mut loads.p_x);
+            zero(&mut loads.p_y);
+        }
+        rates.delta_d = 0.0;
+        rates.stiffness_scale = 0.0;
+        let b = &mut rates.bounds;
+        (b.theta0_max, b.relative_angle_max, b.height_min, b.height_max) = (0.0, 0.0, 0.0, 0.0);
+        zero(&mut b.stiffness_min);
+        zero(&mut b.stiffness_max);
+        Self(rates)
+    }
+
+    /// Whether the tangent has `problem`'s shape (as many spans, masses, loads and bounds).
+    pub fn fits(&self, problem: &DesignProblem) -> bool {
+        let (r, p) = (&self.0, problem);
+        let (rs, ps) = (&r.structure, &p.structure);
+        let lengths = |d: &DesignProblem| {
+            let s = &d.structure;
+            [
+                s.chain.spans.len(),
+                s.chain.masses.len(),
+                s.passive.p_x.len(),
+                s.passive.p_y.len(),
+                s.actuation.p_x.len(),
+                s.actuation.p_y.len(),
+                d.bounds.stiffness_min.len(),
+                d.bounds.stiffness_max.len(),
+            ]
+        };
+        rs.n_links() == ps.n_links() && lengths(r) == lengths(p)
+    }
+
+    /// The rates, in the problem's shape.
+    pub fn rates(&self) -> &DesignProblem {
+        &self.0
+    }
+
+    /// The rates, to set the numbers that move.
+    pub fn rates_mut(&mut self) -> &mut DesignProblem {
+        &mut self.0
+    }
+}
+
+/// The load resultants of one load state (eq. (48)), N.
+#[derive(Clone, Debug)]
+pub(crate) struct Resultants<T> {
+    pub vertical: Vec<T>,
+    pub axial: Vec<T>,
+}
+
+/// The problem's numbers in the NLP, in `T`.
+#[derive(Clone, Debug)]
+pub(crate) struct Numbers<T> {
+    /// `a_i`, m.
+    pub spans: Vec<T>,
+    /// The resultants of the passive load and of the passive load plus the actuation.
+    pub passive: Resultants<T>,
+    pub loaded: Resultants<T>,
+    /// `C_K` of eq. (34).
+    pub stiffness_scale: T,
+    /// `L_x + δ_d`, m: the end row's value.
+    pub end_target: T,
+    pub theta0_max: T,
+    pub relative_angle_max: T,
+    /// `K` bounds, N·m/rad (`N + 1` each).
+    pub stiffness_min: Vec<T>,
+    pub stiffness_max: Vec<T>,
+    pub height_min: T,
+    pub height_max: T,
+}
+
+impl Numbers<f64> {
+    /// The problem's numbers.
+    pub fn of(problem: &DesignProblem) -> Self {
+        Self::lifted(problem, problem, |value, _| value)
+    }
+}
+
+impl Numbers<Dual64> {
+    /// The problem's numbers with their rates along `tangent`.
+    pub fn along(problem: &DesignProblem, tangent: &ProblemTangent) -> Self {
+        Self::lifted(problem, tangent.rates(), Dual64::new)
+    }
+
+    /// The rates alone.
+    pub fn rates(&self) -> Numbers<f64> {
+        self.map(|d| d.eps)
+    }
+}
+
+impl<T: Scalar> Numbers<T> {
+    /// Every number `v` of `problem` as `lift(v, its rate in rates)`.
+    fn lifted(problem: &DesignProblem, rates: &DesignProblem, lift: impl Fn(f64, f64) -> T) -> Self {
+        let each = |v: &[f64], r: &[f64]| -> Vec<T> { v.iter().zip(r).map(|(&v, &r)| lift(v, r)).collect() };
+        let (s, r) = (&problem.structure, &rates.structure);
+        let masses = each(&s.chain.masses, &r.chain.masses);
+        let gravity = lift(s.chain.gravity, r.chain.gravity);
+        let resultants = |p_y: &[T], p_x: &[T]| {
+            let (vertical, axial) = spine_model::loads::resultants(p_y, p_x, &masses, gravity);
+            Resultants { vertical, axial }
+        };
+        let (p_y, p_x) = (each(&s.passive.p_y, &r.passive.p_y), each(&s.passive.p_x, &r.passive.p_x));
+        let plus = |a: &[T], b: &[T]| -> Vec<T> { a.iter().zip(b).map(|(&a, &b)| a + b).collect() };
+        let total_y = plus(&p_y, &each(&s.actuation.p_y, &r.actuation.p_y));
+        let total_x = plus(&p_x, &each(&s.actuation.p_x, &r.actuation.p_x));
+        let spans = each(&s.chain.spans, &r.chain.spans);
+        let length_x = spans.iter().fold(T::zero(), |sum, &a| sum + a);
+        let (b, rb) = (&problem.bounds, &rates.bounds);
+        Numbers {
+            passive: resultants(&p_y, &p_x),
+            loaded: resultants(&total_y, &total_x),
+            spans,
+            stiffness_scale: lift(problem.stiffness_scale, rates.stiffness_scale),
+            end_target: length_x + lift(problem.delta_d, rates.delta_d),
+            theta0_max: lift(b.theta0_max, rb.theta0_max),
+            relative_angle_max: lift(b.relative_angle_max, rb.relative_angle_max),
+            stiffness_min: each(&b.stiffness_min, &rb.stiffness_min),
+            stiffness_max: each(&b.stiffness_max, &rb.stiffness_max),
+            height_min: lift(b.height_min, rb.height_min),
+            height_max: lift(b.height_max, rb.height_max),
+        }
+    }
+
+    /// Every number mapped by `f`.
+    pub fn map<U>(&self, f: impl Fn(T) -> U) -> Numbers<U> {
+        let each = |v: &[T]| v.iter().map(|&x| f(x)).collect::<Vec<U>>();
+        let resultants = |r: &Resultants<T>| Resultants { vertical: each(&r.vertical), axial: each(&r.axial) };
+        Numbers {
+            spans: each(&self.spans),
+            passive: resultants(&self.passive),
+            loaded: resultants(&self.loaded),
+            stiffness_scale: f(self.stiffness_scale),
+            end_target: f(self.end_target),
+            theta0_max: f(self.theta0_max),
+            relative_angle_max: f(self.relative_angle_max),
+            stiffness_min: each(&self.stiffness_min),
+            stiffness_max: each(&self.stiffness_max),
+            height_min: f(self.height_min),
+            height_max: f(self.height_max),
+        }
+    }
+
+    /// Bounds shared by both formulations: `θ0` (indices `0..N`), `k = K / C_K` (indices
+    /// `N..2N+1`) and the lifted node heights at `height(j)`; every other entry is left as it is.
+    pub fn variable_bounds(&self, lower: &mut [T], upper: &mut [T], height: impl Fn(usize) -> Option<usize>) {
+        let n = self.spans.len();
+        for i in 0..n {
+            lower[i] = -self.theta0_max;
+            upper[i] = self.theta0_max;
+        }
+        for j in 0..=n {
+            lower[n + j] = self.stiffness_min[j] / self.stiffness_scale;
+            upper[n + j] = self.stiffness_max[j] / self.stiffness_scale;
+        }
+        for j in 1..n {
+            let v = height(j).expect("interior node has a height variable");
+            lower[v] = self.height_min;
+            upper[v] = self.height_max;
+        }
+    }
+
+    /// Constraint bounds shared by both formulations: every row is an equality `= 0` except the
+    /// end displacement row (`X_{N+1}(θ2) = L_x + δ_d`) and the relative-angle rows (`±π/6` by
+    /// default).
+    pub fn constraint_bounds(
+        &self,
+        lower: &mut [T],
+        upper: &mut [T],
+        end_row: usize,
+        relative_row: impl Fn(usize) -> usize,
+    ) {
+        lower.fill(T::zero());
+        upper.fill(T::zero());
+        lower[end_row] = self.end_target;
+        upper[end_row] = self.end_target;
+        for i in 0..self.spans.len().saturating_sub(1) {
+            lower[relative_row(i)] = -self.relative_angle_max;
+            upper[relative_row(i)] = self.relative_angle_max;
+        }
+    }
+}
