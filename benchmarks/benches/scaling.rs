@@ -185,6 +185,36 @@ fn optimum_parameters(c: &mut Criterion) {
         b.iter(|| spine_design::sensitivity::polish(&valid.problem, black_box(&first.design), &valid.settings))
     });
     g.bench_function(BenchmarkId::new("polish_and_sensitivities", 10), |b| b.iter(differentiate));
+
+    // The sensitivity step alone at the polished optimum (issue 51: at most twice its reduced KKT
+    // factorisation and one solve per parameter), with the parameters' tangents built beforehand.
+    use spine_design::sensitivity::{sensitivities, KktBaseline, Optimum, Parameter};
+    let problem = &valid.problem;
+    let run = spine_design::sensitivity::polish(problem, &first.design, &valid.settings).unwrap();
+    let (passive, loaded) = run.states.clone().expect("polished states");
+    let multipliers = run.multipliers.clone().expect("polished multipliers");
+    let layout = run.solver.layout(problem.n_links());
+    let heights = problem.node_heights(&run.design.theta0);
+    let x = layout.pack(&run.design, problem.stiffness_scale, &passive, &loaded, &heights);
+    let optimum = Optimum { problem, layout, x: &x, multipliers: &multipliers };
+    let tangents = || -> Vec<Parameter> {
+        let parameter = |name: &String| Parameter {
+            name: name.clone(),
+            value: design10.parameter_value(name).unwrap(),
+            tangent: design10.parameter_tangent(name, problem).unwrap(),
+        };
+        names.iter().map(parameter).collect()
+    };
+    let parameters = tangents();
+    let report = sensitivities(&optimum, &parameters).unwrap();
+    assert!(report.conditions.hold && report.parameters.iter().all(|p| p.derivative.is_some()));
+    let baseline = KktBaseline::new(&optimum);
+    assert!(baseline.factorise_and_solve(names.len()).is_some());
+    g.bench_function(BenchmarkId::new("sensitivity_step", 10), |b| b.iter(|| sensitivities(&optimum, &parameters)));
+    g.bench_function(BenchmarkId::new("factorisation_and_solves", 10), |b| {
+        b.iter(|| baseline.factorise_and_solve(black_box(names.len())))
+    });
+    g.bench_function(BenchmarkId::new("parameter_tangents", 10), |b| b.iter(tangents));
     g.finish();
 }
 

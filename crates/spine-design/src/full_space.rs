@@ -45,7 +45,7 @@ pub fn assemble(problem: &DesignProblem, states: StateForm) -> Assembled {
 /// The groups of elements of eq. (33) with their constants taken from `numbers`: the problem's
 /// numbers, or their rates along a parameter (each element's constants are copies of the numbers,
 /// so the same map gives the elements' constant rates).
-pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn AnyGroup + Send>> {
+pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn AnyGroup + Send + Sync>> {
     let n = numbers.spans.len();
     let layout = Layout { n, states };
     let spans = &numbers.spans;
@@ -109,7 +109,7 @@ fn joints(
     layout: &Layout,
     numbers: &Numbers<f64>,
     load_states: &[(LoadState, &Resultants<f64>)],
-) -> Box<dyn AnyGroup + Send> {
+) -> Box<dyn AnyGroup + Send + Sync> {
     let n = layout.n;
     let spans = &numbers.spans;
     let stiffness_scale = numbers.stiffness_scale;
@@ -158,15 +158,15 @@ fn joints(
 }
 
 /// A group of placed elements of one kind, boxed for [`Assembled::new`].
-fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send>
+fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send + Sync>
 where
-    E: spine_model::local::Element<M> + Send + 'static,
+    E: spine_model::local::Element<M> + Send + Sync + 'static,
 {
     Box::new(Group::new(items.collect()))
 }
 
 /// The objective: the `N + 1` springs' strain energies in the passive state.
-fn springs(layout: &Layout, stiffness_scale: f64) -> Box<dyn AnyGroup + Send> {
+fn springs(layout: &Layout, stiffness_scale: f64) -> Box<dyn AnyGroup + Send + Sync> {
     let n = layout.n;
     let passive = |i: usize| layout.state_angle(LoadState::Passive, i);
     let links = (0..=n).map(|j| (j, spring_links(n, j)));

@@ -103,6 +103,16 @@ impl Numbers<f64> {
     }
 }
 
+impl Numbers<f64> {
+    /// Whether any number the elements take as a constant (span, resultant, `C_K`) is nonzero:
+    /// for rates, whether any element's constants move.
+    pub fn moves_elements(&self) -> bool {
+        let any = |v: &[f64]| v.iter().any(|&x| x != 0.0);
+        let loads = |r: &Resultants<f64>| any(&r.vertical) || any(&r.axial);
+        any(&self.spans) || loads(&self.passive) || loads(&self.loaded) || self.stiffness_scale != 0.0
+    }
+}
+
 impl Numbers<Dual64> {
     /// The problem's numbers with their rates along `tangent`.
     pub fn along(problem: &DesignProblem, tangent: &ProblemTangent) -> Self {

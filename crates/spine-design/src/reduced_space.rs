@@ -108,7 +108,7 @@ impl<'a> ReducedSpaceNlp<'a> {
                 row: Row::Constraint(layout.relative_row(i)),
             })
             .collect();
-        let groups: Vec<Box<dyn AnyGroup + Send>> =
+        let groups: Vec<Box<dyn AnyGroup + Send + Sync>> =
             vec![Box::new(Group::new(heights)), Box::new(Group::new(relatives))];
         let mut x0 = vec![0.0; layout.num_variables()];
         x0[..n].copy_from_slice(&start.theta0);

@@ -245,8 +245,8 @@ impl WeakForm {
 /// Rows of `rows` independent of the earlier ones on the free variables of `fixed`.
 fn independent(layout: Layout, fixed: &[Bound], rows: Vec<Bound>, matrices: &Matrices) -> Vec<Bound> {
     let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
-    match crate::sensitivity::licq(layout.num_variables(), fixed, &rows, jacobian) {
-        Some((_, dependent)) => rows.into_iter().filter(|b| !dependent.contains(&b.index)).collect(),
+    match crate::sensitivity::dependent_rows(layout.num_variables(), fixed, &rows, jacobian) {
+        Some(dependent) => rows.into_iter().filter(|b| !dependent.contains(&b.index)).collect(),
         None => rows,
     }
 }

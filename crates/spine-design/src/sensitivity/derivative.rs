@@ -23,13 +23,17 @@ pub(crate) struct Solution {
     pub broken_row: Option<usize>,
 }
 
-/// The derivative for the active set of `system`, whose factorisation is `Some`.
+/// The derivative for the active set of `system`, whose factorisation is `Some`. With `one_sided`
+/// the solution also carries the rates of the bound multipliers (`dz`) that a one-sided choice is
+/// checked with; the rows' rates (`dg`) are formed where they are checked (dependent rows, or
+/// `one_sided`).
 pub(crate) fn derivative(
     optimum: &Optimum<'_>,
     matrices: &Matrices,
     system: &ActiveSystem,
     rates: &Rates,
     at: &Evaluation,
+    one_sided: bool,
 ) -> Option<Solution> {
     let kkt = system.kkt.as_ref()?;
     let (n, m) = (optimum.layout.num_variables(), optimum.layout.num_constraints());
@@ -37,8 +41,16 @@ pub(crate) fn derivative(
     for b in &system.variables {
         dx[b.index] = bound_rate(b, rates.lower[b.index], rates.upper[b.index]);
     }
-    let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
-    let j_dx = jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m);
+    // Most parameters move no active variable bound: then `H dx` and `J dx` are zero.
+    let fixed_move = dx.iter().any(|&d| d != 0.0);
+    let (h_dx, j_dx) = if fixed_move {
+        (
+            hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx),
+            jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m),
+        )
+    } else {
+        (vec![0.0; n], vec![0.0; m])
+    };
     let mut rhs = vec![0.0; kkt.free + kkt.rows.len()];
     for i in 0..n {
         if let Some(p) = kkt.free_position[i] {
@@ -60,13 +72,21 @@ pub(crate) fn derivative(
     for (k, b) in kkt.rows.iter().enumerate() {
         dlambda[b.index] = rhs[kkt.free + k];
     }
-    let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
-    let jt_dl = jacobian_transpose_times(&matrices.jacobian_pattern, &matrices.jacobian, &dlambda, n);
-    let dz: Vec<f64> = (0..n).map(|i| h_dx[i] + jt_dl[i] + rates.lagrangian_gradient[i]).collect();
-    let j_dx = jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m);
-    let dg: Vec<f64> = (0..m).map(|r| j_dx[r] + rates.constraints[r]).collect();
+    let dz: Vec<f64> = if one_sided {
+        let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
+        let jt_dl = jacobian_transpose_times(&matrices.jacobian_pattern, &matrices.jacobian, &dlambda, n);
+        (0..n).map(|i| h_dx[i] + jt_dl[i] + rates.lagrangian_gradient[i]).collect()
+    } else {
+        Vec::new()
+    };
+    let dg: Vec<f64> = if one_sided || !system.dependent.is_empty() {
+        let j_dx = jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m);
+        (0..m).map(|r| j_dx[r] + rates.constraints[r]).collect()
+    } else {
+        Vec::new()
+    };
     let derivative = report(optimum, &system.variables, &kkt.rows, rates, at, &dx);
-    let broken_row = dependent_row_broken(system, rates, &dg);
+    let broken_row = if dg.is_empty() { None } else { dependent_row_broken(system, rates, &dg) };
     Some(Solution { derivative, dx, dz, dg, dlambda, broken_row })
 }
 
@@ -183,7 +203,7 @@ pub(crate) fn one_sided(
     direction: f64,
 ) -> Option<Derivative> {
     systems.iter().find_map(|(mask, system)| {
-        let s = derivative(optimum, matrices, system, rates, at)?;
+        let s = derivative(optimum, matrices, system, rates, at, true)?;
         if s.broken_row.is_some() {
             return None;
         }

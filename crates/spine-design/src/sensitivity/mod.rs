@@ -19,6 +19,7 @@
 //!   keeps the linearised KKT conditions feasible (the QP of the degenerate set, by enumeration).
 
 mod active_set;
+mod baseline;
 mod derivative;
 mod point;
 mod polish;
@@ -26,14 +27,16 @@ mod rates;
 mod system;
 
 pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
+pub use baseline::KktBaseline;
 pub use polish::{polish, POLISH_TOLERANCE};
 
 use crate::full_space::{Layout, Multipliers};
 use crate::{DesignProblem, ProblemTangent};
 use derivative::{derivative, one_sided, weak_candidates};
 use rates::rates;
+use rayon::prelude::*;
 use serde::Serialize;
-pub(crate) use system::{licq, ActiveSystem, Matrices};
+pub(crate) use system::{dependent_rows, ActiveSystem, Matrices};
 
 /// At most this many weakly active bounds are enumerated for one-sided derivatives (2^k systems).
 pub const MAX_WEAK: usize = 8;
@@ -137,18 +140,49 @@ pub fn sensitivities(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<
     let (at, matrices) = Matrices::of(&assembled, optimum.problem, layout, x, &optimum.multipliers.constraints);
     let set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
     // Rows that depend on others are left out of the system (their multipliers are not unique);
-    // each derivative is then checked against them.
-    let system = ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone());
-    let conditions = conditions(&set, &system, layout);
+    // each derivative is then checked against them. LICQ's measure is formed beside the
+    // factorisation (rayon's pool: the machine's cores).
+    let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
+    let (system, licq) = rayon::join(
+        || ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone()),
+        || system::smallest_singular_value(layout.num_variables(), &set.variables, &set.rows, jacobian),
+    );
+    let conditions = conditions(&set, &system, layout, licq);
     let weak = set.weak_variables.len() + set.weak_rows.len();
     let candidates = (weak > 0 && weak <= MAX_WEAK).then(|| weak_candidates(optimum, &matrices, &set));
-    let mut out = Vec::new();
-    for parameter in parameters {
-        let rates = rates(optimum, &assembled, &parameter.name, &parameter.tangent)?;
+    let step = Step { optimum, assembled: &assembled, at: &at, matrices: &matrices, system: &system };
+    let two_sided = weak == 0 && conditions.second_order_sufficient;
+    // The parameters are independent: each on its own, in parallel, in order.
+    let out = parameters
+        .par_iter()
+        .map(|parameter| step.differentiate(parameter, two_sided, candidates.as_ref()))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(SensitivityReport { conditions, active: active_labels(&set, layout), parameters: out })
+}
+
+/// What every parameter's derivative is formed from: the optimum, its assembled elements, its
+/// evaluation, matrices and factorised system.
+struct Step<'s, 'a> {
+    optimum: &'s Optimum<'a>,
+    assembled: &'s crate::assembly::Assembled,
+    at: &'s point::Evaluation,
+    matrices: &'s Matrices,
+    system: &'s ActiveSystem,
+}
+
+impl Step<'_, '_> {
+    /// The sensitivity to one parameter: two-sided where `two_sided` (the conditions hold but for
+    /// dependent rows, which it is checked against), one-sided over the weak `candidates`.
+    fn differentiate(
+        &self,
+        parameter: &Parameter,
+        two_sided: bool,
+        candidates: Option<&derivative::WeakCandidates>,
+    ) -> Result<ParameterSensitivity, SensitivityError> {
+        let (optimum, matrices, at) = (self.optimum, self.matrices, self.at);
+        let rates = rates(optimum, self.assembled, &parameter.name, &parameter.tangent)?;
         let mut note = None;
-        let solution = (weak == 0 && conditions.second_order_sufficient)
-            .then(|| derivative(optimum, &matrices, &system, &rates, &at))
-            .flatten();
+        let solution = two_sided.then(|| derivative(optimum, matrices, self.system, &rates, at, false)).flatten();
         let derivative = solution.and_then(|s| match s.broken_row {
             Some(row) => {
                 note = Some(format!(
@@ -158,23 +192,21 @@ pub fn sensitivities(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<
             }
             None => Some(s.derivative),
         });
-        let (increase, decrease) = match &candidates {
-            Some(c) => (
-                one_sided(optimum, &matrices, c, &rates, &at, 1.0),
-                one_sided(optimum, &matrices, c, &rates, &at, -1.0),
-            ),
+        let (increase, decrease) = match candidates {
+            Some(c) => {
+                (one_sided(optimum, matrices, c, &rates, at, 1.0), one_sided(optimum, matrices, c, &rates, at, -1.0))
+            }
             None => (None, None),
         };
-        out.push(ParameterSensitivity {
+        Ok(ParameterSensitivity {
             name: parameter.name.clone(),
             value: parameter.value,
             derivative,
             increase,
             decrease,
             note,
-        });
+        })
     }
-    Ok(SensitivityReport { conditions, active: active_labels(&set, layout), parameters: out })
 }
 
 /// The strictly active inequality bounds by name and side (equalities left out).
@@ -191,7 +223,7 @@ fn active_labels(set: &ActiveSet, layout: Layout) -> Vec<String> {
 }
 
 /// LICQ, strict complementarity and second-order sufficiency, with their numbers.
-fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout) -> Conditions {
+fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout, licq: Option<f64>) -> Conditions {
     let weakly_active: Vec<String> = set
         .weak_variables
         .iter()
@@ -223,7 +255,7 @@ fn conditions(set: &ActiveSet, system: &ActiveSystem, layout: Layout) -> Conditi
         active_variable_bounds: set.variables.len(),
         free_variables: layout.num_variables() - set.variables.len(),
         active_rows: set.rows.len(),
-        licq_smallest_singular_value: system.licq,
+        licq_smallest_singular_value: licq,
         dependent_rows: dependent.clone(),
         smallest_active_multiplier: finite(set.smallest_active_multiplier),
         smallest_inactive_gap: finite(set.smallest_inactive_gap),

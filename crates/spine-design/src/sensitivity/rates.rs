@@ -6,7 +6,7 @@
 //! differenced: the assembled patterns of the optimum are reused.
 
 use super::{Optimum, SensitivityError};
-use crate::assembly::Assembled;
+use crate::assembly::{Assembled, NlpRates};
 use crate::full_space::groups;
 use crate::numbers::Numbers;
 use crate::ProblemTangent;
@@ -38,9 +38,14 @@ pub(crate) fn rates(
         return Err(SensitivityError::Size(name.to_string()));
     }
     let numbers = Numbers::along(problem, tangent);
-    let direction = groups(&numbers.rates(), layout.states);
-    let nlp = assembled.rates(&direction, optimum.x, &optimum.multipliers.constraints);
+    let moving = numbers.rates();
     let (n, m) = (layout.num_variables(), layout.num_constraints());
+    // A parameter that moves only bounds or `δ_d` (no element's constant) has no element rates.
+    let nlp = if moving.moves_elements() {
+        assembled.rates(&groups(&moving, layout.states), optimum.x, &optimum.multipliers.constraints)
+    } else {
+        NlpRates { objective: 0.0, constraints: vec![0.0; m], lagrangian_gradient: vec![0.0; n] }
+    };
     let (mut lower, mut upper) = (vec![Dual64::from(f64::NEG_INFINITY); n], vec![Dual64::from(f64::INFINITY); n]);
     numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
     let (mut row_lower, mut row_upper) = (vec![Dual64::from(0.0); m], vec![Dual64::from(0.0); m]);

@@ -65,31 +65,40 @@ fn free_positions(n: usize, fixed: &[Bound]) -> (Vec<Option<usize>>, usize) {
     (position, free)
 }
 
-/// One active set's system: LICQ's measures, the dependent rows left out of it (each derivative is
-/// checked against them) and the factorised reduced KKT matrix of the rest (`None` when singular).
+/// One active set's system: the dependent rows left out of it (each derivative is checked against
+/// them) and the factorised reduced KKT matrix of the rest (`None` when singular).
 pub(crate) struct ActiveSystem {
     /// The bounds that fix variables.
     pub variables: Vec<Bound>,
     /// Every active row, the dependent ones included.
     pub rows: Vec<Bound>,
-    /// The smallest singular value of the active rows' Jacobian (`None` above [`MAX_DENSE`]) and
-    /// the dependent rows.
-    pub licq: Option<f64>,
+    /// The rows that depend linearly on earlier ones (empty above [`MAX_DENSE`]).
     pub dependent: Vec<usize>,
     pub kkt: Option<ReducedKkt>,
 }
 
 impl ActiveSystem {
+    /// The system of this active set. The KKT matrix with every active row is factorised first:
+    /// where its inertia certifies a minimum, no row depends on the others (a dependent row would
+    /// give a zero eigenvalue) and nothing else is needed; otherwise the dependent rows are found
+    /// ([`dependent_rows`]) and left out, and the rest is factorised.
     pub fn new(matrices: &Matrices, layout: Layout, variables: Vec<Bound>, rows: Vec<Bound>) -> Self {
         let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
-        let measured = licq(layout.num_variables(), &variables, &rows, jacobian);
-        let (licq, dependent) = measured.map_or((None, Vec::new()), |(s, d)| (Some(s), d));
-        let kept: Vec<Bound> = rows.iter().filter(|b| !dependent.contains(&b.index)).copied().collect();
         let hessian = (&matrices.hessian_pattern[..], &matrices.hessian[..]);
-        let kkt =
-            ReducedKkt::new(layout.num_variables(), layout.num_constraints(), &variables, &kept, hessian, jacobian)
-                .ok();
-        Self { variables, rows, licq, dependent, kkt }
+        let (n, m) = (layout.num_variables(), layout.num_constraints());
+        let factorise = |rows: &[Bound]| ReducedKkt::new(n, m, &variables, rows, hessian, jacobian).ok();
+        let all = factorise(&rows);
+        if all.as_ref().is_some_and(ReducedKkt::certifies_minimum) {
+            return Self { variables, rows, dependent: Vec::new(), kkt: all };
+        }
+        let dependent = dependent_rows(n, &variables, &rows, jacobian).unwrap_or_default();
+        let kkt = if dependent.is_empty() {
+            all
+        } else {
+            let kept: Vec<Bound> = rows.iter().filter(|b| !dependent.contains(&b.index)).copied().collect();
+            factorise(&kept)
+        };
+        Self { variables, rows, dependent, kkt }
     }
 
     /// The factorisation, where it certifies a strict local minimum with independent active rows.
@@ -212,49 +221,81 @@ pub(crate) fn with_weak(set: &ActiveSet, variables: &[Bound], rows: &[Bound]) ->
 /// Most entries of the dense active-row Jacobian for the LICQ measures.
 pub(crate) const MAX_DENSE: usize = 250_000;
 
-/// LICQ at the active set: the smallest singular value of the active rows' Jacobian on the free
-/// variables, and the rows (constraint indices) that depend linearly on earlier ones (modified
-/// Gram–Schmidt, a row whose remainder is below 1e-9 of its norm). `None` above [`MAX_DENSE`].
-pub(crate) fn licq(
+/// The active rows' Jacobian on the free variables of `variables`, dense and row-major, with the
+/// number of free variables; `None` above [`MAX_DENSE`] entries or without rows.
+fn active_rows_dense(
     n: usize,
     variables: &[Bound],
     rows: &[Bound],
     jacobian: (&[(usize, usize)], &[f64]),
-) -> Option<(f64, Vec<usize>)> {
+) -> Option<(Vec<f64>, usize)> {
     let (free, count) = free_positions(n, variables);
-    let mut position = std::collections::HashMap::new();
-    for (k, b) in rows.iter().enumerate() {
-        position.insert(b.index, k);
-    }
     if rows.is_empty() || rows.len() * count > MAX_DENSE {
         return None;
     }
-    let mut a = nalgebra::DMatrix::<f64>::zeros(rows.len(), count);
+    let m = jacobian.0.iter().map(|&(r, _)| r + 1).chain(rows.iter().map(|b| b.index + 1)).max().unwrap_or(0);
+    let mut position = vec![None; m];
+    for (p, b) in rows.iter().enumerate() {
+        position[b.index] = Some(p);
+    }
+    let mut a = vec![0.0; rows.len() * count];
     for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
-        if let (Some(&k), Some(p)) = (position.get(&r), free[c]) {
-            a[(k, p)] += v;
+        if let (Some(p), Some(q)) = (position[r], free[c]) {
+            a[p * count + q] += v;
         }
     }
-    let smallest = if rows.len() <= count {
-        a.clone().singular_values().iter().copied().fold(f64::INFINITY, f64::min)
-    } else {
-        0.0
-    };
-    let mut basis: Vec<nalgebra::DVector<f64>> = Vec::new();
+    Some((a, count))
+}
+
+/// LICQ's measure at the active set: the smallest singular value of the active rows' Jacobian on
+/// the free variables (zero with more rows than free variables), from the eigenvalues of the Gram
+/// matrix `A Aᵀ` (values only: a fraction of an SVD's cost; `σ_min²` carries an absolute error of
+/// about 1e-16 ‖A‖², ample for this measure). `None` above [`MAX_DENSE`].
+pub(crate) fn smallest_singular_value(
+    n: usize,
+    variables: &[Bound],
+    rows: &[Bound],
+    jacobian: (&[(usize, usize)], &[f64]),
+) -> Option<f64> {
+    let (a, count) = active_rows_dense(n, variables, rows, jacobian)?;
+    let k = rows.len();
+    if k > count {
+        return Some(0.0);
+    }
+    let dense = nalgebra::DMatrix::from_row_slice(k, count, &a);
+    let gram = &dense * dense.transpose();
+    Some(gram.symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min).max(0.0).sqrt())
+}
+
+/// The active rows (constraint indices) that depend linearly on earlier ones on the free variables
+/// (modified Gram–Schmidt in place: a row whose remainder is below 1e-9 of its norm). `None` above
+/// [`MAX_DENSE`].
+pub(crate) fn dependent_rows(
+    n: usize,
+    variables: &[Bound],
+    rows: &[Bound],
+    jacobian: (&[(usize, usize)], &[f64]),
+) -> Option<Vec<usize>> {
+    let (mut a, count) = active_rows_dense(n, variables, rows, jacobian)?;
+    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(a, b)| a * b).sum::<f64>();
+    let mut basis: Vec<usize> = Vec::new();
     let mut dependent = Vec::new();
-    for (k, b) in rows.iter().enumerate() {
-        let mut v: nalgebra::DVector<f64> = a.row(k).transpose();
-        let norm = v.norm();
-        for q in &basis {
-            let c = q.dot(&v);
-            v -= q * c;
+    for (p, b) in rows.iter().enumerate() {
+        let (done, rest) = a.split_at_mut(p * count);
+        let v = &mut rest[..count];
+        let norm = dot(v, v).sqrt();
+        for &q in &basis {
+            let unit = &done[q * count..(q + 1) * count];
+            let c = dot(unit, v);
+            v.iter_mut().zip(unit).for_each(|(x, u)| *x -= c * u);
         }
-        if v.norm() <= 1e-9 * norm.max(f64::MIN_POSITIVE) {
+        let remainder = dot(v, v).sqrt();
+        if remainder <= 1e-9 * norm.max(f64::MIN_POSITIVE) {
             dependent.push(b.index);
         } else {
-            let unit = v.normalize();
-            basis.push(unit);
+            v.iter_mut().for_each(|x| *x /= remainder);
+            basis.push(p);
         }
     }
-    Some((smallest, dependent))
+    Some(dependent)
 }
