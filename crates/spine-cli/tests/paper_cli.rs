@@ -75,8 +75,8 @@ fn twolink_figure_checks_the_closed_forms() {
     assert_eq!(r["kind"], "figure");
     let c = claims(&r);
     // Eqs. (10), (11); R; per upper bound (10⁴, 1000) eq. (12)'s Lagrange check and the two
-    // readings of "∂L/∂K is less than ∂L/∂θ0"; eq. (26).
-    assert_eq!(c.len(), 2 + 2 * 3 + 1, "{c:?}");
+    // readings of "∂L/∂K is less than ∂L/∂θ0"; eq. (26); eqs. (27)–(30) (erratum E10).
+    assert_eq!(c.len(), 2 + 2 * 3 + 2, "{c:?}");
     assert!(c[..2].iter().all(|c| c["pass"] == json!(true)), "{c:?}");
     assert!(c.iter().filter(|c| c["check"] == "solver").all(|c| c["pass"] == json!(true)), "{c:?}");
     // The relative reading fails at the text's bound: a finding, reported, not hidden.
@@ -244,7 +244,7 @@ fn report_gathers_claims_figures_and_errata() {
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();
     assert!(md.contains("| fig3 | **no result**"));
-    assert!(md.contains("**8 of 9 claims pass.**"), "{md}");
+    assert!(md.contains("**9 of 10 claims pass.**"), "{md}");
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
 }
@@ -295,7 +295,7 @@ fn report_html_renders_in_a_headless_browser() {
     let claims = dom.split("<table id=\"claims\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap();
     let verdicts =
         claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
-    assert_eq!(verdicts, 9 + 4, "nine twolink claims and four fig9 claims (n5): {claims}");
+    assert_eq!(verdicts, 10 + 4, "ten twolink claims and four fig9 claims (n5): {claims}");
     assert!(dom.contains("claims pass."));
     // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
     let shot = results.join("shot.png");

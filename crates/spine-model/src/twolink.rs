@@ -14,6 +14,9 @@
 
 use crate::Scalar;
 
+mod small_deflection;
+pub use small_deflection::SmallDeflection;
+
 /// Loads and geometry of the Sec. 3 problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TwoLink {
@@ -169,51 +172,5 @@ impl TwoLink {
         let (_, dl_dt0) = self.lagrangian_gradient(theta0, stiffness, theta1, theta2, 0.0);
         let (_, _, c_t0) = self.constraint(theta0, stiffness, theta2, 0.0);
         -dl_dt0 / c_t0
-    }
-}
-
-/// The small-deflection two-link system of eqs. (25), (26): links of lengths `L1`, `L2` at design
-/// angles `θ0,1`, `θ0,2` (with `L1 sin θ0,1 + L2 sin θ0,2 = 0`), springs `K1` at the base and `K2`
-/// at the middle node (no `K3`), `P_Y,2` at the middle node and `P_X,3` at the slider.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct SmallDeflection {
-    pub lengths: [f64; 2],
-    pub theta0: [f64; 2],
-    pub stiffness: [f64; 2],
-    pub p_y2: f64,
-    pub p_x3: f64,
-}
-
-impl SmallDeflection {
-    /// Eq. (26): `[K_m, c; cᵀ, 0] [Δθ; λ] = [Q; −Φ1(θ0)]`, with `K_m` of eq. (25),
-    /// `c = (L1 cos θ0,1, L2 cos θ0,2)` and the generalised loads at `θ0`,
-    /// `Q = (P_Y,2 L1 cos θ0,1 − P_X,3 L1 sin θ0,1, −P_X,3 L2 sin θ0,2)` (what `−∂V/∂θ` gives, the
-    /// model's `P_i = L_i (cos θ_i V_i − sin θ_i A_i)`). `printed = true` takes the paper's second
-    /// row, `+P_X,3 L2 sin θ0,2` (erratum E8). Returns `Δθ` (rad) and `λ`, or `None` when the
-    /// matrix is singular.
-    pub fn delta_theta(&self, printed: bool) -> Option<([f64; 2], f64)> {
-        let [l1, l2] = self.lengths;
-        let [(s1, c1), (s2, c2)] = [self.theta0[0].sin_cos(), self.theta0[1].sin_cos()];
-        let [k1, k2] = self.stiffness;
-        let q2 = if printed { self.p_x3 * l2 * s2 } else { -self.p_x3 * l2 * s2 };
-        let a = [[k1 + k2, -k2, l1 * c1], [-k2, k2, l2 * c2], [l1 * c1, l2 * c2, 0.0]];
-        let b = [self.p_y2 * l1 * c1 - self.p_x3 * l1 * s1, q2, -l1 * s1 - l2 * s2];
-        let det = |m: &[[f64; 3]; 3]| {
-            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-        };
-        let d = det(&a);
-        if d == 0.0 || !d.is_finite() {
-            return None;
-        }
-        // Cramer's rule: column j replaced by b.
-        let solve = |j: usize| {
-            let mut m = a;
-            for (row, v) in m.iter_mut().zip(b) {
-                row[j] = v;
-            }
-            det(&m) / d
-        };
-        Some(([solve(0), solve(1)], solve(2)))
     }
 }

@@ -86,3 +86,66 @@ fn eq_26_small_deflections_converge_to_the_exact_ones_only_with_the_corrected_si
     assert!(study.order_printed.unwrap().abs() < 0.1, "{:?}", study.order_printed);
     assert!(last.error_printed.unwrap() > 0.1, "{last:?}");
 }
+
+/// Eqs. (27)–(30) against the exact gradient of the same small-deflection Lagrangian (forward AD
+/// through the corrected eq. (26), itself checked against central differences of `ℒ`): (29) and
+/// (30) are the chain rule, to round-off; (27) and (28) leave out `Δθ1ᵀ K_m ∂θ1/∂K_i` (erratum
+/// E10), which is not small — with it they are exact.
+#[test]
+fn eqs_27_to_30_are_the_exact_gradient_except_for_the_missing_stiffness_term_of_27_and_28() {
+    let (l1, l2, t1) = (0.5, 0.6, 0.3);
+    let system = SmallDeflection {
+        lengths: [l1, l2],
+        theta0: [t1, -(l1 * f64::sin(t1) / l2).asin()],
+        stiffness: [500.0, 1000.0],
+        p_y2: -10.0,
+        p_x3: -400.0,
+    };
+    let (delta, multipliers) = (-0.001, [0.7, -2.5]);
+    let exact = system.lagrangian_gradient(delta, multipliers).unwrap();
+    // The exact gradient against central differences of ℒ.
+    let moved = |k: usize, h: f64| {
+        let mut s = system;
+        match k {
+            0 | 1 => s.stiffness[k] += h,
+            _ => s.theta0[k - 2] += h,
+        }
+        s.lagrangian_value(delta, multipliers).unwrap()
+    };
+    for (k, &g) in exact.iter().enumerate() {
+        let h = if k < 2 { 1e-3 } else { 1e-6 };
+        let fd = (moved(k, h) - moved(k, -h)) / (2.0 * h);
+        assert!((g - fd).abs() <= 1e-6 * g.abs().max(1e-9), "∂ℒ/∂x{k}: AD {g} vs {fd}");
+    }
+    let printed = system.gradient_eqs_27_30(multipliers).unwrap();
+    let missing = system.missing_stiffness_terms().unwrap();
+    for i in 2..4 {
+        assert!(
+            (printed[i] - exact[i]).abs() <= 1e-12 * exact[i].abs(),
+            "eq. ({}) {} vs {}",
+            27 + i,
+            printed[i],
+            exact[i]
+        );
+    }
+    // On the feasible set (Φ1(θ0) = 0) the missing term is −Δθ1ᵀ (∂K_m/∂K_i) Δθ1, twice the
+    // printed strain term with the opposite sign: ∂J/∂K_i = −½ Δθ1ᵀ (∂K_m/∂K_i) Δθ1 (a stiffer
+    // spring stores less energy under the same load, as in erratum E4).
+    let (d1, _) = SmallDeflection { p_x3: 0.0, ..system }.delta_theta(false).unwrap();
+    let strain = [d1[0] * d1[0], (d1[0] - d1[1]).powi(2)];
+    for i in 0..2 {
+        assert!((missing[i] + strain[i]).abs() <= 1e-9 * strain[i], "K{}: {} vs {}", i + 1, missing[i], -strain[i]);
+    }
+    for i in 0..2 {
+        assert!((printed[i] + missing[i] - exact[i]).abs() <= 1e-12 * exact[i].abs().max(1e-15), "eq. ({})", 27 + i);
+        let share = missing[i].abs() / exact[i].abs();
+        println!(
+            "eq. ({}): printed {:.6e}, exact {:.6e}, missing term {:.6e} ({share:.3} of the exact)",
+            27 + i,
+            printed[i],
+            exact[i],
+            missing[i]
+        );
+        assert!(share > 0.1, "eq. ({}): the missing term is {share} of the gradient", 27 + i);
+    }
+}

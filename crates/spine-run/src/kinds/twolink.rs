@@ -94,6 +94,20 @@ impl std::fmt::Display for TwoLinkResult {
                 fmt_opt(sd.order, 3),
                 fmt_opt(sd.order_printed, 3)
             )?;
+            if let Some(g) = &sd.gradients {
+                writeln!(
+                    f,
+                    "eqs. (27)–(30) at Λ = ({:.4e}, {:.4e}): ∂ℒ/∂K1 printed {:.4e}, exact {:.4e}; ∂ℒ/∂K2 printed {:.4e}, exact {:.4e}; (29), (30) within {:.1e} of exact; (27), (28) with E10's term within {:.1e}",
+                    g.multipliers[0],
+                    g.multipliers[1],
+                    g.printed[0],
+                    g.exact[0],
+                    g.printed[1],
+                    g.exact[1],
+                    (2..4).map(|i| (g.printed[i] - g.exact[i]).abs() / g.angle_scale).fold(0.0, f64::max),
+                    g.gap(true)
+                )?;
+            }
         }
         Ok(())
     }

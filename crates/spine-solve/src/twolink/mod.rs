@@ -207,6 +207,48 @@ pub struct SmallDeflectionStudy {
     pub rows: Vec<SmallDeflectionRow>,
     pub order: Option<f64>,
     pub order_printed: Option<f64>,
+    /// Eqs. (27)–(30) at the system's design against the exact gradient (erratum E10).
+    pub gradients: Option<SmallDeflectionGradients>,
+}
+
+/// Eqs. (27)–(30) at one design, with the multipliers that make the exact gradient stationary in
+/// both angles: as printed, exact (forward AD through eq. (26)), and the term (27), (28) leave
+/// out; `(∂ℒ/∂K1, ∂ℒ/∂K2, ∂ℒ/∂θ0,1, ∂ℒ/∂θ0,2)`.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SmallDeflectionGradients {
+    pub multipliers: [f64; 2],
+    pub printed: [f64; 4],
+    pub exact: [f64; 4],
+    pub missing: [f64; 2],
+    /// The size of the terms that cancel in the angle components: `max |∂J/∂θ0,i|`.
+    pub angle_scale: f64,
+}
+
+impl SmallDeflectionGradients {
+    /// The gradients of `system` (`None` where eq. (26) or the multipliers' system is singular).
+    pub fn of(system: &SmallDeflection) -> Option<Self> {
+        let multipliers = system.angle_stationary_multipliers()?;
+        Some(Self {
+            multipliers,
+            printed: system.gradient_eqs_27_30(multipliers)?,
+            exact: system.lagrangian_gradient(0.0, multipliers)?,
+            missing: system.missing_stiffness_terms()?,
+            angle_scale: system.lagrangian_gradient(0.0, [0.0, 0.0])?[2..].iter().fold(0.0, |m, g| m.max(g.abs())),
+        })
+    }
+
+    /// The largest relative gap between `printed` (with `missing` added to (27), (28) when
+    /// `corrected`) and `exact`: relative to `|exact|` for the springs, to [`Self::angle_scale`]
+    /// for the angles (where `exact` is zero).
+    pub fn gap(&self, corrected: bool) -> f64 {
+        (0..4)
+            .map(|i| {
+                let add = if corrected && i < 2 { self.missing[i] } else { 0.0 };
+                let scale = if i < 2 { self.exact[i].abs() } else { self.angle_scale }.max(f64::MIN_POSITIVE);
+                ((self.printed[i] + add) - self.exact[i]).abs() / scale
+            })
+            .fold(0.0, f64::max)
+    }
 }
 
 /// The observed order of an error: the slope of `ln error` against `ln size` over the three rows
@@ -272,6 +314,7 @@ pub fn small_deflection_study(
         system: *system,
         order: order(&|r| r.error),
         order_printed: order(&|r| r.error_printed),
+        gradients: SmallDeflectionGradients::of(system),
         rows,
     }
 }
