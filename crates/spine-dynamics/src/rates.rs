@@ -124,7 +124,7 @@ impl RatesAt<'_> {
     /// `c_ij = L_i L_j μ_max(i,j)`: `M_ij = c_ij cos(θ_i − θ_j)`, `h_i = Σ_j c_ij θ̇_j² sin(θ_i − θ_j)`.
     fn coupling(&self) -> impl Fn(usize, usize) -> f64 + '_ {
         let l = &self.dynamics.lengths;
-        let (coupling, _) = self.dynamics.inertia_coefficients();
+        let coupling = coupling_coefficients(&self.dynamics.masses);
         move |i, j| l[i] * l[j] * coupling[i.max(j)]
     }
 
@@ -326,4 +326,16 @@ impl Dynamics {
             }
         }
     }
+}
+
+/// The coupling coefficients `μ_j = ½ m_j + Σ_{k>j} m_k` (kg) of the mass matrix, in one pass
+/// (the first part of `Dynamics::inertia_coefficients`, with the same sums).
+pub(crate) fn coupling_coefficients(masses: &[f64]) -> Vec<f64> {
+    let mut coupling = vec![0.0; masses.len()];
+    let mut beyond = 0.0;
+    for (mu, m) in coupling.iter_mut().zip(masses).rev() {
+        *mu = 0.5 * m + beyond;
+        beyond += m;
+    }
+    coupling
 }

@@ -158,9 +158,9 @@ impl OdeSystem for SpineOde<'_> {
 }
 
 /// [`SpineOde`]'s vector–Jacobian products by [`AccelerationAdjoint`].
-struct ChainProducts(AccelerationAdjoint);
+struct ChainProducts<'a>(AccelerationAdjoint<'a>);
 
-impl VectorJacobian for ChainProducts {
+impl VectorJacobian for ChainProducts<'_> {
     fn n_params(&self) -> usize {
         self.0.n_params()
     }

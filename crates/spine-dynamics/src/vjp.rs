@@ -26,9 +26,10 @@ use crate::parameters::Parameters;
 use crate::rates::Factored;
 use std::cell::RefCell;
 
-/// One state `(t, θ, θ̇)` prepared for any number of products (module docs).
-pub struct AccelerationAdjoint {
-    lengths: Vec<f64>,
+/// One state `(t, θ, θ̇)` prepared for any number of products (module docs); it borrows the
+/// chain's lengths, springs and dampers from its [`Dynamics`].
+pub struct AccelerationAdjoint<'a> {
+    lengths: &'a [f64],
     /// `μ_j = ½ m_j + Σ_{k>j} m_k`, kg.
     coupling: Vec<f64>,
     trig: Vec<(f64, f64)>,
@@ -40,22 +41,15 @@ pub struct AccelerationAdjoint {
     /// The per-angle part that does not depend on `ξ`: `−(Ĉθ̇²)_k − (Ŝθ̈)_k + L_k (−sin θ_k V_k −
     /// cos θ_k X_k) − L_k sin θ_k λ` (multiplies `ξ_k`).
     own: Vec<f64>,
-    stiffness: Vec<f64>,
-    damping: Vec<f64>,
+    stiffness: &'a [f64],
+    damping: &'a [f64],
     /// The parameters' relative motions `r_k` (none without parameters).
     relative: Vec<f64>,
     /// `ξ`, `Ĉξ`, `Ŝξ` of the last product (kept, so that the products allocate nothing).
     scratch: RefCell<[Vec<f64>; 3]>,
 }
 
-/// `(Ĉ x, Ŝ x)` (module docs) in `O(N)`.
-fn coupled(lengths: &[f64], coupling: &[f64], trig: &[(f64, f64)], x: &[f64]) -> (Vec<f64>, Vec<f64>) {
-    let (mut c, mut s) = (vec![0.0; x.len()], vec![0.0; x.len()]);
-    coupled_into(lengths, coupling, trig, x, &mut c, &mut s);
-    (c, s)
-}
-
-/// [`coupled`] into `c` and `s`: for `i < k` the coupling is `μ_k`, for `i > k` it is `μ_i`.
+/// `(Ĉ x, Ŝ x)` (module docs) in `O(N)`, into `c` and `s`: for `i < k` the coupling is `μ_k`, for `i > k` it is `μ_i`.
 fn coupled_into(lengths: &[f64], coupling: &[f64], trig: &[(f64, f64)], x: &[f64], c: &mut [f64], s: &mut [f64]) {
     let n = x.len();
     // Suffix sums Σ_{i>k} μ_i L_i x_i (cos θ_i, sin θ_i).
@@ -88,24 +82,28 @@ impl Dynamics {
         piece: f64,
         y: &[f64],
         parameters: Parameters,
-    ) -> Option<AccelerationAdjoint> {
+    ) -> Option<AccelerationAdjoint<'_>> {
         let n = self.n_links();
         let (theta, omega) = y.split_at(n);
         let loads = self.loads_at(t, piece);
         let at = self.rates_at(theta, omega);
         let (acc, lambda) = at.state_acceleration(&loads)?;
         let Factored { trig, chain, mg, gmg } = at.into_factored()?;
-        let (coupling, _) = self.inertia_coefficients();
-        let omega2: Vec<f64> = omega.iter().map(|w| w * w).collect();
-        let (c_omega2, _) = coupled(&self.lengths, &coupling, &trig, &omega2);
-        let (_, s_acc) = coupled(&self.lengths, &coupling, &trig, &acc);
-        let own = (0..n)
+        let coupling = crate::rates::coupling_coefficients(&self.masses);
+        // The per-angle part that does not depend on `ξ`, formed in the products' own scratch.
+        let mut scratch: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
+        let [input, c, s] = &mut scratch;
+        input.iter_mut().zip(omega).for_each(|(x, w)| *x = w * w);
+        coupled_into(&self.lengths, &coupling, &trig, input, c, s);
+        let mut own: Vec<f64> = (0..n)
             .map(|k| {
                 let (sk, ck) = trig[k];
                 let lk = self.lengths[k];
-                -c_omega2[k] - s_acc[k] + lk * (-sk * loads.vertical[k] - ck * loads.axial[k]) - lk * sk * lambda
+                -c[k] + lk * (-sk * loads.vertical[k] - ck * loads.axial[k]) - lk * sk * lambda
             })
             .collect();
+        coupled_into(&self.lengths, &coupling, &trig, &acc, c, s);
+        own.iter_mut().zip(s.iter()).for_each(|(o, s_acc)| *o -= s_acc);
         let x: Vec<f64> = match parameters {
             Parameters::None => Vec::new(),
             Parameters::Springs => theta.iter().zip(&self.theta0).map(|(a, b)| a - b).collect(),
@@ -114,7 +112,7 @@ impl Dynamics {
         let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { x[i as usize] };
         let relative = if x.is_empty() { Vec::new() } else { (0..=n as isize).map(|k| at(k) - at(k - 1)).collect() };
         Some(AccelerationAdjoint {
-            lengths: self.lengths.clone(),
+            lengths: &self.lengths,
             coupling,
             trig,
             omega: omega.to_vec(),
@@ -123,15 +121,15 @@ impl Dynamics {
             mg,
             gmg,
             own,
-            stiffness: self.stiffness.clone(),
-            damping: self.damping.clone(),
+            stiffness: &self.stiffness,
+            damping: &self.damping,
             relative,
-            scratch: RefCell::new(std::array::from_fn(|_| vec![0.0; n])),
+            scratch: RefCell::new(scratch),
         })
     }
 }
 
-impl AccelerationAdjoint {
+impl AccelerationAdjoint<'_> {
     /// The number of parameters of [`Self::products_into`]'s third output.
     pub fn n_params(&self) -> usize {
         self.relative.len()
@@ -157,7 +155,7 @@ impl AccelerationAdjoint {
         for (x, m) in xi.iter_mut().zip(&self.mg) {
             *x -= beta * m;
         }
-        coupled_into(&self.lengths, &self.coupling, &self.trig, xi, c_xi, s_xi);
+        coupled_into(self.lengths, &self.coupling, &self.trig, xi, c_xi, s_xi);
         let at = |i: isize| if i < 0 || i as usize >= n { 0.0 } else { xi[i as usize] };
         // `(K_m ξ)_k` and `(C_m ξ)_k` ([`joint_moments`]) from the joints' relative `ξ`.
         let moment = |c: &[f64], k: usize| {
@@ -167,9 +165,9 @@ impl AccelerationAdjoint {
         for k in 0..n {
             let (sk, ck) = self.trig[k];
             let (lk, wk, ak) = (self.lengths[k], self.omega[k], self.acc[k]);
-            angles[k] = wk * wk * c_xi[k] - ak * s_xi[k] + xi[k] * self.own[k] - moment(&self.stiffness, k)
+            angles[k] = wk * wk * c_xi[k] - ak * s_xi[k] + xi[k] * self.own[k] - moment(self.stiffness, k)
                 + beta * lk * (ck * wk * wk + sk * ak);
-            velocities[k] = -moment(&self.damping, k) - 2.0 * wk * s_xi[k] + 2.0 * beta * lk * sk * wk;
+            velocities[k] = -moment(self.damping, k) - 2.0 * wk * s_xi[k] + 2.0 * beta * lk * sk * wk;
         }
         for (k, (p, r)) in params.iter_mut().zip(&self.relative).enumerate() {
             *p = r * (at(k as isize - 1) - at(k as isize));
