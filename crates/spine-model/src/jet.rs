@@ -246,34 +246,44 @@ impl<const M: usize> Neg for Jet2<M> {
     }
 }
 
-impl<const M: usize> Elementary for Jet2<M> {
-    #[inline]
-    fn sin_cos(self) -> (Self, Self) {
-        let (s, c) = self.re.sin_cos();
-        (self.chain(s, c, -s), self.chain(c, -s, -c))
-    }
-    #[inline]
-    fn sin(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(s, c, -s)
-    }
-    #[inline]
-    fn cos(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(c, -s, -c)
-    }
-    #[inline]
-    fn tan(self) -> Self {
-        let t = self.re.tan();
-        let first = 1.0 + t * t;
-        self.chain(t, first, 2.0 * t * first)
-    }
-    #[inline]
-    fn recip(self) -> Self {
-        let r = self.re.recip();
-        self.chain(r, -r * r, 2.0 * r * r * r)
-    }
+/// [`Elementary`] for a second-order jet type (a `re` field and a `chain(value, f′, f″)` method):
+/// every function as its value with its first and second derivatives. [`Jet2`] and
+/// [`crate::tangent::TangentJet`] share it.
+macro_rules! elementary_by_second_order_chain {
+    ($jet:ident) => {
+        impl<const M: usize> $crate::jet::Elementary for $jet<M> {
+            #[inline]
+            fn sin_cos(self) -> (Self, Self) {
+                let (s, c) = self.re.sin_cos();
+                (self.chain(s, c, -s), self.chain(c, -s, -c))
+            }
+            #[inline]
+            fn sin(self) -> Self {
+                let (s, c) = self.re.sin_cos();
+                self.chain(s, c, -s)
+            }
+            #[inline]
+            fn cos(self) -> Self {
+                let (s, c) = self.re.sin_cos();
+                self.chain(c, -s, -c)
+            }
+            #[inline]
+            fn tan(self) -> Self {
+                let t = self.re.tan();
+                let first = 1.0 + t * t;
+                self.chain(t, first, 2.0 * t * first)
+            }
+            #[inline]
+            fn recip(self) -> Self {
+                let r = self.re.recip();
+                self.chain(r, -r * r, 2.0 * r * r * r)
+            }
+        }
+    };
 }
+pub(crate) use elementary_by_second_order_chain;
+
+elementary_by_second_order_chain!(Jet2);
 
 #[cfg(test)]
 mod tests {

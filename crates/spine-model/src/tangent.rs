@@ -9,7 +9,6 @@
 //! `HyperDualSVec64<M, 1>` gives the same numbers (tested) with an `Option` matched in every
 //! operation.
 
-use crate::jet::Elementary;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// A value `re` with its gradient `eps` in `M` slots, its rate `rate` along one parameter and the
@@ -109,38 +108,12 @@ impl<const M: usize> Neg for TangentJet<M> {
     }
 }
 
-impl<const M: usize> Elementary for TangentJet<M> {
-    #[inline]
-    fn sin_cos(self) -> (Self, Self) {
-        let (s, c) = self.re.sin_cos();
-        (self.chain(s, c, -s), self.chain(c, -s, -c))
-    }
-    #[inline]
-    fn sin(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(s, c, -s)
-    }
-    #[inline]
-    fn cos(self) -> Self {
-        let (s, c) = self.re.sin_cos();
-        self.chain(c, -s, -c)
-    }
-    #[inline]
-    fn tan(self) -> Self {
-        let t = self.re.tan();
-        let first = 1.0 + t * t;
-        self.chain(t, first, 2.0 * t * first)
-    }
-    #[inline]
-    fn recip(self) -> Self {
-        let r = self.re.recip();
-        self.chain(r, -r * r, 2.0 * r * r * r)
-    }
-}
+crate::jet::elementary_by_second_order_chain!(TangentJet);
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jet::Elementary;
     use num_dual::HyperDualSVec64;
 
     /// Every operation, with a constant `c` that moves with the parameter.

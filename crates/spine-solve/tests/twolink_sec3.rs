@@ -67,16 +67,22 @@ fn eq_12_at_the_papers_delta_d_ends_at_the_stability_edge_below_the_upper_bound(
     assert!(o.objective < capped.objective, "a stiffer edge design stores less energy");
 }
 
-#[test]
-fn eq_26_small_deflections_converge_to_the_exact_ones_only_with_the_corrected_sign() {
+/// The small-deflection system of the `twolink` case: unequal links (0.5 m, 0.6 m) on the axis,
+/// `θ0,1` = 0.3 rad, `K1` = 500 and `K2` = 1000 N·m/rad, so that no symmetry hides a sign.
+fn unequal_system() -> SmallDeflection {
     let (l1, l2, t1) = (0.5, 0.6, 0.3);
-    let system = SmallDeflection {
+    SmallDeflection {
         lengths: [l1, l2],
         theta0: [t1, -(l1 * f64::sin(t1) / l2).asin()],
         stiffness: [500.0, 1000.0],
         p_y2: -10.0,
         p_x3: -400.0,
-    };
+    }
+}
+
+#[test]
+fn eq_26_small_deflections_converge_to_the_exact_ones_only_with_the_corrected_sign() {
+    let system = unequal_system();
     let study = small_deflection_study(&system, &[1e-1, 1e-2, 1e-3, 1e-4], &ContinuationOptions::default());
     let order = study.order.unwrap();
     assert!((order - 1.0).abs() < 0.15, "corrected eq. (26) is first order: {order}");
@@ -93,14 +99,7 @@ fn eq_26_small_deflections_converge_to_the_exact_ones_only_with_the_corrected_si
 /// E10), which is not small — with it they are exact.
 #[test]
 fn eqs_27_to_30_are_the_exact_gradient_except_for_the_missing_stiffness_term_of_27_and_28() {
-    let (l1, l2, t1) = (0.5, 0.6, 0.3);
-    let system = SmallDeflection {
-        lengths: [l1, l2],
-        theta0: [t1, -(l1 * f64::sin(t1) / l2).asin()],
-        stiffness: [500.0, 1000.0],
-        p_y2: -10.0,
-        p_x3: -400.0,
-    };
+    let system = unequal_system();
     let (delta, multipliers) = (-0.001, [0.7, -2.5]);
     let exact = system.lagrangian_gradient(delta, multipliers).unwrap();
     // The exact gradient against central differences of ℒ.
