@@ -70,28 +70,7 @@ impl DesignCase {
 #[cfg(test)]
 mod tests {
     use crate::Case;
-    use spine_design::DesignProblem;
-
-    /// Every number of a problem, in a fixed order.
-    fn flat(p: &DesignProblem) -> Vec<f64> {
-        let s = &p.structure;
-        let b = &p.bounds;
-        let mut v = vec![s.chain.gravity, p.delta_d, p.stiffness_scale];
-        v.extend([b.theta0_max, b.relative_angle_max, b.height_min, b.height_max]);
-        for list in [
-            &s.chain.spans,
-            &s.chain.masses,
-            &s.passive.p_x,
-            &s.passive.p_y,
-            &s.actuation.p_x,
-            &s.actuation.p_y,
-            &b.stiffness_min,
-            &b.stiffness_max,
-        ] {
-            v.extend(list);
-        }
-        v
-    }
+    use spine_design::ProblemTangent;
 
     fn case(text: &str) -> crate::DesignCase {
         let Case::Design(c) = Case::from_json(text).unwrap() else { panic!("a design case") };
@@ -99,7 +78,8 @@ mod tests {
     }
 
     /// The tangent equals the secant of the problems the case's own validation builds at `p` and
-    /// `p + h` (exact for the affine maps of every parameter; `p − h` may leave the case's range), for every kind of parameter (uniform and per-item fields, defaults that follow
+    /// `p + h` (exact for the affine maps of every parameter; `p − h` may leave the case's
+    /// range), for every kind of parameter (uniform and per-item fields, defaults that follow
     /// `L_x`, self-weight on and off), on cases given by `L_x` and by spans.
     #[test]
     fn tangents_match_the_rebuilt_problems() {
@@ -137,9 +117,12 @@ mod tests {
                 let Ok(value) = c.parameter_value(name) else { continue };
                 let tangent = c.parameter_tangent(name, &problem).unwrap();
                 let h = 1e-3 * value.abs().max(1.0);
-                let at = |v: f64| flat(&c.with_parameter(name, v).unwrap().validate().unwrap().problem);
+                let at =
+                    |v: f64| ProblemTangent::flatten(&c.with_parameter(name, v).unwrap().validate().unwrap().problem);
                 let (hi, lo) = (at(value + h), at(value));
-                for (k, (&t, (a, b))) in flat(tangent.rates()).iter().zip(hi.iter().zip(&lo)).enumerate() {
+                for (k, (&t, (a, b))) in
+                    ProblemTangent::flatten(tangent.rates()).iter().zip(hi.iter().zip(&lo)).enumerate()
+                {
                     let secant = (a - b) / h;
                     assert!((t - secant).abs() <= 1e-9 * (1.0 + secant.abs()), "{name}, number {k}: {t} vs {secant}");
                 }

@@ -19,42 +19,37 @@ impl ProblemTangent {
     /// The tangent in which nothing moves, shaped as `problem`.
     pub fn zero(problem: &DesignProblem) -> Self {
         let mut rates = problem.clone();
-        let zero = |v: &mut Vec<f64>| v.iter_mut().for_each(|x| *x = 0.0);
-        let s = &mut rates.structure;
-        zero(&mut s.chain.spans);
-        zero(&mut s.chain.masses);
-        s.chain.gravity = 0.0;
-        for loads in [&mut s.passive, &mut s.actuation] {
-            zero(&mut loads.p_x);
-            zero(&mut loads.p_y);
-        }
-        rates.delta_d = 0.0;
-        rates.stiffness_scale = 0.0;
-        let b = &mut rates.bounds;
-        (b.theta0_max, b.relative_angle_max, b.height_min, b.height_max) = (0.0, 0.0, 0.0, 0.0);
-        zero(&mut b.stiffness_min);
-        zero(&mut b.stiffness_max);
+        numbers_mut(&mut rates).into_iter().for_each(|v| v.fill(0.0));
         Self(rates)
     }
 
-    /// Whether the tangent has `problem`'s shape (as many spans, masses, loads and bounds).
+    /// `problem + t · rates`, every number moved along the tangent.
+    pub fn moved(&self, problem: &DesignProblem, t: f64) -> DesignProblem {
+        let (mut moved, mut rates) = (problem.clone(), self.0.clone());
+        for (v, r) in numbers_mut(&mut moved).into_iter().zip(numbers_mut(&mut rates)) {
+            v.iter_mut().zip(r.iter()).for_each(|(v, r)| *v += t * r);
+        }
+        moved
+    }
+
+    /// Every number of a problem in one fixed order (the order [`ProblemTangent::moved`] goes
+    /// over): to compare problems number by number.
+    pub fn flatten(problem: &DesignProblem) -> Vec<f64> {
+        numbers_mut(&mut problem.clone()).concat()
+    }
+
+    /// Whether the tangent has `problem`'s shape (as many spans, masses, loads and bounds; the
+    /// other numbers of [`numbers_mut`] are scalars).
     pub fn fits(&self, problem: &DesignProblem) -> bool {
-        let (r, p) = (&self.0, problem);
-        let (rs, ps) = (&r.structure, &p.structure);
         let lengths = |d: &DesignProblem| {
-            let s = &d.structure;
-            [
-                s.chain.spans.len(),
-                s.chain.masses.len(),
-                s.passive.p_x.len(),
-                s.passive.p_y.len(),
-                s.actuation.p_x.len(),
-                s.actuation.p_y.len(),
-                d.bounds.stiffness_min.len(),
-                d.bounds.stiffness_max.len(),
-            ]
+            let (s, b) = (&d.structure, &d.bounds);
+            [&s.chain.spans, &s.chain.masses, &s.passive.p_x, &s.passive.p_y, &s.actuation.p_x, &s.actuation.p_y]
+                .map(|v| v.len())
+                .into_iter()
+                .chain([b.stiffness_min.len(), b.stiffness_max.len()])
+                .collect::<Vec<_>>()
         };
-        rs.n_links() == ps.n_links() && lengths(r) == lengths(p)
+        lengths(&self.0) == lengths(problem)
     }
 
     /// The rates, in the problem's shape.
@@ -66,6 +61,31 @@ impl ProblemTangent {
     pub fn rates_mut(&mut self) -> &mut DesignProblem {
         &mut self.0
     }
+}
+
+/// Every number of a problem as a slice (a scalar as a slice of one), in one fixed order: the one
+/// list [`ProblemTangent::zero`], [`ProblemTangent::moved`] and [`ProblemTangent::flatten`] go
+/// over, so that a number added to the problem is added here once.
+fn numbers_mut(p: &mut DesignProblem) -> [&mut [f64]; 15] {
+    use std::slice::from_mut;
+    let (s, b) = (&mut p.structure, &mut p.bounds);
+    [
+        &mut s.chain.spans,
+        &mut s.chain.masses,
+        from_mut(&mut s.chain.gravity),
+        &mut s.passive.p_x,
+        &mut s.passive.p_y,
+        &mut s.actuation.p_x,
+        &mut s.actuation.p_y,
+        from_mut(&mut p.delta_d),
+        from_mut(&mut p.stiffness_scale),
+        from_mut(&mut b.theta0_max),
+        from_mut(&mut b.relative_angle_max),
+        &mut b.stiffness_min,
+        &mut b.stiffness_max,
+        from_mut(&mut b.height_min),
+        from_mut(&mut b.height_max),
+    ]
 }
 
 /// The load resultants of one load state (eq. (48)), N.
@@ -101,9 +121,7 @@ impl Numbers<f64> {
     pub fn of(problem: &DesignProblem) -> Self {
         Self::lifted(problem, problem, |value, _| value)
     }
-}
 
-impl Numbers<f64> {
     /// Whether any number the elements take as a constant (span, resultant, `C_K`) is nonzero:
     /// for rates, whether any element's constants move.
     pub fn moves_elements(&self) -> bool {

@@ -25,7 +25,7 @@
 //! are NaN, as the accelerations are.
 
 use crate::articulated::ArticulatedChain;
-use crate::eom::{bordered, joint_moments, Dynamics, LoadsAt};
+use crate::eom::{bordered, coupling_coefficients, joint_moments, Dynamics, LoadsAt};
 use nalgebra::DMatrix;
 use spine_model::LinkLoads;
 
@@ -326,16 +326,4 @@ impl Dynamics {
             }
         }
     }
-}
-
-/// The coupling coefficients `μ_j = ½ m_j + Σ_{k>j} m_k` (kg) of the mass matrix, in one pass
-/// (the first part of `Dynamics::inertia_coefficients`, with the same sums).
-pub(crate) fn coupling_coefficients(masses: &[f64]) -> Vec<f64> {
-    let mut coupling = vec![0.0; masses.len()];
-    let mut beyond = 0.0;
-    for (mu, m) in coupling.iter_mut().zip(masses).rev() {
-        *mu = 0.5 * m + beyond;
-        beyond += m;
-    }
-    coupling
 }

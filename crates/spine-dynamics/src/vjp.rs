@@ -89,7 +89,7 @@ impl Dynamics {
         let at = self.rates_at(theta, omega);
         let (acc, lambda) = at.state_acceleration(&loads)?;
         let Factored { trig, chain, mg, gmg } = at.into_factored()?;
-        let coupling = crate::rates::coupling_coefficients(&self.masses);
+        let coupling = crate::eom::coupling_coefficients(&self.masses);
         // The per-angle part that does not depend on `ξ`, formed in the products' own scratch.
         let mut scratch: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
         let [input, c, s] = &mut scratch;

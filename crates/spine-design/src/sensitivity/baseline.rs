@@ -11,7 +11,8 @@ pub struct KktBaseline {
     n: usize,
     m: usize,
     variables: Vec<Bound>,
-    rows: Vec<Bound>,
+    /// The rows of the step's system (`None` where it is singular).
+    rows: Option<Vec<Bound>>,
     matrices: Matrices,
 }
 
@@ -23,8 +24,8 @@ impl KktBaseline {
         let (at, matrices) = Matrices::at(optimum.problem, layout, x, &optimum.multipliers.constraints);
         let set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
         let system = ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone());
-        let rows = set.rows.iter().filter(|b| !system.dependent.contains(&b.index)).copied().collect();
-        Self { n: layout.num_variables(), m: layout.num_constraints(), variables: set.variables, rows, matrices }
+        let rows = system.kkt.map(|kkt| kkt.rows);
+        Self { n: layout.num_variables(), m: layout.num_constraints(), variables: system.variables, rows, matrices }
     }
 
     /// Builds and factorises the reduced KKT matrix and solves it for `solves` right-hand sides
@@ -32,7 +33,7 @@ impl KktBaseline {
     pub fn factorise_and_solve(&self, solves: usize) -> Option<f64> {
         let hessian = (&self.matrices.hessian_pattern[..], &self.matrices.hessian[..]);
         let jacobian = (&self.matrices.jacobian_pattern[..], &self.matrices.jacobian[..]);
-        let kkt = ReducedKkt::new(self.n, self.m, &self.variables, &self.rows, hessian, jacobian).ok()?;
+        let kkt = ReducedKkt::new(self.n, self.m, &self.variables, self.rows.as_ref()?, hessian, jacobian).ok()?;
         let mut sum = 0.0;
         for _ in 0..solves {
             let mut rhs = vec![1.0; kkt.free + kkt.rows.len()];

@@ -68,32 +68,8 @@ mod tests {
     use super::*;
     use crate::full_space::{assemble, Layout, Multipliers, StateForm};
     use crate::sensitivity::point::Evaluation;
-    use crate::DesignProblem;
+    use crate::sensitivity::system::jacobian_transpose_times;
     use spine_model::rng::SplitMix64;
-
-    /// `problem + t · rates` in every number.
-    fn moved(problem: &DesignProblem, rates: &DesignProblem, t: f64) -> DesignProblem {
-        let mut p = problem.clone();
-        let add = |v: &mut Vec<f64>, r: &[f64]| v.iter_mut().zip(r).for_each(|(x, r)| *x += t * r);
-        let (s, r) = (&mut p.structure, &rates.structure);
-        add(&mut s.chain.spans, &r.chain.spans);
-        add(&mut s.chain.masses, &r.chain.masses);
-        s.chain.gravity += t * r.chain.gravity;
-        add(&mut s.passive.p_x, &r.passive.p_x);
-        add(&mut s.passive.p_y, &r.passive.p_y);
-        add(&mut s.actuation.p_x, &r.actuation.p_x);
-        add(&mut s.actuation.p_y, &r.actuation.p_y);
-        p.delta_d += t * rates.delta_d;
-        p.stiffness_scale += t * rates.stiffness_scale;
-        let (b, rb) = (&mut p.bounds, &rates.bounds);
-        b.theta0_max += t * rb.theta0_max;
-        b.relative_angle_max += t * rb.relative_angle_max;
-        b.height_min += t * rb.height_min;
-        b.height_max += t * rb.height_max;
-        add(&mut b.stiffness_min, &rb.stiffness_min);
-        add(&mut b.stiffness_max, &rb.stiffness_max);
-        p
-    }
 
     /// The exact rates along a direction in which every number of the problem moves at once
     /// (loads, spans, masses and gravity, whose product the self-weight is, `C_K` in the elements
@@ -132,13 +108,12 @@ mod tests {
             let exact = rates(&optimum, &assembled, "all", &tangent).unwrap();
             let h = 1e-6;
             let at = |t: f64| {
-                let p = moved(&problem, tangent.rates(), t);
+                let p = tangent.moved(&problem, t);
                 let assembled = assemble(&p, states);
                 let e = Evaluation::of(&assembled, &p, layout, &x);
-                let mut gradient = e.gradient.clone();
-                for (&(row, col), &v) in assembled.patterns.jacobian.iter().zip(&e.jacobian) {
-                    gradient[col] += v * lambda[row];
-                }
+                // `∇f + Jᵀλ`.
+                let jt_lambda = jacobian_transpose_times(&assembled.patterns.jacobian, &e.jacobian, &lambda, n);
+                let gradient: Vec<f64> = e.gradient.iter().zip(&jt_lambda).map(|(g, j)| g + j).collect();
                 (e, gradient, p.stiffness_scale)
             };
             let ((hi, g_hi, c_hi), (lo, g_lo, c_lo)) = (at(h), at(-h));

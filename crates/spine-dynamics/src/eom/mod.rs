@@ -13,6 +13,9 @@
 //! (the sensitivities of the damping design, eq. (35)).
 
 mod acceleration;
+mod inertia;
+
+pub(crate) use inertia::coupling_coefficients;
 
 use crate::articulated::{ArticulatedChain, ChainNumber};
 use crate::forcing::Forcing;
@@ -66,20 +69,6 @@ impl Dynamics {
     /// Number of links `N`.
     pub fn n_links(&self) -> usize {
         self.lengths.len()
-    }
-
-    /// `c_ij = L_i L_j (½ m_j + Σ_{k>j} m_k)` for `i ≤ j` below the diagonal's own term: the
-    /// coefficient of `cos(θ_i − θ_j)` in `M_ij`. Returns `(c, diag)` with
-    /// `diag_i = L_i² (m_i / 3 + Σ_{k>i} m_k)`.
-    pub(crate) fn inertia_coefficients(&self) -> (Vec<f64>, Vec<f64>) {
-        let n = self.n_links();
-        let mut beyond = vec![0.0; n];
-        for i in (0..n.saturating_sub(1)).rev() {
-            beyond[i] = beyond[i + 1] + self.masses[i + 1];
-        }
-        let coupling = (0..n).map(|j| 0.5 * self.masses[j] + beyond[j]).collect();
-        let diag = (0..n).map(|i| self.lengths[i].powi(2) * (self.masses[i] / 3.0 + beyond[i])).collect();
-        (coupling, diag)
     }
 
     /// Mass matrix `M(θ)`, kg·m², row-major `N × N`:
