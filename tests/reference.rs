@@ -104,6 +104,7 @@ fn ipopt_full_and_reduced_space_reproduce_the_reference() {
             height_max: 1.0,
         },
         stiffness_scale: 1.0,
+        objective: Default::default(),
     };
     let start = Design { theta0: vec![r.theta0 + 0.05, -(r.theta0 + 0.05)], stiffness };
     for formulation in [Formulation::Full, Formulation::Reduced] {

@@ -191,11 +191,8 @@ fn optimum_parameters(c: &mut Criterion) {
     use spine_design::sensitivity::{sensitivities, KktBaseline, Optimum, Parameter};
     let problem = &valid.problem;
     let run = spine_design::sensitivity::polish(problem, &first.design, &valid.settings).unwrap();
-    let (passive, loaded) = run.states.clone().expect("polished states");
     let multipliers = run.multipliers.clone().expect("polished multipliers");
-    let layout = run.solver.layout(problem.n_links());
-    let heights = problem.node_heights(&run.design.theta0);
-    let x = layout.pack(&run.design, problem.stiffness_scale, &passive, &loaded, &heights);
+    let (layout, x) = run.point(problem).expect("polished states");
     let optimum = Optimum { problem, layout, x: &x, multipliers: &multipliers };
     let tangents = || -> Vec<Parameter> {
         let parameter = |name: &String| Parameter {

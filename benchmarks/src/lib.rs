@@ -162,7 +162,7 @@ impl DesignFixture {
 
     /// The full-space point of the fixture (design, both equilibria in `states`' form, node heights).
     pub fn full_space_point(&self, states: StateForm) -> Vec<f64> {
-        let layout = Layout { n: self.problem.n_links(), states };
+        let layout = Layout::of(&self.problem, states);
         let heights = self.problem.node_heights(&self.design.theta0);
         layout.pack(&self.design, self.problem.stiffness_scale, &self.passive, &self.loaded, &heights)
     }
@@ -180,7 +180,7 @@ pub struct HessianFixture {
 impl HessianFixture {
     /// With the states in `states`' form.
     pub fn new(design: &DesignFixture, states: StateForm) -> Self {
-        let layout = Layout { n: design.problem.n_links(), states };
+        let layout = Layout::of(&design.problem, states);
         let mut rng = SplitMix64::new(17);
         let lambda = (0..layout.num_constraints()).map(|_| rng.uniform(-1.0, 1.0)).collect();
         HessianFixture {

@@ -1,5 +1,6 @@
 //! `"kind": "design"`: the static design problem of eq. (33).
 
+use crate::objective_spec::{check_formulation, ObjectiveSpec};
 use crate::per_item::check_finite;
 use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
@@ -103,13 +104,21 @@ pub struct DesignCase {
     #[serde(default)]
     pub bounds: BoundsSpec,
     pub start: StartSpec,
-    /// "full" (default) or "reduced".
+    /// What eq. (33) minimises: the paper's strain energy (default) or a built-in criterion
+    /// (docs/objectives.md).
+    #[serde(default, skip_serializing_if = "is_default_objective")]
+    pub objective: ObjectiveSpec,
+    /// "full" (default) or "reduced" (the paper's objective only).
     #[serde(default = "full")]
     pub formulation: Formulation,
     #[serde(default)]
     pub multistart: MultiStartSpec,
     #[serde(default)]
     pub solver: SolverSettings,
+}
+
+fn is_default_objective(o: &ObjectiveSpec) -> bool {
+    *o == ObjectiveSpec::StrainEnergy
 }
 
 pub(crate) fn one() -> f64 {
@@ -170,13 +179,17 @@ impl DesignCase {
             ));
         }
 
+        let mut problem = DesignProblem {
+            structure: Structure { chain, passive, actuation },
+            delta_d: self.delta_d,
+            bounds,
+            stiffness_scale: self.stiffness_scale,
+            objective: Default::default(),
+        };
+        problem.objective = self.objective.resolve(&problem, &start)?;
+        check_formulation(self.formulation, &problem.objective)?;
         Ok(ValidDesign {
-            problem: DesignProblem {
-                structure: Structure { chain, passive, actuation },
-                delta_d: self.delta_d,
-                bounds,
-                stiffness_scale: self.stiffness_scale,
-            },
+            problem,
             start,
             formulation: self.formulation,
             multistart: self.multistart.clone(),

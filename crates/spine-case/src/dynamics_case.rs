@@ -236,6 +236,7 @@ impl DynamicsCase {
                     stiffness_scale: s.stiffness_scale,
                     bounds: s.bounds.clone(),
                     start: s.start.clone(),
+                    objective: Default::default(),
                     formulation: s.formulation,
                     multistart: MultiStartSpec::default(),
                     solver: s.solver.clone(),

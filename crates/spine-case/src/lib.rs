@@ -80,6 +80,7 @@ mod equilibrium_case;
 mod error;
 mod figure_case;
 pub mod fuzz;
+mod objective_spec;
 mod parameter;
 mod parse;
 mod per_item;
@@ -98,6 +99,7 @@ pub use dynamics_case::{
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
 pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MAX_RUN_NAME};
+pub use objective_spec::{check_formulation, ComplianceSpec, ObjectiveSpec, PeakMomentSpec, MAX_EXPONENT};
 pub use parameter::{canonical_parameter, LOAD_SCALE};
 pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;

@@ -148,19 +148,25 @@ impl LoadSpec {
     pub fn resolve(&self, chain: &mut Chain) -> Result<(NodalLoads, NodalLoads), CaseError> {
         let n = chain.n_links();
         let p_y = self.p_y.expand("loads.p_y", n + 1, "one per node, N + 1")?;
-        let p_x = match &self.p_x {
-            PerItem::Uniform(end) => {
-                let mut p_x = vec![0.0; n + 1];
-                p_x[n] = *end;
-                check_finite("loads.p_x", &p_x)?;
-                p_x
-            }
-            each => each.expand("loads.p_x", n + 1, "one number for the end node, or one per node, N + 1")?,
-        };
+        let p_x = axial_forces("loads.p_x", &self.p_x, n)?;
         if !self.self_weight {
             chain.gravity = 0.0;
         }
         Ok((NodalLoads { p_x: vec![0.0; n + 1], p_y }, NodalLoads { p_x, p_y: vec![0.0; n + 1] }))
+    }
+}
+
+/// Axial nodal forces, N, `N + 1`: one number is the force at the end node (the others zero),
+/// an array one force per node; errors name `field`.
+pub(crate) fn axial_forces(field: &str, p_x: &PerItem, n: usize) -> Result<Vec<f64>, CaseError> {
+    match p_x {
+        PerItem::Uniform(end) => {
+            let mut p_x = vec![0.0; n + 1];
+            p_x[n] = *end;
+            check_finite(field, &p_x)?;
+            Ok(p_x)
+        }
+        each => each.expand(field, n + 1, "one number for the end node, or one per node, N + 1"),
     }
 }
 

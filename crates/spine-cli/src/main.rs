@@ -201,7 +201,7 @@ fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
     let overrides: spine_run::DesignOverrides =
         serde_json::from_str(&a.overrides).map_err(|e| Failure::Input(format!("--overrides: {e}")))?;
     let mut valid = c.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
-    overrides.apply(&mut valid);
+    overrides.apply(&mut valid).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     let (input, output) = (std::io::stdin().lock(), std::io::stdout().lock());
     spine_run::workers::serve(&valid, input, output).map_err(|e| Failure::Other(format!("worker: {e}")))?;
     Ok(true)

@@ -27,12 +27,10 @@
 use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
 pub use crate::layout::{Layout, LoadState, StateForm};
 
-use crate::numbers::{Numbers, Resultants};
+use crate::numbers::{Criterion, Numbers, Resultants};
 use crate::problem::DesignProblem;
-use spine_model::chain::spring_links;
 use spine_model::local::{
-    joint_slot, DeflectionJointResidual, DeflectionSpringEnergy, Difference, HeightStep, JointResidual, LinkRise,
-    LinkRun, SpringEnergy,
+    joint_slot, DeflectionJointResidual, Difference, HeightStep, JointResidual, LinkRise, LinkRun,
 };
 use spine_model::residual::slot;
 use spine_model::{Design, State};
@@ -47,10 +45,15 @@ pub fn assemble(problem: &DesignProblem, states: StateForm) -> Assembled {
 /// so the same map gives the elements' constant rates).
 pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn AnyGroup + Send + Sync>> {
     let n = numbers.spans.len();
-    let layout = Layout { n, states };
+    let probe = match &numbers.criterion {
+        Criterion::Compliance { probe } => Some(probe),
+        _ => None,
+    };
+    let layout = Layout { n, states, probe: probe.is_some() };
     let spans = &numbers.spans;
     let deflection = states == StateForm::Deflection;
-    let load_states = [(LoadState::Passive, &numbers.passive), (LoadState::Loaded, &numbers.loaded)];
+    let mut load_states = vec![(LoadState::Passive, &numbers.passive), (LoadState::Loaded, &numbers.loaded)];
+    load_states.extend(probe.map(|p| (LoadState::Probe, p)));
     let rises = load_states
         .iter()
         .flat_map(|(state, _)| {
@@ -86,7 +89,7 @@ pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn A
         joints(&layout, numbers, &load_states),
         Box::new(Group::new(rises)),
         Box::new(Group::new(runs)),
-        springs(&layout, numbers.stiffness_scale),
+        crate::criterion::objective(&layout, numbers),
         Box::new(Group::new(heights)),
         Box::new(Group::new(relatives)),
     ]
@@ -158,36 +161,11 @@ fn joints(
 }
 
 /// A group of placed elements of one kind, boxed for [`Assembled::new`].
-fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send + Sync>
+pub(crate) fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send + Sync>
 where
     E: spine_model::local::Element<M> + Send + Sync + 'static,
 {
     Box::new(Group::new(items.collect()))
-}
-
-/// The objective: the `N + 1` springs' strain energies in the passive state.
-fn springs(layout: &Layout, stiffness_scale: f64) -> Box<dyn AnyGroup + Send + Sync> {
-    let n = layout.n;
-    let passive = |i: usize| layout.state_angle(LoadState::Passive, i);
-    let links = (0..=n).map(|j| (j, spring_links(n, j)));
-    match layout.states {
-        StateForm::Absolute => group(links.map(|(j, (prev, this))| Placed {
-            element: SpringEnergy { stiffness_scale },
-            vars: [
-                prev.map(passive),
-                prev.map(|i| layout.theta0(i)),
-                this.map(passive),
-                this.map(|i| layout.theta0(i)),
-                Some(layout.stiffness(j)),
-            ],
-            row: Row::Objective,
-        })),
-        StateForm::Deflection => group(links.map(|(j, (prev, this))| Placed {
-            element: DeflectionSpringEnergy { stiffness_scale },
-            vars: [prev.map(passive), this.map(passive), Some(layout.stiffness(j))],
-            row: Row::Objective,
-        })),
-    }
 }
 
 /// Eq. (33) in the full space as an Ipopt problem, with exact sparse first and second
@@ -211,9 +189,16 @@ impl<'a> FullSpaceNlp<'a> {
     /// The NLP from a start design and start states (for example equilibria solved at the start
     /// design); node heights start at the design's own heights.
     pub fn new(problem: &'a DesignProblem, states: StateForm, start: &Design, passive: &State, loaded: &State) -> Self {
-        let layout = Layout { n: problem.n_links(), states };
+        let layout = Layout::of(problem, states);
         let heights = problem.node_heights(&start.theta0);
-        let start = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
+        let mut x = layout.pack(start, problem.stiffness_scale, passive, loaded, &heights);
+        if layout.probe {
+            // θ3 from the start design by continuation, else the unloaded shape (Ipopt solves it).
+            let continuation = spine_solve::ContinuationOptions::default();
+            let probe = problem.probe_state(start, &continuation).unwrap_or_else(|| State::unloaded(start));
+            layout.pack_probe(&mut x, &probe);
+        }
+        let start = x;
         FullSpaceNlp {
             problem,
             layout,

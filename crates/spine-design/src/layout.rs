@@ -7,8 +7,12 @@ use spine_model::{Design, State};
 #[derive(Clone, Copy, Debug)]
 pub struct Layout {
     pub n: usize,
-    /// How the two states are Ipopt's variables.
+    /// How the states are Ipopt's variables.
     pub states: StateForm,
+    /// Whether the NLP has the third state `θ3`, the equilibrium under the compliance's load case
+    /// ([`crate::Objective::Compliance`]): `N + 1` variables after the node heights and `N + 1`
+    /// equilibrium rows after the relative angles.
+    pub probe: bool,
 }
 
 /// How the states `θ1`, `θ2` are variables of the full space (case field
@@ -23,14 +27,30 @@ pub enum StateForm {
     Deflection,
 }
 
-/// The two load states.
+/// The load states: `θ1` (passive), `θ2` (passive + actuation), and `θ3` (the compliance's load
+/// case alone, [`Layout::probe`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LoadState {
     Passive,
     Loaded,
+    Probe,
 }
 
 impl Layout {
+    /// The layout of `problem`'s NLP with its states in `states`.
+    pub fn of(problem: &crate::DesignProblem, states: StateForm) -> Self {
+        Layout { n: problem.n_links(), states, probe: problem.objective.has_probe() }
+    }
+
+    /// The load states the NLP holds, in the layout's order.
+    pub fn load_states(&self) -> &'static [LoadState] {
+        if self.probe {
+            &[LoadState::Passive, LoadState::Loaded, LoadState::Probe]
+        } else {
+            &[LoadState::Passive, LoadState::Loaded]
+        }
+    }
+
     pub fn theta0(&self, i: usize) -> usize {
         i
     }
@@ -43,6 +63,7 @@ impl Layout {
         match s {
             LoadState::Passive => 2 * self.n + 1 + i,
             LoadState::Loaded => 3 * self.n + 2 + i,
+            LoadState::Probe => self.probe_variables() + i,
         }
     }
     pub fn lambda(&self, s: LoadState) -> usize {
@@ -52,14 +73,19 @@ impl Layout {
     pub fn height(&self, j: usize) -> Option<usize> {
         (j >= 1 && j < self.n).then(|| 4 * self.n + 2 + j)
     }
-    pub fn num_variables(&self) -> usize {
+    /// The first variable of `θ3` (or where it would be).
+    fn probe_variables(&self) -> usize {
         5 * self.n + 2
+    }
+    pub fn num_variables(&self) -> usize {
+        self.probe_variables() + if self.probe { self.n + 1 } else { 0 }
     }
 
     pub fn equilibrium_row(&self, s: LoadState, i: usize) -> usize {
         match s {
             LoadState::Passive => i,
             LoadState::Loaded => self.n + 1 + i,
+            LoadState::Probe => self.probe_rows() + i,
         }
     }
     pub fn constraint_row(&self, s: LoadState) -> usize {
@@ -74,8 +100,12 @@ impl Layout {
     pub fn relative_row(&self, i: usize) -> usize {
         3 * self.n + 3 + i
     }
-    pub fn num_constraints(&self) -> usize {
+    /// The first row of `θ3`'s equilibrium (or where it would be).
+    fn probe_rows(&self) -> usize {
         4 * self.n + 2
+    }
+    pub fn num_constraints(&self) -> usize {
+        self.probe_rows() + if self.probe { self.n + 1 } else { 0 }
     }
 
     /// Packs a design, both states (in [`StateForm`]) and the node heights into a variable vector.
@@ -105,6 +135,16 @@ impl Layout {
         x
     }
 
+    /// Writes `θ3` (absolute angles) into a packed `x` ([`Layout::pack`]) of a layout with the
+    /// probe state.
+    pub fn pack_probe(&self, x: &mut [f64], probe: &State) {
+        assert!(self.probe, "the layout has no probe state");
+        for i in 0..self.n {
+            x[self.state_angle(LoadState::Probe, i)] = probe.theta[i] - self.offset(x[self.theta0(i)]);
+        }
+        x[self.lambda(LoadState::Probe)] = probe.lambda;
+    }
+
     /// The design in physical units (`K = C_K k`).
     pub fn design(&self, x: &[f64], stiffness_scale: f64) -> Design {
         Design {
@@ -121,7 +161,7 @@ impl Layout {
 
     /// A bounded variable's name in the paper's 1-based numbering: `theta0[i]` (link `i`),
     /// `K[j]` (spring `j`), `Y0[j]` (node `j`'s unloaded height); the states, which have no
-    /// bounds, as `theta1[i]`, `theta2[i]`, `lambda1`, `lambda2`.
+    /// bounds, as `theta1[i]`, `theta2[i]`, `theta3[i]`, `lambda1`, `lambda2`, `lambda3`.
     pub fn variable_label(&self, v: usize) -> String {
         let n = self.n;
         match v {
@@ -131,7 +171,9 @@ impl Layout {
             v if v == 3 * n + 1 => "lambda1".into(),
             v if v < 4 * n + 2 => format!("theta2[{}]", v - 3 * n - 1),
             v if v == 4 * n + 2 => "lambda2".into(),
-            v => format!("Y0[{}]", v - 4 * n - 2 + 1),
+            v if v < self.probe_variables() => format!("Y0[{}]", v - 4 * n - 2 + 1),
+            v if v < self.probe_variables() + n => format!("theta3[{}]", v - self.probe_variables() + 1),
+            _ => "lambda3".into(),
         }
     }
 
@@ -144,7 +186,8 @@ impl Layout {
             r if r <= 2 * n + 1 => format!("loaded equilibrium[{}]", r - n),
             r if r < 3 * n + 2 => format!("Y0 step[{}]", r - 2 * n - 1),
             r if r == 3 * n + 2 => "end displacement".into(),
-            r => format!("theta0[{}]-theta0[{}]", r - 3 * n - 2, r - 3 * n - 1),
+            r if r < self.probe_rows() => format!("theta0[{}]-theta0[{}]", r - 3 * n - 2, r - 3 * n - 1),
+            r => format!("probe equilibrium[{}]", r - self.probe_rows() + 1),
         }
     }
 
@@ -163,7 +206,7 @@ mod tests {
 
     #[test]
     fn labels_follow_the_index_map() {
-        let l = Layout { n: 4, states: StateForm::Absolute };
+        let l = Layout { n: 4, states: StateForm::Absolute, probe: false };
         assert_eq!(l.variable_label(l.theta0(0)), "theta0[1]");
         assert_eq!(l.variable_label(l.stiffness(4)), "K[5]");
         assert_eq!(l.variable_label(l.state_angle(LoadState::Passive, 3)), "theta1[4]");
@@ -180,5 +223,15 @@ mod tests {
         assert_eq!(l.row_label(l.relative_row(0)), "theta0[1]-theta0[2]");
         assert_eq!(l.row_label(l.relative_row(2)), "theta0[3]-theta0[4]");
         assert_eq!(l.num_constraints(), l.relative_row(2) + 1);
+        assert_eq!(l.num_variables(), l.height(3).unwrap() + 1);
+        let p = Layout { probe: true, ..l };
+        assert_eq!(p.variable_label(p.state_angle(LoadState::Probe, 0)), "theta3[1]");
+        assert_eq!(p.variable_label(p.state_angle(LoadState::Probe, 3)), "theta3[4]");
+        assert_eq!(p.variable_label(p.lambda(LoadState::Probe)), "lambda3");
+        assert_eq!(p.num_variables(), p.lambda(LoadState::Probe) + 1);
+        assert_eq!(p.row_label(p.relative_row(2)), "theta0[3]-theta0[4]");
+        assert_eq!(p.row_label(p.equilibrium_row(LoadState::Probe, 0)), "probe equilibrium[1]");
+        assert_eq!(p.row_label(p.constraint_row(LoadState::Probe)), "probe equilibrium[5]");
+        assert_eq!(p.num_constraints(), p.constraint_row(LoadState::Probe) + 1);
     }
 }

@@ -2,7 +2,8 @@
 //! stiffnesses `K` that store the least strain energy under the passive load while the end moves
 //! by `δ_d` under the added axial force.
 //!
-//! * [`problem`]: the problem data ([`DesignProblem`], [`DesignBounds`]), apart from any solver.
+//! * [`problem`]: the problem data ([`DesignProblem`], [`DesignBounds`]), apart from any solver;
+//!   [`objective`]: what it minimises, the paper's `J` or a built-in criterion ([`Objective`]).
 //! * [`full_space`]: the simultaneous form for Ipopt with exact sparse Jacobian and Hessian from
 //!   forward AD of the model's elements ([`assembly`]).
 //! * [`reduced_space`] and [`adjoint`]: the paper's nested form, equilibria by continuation and
@@ -51,6 +52,7 @@ pub mod adjoint;
 pub mod assembly;
 pub mod census;
 pub mod certificate;
+mod criterion;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod full_space;
@@ -58,6 +60,7 @@ mod ipopt_allowed;
 mod layout;
 pub mod multistart;
 mod numbers;
+pub mod objective;
 pub mod problem;
 pub mod reduced_space;
 pub mod refine;
@@ -66,6 +69,7 @@ pub mod sensitivity;
 pub mod settings;
 pub mod solve;
 mod solver_report;
+mod solver_run;
 pub mod start_point;
 pub mod sweep;
 mod violations;
@@ -73,6 +77,7 @@ mod warnings;
 
 pub use certificate::solve_design;
 pub use numbers::ProblemTangent;
+pub use objective::Objective;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
 pub use settings::{Formulation, ScalingMethod, SolverSettings};

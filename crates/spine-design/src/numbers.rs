@@ -4,7 +4,7 @@
 //! exact rates of the elements' constants and of the bounds along a parameter of the problem (the
 //! scaled stiffness bounds `K/C_K` included), which the optimum's sensitivities need.
 
-use crate::DesignProblem;
+use crate::{DesignProblem, Objective};
 use num_dual::Dual64;
 use spine_model::Scalar;
 
@@ -49,7 +49,11 @@ impl ProblemTangent {
                 .chain([b.stiffness_min.len(), b.stiffness_max.len()])
                 .collect::<Vec<_>>()
         };
-        lengths(&self.0) == lengths(problem)
+        let criterion = |d: &DesignProblem| match &d.objective {
+            Objective::Compliance { load } => (d.objective.name(), load.p_x.len() + load.p_y.len()),
+            other => (other.name(), 0),
+        };
+        lengths(&self.0) == lengths(problem) && criterion(&self.0) == criterion(problem)
     }
 
     /// The rates, in the problem's shape.
@@ -66,10 +70,10 @@ impl ProblemTangent {
 /// Every number of a problem as a slice (a scalar as a slice of one), in one fixed order: the one
 /// list [`ProblemTangent::zero`], [`ProblemTangent::moved`] and [`ProblemTangent::flatten`] go
 /// over, so that a number added to the problem is added here once.
-fn numbers_mut(p: &mut DesignProblem) -> [&mut [f64]; 15] {
+fn numbers_mut(p: &mut DesignProblem) -> Vec<&mut [f64]> {
     use std::slice::from_mut;
     let (s, b) = (&mut p.structure, &mut p.bounds);
-    [
+    let mut numbers: Vec<&mut [f64]> = vec![
         &mut s.chain.spans,
         &mut s.chain.masses,
         from_mut(&mut s.chain.gravity),
@@ -85,7 +89,13 @@ fn numbers_mut(p: &mut DesignProblem) -> [&mut [f64]; 15] {
         &mut b.stiffness_max,
         from_mut(&mut b.height_min),
         from_mut(&mut b.height_max),
-    ]
+    ];
+    match &mut p.objective {
+        Objective::StrainEnergy | Objective::TotalStiffness => {}
+        Objective::PeakMoment { reference, .. } => numbers.push(from_mut(reference)),
+        Objective::Compliance { load } => numbers.extend([&mut load.p_x[..], &mut load.p_y[..]]),
+    }
+    numbers
 }
 
 /// The load resultants of one load state (eq. (48)), N.
@@ -93,6 +103,22 @@ fn numbers_mut(p: &mut DesignProblem) -> [&mut [f64]; 15] {
 pub(crate) struct Resultants<T> {
     pub vertical: Vec<T>,
     pub axial: Vec<T>,
+}
+
+/// The criterion's own numbers ([`Objective`]) in `T`.
+#[derive(Clone, Debug)]
+pub(crate) enum Criterion<T> {
+    StrainEnergy,
+    TotalStiffness,
+    /// `p` and `M_ref` (N·m).
+    PeakMoment {
+        exponent: u32,
+        reference: T,
+    },
+    /// The resultants of the second load case alone (no self-weight), N.
+    Compliance {
+        probe: Resultants<T>,
+    },
 }
 
 /// The problem's numbers in the NLP, in `T`.
@@ -114,6 +140,8 @@ pub(crate) struct Numbers<T> {
     pub stiffness_max: Vec<T>,
     pub height_min: T,
     pub height_max: T,
+    /// What the objective measures.
+    pub criterion: Criterion<T>,
 }
 
 impl Numbers<f64> {
@@ -127,7 +155,12 @@ impl Numbers<f64> {
     pub fn moves_elements(&self) -> bool {
         let any = |v: &[f64]| v.iter().any(|&x| x != 0.0);
         let loads = |r: &Resultants<f64>| any(&r.vertical) || any(&r.axial);
-        any(&self.spans) || loads(&self.passive) || loads(&self.loaded) || self.stiffness_scale != 0.0
+        let criterion = match &self.criterion {
+            Criterion::StrainEnergy | Criterion::TotalStiffness => false,
+            Criterion::PeakMoment { reference, .. } => *reference != 0.0,
+            Criterion::Compliance { probe } => loads(probe),
+        };
+        any(&self.spans) || loads(&self.passive) || loads(&self.loaded) || self.stiffness_scale != 0.0 || criterion
     }
 }
 
@@ -161,7 +194,21 @@ impl<T: Scalar> Numbers<T> {
         let spans = each(&s.chain.spans, &r.chain.spans);
         let length_x = spans.iter().fold(T::zero(), |sum, &a| sum + a);
         let (b, rb) = (&problem.bounds, &rates.bounds);
+        let criterion = match (&problem.objective, &rates.objective) {
+            (Objective::PeakMoment { exponent, reference }, Objective::PeakMoment { reference: rate, .. }) => {
+                Criterion::PeakMoment { exponent: *exponent, reference: lift(*reference, *rate) }
+            }
+            (Objective::Compliance { load }, Objective::Compliance { load: rate }) => {
+                let (p_y, p_x) = (each(&load.p_y, &rate.p_y), each(&load.p_x, &rate.p_x));
+                let (vertical, axial) = spine_model::loads::resultants(&p_y, &p_x, &masses, T::zero());
+                Criterion::Compliance { probe: Resultants { vertical, axial } }
+            }
+            (Objective::TotalStiffness, Objective::TotalStiffness) => Criterion::TotalStiffness,
+            (Objective::StrainEnergy, Objective::StrainEnergy) => Criterion::StrainEnergy,
+            (objective, rate) => panic!("rates of {} for objective {}", rate.name(), objective.name()),
+        };
         Numbers {
+            criterion,
             passive: resultants(&p_y, &p_x),
             loaded: resultants(&total_y, &total_x),
             spans,
@@ -192,6 +239,14 @@ impl<T: Scalar> Numbers<T> {
             stiffness_max: each(&self.stiffness_max),
             height_min: f(self.height_min),
             height_max: f(self.height_max),
+            criterion: match &self.criterion {
+                Criterion::StrainEnergy => Criterion::StrainEnergy,
+                Criterion::TotalStiffness => Criterion::TotalStiffness,
+                Criterion::PeakMoment { exponent, reference } => {
+                    Criterion::PeakMoment { exponent: *exponent, reference: f(*reference) }
+                }
+                Criterion::Compliance { probe } => Criterion::Compliance { probe: resultants(probe) },
+            },
         }
     }
 

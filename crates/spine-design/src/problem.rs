@@ -1,5 +1,6 @@
 //! The static design problem of eq. (33), independent of how it is solved.
 
+use crate::objective::Objective;
 use serde::Serialize;
 use spine_model::{Design, LinkLoads, State, Structure};
 use spine_solve::{solve_static, ContinuationOptions};
@@ -33,6 +34,8 @@ pub struct DesignProblem {
     pub bounds: DesignBounds,
     /// `C_K` of eq. (34): the optimiser's stiffness variable is `k = K / C_K`.
     pub stiffness_scale: f64,
+    /// What is minimised: the paper's strain energy `J` or another criterion ([`Objective`]).
+    pub objective: Objective,
 }
 
 impl DesignProblem {
@@ -78,6 +81,18 @@ impl DesignProblem {
     ) -> Option<State> {
         let spans = &self.structure.chain.spans;
         let path = spine_solve::LoadPath { spans, design, from: loads.clone(), to: loads, start: start.clone() };
+        let solution = spine_solve::solve_path(&path, continuation);
+        (solution.load_factor == 1.0).then_some(solution.state)
+    }
+
+    /// The equilibrium `θ3` of `design` under the compliance's load case
+    /// ([`Objective::Compliance`]), by continuation from the unloaded shape; `None` without that
+    /// criterion or when the load path does not reach full load.
+    pub fn probe_state(&self, design: &Design, continuation: &ContinuationOptions) -> Option<State> {
+        let loads = self.objective.probe_loads(&self.structure.chain)?;
+        let spans = &self.structure.chain.spans;
+        let from = LinkLoads::zero(self.n_links());
+        let path = spine_solve::LoadPath { spans, design, from, to: loads, start: State::unloaded(design) };
         let solution = spine_solve::solve_path(&path, continuation);
         (solution.load_factor == 1.0).then_some(solution.state)
     }

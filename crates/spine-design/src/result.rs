@@ -4,13 +4,14 @@
 pub use crate::solver_report::{LevelReport, RefinementReport, SolverReport};
 pub use crate::warnings::{DesignWarning, LoadCase};
 
+use crate::objective::{Equilibria, Measures};
 use crate::problem::DesignProblem;
 use crate::settings::{Formulation, SolverSettings};
 pub use crate::violations::{Violations, IPOPT_BOUND_RELAX_FACTOR};
 use serde::Serialize;
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::{end_x, link_lengths, node_positions};
-use spine_model::{energy, Design, LinkLoads, State};
+use spine_model::{Design, LinkLoads, State};
 use spine_solve::{solve_static, stability, EquilibriumSolution, EquilibriumStatus, Stability, StaticSolution};
 
 /// One load state of the result.
@@ -69,8 +70,13 @@ impl LoadPathCheck {
 pub struct DesignResult {
     pub formulation: Formulation,
     pub solver: SolverReport,
-    /// `J = U(θ1; θ0, K)`, J, recomputed from the final design and state.
+    /// The criterion minimised ([`crate::Objective`]; `strain_energy` for the paper's eq. (33)).
+    pub criterion: crate::Objective,
+    /// The NLP's objective, recomputed from the final design and states: for the paper's
+    /// criterion `J = U(θ1; θ0, K)`, J ([`crate::Objective::value`] gives each criterion's).
     pub objective: f64,
+    /// Every criterion's measure of the reported design (`None` without equilibria).
+    pub measures: Option<crate::objective::Measures>,
     pub design: Design,
     pub stiffness_scale: f64,
     /// Unloaded node coordinates, m.
@@ -79,6 +85,9 @@ pub struct DesignResult {
     /// design without equilibria.
     pub passive: Option<StateReport>,
     pub loaded: Option<StateReport>,
+    /// `θ3`, the equilibrium under the compliance's load case ([`crate::Objective::Compliance`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub probe: Option<StateReport>,
     /// `X_{N+1}(θ2) − L_x`, m, and the target `δ_d`.
     pub end_displacement: Option<f64>,
     pub delta_d: f64,
@@ -118,13 +127,16 @@ fn state_report(problem: &DesignProblem, design: &Design, loads: &LinkLoads, sta
 }
 
 impl DesignResult {
-    /// Recomputes every reported quantity from `design` and the states, checks the constraints,
-    /// the stability of both equilibria and the load path, and lists warnings.
+    /// Recomputes every reported quantity from `design` and the states (`probe`: `θ3` of the
+    /// compliance criterion), checks the constraints, the stability of the equilibria and the
+    /// load path, and lists warnings.
+    #[allow(clippy::too_many_arguments)]
     pub fn check(
         problem: &DesignProblem,
         formulation: Formulation,
         design: Design,
         states: Option<(State, State)>,
+        probe: Option<State>,
         solver: SolverReport,
         start_notes: Vec<String>,
         settings: &SolverSettings,
@@ -140,7 +152,23 @@ impl DesignResult {
             warnings.push(DesignWarning::NotConverged { status: solver.status });
         }
 
-        let (passive, loaded, end_displacement, violations, objective) = match &states {
+        let probe_loads = problem.objective.probe_loads(&problem.structure.chain);
+        let probe_report = match (&probe, &probe_loads) {
+            (Some(state), Some(loads)) => Some(state_report(problem, &design, loads, state)),
+            _ => None,
+        };
+        if let Some(report) = &probe_report {
+            if !report.stability.stable {
+                let min_eigenvalue = report.stability.min_eigenvalue;
+                warnings.push(DesignWarning::Unstable { equilibrium: LoadCase::Probe, min_eigenvalue });
+            }
+            let allowed = settings.constraint_tolerance;
+            if report.residual.is_nan() || report.residual > allowed {
+                let (part, violation) = ("probe_equilibrium", report.residual);
+                warnings.push(DesignWarning::ConstraintViolated { part, violation, allowed });
+            }
+        }
+        let (passive, loaded, end_displacement, violations, objective, measures) = match &states {
             Some((s1, s2)) => {
                 let r1 = state_report(problem, &design, &problem.passive_loads(), s1);
                 let r2 = state_report(problem, &design, &problem.total_loads(), s2);
@@ -157,12 +185,14 @@ impl DesignResult {
                         warnings.push(DesignWarning::ConstraintViolated { part, violation, allowed });
                     }
                 }
-                let objective = energy::strain_energy(&s1.theta, &design.theta0, &design.stiffness);
-                (Some(r1), Some(r2), Some(end), Some(v), objective)
+                let equilibria = Equilibria { passive: s1, loaded: s2, probe: probe.as_ref() };
+                let objective = problem.objective.value(problem, &design, &equilibria);
+                let measures = Measures::of(problem, &design, &equilibria);
+                (Some(r1), Some(r2), Some(end), Some(v), objective, Some(measures))
             }
             None => {
                 warnings.push(DesignWarning::NoEquilibria);
-                (None, None, None, None, f64::NAN)
+                (None, None, None, None, f64::NAN, None)
             }
         };
 
@@ -179,12 +209,15 @@ impl DesignResult {
         DesignResult {
             formulation,
             solver,
+            criterion: problem.objective.clone(),
             objective,
+            measures,
             stiffness_scale: problem.stiffness_scale,
             design,
             unloaded_nodes,
             passive,
             loaded,
+            probe: probe_report,
             end_displacement,
             delta_d: problem.delta_d,
             violations,

@@ -6,9 +6,9 @@ use crate::problem::start_states;
 use crate::problem::DesignProblem;
 use crate::reduced_space::ReducedSpaceNlp;
 use crate::refine::{self, LevelStart, MAX_RESTARTS};
-use crate::result::{DesignResult, LevelReport, RefinementReport, SolverReport};
+use crate::result::{LevelReport, RefinementReport, SolverReport};
 use crate::settings::{Formulation, SolverSettings};
-use serde::{Deserialize, Serialize};
+pub use crate::solver_run::SolverRun;
 use spine_ipopt::{IterationInfo, OptionValue, SetupError, Solution};
 use spine_model::{Design, State};
 use std::time::Instant;
@@ -35,59 +35,6 @@ pub fn ipopt_solve(
         crate::settings::LinearSolver::Spine.ready().map_err(DesignError::LinearSolver)?;
     }
     Ok(spine_ipopt::solve(nlp, options)?)
-}
-
-/// What Ipopt returned for eq. (33), before it is checked: the design, the states, the solver's
-/// report, notes on the start and the ladder's levels. Serialisable without loss (a worker
-/// process sends it to the process that checks it); [`SolverRun::check`] turns it into the
-/// [`DesignResult`], the same wherever it runs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SolverRun {
-    pub formulation: Formulation,
-    pub design: Design,
-    pub states: Option<(State, State)>,
-    pub solver: SolverReport,
-    pub start_notes: Vec<String>,
-    pub refinement: Option<RefinementReport>,
-    /// Ipopt's multipliers at the full space's solution (in the layout of
-    /// `solver.state_variables`), for the sensitivities of the optimum ([`crate::sensitivity`]).
-    #[serde(default)]
-    pub multipliers: Option<Multipliers>,
-}
-
-impl SolverRun {
-    /// Whether a run read from elsewhere (a shard, a worker's answer) fits `problem`: its design
-    /// and states have the chain's lengths (`N` angles, `N + 1` stiffnesses) and finite values.
-    /// Checked before [`SolverRun::check`], which indexes them by the chain.
-    pub fn fits(&self, problem: &DesignProblem) -> Result<(), spine_check::FieldError> {
-        let n = problem.n_links();
-        let vector = |field: &str, v: &[f64], len: usize| {
-            spine_check::require(v.len() == len, field, || format!("{len} values expected, got {}", v.len()))?;
-            spine_check::require(v.iter().all(|x| x.is_finite()), field, || "every value must be finite".into())
-        };
-        vector("design.theta0", &self.design.theta0, n)?;
-        vector("design.stiffness", &self.design.stiffness, n + 1)?;
-        if let Some((passive, loaded)) = &self.states {
-            for (k, state) in [passive, loaded].into_iter().enumerate() {
-                vector(&format!("states[{k}].theta"), &state.theta, n)?;
-                vector(&format!("states[{k}].lambda"), &[state.lambda], 1)?;
-            }
-        }
-        Ok(())
-    }
-
-    /// Recomputes and checks everything the result reports from the design and states
-    /// ([`DesignResult::check`]).
-    pub fn check(self, problem: &DesignProblem, settings: &SolverSettings) -> DesignResult {
-        let check_clock = Instant::now();
-        let SolverRun { formulation, design, states, solver, start_notes, refinement, .. } = self;
-        let solved_seconds = solver.total_seconds;
-        let mut result = DesignResult::check(problem, formulation, design, states, solver, start_notes, settings);
-        result.solver.check_seconds = check_clock.elapsed().as_secs_f64();
-        result.solver.total_seconds = solved_seconds + result.solver.check_seconds;
-        result.refinement = refinement;
-        result
-    }
 }
 
 /// Eq. (33) with Ipopt from `start`, as [`crate::solve_design`], without the final check and certificate.
@@ -137,7 +84,8 @@ pub fn run_solver(
             (solution, design, states, nlp.equilibrium_evaluations)
         }
     };
-    let run = Finished { formulation, state_form, start_seconds, equilibrium_evaluations, clock };
+    let probe = formulation == Formulation::Full && problem.objective.has_probe();
+    let run = Finished { formulation, state_form, probe, start_seconds, equilibrium_evaluations, clock };
     Ok(run.into_run(&solution, &options, design, states, notes, refinement))
 }
 
@@ -145,6 +93,8 @@ pub fn run_solver(
 struct Finished {
     formulation: Formulation,
     state_form: crate::full_space::StateForm,
+    /// Whether the full space holds `θ3` (the compliance criterion).
+    probe: bool,
     start_seconds: f64,
     equilibrium_evaluations: usize,
     clock: Instant,
@@ -161,6 +111,10 @@ impl Finished {
         refinement: Option<RefinementReport>,
     ) -> SolverRun {
         let full = self.formulation == Formulation::Full;
+        let probe = self.probe.then(|| {
+            let layout = crate::full_space::Layout { n: design.theta0.len(), states: self.state_form, probe: true };
+            layout.state(&solution.x, crate::full_space::LoadState::Probe)
+        });
         let multipliers = full.then(|| Multipliers {
             constraints: solution.lambda.clone(),
             z_lower: solution.z_lower.clone(),
@@ -178,6 +132,7 @@ impl Finished {
             formulation: self.formulation,
             design,
             states,
+            probe,
             solver: report,
             start_notes,
             refinement,
@@ -213,6 +168,7 @@ pub fn resolve_from(
     let run = Finished {
         formulation: Formulation::Full,
         state_form: start.form,
+        probe: problem.objective.has_probe(),
         start_seconds: 0.0,
         equilibrium_evaluations: 0,
         clock,

@@ -67,11 +67,11 @@ fn serialize_counts<S: serde::Serializer>(c: &EvaluationCounts, s: S) -> Result<
 }
 
 impl SolverReport {
-    /// The full space's index map of this run for `n` links: its state form (absolute angles for
+    /// The full space's index map of this run of `problem`: its state form (absolute angles for
     /// a run that has none, the reduced space).
-    pub fn layout(&self, n: usize) -> crate::full_space::Layout {
+    pub fn layout(&self, problem: &crate::DesignProblem) -> crate::full_space::Layout {
         let states = self.state_variables.unwrap_or(crate::full_space::StateForm::Absolute);
-        crate::full_space::Layout { n, states }
+        crate::full_space::Layout::of(problem, states)
     }
 
     pub fn from_ipopt(solution: &Solution, equilibrium_solves: usize) -> Self {

@@ -38,7 +38,7 @@ impl FullSpaceStart {
         let n = problem.n_links();
         // The peer is handed absolute angles; the design part and the heights are the same in both forms.
         let x0 = FullSpaceNlp::new(problem, StateForm::Absolute, design, passive, loaded).start;
-        let layout = Layout { n, states: StateForm::Absolute };
+        let layout = Layout::of(problem, StateForm::Absolute);
         Self {
             theta0: x0[..n].to_vec(),
             k: x0[n..2 * n + 1].to_vec(),

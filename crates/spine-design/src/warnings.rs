@@ -3,13 +3,15 @@
 use serde::Serialize;
 use spine_solve::EquilibriumStatus;
 
-/// Which of the two equilibria of eq. (33).
+/// Which equilibrium of eq. (33) (`θ3` only with the compliance criterion).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LoadCase {
     /// `θ1`, under the passive load.
     Passive,
     /// `θ2`, under the passive load plus the actuation.
     Loaded,
+    /// `θ3`, under the compliance criterion's load case ([`crate::Objective::Compliance`]).
+    Probe,
 }
 
 /// Why a design result is not clean.
@@ -48,6 +50,7 @@ impl std::fmt::Display for DesignWarning {
                 let name = match equilibrium {
                     LoadCase::Passive => "θ1 (passive)",
                     LoadCase::Loaded => "θ2 (passive + actuation)",
+                    LoadCase::Probe => "θ3 (the compliance's load case)",
                 };
                 let eigenvalue = min_eigenvalue.map_or("none".into(), |e| format!("{e:.3e} N·m/rad"));
                 write!(f, "the equilibrium {name} is unstable (smallest reduced-Hessian eigenvalue {eigenvalue})")

@@ -5,7 +5,8 @@
 use spine_design::adjoint::{adjoint_ad, adjoint_hand, forward_ad};
 use spine_design::fixtures::{arch_start, paper_problem, scaled_family};
 use spine_design::full_space::{FullSpaceNlp, Layout, StateForm};
-use spine_design::DesignProblem;
+use spine_design::objective::Equilibria;
+use spine_design::{DesignProblem, Objective};
 use spine_ipopt::Problem;
 use spine_model::rng::SplitMix64;
 use spine_model::{Design, State};
@@ -15,7 +16,7 @@ use spine_solve::{solve_static, ContinuationOptions};
 /// is exercised.
 fn random_point(problem: &DesignProblem, seed: u64) -> Vec<f64> {
     let n = problem.n_links();
-    let layout = Layout { n, states: StateForm::Absolute };
+    let layout = Layout::of(problem, StateForm::Absolute);
     let mut rng = SplitMix64::new(seed);
     let mut x = vec![0.0; layout.num_variables()];
     for (k, v) in x.iter_mut().enumerate() {
@@ -26,12 +27,40 @@ fn random_point(problem: &DesignProblem, seed: u64) -> Vec<f64> {
     }
     x[layout.lambda(spine_design::full_space::LoadState::Passive)] = rng.uniform(-50.0, 50.0);
     x[layout.lambda(spine_design::full_space::LoadState::Loaded)] = rng.uniform(-50.0, 50.0);
+    if layout.probe {
+        x[layout.lambda(spine_design::full_space::LoadState::Probe)] = rng.uniform(-50.0, 50.0);
+    }
     x
 }
 
-fn problem_with_mass(n: usize) -> DesignProblem {
+/// Every criterion of [`Objective`] for `n` links (the compliance's load: −3 N at every node,
+/// 20 N axial at the end).
+fn objectives(n: usize) -> Vec<Objective> {
+    let mut load = spine_model::NodalLoads::zero(n);
+    load.p_y.fill(-3.0);
+    load.p_x[n] = 20.0;
+    vec![
+        Objective::StrainEnergy,
+        Objective::TotalStiffness,
+        // M_ref of the random points' moments (K up to 700 N·m/rad, deflections up to 1 rad).
+        Objective::PeakMoment { exponent: 8, reference: 1000.0 },
+        Objective::Compliance { load },
+    ]
+}
+
+/// Sizes, state forms and criteria the derivative tests go over.
+fn cases() -> impl Iterator<Item = (usize, StateForm, Objective)> {
+    [1, 2, 3, 6, 15].into_iter().flat_map(|n| {
+        [StateForm::Absolute, StateForm::Deflection]
+            .into_iter()
+            .flat_map(move |form| objectives(n).into_iter().map(move |o| (n, form, o)))
+    })
+}
+
+fn problem_with_mass(n: usize, objective: Objective) -> DesignProblem {
     let mut p = paper_problem(n, -5.0, -400.0, -0.02, 7.0);
     p.structure.chain.masses = (0..n).map(|i| 0.1 + 0.01 * i as f64).collect();
+    p.objective = objective;
     p
 }
 
@@ -46,8 +75,9 @@ fn nlp_parts(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>)
 
 #[test]
 fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is_exact() {
-    for (n, form) in [1, 2, 3, 6, 15].into_iter().flat_map(|n| [(n, StateForm::Absolute), (n, StateForm::Deflection)]) {
-        let problem = problem_with_mass(n);
+    for (n, form, objective) in cases() {
+        let name = objective.name();
+        let problem = problem_with_mass(n, objective);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
         let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
@@ -76,27 +106,68 @@ fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is
                 let fd = (fp - fm) / (2.0 * h);
                 assert!(
                     (fd - grad[k]).abs() <= 1e-6 * grad[k].abs().max(1.0),
-                    "N={n} {form:?} ∂f/∂x{k}: AD {} FD {fd}",
+                    "N={n} {form:?} {name} ∂f/∂x{k}: AD {} FD {fd}",
                     grad[k]
                 );
                 for r in 0..m {
                     let fd = (gp[r] - gm[r]) / (2.0 * h);
                     let ad = dense[r][k];
-                    assert!((fd - ad).abs() <= 1e-6 * ad.abs().max(1.0), "N={n} {form:?} ∂g{r}/∂x{k}: AD {ad} FD {fd}");
+                    assert!(
+                        (fd - ad).abs() <= 1e-6 * ad.abs().max(1.0),
+                        "N={n} {form:?} {name} ∂g{r}/∂x{k}: AD {ad} FD {fd}"
+                    );
                 }
             }
             // Every declared entry is nonzero at a random point: the pattern is exact.
             for (&(r, c), v) in structure.iter().zip(&values) {
-                assert!(*v != 0.0, "N={n}: declared Jacobian entry ({r}, {c}) is zero");
+                assert!(*v != 0.0, "N={n} {name}: declared Jacobian entry ({r}, {c}) is zero");
             }
         }
     }
 }
 
 #[test]
+fn assembled_objective_is_each_criterion_evaluated_directly() {
+    // The elements' sum against `Objective::value` from the design and states (node positions for
+    // the compliance, joint moments for the peak moment): two formulations of each criterion.
+    for (n, form, objective) in cases() {
+        let name = objective.name();
+        let problem = problem_with_mass(n, objective);
+        let start = arch_start(n, 0.3, 500.0);
+        let unloaded = State::unloaded(&start);
+        let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
+        let layout = nlp.layout;
+        for seed in 0..3 {
+            let mut x = random_point(&problem, 31 * n as u64 + seed);
+            if form == StateForm::Deflection {
+                // The same absolute angles in deflections (random_point draws absolute ones).
+                let absolute = Layout::of(&problem, StateForm::Absolute);
+                for &s in layout.load_states() {
+                    for i in 0..n {
+                        x[layout.state_angle(s, i)] = x[absolute.state_angle(s, i)] - x[layout.theta0(i)];
+                    }
+                }
+            }
+            let design = layout.design(&x, problem.stiffness_scale);
+            use spine_design::full_space::LoadState;
+            let (passive, loaded) = (layout.state(&x, LoadState::Passive), layout.state(&x, LoadState::Loaded));
+            let probe = layout.probe.then(|| layout.state(&x, LoadState::Probe));
+            let states = Equilibria { passive: &passive, loaded: &loaded, probe: probe.as_ref() };
+            let direct = problem.objective.value(&problem, &design, &states);
+            let assembled = nlp.objective(&x, true).unwrap();
+            assert!(
+                (assembled - direct).abs() <= 1e-12 * direct.abs().max(1.0),
+                "N={n} {form:?} {name}: assembled {assembled} direct {direct}"
+            );
+        }
+    }
+}
+
+#[test]
 fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
-    for (n, form) in [1, 2, 3, 6, 15].into_iter().flat_map(|n| [(n, StateForm::Absolute), (n, StateForm::Deflection)]) {
-        let problem = problem_with_mass(n);
+    for (n, form, objective) in cases() {
+        let name = objective.name();
+        let problem = problem_with_mass(n, objective);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
         let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
@@ -116,7 +187,7 @@ fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
             assert!(seen.insert((r, c)), "duplicate Hessian entry ({r}, {c})");
             dense[r][c] = *v;
             dense[c][r] = *v;
-            assert!(*v != 0.0, "N={n}: declared Hessian entry ({r}, {c}) is zero");
+            assert!(*v != 0.0, "N={n} {name}: declared Hessian entry ({r}, {c}) is zero");
         }
         // ∇_x L = σ∇f + Jᵀλ, by the AD first derivatives.
         let mut lagrangian_gradient = |x: &[f64]| -> Vec<f64> {
@@ -139,7 +210,10 @@ fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
             for r in 0..x.len() {
                 let fd = (gp[r] - gm[r]) / (2.0 * h);
                 let ad = dense[r][k];
-                assert!((fd - ad).abs() <= 1e-6 * ad.abs().max(1.0), "N={n} {form:?} ∂²L/∂x{r}∂x{k}: AD {ad} FD {fd}");
+                assert!(
+                    (fd - ad).abs() <= 1e-6 * ad.abs().max(1.0),
+                    "N={n} {form:?} {name} ∂²L/∂x{r}∂x{k}: AD {ad} FD {fd}"
+                );
             }
         }
     }
@@ -173,7 +247,7 @@ fn equilibria(problem: &DesignProblem, design: &Design) -> (State, State) {
 #[test]
 fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver() {
     for (n, seed) in [(2, 1), (5, 2), (10, 3), (20, 4)] {
-        let mut problem = problem_with_mass(n);
+        let mut problem = problem_with_mass(n, Objective::StrainEnergy);
         problem.structure.actuation.p_x[n] = -200.0;
         let mut rng = SplitMix64::new(seed);
         let mut design = arch_start(n, 0.25, 1500.0);

@@ -241,8 +241,13 @@ fn the_strain_energy_gradient_equals_the_static_designs_hand_adjoint() {
         height_min: 0.0,
         height_max: 1.0,
     };
-    let problem =
-        spine_design::DesignProblem { structure: q.structure.clone(), delta_d: -0.01, bounds, stiffness_scale: 1.0 };
+    let problem = spine_design::DesignProblem {
+        structure: q.structure.clone(),
+        delta_d: -0.01,
+        bounds,
+        stiffness_scale: 1.0,
+        objective: Default::default(),
+    };
     let passive = spine_model::State { theta: ends.theta1.clone(), lambda: ends.lambda1 };
     let loaded = spine_model::State { theta: ends.theta2.clone(), lambda: ends.lambda2 };
     let adjoint = spine_design::adjoint::adjoint_hand(&problem, &q.design, &passive, &loaded).unwrap();

@@ -13,9 +13,11 @@
 //! round-off of about 1e-16 rad, which a stiff spring turns into a residual above the solver's
 //! tolerance ([`crate::residual::Joint::residual`]). Geometry uses `θ = θ0 + u`.
 
+mod criteria;
 mod joints;
 mod links;
 
+pub use criteria::{LinkWork, MomentPower, SpringStiffness};
 pub use joints::{joint_slot, DeflectionJointResidual, JointResidual};
 pub use links::{DeflectionSpringEnergy, Difference, HeightStep, LinkRise, LinkRun, SpringEnergy};
 

@@ -9,7 +9,7 @@ use spine_model::jacobian::{design_jacobian, residual_and_state_jacobian};
 use spine_model::kinematics::end_x;
 use spine_model::local::{
     self, joint_slot, DeflectionJointResidual, DeflectionSpringEnergy, Difference, Element, HeightStep, JointResidual,
-    LinkRise, LinkRun, SpringEnergy,
+    LinkRise, LinkRun, LinkWork, MomentPower, SpringEnergy, SpringStiffness,
 };
 use spine_model::residual::{equilibrium_residual, slot};
 use spine_model::rng::SplitMix64;
@@ -124,6 +124,14 @@ fn elements_match_central_differences_and_their_declared_hessian_pattern() {
     check_element(&SpringEnergy { stiffness_scale: 25.0 }, "spring energy", [1.0, 1.0, 1.0, 1.0, 40.0]);
     check_element(&DeflectionSpringEnergy { stiffness_scale: 25.0 }, "spring energy on deflections", [1.0, 1.0, 40.0]);
     check_element(&Difference, "difference", [1.0; 2]);
+    check_element(&SpringStiffness { stiffness_scale: 25.0 }, "spring stiffness", [40.0]);
+    for exponent in [2, 8] {
+        let moment = MomentPower { stiffness_scale: 25.0, reference: 300.0, exponent };
+        check_element(&moment, "moment power", [0.3, 0.3, 0.3, 0.3, 40.0]);
+    }
+    for deflection in [false, true] {
+        check_element(&LinkWork { span: 0.2, vertical: -30.0, axial: 250.0, deflection }, "link work", [1.0; 2]);
+    }
 }
 
 #[test]
@@ -145,6 +153,10 @@ fn every_declared_hessian_pair_is_nonzero_somewhere() {
     check(&DeflectionSpringEnergy { stiffness_scale: 2.0 }, "spring (u)");
     check(&HeightStep { span: 0.2 }, "height");
     check(&SpringEnergy { stiffness_scale: 2.0 }, "spring");
+    check(&MomentPower { stiffness_scale: 2.0, reference: 3.0, exponent: 4 }, "moment power");
+    for deflection in [false, true] {
+        check(&LinkWork { span: 0.2, vertical: -30.0, axial: 250.0, deflection }, "link work");
+    }
 }
 
 #[test]
@@ -389,4 +401,14 @@ fn element_rates_match_central_differences_in_their_constants() {
     let spring = |stiffness_scale| DeflectionSpringEnergy { stiffness_scale };
     check_rates(&spring(25.0), &spring(-3.0), &spring(0.0), "spring energy on deflections", [1.0, 1.0, 40.0]);
     check_rates(&Difference, &Difference, &Difference, "difference", [1.0; 2]);
+    let stiffness = |stiffness_scale| SpringStiffness { stiffness_scale };
+    check_rates(&stiffness(25.0), &stiffness(-3.0), &stiffness(0.0), "spring stiffness", [40.0]);
+    let moment = |stiffness_scale, reference| MomentPower { stiffness_scale, reference, exponent: 6 };
+    let scale = [0.3, 0.3, 0.3, 0.3, 40.0];
+    check_rates(&moment(25.0, 300.0), &moment(-3.0, 40.0), &moment(0.0, 0.0), "moment power", scale);
+    for deflection in [false, true] {
+        let work = |span, vertical, axial| LinkWork { span, vertical, axial, deflection };
+        let (at, moving) = (work(0.2, -30.0, 250.0), work(0.7, 4.0, -20.0));
+        check_rates(&at, &moving, &work(0.0, 0.0, 0.0), "link work", [1.0; 2]);
+    }
 }

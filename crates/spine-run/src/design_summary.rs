@@ -17,10 +17,11 @@ impl DesignCaseResult {
             summary.converged,
             summary.optima.len()
         )?;
+        let (symbol, unit) = self.result.criterion.symbol_and_unit();
         for (k, o) in summary.optima.iter().enumerate() {
             writeln!(
                 f,
-                "  optimum {k}: J = {:.10e} J, reached by {} run(s), first from start {}{}{}",
+                "  optimum {k}: {symbol} = {:.10e}{unit}, reached by {} run(s), first from start {}{}{}",
                 o.objective(),
                 o.count,
                 o.starts[0],
@@ -95,6 +96,31 @@ impl std::fmt::Display for DesignCaseResult {
     }
 }
 
+/// The criterion's value (the paper's `J` as always), and every criterion's measure of the design.
+fn fmt_objective(f: &mut std::fmt::Formatter<'_>, r: &spine_design::DesignResult) -> std::fmt::Result {
+    use spine_design::Objective;
+    let v = r.objective;
+    match &r.criterion {
+        Objective::StrainEnergy => writeln!(f, "J = U(θ1) = {v:.10e} J")?,
+        Objective::TotalStiffness => writeln!(f, "objective total_stiffness: Σ K = {v:.10e} N·m/rad")?,
+        Objective::PeakMoment { exponent, reference } => writeln!(
+            f,
+            "objective peak_moment: Σ (M/M_ref)^{exponent} = {v:.10e} (M_ref = {reference:.6e} N·m; p-norm {:.6e} N·m)",
+            reference * v.powf(1.0 / *exponent as f64)
+        )?,
+        Objective::Compliance { .. } => writeln!(f, "objective compliance: Pᵀu = {v:.10e} J")?,
+    }
+    if let Some(m) = &r.measures {
+        let compliance = m.compliance.map_or(String::new(), |c| format!(", compliance {c:.6e} J"));
+        writeln!(
+            f,
+            "measures: J = U(θ1) {:.6e} J, Σ K {:.6e} N·m/rad, max |M| {:.6e} N·m{compliance}",
+            m.strain_energy, m.total_stiffness, m.peak_moment
+        )?;
+    }
+    Ok(())
+}
+
 impl DesignCaseResult {
     /// The run's headline, Ipopt's status (and each level of a ladder), `J`, the violations and
     /// the end displacement.
@@ -114,6 +140,7 @@ impl DesignCaseResult {
             r.solver.status, r.solver.iterations, r.solver.ipopt_seconds, r.solver.evaluation_seconds
         )?;
         if let Some(refinement) = &r.refinement {
+            let (symbol, unit) = r.criterion.symbol_and_unit();
             for l in &refinement.levels {
                 let restarts = match l.restarts {
                     0 => String::new(),
@@ -122,12 +149,12 @@ impl DesignCaseResult {
                 };
                 writeln!(
                     f,
-                    "  level {:>5} links ({} start): {} after {} iterations{restarts}, J = {:.10e} J",
+                    "  level {:>5} links ({} start): {} after {} iterations{restarts}, {symbol} = {:.10e}{unit}",
                     l.links, l.start, l.status, l.iterations, l.objective
                 )?;
             }
         }
-        writeln!(f, "J = U(θ1) = {:.10e} J", r.objective)?;
+        fmt_objective(f, r)?;
         if let Some(v) = &r.violations {
             writeln!(
                 f,
@@ -146,7 +173,7 @@ impl DesignCaseResult {
     /// that is not a minimum.
     fn fmt_certificate(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let r = &self.result;
-        for (name, s) in [("θ1 passive", &r.passive), ("θ2 loaded", &r.loaded)] {
+        for (name, s) in [("θ1 passive", &r.passive), ("θ2 loaded", &r.loaded), ("θ3 probe", &r.probe)] {
             if let Some(s) = s {
                 let eig = s.stability.min_eigenvalue.map_or("none".into(), |e| format!("{e:.4e}"));
                 writeln!(
@@ -170,10 +197,11 @@ impl DesignCaseResult {
             )?,
             None => writeln!(f, "second-order certificate: none (the run did not converge)")?,
         }
+        let (symbol, unit) = r.criterion.symbol_and_unit();
         for e in &r.escapes {
             writeln!(
                 f,
-                "NOTE: left a point that is not a minimum (J = {:.10e} J, certificate {}) by {}; reached J = {:.10e} J",
+                "NOTE: left a point that is not a minimum ({symbol} = {:.10e}{unit}, certificate {}) by {}; reached {symbol} = {:.10e}{unit}",
                 e.objective,
                 e.status.map_or("none", |s| s.name()),
                 e.how.name(),

@@ -54,8 +54,11 @@ impl DesignOverrides {
         self
     }
 
-    pub fn apply(&self, valid: &mut ValidDesign) {
+    /// Applies the overrides; errors (naming the field) when they do not fit the case (the
+    /// reduced space with another criterion than the paper's).
+    pub fn apply(&self, valid: &mut ValidDesign) -> Result<(), spine_case::CaseError> {
         if let Some(f) = self.formulation {
+            spine_case::check_formulation(f, &valid.problem.objective)?;
             valid.formulation = f;
         }
         if let Some(s) = self.starts {
@@ -70,6 +73,7 @@ impl DesignOverrides {
         if let Some(r) = self.refine {
             valid.settings.refine = r;
         }
+        Ok(())
     }
 }
 

@@ -82,7 +82,7 @@ pub fn run_study(
         return Err(RunError::WrongKind { command: "the C_K study", needs: "a \"design\"", kind: case.kind() });
     };
     let mut valid = c.validate()?;
-    overrides.design.apply(&mut valid);
+    overrides.design.apply(&mut valid)?;
     limited(overrides, || {
         Ok(KindResult::Study(crate::study::run_ck_study(
             &c.title,

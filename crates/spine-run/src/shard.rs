@@ -107,7 +107,7 @@ pub fn run_shard(
 ) -> Result<Shard, RunError> {
     let case = design_case(text)?;
     let mut valid = case.validate()?;
-    overrides.apply(&mut valid);
+    overrides.apply(&mut valid)?;
     let share = match (valid.multistart.confidence, batch) {
         (None, None) => spec.starts(valid.multistart.starts),
         (None, Some(_)) => {
@@ -199,7 +199,7 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
     }
     let case = design_case(&first.case)?;
     let mut valid = case.validate().map_err(MergeError::Case)?;
-    first.overrides.apply(&mut valid);
+    first.overrides.apply(&mut valid)?;
     shards.sort_by_key(|s| (s.batch, s.shard.index));
     let Some(target) = valid.multistart.confidence else {
         if first.batch.is_some() {

@@ -45,7 +45,7 @@ pub(crate) fn case_at(
     value: f64,
 ) -> Result<ValidDesign, CaseError> {
     let mut valid = c.with_parameter(name, value)?.validate()?;
-    overrides.apply(&mut valid);
+    overrides.apply(&mut valid)?;
     Ok(valid)
 }
 

@@ -105,10 +105,7 @@ pub fn certify_run(
     point: CertifiedPoint,
 ) -> Option<(Certificate, Option<NegativeCurvature>)> {
     let multipliers = run.multipliers.as_ref()?;
-    let (passive, loaded) = run.states.as_ref()?;
-    let layout = run.solver.layout(problem.n_links());
-    let heights = problem.node_heights(&run.design.theta0);
-    let x = layout.pack(&run.design, problem.stiffness_scale, passive, loaded, &heights);
+    let (layout, x) = run.point(problem)?;
     (multipliers.constraints.len() == layout.num_constraints() && multipliers.z_lower.len() == x.len())
         .then(|| certify(problem, layout, &x, multipliers, point))
 }
@@ -123,7 +120,7 @@ fn leave(
     (below, margin): (f64, f64),
     settings: &SolverSettings,
 ) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
-    let layout = run.solver.layout(problem.n_links());
+    let layout = run.solver.layout(problem);
     let b = &problem.bounds;
     let d = &negative.direction;
     let c = problem.stiffness_scale;
@@ -173,7 +170,7 @@ fn restart(
     settings: &SolverSettings,
 ) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
     let Some(states) = run.states.as_ref() else { return Ok(None) };
-    let form = run.solver.layout(problem.n_links()).states;
+    let form = run.solver.layout(problem).states;
     let point = FullPoint { form, design: &run.design, states, multipliers: None };
     let next = resolve_from(problem, point, &settings.ipopt())?;
     let result = next.clone().check(problem, settings);

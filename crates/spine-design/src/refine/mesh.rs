@@ -1,6 +1,7 @@
 //! The chain coarsened and a coarse optimum prolonged (see the module docs of [`super`]).
 
 use crate::problem::DesignProblem;
+use crate::Objective;
 use spine_model::{Chain, Design, NodalLoads, State, Structure};
 
 /// The fine node of each coarse node: `b_c = round(c N / M)`, `c = 0..=M` (strictly increasing
@@ -78,6 +79,10 @@ pub fn coarsen(problem: &DesignProblem, m: usize) -> (DesignProblem, Vec<usize>)
         delta_d: problem.delta_d,
         bounds,
         stiffness_scale: problem.stiffness_scale * m as f64 / n as f64,
+        objective: match &problem.objective {
+            Objective::Compliance { load } => Objective::Compliance { load: lump(load) },
+            other => other.clone(),
+        },
     };
     (coarse, nodes)
 }

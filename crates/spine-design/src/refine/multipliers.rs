@@ -1,7 +1,7 @@
 //! Multipliers of a coarse optimum carried to the fine chain.
 
 use super::mesh::{interpolate, midpoints, node_x};
-use crate::full_space::{Layout, LoadState, Multipliers, StateForm};
+use crate::full_space::{Layout, Multipliers, StateForm};
 use crate::problem::DesignProblem;
 
 /// The multipliers of a coarse solution carried to the fine chain, for Ipopt's warm start.
@@ -23,7 +23,7 @@ pub fn prolong_multipliers(
 ) -> Multipliers {
     let (mc, nf) = (coarse.n_links(), fine.n_links());
     // Row and bound indices only, which do not depend on how the states are variables.
-    let (cl, fl) = (Layout { n: mc, states: StateForm::Absolute }, Layout { n: nf, states: StateForm::Absolute });
+    let (cl, fl) = (Layout::of(coarse, StateForm::Absolute), Layout::of(fine, StateForm::Absolute));
     let ratio = mc as f64 / nf as f64;
     let (cmid, fmid) = (midpoints(&coarse.structure.chain.spans), midpoints(&fine.structure.chain.spans));
     let (cx, fx) = (node_x(&coarse.structure.chain.spans), node_x(&fine.structure.chain.spans));
@@ -32,7 +32,7 @@ pub fn prolong_multipliers(
     };
 
     let mut constraints = vec![0.0; fl.num_constraints()];
-    for s in [LoadState::Passive, LoadState::Loaded] {
+    for &s in fl.load_states() {
         let joints = field((0..mc).map(|i| m.constraints[cl.equilibrium_row(s, i)]).collect(), &cmid, &fmid, 1.0);
         for (i, v) in joints.into_iter().enumerate() {
             constraints[fl.equilibrium_row(s, i)] = v;

@@ -149,11 +149,8 @@ impl Sweep<'_> {
         if result.solver.converged {
             result.certificate = certify_run(problem, &run, CertifiedPoint::Run).map(|(c, _)| c);
         }
-        let report = match (&run.multipliers, &run.states, result.is_clean()) {
-            (Some(multipliers), Some((passive, loaded)), true) => {
-                let layout = run.solver.layout(problem.n_links());
-                let heights = problem.node_heights(&run.design.theta0);
-                let x = layout.pack(&run.design, problem.stiffness_scale, passive, loaded, &heights);
+        let report = match (&run.multipliers, run.point(problem), result.is_clean()) {
+            (Some(multipliers), Some((layout, x)), true) => {
                 let optimum = Optimum { problem, layout, x: &x, multipliers };
                 let tangent = (self.tangent_at)(parameter).map_err(SweepError::Parameter)?;
                 let swept = Parameter { name: self.name.to_string(), value: parameter, tangent };

@@ -15,7 +15,7 @@ pub struct LinkRise {
 }
 
 /// `θ_i` from a link element's first local variable (`θ_i` itself, or `u_i` with `θ0_i` second).
-fn link_angle<D: Elementary>(x: &[D; 2], deflection: bool) -> D {
+pub(super) fn link_angle<D: Elementary>(x: &[D; 2], deflection: bool) -> D {
     if deflection {
         x[1] + x[0]
     } else {

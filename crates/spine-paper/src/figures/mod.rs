@@ -1,6 +1,7 @@
 //! Figure recipes: from the runs of a figure case to its panels, CSV tables and checked claims.
 //! One module per kind of figure; this one holds the pieces they share.
 
+mod criteria;
 mod dynamic;
 mod periodic;
 mod statics;
@@ -36,6 +37,7 @@ pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<Figure
         "fig10" => periodic::periodic_design_figure(title, runs),
         "fig11" => dynamic::pulse_figure(title, runs),
         "fig12" => dynamic::rise_time_figure(title, runs),
+        "objectives" => criteria::criteria_figure(title, runs),
         other => Err(FieldError::new("figure", format!("no recipe for {other:?}"))),
     }
 }

@@ -13,7 +13,7 @@ impl crate::RunKind for DesignCase {
     /// sensitivities of the reported optimum when asked for.
     fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<DesignCaseResult, RunError> {
         let mut valid = self.validate()?;
-        cx.overrides.design.apply(&mut valid);
+        cx.overrides.design.apply(&mut valid)?;
         let mut result = run_design_case(self, &valid, cx.overrides.workers.as_ref(), cx.progress)?;
         crate::sensitivity::attach(self, &valid, &cx.overrides.design, &mut result)?;
         Ok(result)

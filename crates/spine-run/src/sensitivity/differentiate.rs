@@ -1,7 +1,6 @@
 //! The derivatives of an optimum: re-solved tightly from itself, then differentiated, or the
 //! typed reason there are none ([`NoSensitivity`]).
 
-use crate::design::states;
 use crate::error::RunError;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
@@ -56,6 +55,7 @@ pub fn differentiate(
     let clock = std::time::Instant::now();
     let polished = polish(problem, &first.design, &valid.settings).map_err(RunError::Design)?;
     let multipliers = polished.multipliers.clone();
+    let point = polished.point(problem);
     let design = polished.check(problem, &valid.settings);
     let polish_seconds = clock.elapsed().as_secs_f64();
     let moved = (design.objective - first.objective).abs() / first.objective.abs().max(1e-12);
@@ -79,12 +79,9 @@ pub fn differentiate(
     } else {
         None
     };
-    let (Some(multipliers), None, Some((passive, loaded))) = (&multipliers, &why_not, states(&design)) else {
+    let (Some(multipliers), None, Some((layout, x))) = (&multipliers, &why_not, point) else {
         return Ok((Err(why_not.unwrap_or(NoSensitivity::NoMultipliers)), polish_seconds));
     };
-    let layout = design.solver.layout(problem.n_links());
-    let heights = problem.node_heights(&design.design.theta0);
-    let x = layout.pack(&design.design, problem.stiffness_scale, &passive, &loaded, &heights);
     let parameters = names
         .iter()
         .zip(&values)

@@ -55,7 +55,7 @@ pub fn run_design_sensitivity(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<SensitivityResult, RunError> {
     let mut valid = c.validate()?;
-    overrides.apply(&mut valid);
+    overrides.apply(&mut valid)?;
     let names = if names.is_empty() { c.default_parameters() } else { names.to_vec() };
     names.iter().try_for_each(|name| c.parameter_value(name).map(|_| ()))?;
     let clock = std::time::Instant::now();
