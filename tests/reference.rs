@@ -105,6 +105,7 @@ fn ipopt_full_and_reduced_space_reproduce_the_reference() {
         },
         stiffness_scale: 1.0,
         objective: Default::default(),
+        strain_energy_max: None,
     };
     let start = Design { theta0: vec![r.theta0 + 0.05, -(r.theta0 + 0.05)], stiffness };
     for formulation in [Formulation::Full, Formulation::Reduced] {

@@ -1,6 +1,6 @@
 //! `"kind": "design"`: the static design problem of eq. (33).
 
-use crate::objective_spec::{check_formulation, ObjectiveSpec};
+use crate::objective_spec::{check_formulation, ConstraintsSpec, ObjectiveSpec};
 use crate::per_item::check_finite;
 use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
@@ -108,6 +108,9 @@ pub struct DesignCase {
     /// (docs/objectives.md).
     #[serde(default, skip_serializing_if = "is_default_objective")]
     pub objective: ObjectiveSpec,
+    /// Extra constraints beyond the paper's (docs/objectives.md).
+    #[serde(default, skip_serializing_if = "ConstraintsSpec::is_empty")]
+    pub constraints: ConstraintsSpec,
     /// "full" (default) or "reduced" (the paper's objective only).
     #[serde(default = "full")]
     pub formulation: Formulation,
@@ -185,9 +188,10 @@ impl DesignCase {
             bounds,
             stiffness_scale: self.stiffness_scale,
             objective: Default::default(),
+            strain_energy_max: self.constraints.validate()?,
         };
         problem.objective = self.objective.resolve(&problem, &start)?;
-        check_formulation(self.formulation, &problem.objective)?;
+        check_formulation(self.formulation, &problem)?;
         Ok(ValidDesign {
             problem,
             start,

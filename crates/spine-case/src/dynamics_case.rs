@@ -237,6 +237,7 @@ impl DynamicsCase {
                     bounds: s.bounds.clone(),
                     start: s.start.clone(),
                     objective: Default::default(),
+                    constraints: Default::default(),
                     formulation: s.formulation,
                     multistart: MultiStartSpec::default(),
                     solver: s.solver.clone(),

@@ -99,7 +99,9 @@ pub use dynamics_case::{
 pub use equilibrium_case::{EquilibriumCase, ValidEquilibrium};
 pub use error::CaseError;
 pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MAX_RUN_NAME};
-pub use objective_spec::{check_formulation, ComplianceSpec, ObjectiveSpec, PeakMomentSpec, MAX_EXPONENT};
+pub use objective_spec::{
+    check_formulation, ComplianceSpec, ConstraintsSpec, ObjectiveSpec, PeakMomentSpec, MAX_EXPONENT,
+};
 pub use parameter::{canonical_parameter, LOAD_SCALE};
 pub use parse::MAX_CASE_BYTES;
 pub use per_item::PerItem;

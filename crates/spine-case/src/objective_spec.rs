@@ -115,16 +115,48 @@ fn start_peak_moment(problem: &DesignProblem, start: &Design) -> Option<f64> {
     (peak > 0.0 && peak.is_finite()).then_some(peak)
 }
 
-/// The reduced space minimises the paper's `J` only: its gradient is the hand adjoint of the
-/// strain energy (Appendices I–II). Errors name `formulation`.
-pub fn check_formulation(formulation: Formulation, objective: &Objective) -> Result<(), CaseError> {
-    if formulation == Formulation::Reduced && *objective != Objective::StrainEnergy {
+/// Extra constraints of a design case (field `constraints`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintsSpec {
+    /// `U(θ1) ≤ strain_energy_max`, J (> 0): a budget on the paper's strain energy under the
+    /// passive load, e.g. with `"objective": "total_stiffness"` the least material that keeps
+    /// the design this stiff.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strain_energy_max: Option<f64>,
+}
+
+impl ConstraintsSpec {
+    pub fn is_empty(&self) -> bool {
+        self.strain_energy_max.is_none()
+    }
+
+    /// The budget, checked; errors name `constraints.FIELD`.
+    pub fn validate(&self) -> Result<Option<f64>, CaseError> {
+        self.strain_energy_max.map(|u| crate::specs::positive("constraints.strain_energy_max", u, "J")).transpose()
+    }
+}
+
+/// The reduced space minimises the paper's `J` under the paper's constraints only: its gradient is
+/// the hand adjoint of the strain energy (Appendices I–II) and its rows are the paper's. Errors
+/// name `formulation`.
+pub fn check_formulation(formulation: Formulation, problem: &DesignProblem) -> Result<(), CaseError> {
+    if formulation != Formulation::Reduced {
+        return Ok(());
+    }
+    if problem.objective != Objective::StrainEnergy {
         return Err(CaseError::invalid(
             "formulation",
             format!(
                 "\"reduced\" minimises the paper's strain energy only (its gradient is the hand adjoint of J); objective \"{}\" needs \"full\"",
-                objective.name()
+                problem.objective.name()
             ),
+        ));
+    }
+    if problem.strain_energy_max.is_some() {
+        return Err(CaseError::invalid(
+            "formulation",
+            "\"reduced\" has the paper's constraints only; constraints.strain_energy_max needs \"full\"",
         ));
     }
     Ok(())

@@ -49,7 +49,7 @@ pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn A
         Criterion::Compliance { probe } => Some(probe),
         _ => None,
     };
-    let layout = Layout { n, states, probe: probe.is_some() };
+    let layout = Layout { n, states, probe: probe.is_some(), budget: numbers.strain_energy_max.is_some() };
     let spans = &numbers.spans;
     let deflection = states == StateForm::Deflection;
     let mut load_states = vec![(LoadState::Passive, &numbers.passive), (LoadState::Loaded, &numbers.loaded)];
@@ -92,6 +92,13 @@ pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn A
         crate::criterion::objective(&layout, numbers),
         Box::new(Group::new(heights)),
         Box::new(Group::new(relatives)),
+        // The budget `U(θ1) ≤ U_max`: the paper's objective's elements on a row of their own (an
+        // empty group without a budget, so that a problem and its rates have the same groups).
+        crate::criterion::springs(
+            &layout,
+            numbers.stiffness_scale,
+            layout.budget.then(|| Row::Constraint(layout.budget_row())),
+        ),
     ]
 }
 
@@ -249,8 +256,13 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
         Numbers::of(self.problem).variable_bounds(lower, upper, |j| self.layout.height(j));
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        Numbers::of(self.problem)
-            .constraint_bounds(lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
+        Numbers::of(self.problem).constraint_bounds(
+            lower,
+            upper,
+            self.layout.end_row(),
+            |i| self.layout.relative_row(i),
+            self.layout.budget_row_if_any(),
+        );
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);

@@ -13,6 +13,9 @@ pub struct Layout {
     /// ([`crate::Objective::Compliance`]): `N + 1` variables after the node heights and `N + 1`
     /// equilibrium rows after the relative angles.
     pub probe: bool,
+    /// Whether the NLP has the strain-energy budget row `U(θ1) ≤ U_max`
+    /// ([`crate::DesignProblem::strain_energy_max`]), the last row.
+    pub budget: bool,
 }
 
 /// How the states `θ1`, `θ2` are variables of the full space (case field
@@ -39,7 +42,12 @@ pub enum LoadState {
 impl Layout {
     /// The layout of `problem`'s NLP with its states in `states`.
     pub fn of(problem: &crate::DesignProblem, states: StateForm) -> Self {
-        Layout { n: problem.n_links(), states, probe: problem.objective.has_probe() }
+        Layout {
+            n: problem.n_links(),
+            states,
+            probe: problem.objective.has_probe(),
+            budget: problem.strain_energy_max.is_some(),
+        }
     }
 
     /// The load states the NLP holds, in the layout's order.
@@ -104,8 +112,16 @@ impl Layout {
     fn probe_rows(&self) -> usize {
         4 * self.n + 2
     }
-    pub fn num_constraints(&self) -> usize {
+    /// The strain-energy budget's row (the last, when [`Layout::budget`]).
+    pub fn budget_row(&self) -> usize {
         self.probe_rows() + if self.probe { self.n + 1 } else { 0 }
+    }
+    pub fn num_constraints(&self) -> usize {
+        self.budget_row() + usize::from(self.budget)
+    }
+    /// [`Layout::budget_row`] when the layout has the row.
+    pub fn budget_row_if_any(&self) -> Option<usize> {
+        self.budget.then(|| self.budget_row())
     }
 
     /// Packs a design, both states (in [`StateForm`]) and the node heights into a variable vector.
@@ -187,7 +203,8 @@ impl Layout {
             r if r < 3 * n + 2 => format!("Y0 step[{}]", r - 2 * n - 1),
             r if r == 3 * n + 2 => "end displacement".into(),
             r if r < self.probe_rows() => format!("theta0[{}]-theta0[{}]", r - 3 * n - 2, r - 3 * n - 1),
-            r => format!("probe equilibrium[{}]", r - self.probe_rows() + 1),
+            r if r < self.budget_row() => format!("probe equilibrium[{}]", r - self.probe_rows() + 1),
+            _ => "strain energy budget".into(),
         }
     }
 
@@ -206,7 +223,7 @@ mod tests {
 
     #[test]
     fn labels_follow_the_index_map() {
-        let l = Layout { n: 4, states: StateForm::Absolute, probe: false };
+        let l = Layout { n: 4, states: StateForm::Absolute, probe: false, budget: false };
         assert_eq!(l.variable_label(l.theta0(0)), "theta0[1]");
         assert_eq!(l.variable_label(l.stiffness(4)), "K[5]");
         assert_eq!(l.variable_label(l.state_angle(LoadState::Passive, 3)), "theta1[4]");
@@ -233,5 +250,9 @@ mod tests {
         assert_eq!(p.row_label(p.equilibrium_row(LoadState::Probe, 0)), "probe equilibrium[1]");
         assert_eq!(p.row_label(p.constraint_row(LoadState::Probe)), "probe equilibrium[5]");
         assert_eq!(p.num_constraints(), p.constraint_row(LoadState::Probe) + 1);
+        let b = Layout { budget: true, ..p };
+        assert_eq!(b.row_label(b.budget_row()), "strain energy budget");
+        assert_eq!(b.row_label(b.constraint_row(LoadState::Probe)), "probe equilibrium[5]");
+        assert_eq!(b.num_constraints(), b.budget_row() + 1);
     }
 }

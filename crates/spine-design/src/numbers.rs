@@ -53,7 +53,9 @@ impl ProblemTangent {
             Objective::Compliance { load } => (d.objective.name(), load.p_x.len() + load.p_y.len()),
             other => (other.name(), 0),
         };
-        lengths(&self.0) == lengths(problem) && criterion(&self.0) == criterion(problem)
+        lengths(&self.0) == lengths(problem)
+            && criterion(&self.0) == criterion(problem)
+            && self.0.strain_energy_max.is_some() == problem.strain_energy_max.is_some()
     }
 
     /// The rates, in the problem's shape.
@@ -90,6 +92,9 @@ fn numbers_mut(p: &mut DesignProblem) -> Vec<&mut [f64]> {
         from_mut(&mut b.height_min),
         from_mut(&mut b.height_max),
     ];
+    if let Some(budget) = &mut p.strain_energy_max {
+        numbers.push(from_mut(budget));
+    }
     match &mut p.objective {
         Objective::StrainEnergy | Objective::TotalStiffness => {}
         Objective::PeakMoment { reference, .. } => numbers.push(from_mut(reference)),
@@ -142,6 +147,8 @@ pub(crate) struct Numbers<T> {
     pub height_max: T,
     /// What the objective measures.
     pub criterion: Criterion<T>,
+    /// `U_max` of the strain-energy budget row, J.
+    pub strain_energy_max: Option<T>,
 }
 
 impl Numbers<f64> {
@@ -207,8 +214,13 @@ impl<T: Scalar> Numbers<T> {
             (Objective::StrainEnergy, Objective::StrainEnergy) => Criterion::StrainEnergy,
             (objective, rate) => panic!("rates of {} for objective {}", rate.name(), objective.name()),
         };
+        let strain_energy_max = match (problem.strain_energy_max, rates.strain_energy_max) {
+            (Some(v), r) => Some(lift(v, r.unwrap_or(0.0))),
+            (None, _) => None,
+        };
         Numbers {
             criterion,
+            strain_energy_max,
             passive: resultants(&p_y, &p_x),
             loaded: resultants(&total_y, &total_x),
             spans,
@@ -239,6 +251,7 @@ impl<T: Scalar> Numbers<T> {
             stiffness_max: each(&self.stiffness_max),
             height_min: f(self.height_min),
             height_max: f(self.height_max),
+            strain_energy_max: self.strain_energy_max.map(&f),
             criterion: match &self.criterion {
                 Criterion::StrainEnergy => Criterion::StrainEnergy,
                 Criterion::TotalStiffness => Criterion::TotalStiffness,
@@ -270,14 +283,16 @@ impl<T: Scalar> Numbers<T> {
     }
 
     /// Constraint bounds shared by both formulations: every row is an equality `= 0` except the
-    /// end displacement row (`X_{N+1}(θ2) = L_x + δ_d`) and the relative-angle rows (`±π/6` by
-    /// default).
+    /// end displacement row (`X_{N+1}(θ2) = L_x + δ_d`), the relative-angle rows (`±π/6` by
+    /// default) and the strain-energy budget's row (`−∞ < U(θ1) ≤ U_max`, when the problem has
+    /// a budget and the formulation the row).
     pub fn constraint_bounds(
         &self,
         lower: &mut [T],
         upper: &mut [T],
         end_row: usize,
         relative_row: impl Fn(usize) -> usize,
+        budget_row: Option<usize>,
     ) {
         lower.fill(T::zero());
         upper.fill(T::zero());
@@ -286,6 +301,10 @@ impl<T: Scalar> Numbers<T> {
         for i in 0..self.spans.len().saturating_sub(1) {
             lower[relative_row(i)] = -self.relative_angle_max;
             upper[relative_row(i)] = self.relative_angle_max;
+        }
+        if let (Some(r), Some(budget)) = (budget_row, self.strain_energy_max) {
+            lower[r] = T::from(f64::NEG_INFINITY);
+            upper[r] = budget;
         }
     }
 }

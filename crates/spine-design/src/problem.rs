@@ -36,6 +36,10 @@ pub struct DesignProblem {
     pub stiffness_scale: f64,
     /// What is minimised: the paper's strain energy `J` or another criterion ([`Objective`]).
     pub objective: Objective,
+    /// An extra constraint beyond the paper's: a budget `U(θ1) ≤ U_max` on the strain energy under
+    /// the passive load, J (`None`: no budget). With [`Objective::TotalStiffness`] it poses the
+    /// classic least-material design of a given stiffness.
+    pub strain_energy_max: Option<f64>,
 }
 
 impl DesignProblem {

@@ -200,8 +200,13 @@ impl spine_ipopt::Problem for ReducedSpaceNlp<'_> {
         Numbers::of(self.problem).variable_bounds(lower, upper, |j| self.layout.height(j));
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        Numbers::of(self.problem)
-            .constraint_bounds(lower, upper, self.layout.end_row(), |i| self.layout.relative_row(i));
+        Numbers::of(self.problem).constraint_bounds(
+            lower,
+            upper,
+            self.layout.end_row(),
+            |i| self.layout.relative_row(i),
+            None,
+        );
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);

@@ -188,6 +188,14 @@ impl DesignResult {
                 let equilibria = Equilibria { passive: s1, loaded: s2, probe: probe.as_ref() };
                 let objective = problem.objective.value(problem, &design, &equilibria);
                 let measures = Measures::of(problem, &design, &equilibria);
+                if let Some(budget) = problem.strain_energy_max {
+                    let violation = (measures.strain_energy - budget).max(0.0);
+                    let allowed = Violations::inequality_allowance(settings, budget);
+                    if violation.is_nan() || violation > allowed {
+                        let part = "strain_energy_max";
+                        warnings.push(DesignWarning::ConstraintViolated { part, violation, allowed });
+                    }
+                }
                 (Some(r1), Some(r2), Some(end), Some(v), objective, Some(measures))
             }
             None => {

@@ -112,7 +112,8 @@ impl Finished {
     ) -> SolverRun {
         let full = self.formulation == Formulation::Full;
         let probe = self.probe.then(|| {
-            let layout = crate::full_space::Layout { n: design.theta0.len(), states: self.state_form, probe: true };
+            let n = design.theta0.len();
+            let layout = crate::full_space::Layout { n, states: self.state_form, probe: true, budget: false };
             layout.state(&solution.x, crate::full_space::LoadState::Probe)
         });
         let multipliers = full.then(|| Multipliers {

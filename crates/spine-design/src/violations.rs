@@ -73,13 +73,15 @@ impl Violations {
     /// the bounds that plus Ipopt's relaxation of every bound, `bound_relax_factor · max(1, |b|)`
     /// in the variable's own scale (for `K`, the scaled `k = K / C_K` of eq. (34)), which Ipopt
     /// applies to the problem it solves and which `honor_original_bounds = no` keeps.
+    /// What an inequality's bound `at` allows beyond it: the constraint tolerance plus Ipopt's
+    /// relaxation of bounds (`bound_relax_factor · max(|at|, 1)`).
+    pub fn inequality_allowance(settings: &SolverSettings, at: f64) -> f64 {
+        settings.constraint_tolerance + bound_relax_factor(settings) * at.abs().max(1.0)
+    }
+
     pub fn parts(&self, problem: &DesignProblem, settings: &SolverSettings) -> [(&'static str, f64, f64); 8] {
         let tol = settings.constraint_tolerance;
-        let relax = match settings.ipopt_options.get("bound_relax_factor") {
-            Some(ExtraOption::Num(x)) => *x,
-            Some(ExtraOption::Int(i)) => *i as f64,
-            _ => IPOPT_BOUND_RELAX_FACTOR,
-        };
+        let relax = bound_relax_factor(settings);
         let b = &problem.bounds;
         let c_k = problem.stiffness_scale;
         let k_max = b.stiffness_max.iter().fold(0.0f64, |m, k| m.max(k.abs()));
@@ -105,4 +107,13 @@ pub const IPOPT_BOUND_RELAX_FACTOR: f64 = 1e-8;
 
 fn excess(value: f64, lo: f64, hi: f64) -> f64 {
     (lo - value).max(value - hi).max(0.0)
+}
+
+/// Ipopt's `bound_relax_factor` of a run: the case's, or Ipopt's default.
+fn bound_relax_factor(settings: &SolverSettings) -> f64 {
+    match settings.ipopt_options.get("bound_relax_factor") {
+        Some(ExtraOption::Num(x)) => *x,
+        Some(ExtraOption::Int(i)) => *i as f64,
+        _ => IPOPT_BOUND_RELAX_FACTOR,
+    }
 }

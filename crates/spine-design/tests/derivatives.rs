@@ -49,18 +49,22 @@ fn objectives(n: usize) -> Vec<Objective> {
 }
 
 /// Sizes, state forms and criteria the derivative tests go over.
-fn cases() -> impl Iterator<Item = (usize, StateForm, Objective)> {
+fn cases() -> impl Iterator<Item = (usize, StateForm, Objective, Option<f64>)> {
     [1, 2, 3, 6, 15].into_iter().flat_map(|n| {
         [StateForm::Absolute, StateForm::Deflection]
             .into_iter()
-            .flat_map(move |form| objectives(n).into_iter().map(move |o| (n, form, o)))
+            .flat_map(move |form| objectives(n).into_iter().map(move |o| (n, form, o, None)))
+            // The strain-energy budget row, with the least-material criterion it is made for.
+            .chain([(n, StateForm::Absolute, Objective::TotalStiffness, Some(0.05))])
+            .chain([(n, StateForm::Deflection, Objective::TotalStiffness, Some(0.05))])
     })
 }
 
-fn problem_with_mass(n: usize, objective: Objective) -> DesignProblem {
+fn problem_with_mass(n: usize, objective: Objective, strain_energy_max: Option<f64>) -> DesignProblem {
     let mut p = paper_problem(n, -5.0, -400.0, -0.02, 7.0);
     p.structure.chain.masses = (0..n).map(|i| 0.1 + 0.01 * i as f64).collect();
     p.objective = objective;
+    p.strain_energy_max = strain_energy_max;
     p
 }
 
@@ -75,9 +79,9 @@ fn nlp_parts(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>)
 
 #[test]
 fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is_exact() {
-    for (n, form, objective) in cases() {
-        let name = objective.name();
-        let problem = problem_with_mass(n, objective);
+    for (n, form, objective, budget) in cases() {
+        let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
+        let problem = problem_with_mass(n, objective, budget);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
         let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
@@ -130,9 +134,9 @@ fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is
 fn assembled_objective_is_each_criterion_evaluated_directly() {
     // The elements' sum against `Objective::value` from the design and states (node positions for
     // the compliance, joint moments for the peak moment): two formulations of each criterion.
-    for (n, form, objective) in cases() {
-        let name = objective.name();
-        let problem = problem_with_mass(n, objective);
+    for (n, form, objective, budget) in cases() {
+        let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
+        let problem = problem_with_mass(n, objective, budget);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
         let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
@@ -165,9 +169,9 @@ fn assembled_objective_is_each_criterion_evaluated_directly() {
 
 #[test]
 fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
-    for (n, form, objective) in cases() {
-        let name = objective.name();
-        let problem = problem_with_mass(n, objective);
+    for (n, form, objective, budget) in cases() {
+        let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
+        let problem = problem_with_mass(n, objective, budget);
         let start = arch_start(n, 0.3, 500.0);
         let unloaded = State::unloaded(&start);
         let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
@@ -247,7 +251,7 @@ fn equilibria(problem: &DesignProblem, design: &Design) -> (State, State) {
 #[test]
 fn adjoint_gradients_equal_forward_ad_and_central_differences_through_the_solver() {
     for (n, seed) in [(2, 1), (5, 2), (10, 3), (20, 4)] {
-        let mut problem = problem_with_mass(n, Objective::StrainEnergy);
+        let mut problem = problem_with_mass(n, Objective::StrainEnergy, None);
         problem.structure.actuation.p_x[n] = -200.0;
         let mut rng = SplitMix64::new(seed);
         let mut design = arch_start(n, 0.25, 1500.0);

@@ -247,6 +247,7 @@ fn the_strain_energy_gradient_equals_the_static_designs_hand_adjoint() {
         bounds,
         stiffness_scale: 1.0,
         objective: Default::default(),
+        strain_energy_max: None,
     };
     let passive = spine_model::State { theta: ends.theta1.clone(), lambda: ends.lambda1 };
     let loaded = spine_model::State { theta: ends.theta2.clone(), lambda: ends.lambda2 };

@@ -58,7 +58,7 @@ impl DesignOverrides {
     /// reduced space with another criterion than the paper's).
     pub fn apply(&self, valid: &mut ValidDesign) -> Result<(), spine_case::CaseError> {
         if let Some(f) = self.formulation {
-            spine_case::check_formulation(f, &valid.problem.objective)?;
+            spine_case::check_formulation(f, &valid.problem)?;
             valid.formulation = f;
         }
         if let Some(s) = self.starts {

@@ -83,6 +83,8 @@ pub fn coarsen(problem: &DesignProblem, m: usize) -> (DesignProblem, Vec<usize>)
             Objective::Compliance { load } => Objective::Compliance { load: lump(load) },
             other => other.clone(),
         },
+        // `J` is a Riemann sum of the same energy: the budget carries over.
+        strain_energy_max: problem.strain_energy_max,
     };
     (coarse, nodes)
 }

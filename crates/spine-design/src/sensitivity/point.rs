@@ -31,7 +31,13 @@ impl Evaluation {
         let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
         numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
         let (mut row_lower, mut row_upper) = (vec![0.0; m], vec![0.0; m]);
-        numbers.constraint_bounds(&mut row_lower, &mut row_upper, layout.end_row(), |i| layout.relative_row(i));
+        numbers.constraint_bounds(
+            &mut row_lower,
+            &mut row_upper,
+            layout.end_row(),
+            |i| layout.relative_row(i),
+            layout.budget_row_if_any(),
+        );
         Self { objective, constraints, gradient, jacobian, lower, upper, row_lower, row_upper }
     }
 }

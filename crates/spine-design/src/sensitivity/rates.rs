@@ -49,7 +49,13 @@ pub(crate) fn rates(
     let (mut lower, mut upper) = (vec![Dual64::from(f64::NEG_INFINITY); n], vec![Dual64::from(f64::INFINITY); n]);
     numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
     let (mut row_lower, mut row_upper) = (vec![Dual64::from(0.0); m], vec![Dual64::from(0.0); m]);
-    numbers.constraint_bounds(&mut row_lower, &mut row_upper, layout.end_row(), |i| layout.relative_row(i));
+    numbers.constraint_bounds(
+        &mut row_lower,
+        &mut row_upper,
+        layout.end_row(),
+        |i| layout.relative_row(i),
+        layout.budget_row_if_any(),
+    );
     let rate = |v: Vec<Dual64>| -> Vec<f64> { v.iter().map(|d| d.eps).collect() };
     Ok(Rates {
         lagrangian_gradient: nlp.lagrangian_gradient,
@@ -90,6 +96,8 @@ mod tests {
         for objective in objectives {
             let mut problem = crate::fixtures::paper_problem(6, -10.0, -400.0, -0.02, 100.0);
             problem.structure.chain.masses = vec![0.2; 6];
+            // The budget row with the criterion it is made for.
+            problem.strain_energy_max = (objective == crate::Objective::TotalStiffness).then_some(0.05);
             problem.objective = objective;
             let mut rng = SplitMix64::new(5);
             let mut tangent = ProblemTangent::zero(&problem);
@@ -110,6 +118,7 @@ mod tests {
             (b.theta0_max, b.relative_angle_max, b.height_min, b.height_max) = (0.1, -0.05, 0.002, 0.01);
             match &mut r.objective {
                 crate::Objective::PeakMoment { reference, .. } => *reference = 4.0,
+                crate::Objective::TotalStiffness => r.strain_energy_max = Some(0.01),
                 crate::Objective::Compliance { load } => {
                     random(&mut load.p_y, 2.0);
                     random(&mut load.p_x, 2.0);
