@@ -51,6 +51,11 @@ def run_case(
     """Runs a case of any kind in `KINDS` (the CLI's `spine case`; docs/case-format.md has a
     section for each).
 
+    A "design" case may choose its criterion and add a budget (`"objective"`: "strain_energy",
+    "total_stiffness", {"peak_moment": {...}}, {"compliance": {...}}; `"constraints"`:
+    {"strain_energy_max": J}; docs/objectives.md): `result["criterion"]`, `result["measures"]`
+    (every criterion's measure of the design) and, for the compliance, `result["probe"]`.
+
     Overrides as on the command line: `starts`/`seed` (multi-start of eq. (33)), `confidence` (a
     census until P(a better optimum unseen) <= it, `starts` its cap; every reported optimum carries
     `certificate`: strict_minimum / weak_minimum / not_a_minimum), `formulation`,
