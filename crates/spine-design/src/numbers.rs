@@ -126,6 +126,14 @@ pub(crate) enum Criterion<T> {
     },
 }
 
+/// The bounds of the full space's variables and rows.
+pub(crate) struct FullSpaceBounds<T> {
+    pub lower: Vec<T>,
+    pub upper: Vec<T>,
+    pub row_lower: Vec<T>,
+    pub row_upper: Vec<T>,
+}
+
 /// The problem's numbers in the NLP, in `T`.
 #[derive(Clone, Debug)]
 pub(crate) struct Numbers<T> {
@@ -280,6 +288,18 @@ impl<T: Scalar> Numbers<T> {
             lower[v] = self.height_min;
             upper[v] = self.height_max;
         }
+    }
+
+    /// Every bound of the full space in `layout`: `(lower, upper)` of the variables (the states
+    /// free) and of the rows ([`Numbers::variable_bounds`], [`Numbers::constraint_bounds`]).
+    pub fn full_space_bounds(&self, layout: &crate::layout::Layout) -> FullSpaceBounds<T> {
+        let (n, m) = (layout.num_variables(), layout.num_constraints());
+        let (mut lower, mut upper) = (vec![T::from(f64::NEG_INFINITY); n], vec![T::from(f64::INFINITY); n]);
+        self.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
+        let (mut row_lower, mut row_upper) = (vec![T::zero(); m], vec![T::zero(); m]);
+        let (end, budget) = (layout.end_row(), layout.budget_row_if_any());
+        self.constraint_bounds(&mut row_lower, &mut row_upper, end, |i| layout.relative_row(i), budget);
+        FullSpaceBounds { lower, upper, row_lower, row_upper }
     }
 
     /// Constraint bounds shared by both formulations: every row is an equality `= 0` except the

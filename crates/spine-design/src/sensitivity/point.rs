@@ -3,7 +3,7 @@
 
 use crate::assembly::Assembled;
 use crate::full_space::Layout;
-use crate::numbers::Numbers;
+use crate::numbers::{FullSpaceBounds, Numbers};
 use crate::DesignProblem;
 
 /// `f`, `g`, `∇f`, the Jacobian (in the assembled pattern) and all bounds at `x`.
@@ -27,17 +27,7 @@ impl Evaluation {
         let mut gradient = vec![0.0; n];
         let mut jacobian = vec![0.0; assembled.patterns.jacobian.len()];
         assembled.first_derivatives(x, &mut gradient, &mut jacobian);
-        let numbers = Numbers::of(problem);
-        let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
-        numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
-        let (mut row_lower, mut row_upper) = (vec![0.0; m], vec![0.0; m]);
-        numbers.constraint_bounds(
-            &mut row_lower,
-            &mut row_upper,
-            layout.end_row(),
-            |i| layout.relative_row(i),
-            layout.budget_row_if_any(),
-        );
+        let FullSpaceBounds { lower, upper, row_lower, row_upper } = Numbers::of(problem).full_space_bounds(&layout);
         Self { objective, constraints, gradient, jacobian, lower, upper, row_lower, row_upper }
     }
 }

@@ -8,7 +8,7 @@
 use super::{Optimum, SensitivityError};
 use crate::assembly::{Assembled, NlpRates};
 use crate::full_space::groups;
-use crate::numbers::Numbers;
+use crate::numbers::{FullSpaceBounds, Numbers};
 use crate::ProblemTangent;
 use num_dual::Dual64;
 
@@ -46,16 +46,7 @@ pub(crate) fn rates(
     } else {
         NlpRates { objective: 0.0, constraints: vec![0.0; m], lagrangian_gradient: vec![0.0; n] }
     };
-    let (mut lower, mut upper) = (vec![Dual64::from(f64::NEG_INFINITY); n], vec![Dual64::from(f64::INFINITY); n]);
-    numbers.variable_bounds(&mut lower, &mut upper, |j| layout.height(j));
-    let (mut row_lower, mut row_upper) = (vec![Dual64::from(0.0); m], vec![Dual64::from(0.0); m]);
-    numbers.constraint_bounds(
-        &mut row_lower,
-        &mut row_upper,
-        layout.end_row(),
-        |i| layout.relative_row(i),
-        layout.budget_row_if_any(),
-    );
+    let FullSpaceBounds { lower, upper, row_lower, row_upper } = numbers.full_space_bounds(&layout);
     let rate = |v: Vec<Dual64>| -> Vec<f64> { v.iter().map(|d| d.eps).collect() };
     Ok(Rates {
         lagrangian_gradient: nlp.lagrangian_gradient,
