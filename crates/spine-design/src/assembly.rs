@@ -312,6 +312,14 @@ impl<E: Element<M> + 'static, const M: usize> AnyGroup for Group<E, M> {
     }
 }
 
+/// A group of placed elements of one kind, boxed for [`Assembled::new`].
+pub(crate) fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send + Sync>
+where
+    E: Element<M> + Send + Sync + 'static,
+{
+    Box::new(Group::new(items.collect()))
+}
+
 /// An NLP assembled from groups of elements: the objective and constraints are sums of elements.
 pub struct Assembled {
     pub groups: Vec<Box<dyn AnyGroup + Send + Sync>>,

@@ -4,8 +4,8 @@
 //! `θ3`. Each is a sum of local elements, so its gradient and Hessian are exact and assembled
 //! like the constraints'.
 
-use crate::assembly::{AnyGroup, Placed, Row};
-use crate::full_space::{group, Layout, LoadState, StateForm};
+use crate::assembly::{group, AnyGroup, Placed, Row};
+use crate::layout::{Layout, LoadState, StateForm};
 use crate::numbers::{Criterion, Numbers};
 use spine_model::chain::spring_links;
 use spine_model::local::{DeflectionSpringEnergy, LinkWork, MomentPower, SpringEnergy, SpringStiffness};

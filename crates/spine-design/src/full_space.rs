@@ -24,7 +24,7 @@
 //! every joint residual and in the objective's gradient, and Ipopt could not go below it. With
 //! deflections as variables it converges (docs/design.md, "Deflections as variables").
 
-use crate::assembly::{AnyGroup, Assembled, Group, Placed, Row};
+use crate::assembly::{group, AnyGroup, Assembled, Group, Placed, Row};
 pub use crate::layout::{Layout, LoadState, StateForm};
 
 use crate::numbers::{Criterion, Numbers, Resultants};
@@ -165,14 +165,6 @@ fn joints(
             Placed { element, vars, row: place(&r) }
         })),
     }
-}
-
-/// A group of placed elements of one kind, boxed for [`Assembled::new`].
-pub(crate) fn group<E, const M: usize>(items: impl Iterator<Item = Placed<E, M>>) -> Box<dyn AnyGroup + Send + Sync>
-where
-    E: spine_model::local::Element<M> + Send + Sync + 'static,
-{
-    Box::new(Group::new(items.collect()))
 }
 
 /// Eq. (33) in the full space as an Ipopt problem, with exact sparse first and second
