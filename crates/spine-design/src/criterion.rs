@@ -14,7 +14,7 @@ use spine_model::local::{DeflectionSpringEnergy, LinkWork, MomentPower, SpringEn
 pub(crate) fn objective(layout: &Layout, numbers: &Numbers<f64>) -> Box<dyn AnyGroup + Send + Sync> {
     let stiffness_scale = numbers.stiffness_scale;
     match &numbers.criterion {
-        Criterion::StrainEnergy => springs(layout, stiffness_scale, Some(Row::Objective)),
+        Criterion::StrainEnergy => springs(layout, stiffness_scale, Row::Objective),
         Criterion::TotalStiffness => group((0..=layout.n).map(|j| Placed {
             element: SpringStiffness { stiffness_scale },
             vars: [Some(layout.stiffness(j))],
@@ -59,10 +59,9 @@ fn spring_slots(layout: &Layout, s: LoadState) -> impl Iterator<Item = [Option<u
 }
 
 /// The paper's objective `U(θ1)`: the `N + 1` springs' strain energies in the passive state, on
-/// `row` (the objective, or the strain-energy budget's row; `None`: no elements).
-pub(crate) fn springs(layout: &Layout, stiffness_scale: f64, row: Option<Row>) -> Box<dyn AnyGroup + Send + Sync> {
-    let slots = spring_slots(layout, LoadState::Passive).take(if row.is_some() { layout.n + 1 } else { 0 });
-    let row = row.unwrap_or(Row::Objective);
+/// `row` (the objective, or the strain-energy budget's row).
+pub(crate) fn springs(layout: &Layout, stiffness_scale: f64, row: Row) -> Box<dyn AnyGroup + Send + Sync> {
+    let slots = spring_slots(layout, LoadState::Passive);
     match layout.states {
         StateForm::Absolute => group(slots.map(|vars| Placed { element: SpringEnergy { stiffness_scale }, vars, row })),
         // The deflections' own element, three slots (fewer Hessian pairs than five with two empty).

@@ -85,21 +85,20 @@ pub(crate) fn groups(numbers: &Numbers<f64>, states: StateForm) -> Vec<Box<dyn A
             row: Row::Constraint(layout.relative_row(i)),
         })
         .collect();
-    vec![
+    let mut groups = vec![
         joints(&layout, numbers, &load_states),
         Box::new(Group::new(rises)),
         Box::new(Group::new(runs)),
         crate::criterion::objective(&layout, numbers),
         Box::new(Group::new(heights)),
         Box::new(Group::new(relatives)),
-        // The budget `U(θ1) ≤ U_max`: the paper's objective's elements on a row of their own (an
-        // empty group without a budget, so that a problem and its rates have the same groups).
-        crate::criterion::springs(
-            &layout,
-            numbers.stiffness_scale,
-            layout.budget.then(|| Row::Constraint(layout.budget_row())),
-        ),
-    ]
+    ];
+    if let Some(row) = layout.budget_row_if_any() {
+        // The budget `U(θ1) ≤ U_max`: the paper's objective's elements on a row of their own (a
+        // problem and its rates have the same budget, so the same groups).
+        groups.push(crate::criterion::springs(&layout, numbers.stiffness_scale, Row::Constraint(row)));
+    }
+    groups
 }
 
 /// Joint row `i` of one load state: what both forms of its element need.
@@ -245,16 +244,14 @@ impl spine_ipopt::Problem for FullSpaceNlp<'_> {
         self.layout.num_constraints()
     }
     fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        Numbers::of(self.problem).variable_bounds(lower, upper, |j| self.layout.height(j));
+        let bounds = Numbers::of(self.problem).full_space_bounds(&self.layout);
+        lower.copy_from_slice(&bounds.lower);
+        upper.copy_from_slice(&bounds.upper);
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        Numbers::of(self.problem).constraint_bounds(
-            lower,
-            upper,
-            self.layout.end_row(),
-            |i| self.layout.relative_row(i),
-            self.layout.budget_row_if_any(),
-        );
+        let bounds = Numbers::of(self.problem).full_space_bounds(&self.layout);
+        lower.copy_from_slice(&bounds.row_lower);
+        upper.copy_from_slice(&bounds.row_upper);
     }
     fn initial_point(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.start);

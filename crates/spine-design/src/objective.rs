@@ -95,8 +95,8 @@ impl Objective {
                 .flat_map(|s| joint_moments(design, s))
                 .map(|m| (m / reference).powi(*exponent as i32))
                 .sum(),
-            Objective::Compliance { .. } => match states.probe {
-                Some(probe) => compliance(problem, design, probe),
+            Objective::Compliance { load } => match states.probe {
+                Some(probe) => compliance(load, &problem.structure.chain.spans, design, probe),
                 None => f64::NAN,
             },
         }
@@ -117,10 +117,8 @@ pub fn joint_moments(design: &Design, state: &State) -> Vec<f64> {
 }
 
 /// The work `Σ_j P_j · (r_j(θ3) − r_j(θ0))`, J, of the compliance's load `P` at `θ3`, from the
-/// node positions (eq. (1)).
-fn compliance(problem: &crate::DesignProblem, design: &Design, probe: &State) -> f64 {
-    let Objective::Compliance { load } = &problem.objective else { return f64::NAN };
-    let spans = &problem.structure.chain.spans;
+/// node positions (eq. (1)) of the chain of `spans`.
+fn compliance(load: &NodalLoads, spans: &[f64], design: &Design, probe: &State) -> f64 {
     let lengths = spine_model::kinematics::link_lengths(spans, &design.theta0);
     let loaded = spine_model::kinematics::node_positions(&lengths, &probe.theta);
     let unloaded = spine_model::kinematics::node_positions(&lengths, &design.theta0);
@@ -151,7 +149,12 @@ impl Measures {
             strain_energy: Objective::StrainEnergy.value(problem, design, states),
             total_stiffness: Objective::TotalStiffness.value(problem, design, states),
             peak_moment: moments.fold(0.0, |m, x| m.max(x.abs())),
-            compliance: states.probe.map(|p| compliance(problem, design, p)),
+            compliance: match (&problem.objective, states.probe) {
+                (Objective::Compliance { load }, Some(p)) => {
+                    Some(compliance(load, &problem.structure.chain.spans, design, p))
+                }
+                _ => None,
+            },
         }
     }
 }

@@ -84,17 +84,16 @@ pub fn run_solver(
             (solution, design, states, nlp.equilibrium_evaluations)
         }
     };
-    let probe = formulation == Formulation::Full && problem.objective.has_probe();
-    let run = Finished { formulation, state_form, probe, start_seconds, equilibrium_evaluations, clock };
+    let layout = crate::full_space::Layout::of(problem, state_form);
+    let run = Finished { formulation, layout, start_seconds, equilibrium_evaluations, clock };
     Ok(run.into_run(&solution, &options, design, states, notes, refinement))
 }
 
 /// What [`run_solver`] and [`resolve_from`] know when Ipopt returns.
 struct Finished {
     formulation: Formulation,
-    state_form: crate::full_space::StateForm,
-    /// Whether the full space holds `θ3` (the compliance criterion).
-    probe: bool,
+    /// The full space's layout at the problem's own size (its state form; whether it holds `θ3`).
+    layout: crate::full_space::Layout,
     start_seconds: f64,
     equilibrium_evaluations: usize,
     clock: Instant,
@@ -111,18 +110,15 @@ impl Finished {
         refinement: Option<RefinementReport>,
     ) -> SolverRun {
         let full = self.formulation == Formulation::Full;
-        let probe = self.probe.then(|| {
-            let n = design.theta0.len();
-            let layout = crate::full_space::Layout { n, states: self.state_form, probe: true, budget: false };
-            layout.state(&solution.x, crate::full_space::LoadState::Probe)
-        });
+        let probe =
+            (full && self.layout.probe).then(|| self.layout.state(&solution.x, crate::full_space::LoadState::Probe));
         let multipliers = full.then(|| Multipliers {
             constraints: solution.lambda.clone(),
             z_lower: solution.z_lower.clone(),
             z_upper: solution.z_upper.clone(),
         });
         let mut report = SolverReport::from_ipopt(solution, self.equilibrium_evaluations);
-        report.state_variables = full.then_some(self.state_form);
+        report.state_variables = full.then_some(self.layout.states);
         report.start_seconds = self.start_seconds;
         report.ipopt_options = options
             .iter()
@@ -168,8 +164,7 @@ pub fn resolve_from(
     let (design, states) = refine::solution_parts(&nlp, &solution.x);
     let run = Finished {
         formulation: Formulation::Full,
-        state_form: start.form,
-        probe: problem.objective.has_probe(),
+        layout: crate::full_space::Layout::of(problem, start.form),
         start_seconds: 0.0,
         equilibrium_evaluations: 0,
         clock,

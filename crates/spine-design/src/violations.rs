@@ -68,17 +68,17 @@ impl Violations {
         Violations { max, ..v }
     }
 
-    /// Each part of eq. (33) with its violation and what is allowed: the equalities (equilibria,
-    /// unloaded end height, end displacement) `constraint_tolerance`, Ipopt's `constr_viol_tol`;
-    /// the bounds that plus Ipopt's relaxation of every bound, `bound_relax_factor · max(1, |b|)`
-    /// in the variable's own scale (for `K`, the scaled `k = K / C_K` of eq. (34)), which Ipopt
-    /// applies to the problem it solves and which `honor_original_bounds = no` keeps.
     /// What an inequality's bound `at` allows beyond it: the constraint tolerance plus Ipopt's
     /// relaxation of bounds (`bound_relax_factor · max(|at|, 1)`).
     pub fn inequality_allowance(settings: &SolverSettings, at: f64) -> f64 {
         settings.constraint_tolerance + bound_relax_factor(settings) * at.abs().max(1.0)
     }
 
+    /// Each part of eq. (33) with its violation and what is allowed: the equalities (equilibria,
+    /// unloaded end height, end displacement) `constraint_tolerance`, Ipopt's `constr_viol_tol`;
+    /// the bounds that plus Ipopt's relaxation of every bound, `bound_relax_factor · max(1, |b|)`
+    /// in the variable's own scale (for `K`, the scaled `k = K / C_K` of eq. (34)), which Ipopt
+    /// applies to the problem it solves and which `honor_original_bounds = no` keeps.
     pub fn parts(&self, problem: &DesignProblem, settings: &SolverSettings) -> [(&'static str, f64, f64); 8] {
         let tol = settings.constraint_tolerance;
         let relax = bound_relax_factor(settings);

@@ -48,8 +48,8 @@ fn objectives(n: usize) -> Vec<Objective> {
     ]
 }
 
-/// Sizes, state forms and criteria the derivative tests go over.
-fn cases() -> impl Iterator<Item = (usize, StateForm, Objective, Option<f64>)> {
+/// Sizes, state forms and criteria the derivative tests go over: `(N, form, name, problem)`.
+fn cases() -> impl Iterator<Item = (usize, StateForm, String, DesignProblem)> {
     [1, 2, 3, 6, 15].into_iter().flat_map(|n| {
         [StateForm::Absolute, StateForm::Deflection]
             .into_iter()
@@ -57,7 +57,19 @@ fn cases() -> impl Iterator<Item = (usize, StateForm, Objective, Option<f64>)> {
             // The strain-energy budget row, with the least-material criterion it is made for.
             .chain([(n, StateForm::Absolute, Objective::TotalStiffness, Some(0.05))])
             .chain([(n, StateForm::Deflection, Objective::TotalStiffness, Some(0.05))])
+            .map(|(n, form, objective, budget)| {
+                let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
+                (n, form, name, problem_with_mass(n, objective, budget))
+            })
     })
+}
+
+/// The full space of `problem` started at the arch `θ0_i = 0.3 cos(…)`, `K = 500 N·m/rad`, with
+/// its unloaded shape as every state.
+fn arch_nlp(problem: &DesignProblem, form: StateForm) -> FullSpaceNlp<'_> {
+    let start = arch_start(problem.n_links(), 0.3, 500.0);
+    let unloaded = State::unloaded(&start);
+    FullSpaceNlp::new(problem, form, &start, &unloaded, &unloaded)
 }
 
 fn problem_with_mass(n: usize, objective: Objective, strain_energy_max: Option<f64>) -> DesignProblem {
@@ -79,12 +91,8 @@ fn nlp_parts(nlp: &mut FullSpaceNlp<'_>, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>)
 
 #[test]
 fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is_exact() {
-    for (n, form, objective, budget) in cases() {
-        let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
-        let problem = problem_with_mass(n, objective, budget);
-        let start = arch_start(n, 0.3, 500.0);
-        let unloaded = State::unloaded(&start);
-        let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
+    for (n, form, name, problem) in cases() {
+        let mut nlp = arch_nlp(&problem, form);
         let structure = nlp.jacobian_structure();
         let mut seen = std::collections::HashSet::new();
         for &entry in &structure {
@@ -134,12 +142,8 @@ fn full_space_jacobian_and_gradient_match_central_differences_and_the_pattern_is
 fn assembled_objective_is_each_criterion_evaluated_directly() {
     // The elements' sum against `Objective::value` from the design and states (node positions for
     // the compliance, joint moments for the peak moment): two formulations of each criterion.
-    for (n, form, objective, budget) in cases() {
-        let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
-        let problem = problem_with_mass(n, objective, budget);
-        let start = arch_start(n, 0.3, 500.0);
-        let unloaded = State::unloaded(&start);
-        let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
+    for (n, form, name, problem) in cases() {
+        let mut nlp = arch_nlp(&problem, form);
         let layout = nlp.layout;
         for seed in 0..3 {
             let mut x = random_point(&problem, 31 * n as u64 + seed);
@@ -169,12 +173,8 @@ fn assembled_objective_is_each_criterion_evaluated_directly() {
 
 #[test]
 fn full_space_hessian_matches_central_differences_of_the_lagrangian_gradient() {
-    for (n, form, objective, budget) in cases() {
-        let name = format!("{}{}", objective.name(), if budget.is_some() { " with a budget" } else { "" });
-        let problem = problem_with_mass(n, objective, budget);
-        let start = arch_start(n, 0.3, 500.0);
-        let unloaded = State::unloaded(&start);
-        let mut nlp = FullSpaceNlp::new(&problem, form, &start, &unloaded, &unloaded);
+    for (n, form, name, problem) in cases() {
+        let mut nlp = arch_nlp(&problem, form);
         let structure = nlp.hessian_structure().unwrap();
         let jac_structure = nlp.jacobian_structure();
         let m = nlp.num_constraints();

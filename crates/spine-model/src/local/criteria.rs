@@ -2,7 +2,7 @@
 //! springs' total stiffness, a power of a joint moment (summed: a smooth maximum of the moments),
 //! and the work of a load on a link's displacement (summed: the compliance under that load).
 
-use super::links::link_angle;
+use super::links::{link_angle, SPRING_SLOT_PAIRS};
 use super::Element;
 use crate::jet::Elementary;
 use crate::kinematics::link_length;
@@ -64,23 +64,7 @@ impl MomentPower {
 }
 
 impl Element<5> for MomentPower {
-    const HESSIAN_PAIRS: &'static [(usize, usize)] = &[
-        (0, 0),
-        (1, 0),
-        (1, 1),
-        (2, 0),
-        (2, 1),
-        (2, 2),
-        (3, 0),
-        (3, 1),
-        (3, 2),
-        (3, 3),
-        (4, 0),
-        (4, 1),
-        (4, 2),
-        (4, 3),
-        (4, 4),
-    ];
+    const HESSIAN_PAIRS: &'static [(usize, usize)] = &SPRING_SLOT_PAIRS;
     fn eval<D: Elementary>(&self, x: &[D; 5]) -> D {
         // As `eval_moving` forms it (`C_K · (1 / M_ref)`), so that a plain lift gives the same bits.
         self.eval_with(self.stiffness_scale * (1.0 / self.reference), x)

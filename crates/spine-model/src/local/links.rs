@@ -76,23 +76,29 @@ pub struct SpringEnergy {
     pub stiffness_scale: f64,
 }
 
+/// Every lower-triangle pair of the five spring slots `[θ_{j−1}, θ0_{j−1}, θ_j, θ0_j, k_j]`, row by
+/// row; the last, `(4, 4)`, is `∂²/∂k²`.
+pub(super) const SPRING_SLOT_PAIRS: [(usize, usize); 15] = [
+    (0, 0),
+    (1, 0),
+    (1, 1),
+    (2, 0),
+    (2, 1),
+    (2, 2),
+    (3, 0),
+    (3, 1),
+    (3, 2),
+    (3, 3),
+    (4, 0),
+    (4, 1),
+    (4, 2),
+    (4, 3),
+    (4, 4),
+];
+
 impl Element<5> for SpringEnergy {
-    const HESSIAN_PAIRS: &'static [(usize, usize)] = &[
-        (0, 0),
-        (1, 0),
-        (1, 1),
-        (2, 0),
-        (2, 1),
-        (2, 2),
-        (3, 0),
-        (3, 1),
-        (3, 2),
-        (3, 3),
-        (4, 0),
-        (4, 1),
-        (4, 2),
-        (4, 3),
-    ];
+    // Linear in `k_j`: every pair but `(4, 4)`.
+    const HESSIAN_PAIRS: &'static [(usize, usize)] = SPRING_SLOT_PAIRS.split_at(14).0;
     fn eval<D: Elementary>(&self, x: &[D; 5]) -> D {
         let rel = (x[2] - x[3]) - (x[0] - x[1]);
         x[4] * self.stiffness_scale * rel * rel * 0.5
