@@ -22,7 +22,7 @@ pub const GROUPS: [(&str, &str); 9] = [
     ("kkt_factorization", "one factorisation of a KKT matrix Ipopt formed in an eq. (33) solve (order 10 N + 3)"),
     (
         "optimum_parameters",
-        "N = 10: the optimum followed over Fig. 5's loads (40 points); design10's tight re-solve, that plus its sensitivities to all 19 default parameters, the sensitivity step alone, its baseline (the reduced KKT matrix built, factorised and solved 19 times), the 19 tangents from the case",
+        "N = 10: the optimum followed over Fig. 5's loads (40 points); design10's tight re-solve, that plus its sensitivities to all 19 default parameters, the sensitivity step alone, its baseline (the reduced KKT matrix built, factorised and solved for the step's 19 right-hand sides), the 19 tangents from the case",
     ),
 ];
 

@@ -6,7 +6,7 @@ use super::active_set::{ActiveSet, Bound, Side};
 use super::point::Evaluation;
 use super::rates::Rates;
 use super::system::{
-    bound_rate, hessian_times, jacobian_times, jacobian_transpose_times, with_weak, ActiveSystem, Matrices,
+    bound_rate, hessian_times, jacobian_times, jacobian_transpose_times, with_weak, ActiveSystem, Matrices, ReducedKkt,
 };
 use super::{Derivative, Optimum};
 use crate::full_space::{LoadState, StateForm};
@@ -37,30 +37,7 @@ pub(crate) fn derivative(
 ) -> Option<Solution> {
     let kkt = system.kkt.as_ref()?;
     let (n, m) = (optimum.layout.num_variables(), optimum.layout.num_constraints());
-    let mut dx = vec![0.0; n];
-    for b in &system.variables {
-        dx[b.index] = bound_rate(b, rates.lower[b.index], rates.upper[b.index]);
-    }
-    // Most parameters move no active variable bound: then `H dx` and `J dx` are zero.
-    let fixed_move = dx.iter().any(|&d| d != 0.0);
-    let (h_dx, j_dx) = if fixed_move {
-        (
-            hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx),
-            jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m),
-        )
-    } else {
-        (vec![0.0; n], vec![0.0; m])
-    };
-    let mut rhs = vec![0.0; kkt.free + kkt.rows.len()];
-    for i in 0..n {
-        if let Some(p) = kkt.free_position[i] {
-            rhs[p] = -(rates.lagrangian_gradient[i] + h_dx[i]);
-        }
-    }
-    for (k, b) in kkt.rows.iter().enumerate() {
-        let r = b.index;
-        rhs[kkt.free + k] = bound_rate(b, rates.row_lower[r], rates.row_upper[r]) - rates.constraints[r] - j_dx[r];
-    }
+    let (mut dx, mut rhs) = right_hand_side(kkt, &system.variables, matrices, rates);
     // A failed solve leaves the right-hand side; the factorisation succeeded, so it does not fail.
     let _ = kkt.solve(&mut rhs);
     let mut dlambda = vec![0.0; m];
@@ -88,6 +65,43 @@ pub(crate) fn derivative(
     let derivative = report(optimum, &system.variables, &kkt.rows, rates, at, &dx);
     let broken_row = if dg.is_empty() { None } else { dependent_row_broken(system, rates, &dg) };
     Some(Solution { derivative, dx, dz, dg, dlambda, broken_row })
+}
+
+/// The linearised KKT conditions' right-hand side for one parameter on the reduced system `kkt`
+/// (free variables first, then the active rows), with `dx` holding the moves of the variables
+/// fixed by the bounds in `variables` (zero elsewhere).
+pub(crate) fn right_hand_side(
+    kkt: &ReducedKkt,
+    variables: &[Bound],
+    matrices: &Matrices,
+    rates: &Rates,
+) -> (Vec<f64>, Vec<f64>) {
+    let (n, m) = (rates.lagrangian_gradient.len(), rates.constraints.len());
+    let mut dx = vec![0.0; n];
+    for b in variables {
+        dx[b.index] = bound_rate(b, rates.lower[b.index], rates.upper[b.index]);
+    }
+    // Most parameters move no active variable bound: then `H dx` and `J dx` are zero.
+    let fixed_move = dx.iter().any(|&d| d != 0.0);
+    let (h_dx, j_dx) = if fixed_move {
+        (
+            hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx),
+            jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m),
+        )
+    } else {
+        (vec![0.0; n], vec![0.0; m])
+    };
+    let mut rhs = vec![0.0; kkt.free + kkt.rows.len()];
+    for i in 0..n {
+        if let Some(p) = kkt.free_position[i] {
+            rhs[p] = -(rates.lagrangian_gradient[i] + h_dx[i]);
+        }
+    }
+    for (k, b) in kkt.rows.iter().enumerate() {
+        let r = b.index;
+        rhs[kkt.free + k] = bound_rate(b, rates.row_lower[r], rates.row_upper[r]) - rates.constraints[r] - j_dx[r];
+    }
+    (dx, rhs)
 }
 
 /// The derivative in the paper's quantities, and `dJ*/dp` both ways.
