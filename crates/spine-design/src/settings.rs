@@ -43,27 +43,7 @@ pub enum ScalingMethod {
     None,
 }
 
-/// Ipopt's `mu_strategy`: how the barrier parameter decreases (case field
-/// `solver.barrier_strategy`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum BarrierStrategy {
-    /// Fiacco–McCormick: μ decreases once each barrier problem is solved well enough.
-    #[default]
-    Monotone,
-    /// μ chosen at every iteration (Mehrotra's probing or a quality function).
-    Adaptive,
-}
-
-impl BarrierStrategy {
-    /// The option value Ipopt reads.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Monotone => "monotone",
-            Self::Adaptive => "adaptive",
-        }
-    }
-}
+pub use spine_ipopt::BarrierStrategy;
 
 /// The factorisation of Ipopt's KKT matrices (case field `solver.linear_solver`; docs/design.md,
 /// "Linear solver").

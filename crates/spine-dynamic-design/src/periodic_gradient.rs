@@ -268,6 +268,20 @@ fn gradient_start(
     (start, name, uniform, root_search_simulations)
 }
 
+/// Ipopt's options for eq. (37): the gradient settings' tolerance, iteration limit and barrier
+/// strategy, the equality's band, L-BFGS.
+fn ipopt_options(settings: &PeriodicDesignSettings) -> spine_ipopt::Options {
+    let gradient = &settings.gradient;
+    spine_ipopt::Options::new()
+        .number("tol", gradient.tolerance)
+        // Ipopt needs a positive value; a band as narrow as the case format allows (1e-322)
+        // would give 0 here.
+        .number("constr_viol_tol", (1e-3 * settings.tolerance).max(1e-300))
+        .integer("max_iter", gradient.max_iterations as i64)
+        .string("hessian_approximation", "limited-memory")
+        .string("mu_strategy", gradient.barrier_strategy.name())
+}
+
 /// Eq. (37) by Ipopt from `given` springs (N·m/rad: the case's or the GA's best) or from the
 /// uniform springs that meet δ_d (`settings.gradient.start`): the final springs, the final point
 /// (its functions and response) and the report.
@@ -304,15 +318,7 @@ pub fn design_by_gradient(
         progress,
     };
     eq37.energy_scale = eq37.point(&start).map_or(1.0, |p| p.energy.abs().max(1e-300));
-    let options = spine_ipopt::Options::new()
-        .number("tol", gradient.tolerance)
-        // Ipopt needs a positive value; a band as narrow as the case format allows (1e-322)
-        // would give 0 here.
-        .number("constr_viol_tol", (1e-3 * settings.tolerance).max(1e-300))
-        .integer("max_iter", gradient.max_iterations as i64)
-        .string("hessian_approximation", "limited-memory")
-        .string("mu_strategy", "adaptive");
-    let sol = spine_ipopt::solve(&mut eq37, &options)
+    let sol = spine_ipopt::solve(&mut eq37, &ipopt_options(settings))
         .map_err(|source| DynamicDesignError::Ipopt { equation: "37", source })?;
     // The final point out of the cache (evaluated there unless Ipopt's last trial was elsewhere),
     // with its constraint gradients.
@@ -341,4 +347,27 @@ pub fn design_by_gradient(
         at_upper_bound: at_bound(hi),
     };
     Ok((stiffness_of(&sol.x), point, report))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spine_ipopt::{BarrierStrategy, OptionValue};
+
+    /// The gradient settings reach Ipopt: the barrier strategy as `mu_strategy`, the tolerance,
+    /// the iteration limit and the band.
+    #[test]
+    fn the_gradient_settings_become_ipopts_options() {
+        for strategy in [BarrierStrategy::Adaptive, BarrierStrategy::Monotone] {
+            let mut settings = PeriodicDesignSettings::default();
+            settings.gradient.barrier_strategy = strategy;
+            (settings.gradient.tolerance, settings.gradient.max_iterations, settings.tolerance) = (1e-7, 42, 0.02);
+            let options = ipopt_options(&settings);
+            assert_eq!(options.get("mu_strategy"), Some(&OptionValue::Str(strategy.name().into())));
+            assert_eq!(options.get("tol"), Some(&OptionValue::Num(1e-7)));
+            assert_eq!(options.get("max_iter"), Some(&OptionValue::Int(42)));
+            assert_eq!(options.get("constr_viol_tol"), Some(&OptionValue::Num(2e-5)));
+        }
+        assert_eq!(PeriodicDesignSettings::default().gradient.barrier_strategy, BarrierStrategy::Adaptive);
+    }
 }

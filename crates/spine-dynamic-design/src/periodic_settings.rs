@@ -119,6 +119,9 @@ pub struct GradientSettings {
     pub start: GradientStart,
     /// How the constraint's spring gradients are computed (default `adjoint`).
     pub sensitivities: Sensitivities,
+    /// Ipopt's `mu_strategy` (default `adaptive`; docs/dynamics.md, "Eq. (37) by gradients", gives
+    /// the measurements behind the default).
+    pub barrier_strategy: spine_ipopt::BarrierStrategy,
 }
 
 impl Default for GradientSettings {
@@ -128,6 +131,7 @@ impl Default for GradientSettings {
             max_iterations: 100,
             start: GradientStart::Uniform,
             sensitivities: Sensitivities::Adjoint,
+            barrier_strategy: spine_ipopt::BarrierStrategy::Adaptive,
         }
     }
 }

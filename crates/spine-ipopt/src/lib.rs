@@ -66,6 +66,7 @@
 //! ```
 #![deny(unsafe_code)]
 
+mod barrier;
 mod c_bool;
 mod context;
 #[allow(unsafe_code)]
@@ -73,6 +74,7 @@ mod ffi;
 mod options;
 mod status;
 
+pub use barrier::BarrierStrategy;
 pub use options::{OptionValue, Options};
 pub use status::Status;
 
