@@ -486,7 +486,7 @@ fn the_ck_study_in_worker_processes_gives_the_same_rows() {
         ["result.json", "ck_study.csv"].map(|f| std::fs::read(out.join(f)).unwrap())
     };
     let one = study("1");
-    assert!(String::from_utf8_lossy(&one[1]).lines().count() == 7, "6 rows and a header");
+    assert!(String::from_utf8_lossy(&one[1]).lines().count() == 10, "9 rows (3 solvers × 3 C_K) and a header");
     assert!(study("2") == one, "--jobs 2 differs from --jobs 1");
 }
 

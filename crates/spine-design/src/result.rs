@@ -243,4 +243,12 @@ impl DesignResult {
     pub fn is_clean(&self) -> bool {
         self.solver.converged && self.warnings.is_empty()
     }
+
+    /// The reported design meets eq. (33) within its tolerances, both equilibria stable and on the
+    /// load path, whether or not the solver converged or certified it (a run stopped at its
+    /// iteration limit returns its last iterate, as fmincon does).
+    pub fn is_feasible(&self) -> bool {
+        use crate::warnings::DesignWarning::{NotAMinimum, NotConverged};
+        self.warnings.iter().all(|w| matches!(w, NotConverged { .. } | NotAMinimum { .. }))
+    }
 }

@@ -196,6 +196,23 @@ impl Default for SolverSettings {
 pub const ACCEPTABLE_OBJ_CHANGE: f64 = 1e-10;
 
 impl SolverSettings {
+    /// These settings made to stop like MATLAB's `fmincon` with its default options, the paper's
+    /// optimiser (Sec. 5: "solved in Matlab using fmincon"), for the reduced space: an L-BFGS
+    /// Hessian (fmincon's interior-point default is BFGS), first-order optimality and constraint
+    /// tolerance 1e-6 (`OptimalityTolerance`, `ConstraintTolerance`), at most 1000 iterations
+    /// (`MaxIterations`), no mesh sequencing. Ipopt's measures are not fmincon's, so this is the
+    /// closest this program comes, not the same solver.
+    pub fn fmincon_like(&self) -> Self {
+        Self {
+            tolerance: 1e-6,
+            constraint_tolerance: 1e-6,
+            max_iterations: 1000,
+            reduced_hessian: ReducedHessian::LimitedMemory,
+            refine: Refine::Mode(crate::refine::RefineMode::Off),
+            ..self.clone()
+        }
+    }
+
     /// The Ipopt options of these settings.
     pub fn ipopt(&self) -> Options {
         let scaling = match self.scaling {

@@ -50,15 +50,19 @@ pub struct Task {
     pub stiffness_scale: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scaling: Option<spine_design::ScalingMethod>,
+    /// Solve like the paper's fmincon: the reduced space with
+    /// [`spine_design::SolverSettings::fmincon_like`].
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub fmincon_like: bool,
 }
 
 impl Task {
     /// A start of the case as it is.
     pub fn start(start: &Design) -> Self {
-        Self { start: start.clone(), stiffness_scale: None, scaling: None }
+        Self { start: start.clone(), stiffness_scale: None, scaling: None, fmincon_like: false }
     }
 
-    /// The case this task solves: `valid` with the task's C_K and scaling.
+    /// The case this task solves: `valid` with the task's C_K, scaling and solver.
     pub fn case(&self, valid: &spine_case::ValidDesign) -> spine_case::ValidDesign {
         let mut v = valid.clone();
         if let Some(c) = self.stiffness_scale {
@@ -66,6 +70,10 @@ impl Task {
         }
         if let Some(s) = self.scaling {
             v.settings.scaling = s;
+        }
+        if self.fmincon_like {
+            v.formulation = spine_design::Formulation::Reduced;
+            v.settings = v.settings.fmincon_like();
         }
         v
     }
