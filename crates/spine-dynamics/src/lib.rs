@@ -50,6 +50,7 @@
 pub mod articulated;
 mod cholesky;
 pub mod eom;
+pub mod eq36;
 #[cfg(any(test, feature = "testing"))]
 pub mod fixtures;
 pub mod forcing;

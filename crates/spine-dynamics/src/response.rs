@@ -255,6 +255,8 @@ pub struct StepResponse {
     pub rise_time_gradient: Option<Vec<f64>>,
     /// `τ = −ln(1 − rise_fraction) / T_90` (eq. (36) corrected), 1/s.
     pub tau_from_rise_time: Option<f64>,
+    /// The rise with the end displacement measured from `θ0`, as eq. (36) measures `δ_d`.
+    pub from_unloaded: crate::eq36::RiseFromUnloaded,
     pub fit: FirstOrderFit,
     /// `Δ(t_end)`, m, and `|Δ(t_end) − Δ∞| / |Δ∞|`.
     pub final_delta: f64,
@@ -354,10 +356,7 @@ pub fn rise_time_by(
     gradient: Option<Sensitivities>,
 ) -> (Option<f64>, Option<Vec<f64>>) {
     let (_, event) = run_step(d, ends, settings, gradient, true);
-    match event {
-        Some(e) => (Some(e.t), e.t_sensitivity),
-        None => (None, None),
-    }
+    event.map_or((None, None), |e| (Some(e.t), e.t_sensitivity))
 }
 
 /// [`step_response`] from known static ends.
@@ -383,6 +382,7 @@ pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gr
         rise_time,
         rise_time_gradient: event.and_then(|e| e.t_sensitivity),
         tau_from_rise_time: rise_time.map(|t| -(1.0 - settings.rise_fraction).ln() / t),
+        from_unloaded: crate::eq36::rise_from_unloaded(d, &ends, &settings.integrator, settings.rise_fraction, &traj),
         fit,
         final_delta,
         settle_error,

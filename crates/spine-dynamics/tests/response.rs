@@ -96,3 +96,33 @@ fn rise_time_gradient_equals_central_differences() {
     }
     assert!(grad.iter().all(|g| *g > 0.0), "more damping, slower rise: {grad:?} (T90 = {t90})");
 }
+
+/// Eq. (36)'s reading of the rise, the end displacement measured from θ0: with a passive load it
+/// is the first crossing of `f δ_d` by `X(t) − L_x` on the samples; without one (θ1 = θ0) it is the
+/// rest-state `T_90`.
+#[test]
+fn the_rise_from_the_unloaded_shape_is_eq_36s_reading() {
+    let settings = StepSettings { t_end: 1.0, ..Default::default() };
+    let r = step_response(&problem(6, 30.0), &settings, false).unwrap();
+    let u = &r.from_unloaded;
+    assert!((u.delta_d - r.ends.loaded_displacement).abs() < 1e-15);
+    let target = 0.9 * u.delta_d;
+    let t = u.rise_time.expect("reached");
+    assert!(r.ends.passive_displacement != 0.0 && (u.threshold_ratio - 1.0).abs() > 1e-3, "{}", u.threshold_ratio);
+    let before = r.samples.iter().rfind(|s| s.t < t).unwrap();
+    let after = r.samples.iter().find(|s| s.t > t).unwrap();
+    assert!(before.end_displacement > target && after.end_displacement <= target, "{before:?} {after:?} {target}");
+    assert!((u.tau.unwrap() - 10f64.ln() / t).abs() < 1e-12);
+    // The travel it asks for from θ1, against the rest-state reading's 0.9 Δ∞.
+    let travel = 0.9 * u.delta_d - r.ends.passive_displacement;
+    assert!((u.threshold_ratio - travel / (0.9 * r.delta_inf)).abs() < 1e-12);
+    // No passive load and no weight: θ1 = θ0, and the two readings are one.
+    let mut p = problem(6, 30.0);
+    p.structure.passive = spine_model::NodalLoads::zero(6);
+    p.structure.chain.gravity = 0.0;
+    let r = step_response(&p, &settings, false).unwrap();
+    assert!(r.ends.passive_displacement.abs() < 1e-14, "{}", r.ends.passive_displacement);
+    let (a, b) = (r.rise_time.unwrap(), r.from_unloaded.rise_time.unwrap());
+    assert!((a - b).abs() <= 1e-9 * a, "{a} vs {b}");
+    assert!((r.from_unloaded.threshold_ratio - 1.0).abs() < 1e-9);
+}

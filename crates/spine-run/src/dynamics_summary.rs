@@ -61,6 +61,16 @@ fn write_step(f: &mut std::fmt::Formatter<'_>, r: &StepResponse, rise_fraction: 
         quantity(r.rise_time, 6, "s", "not reached"),
         r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.4} 1/s"))
     )?;
+    let u = &r.from_unloaded;
+    writeln!(
+        f,
+        "eq. (36)'s reading, the end measured from θ0: δ_d = {:.6e} m; T_{:.0} = {}; τ = {} (travel from θ1 {:.3} × that of 0.9 Δ∞)",
+        u.delta_d,
+        100.0 * rise_fraction,
+        quantity(u.rise_time, 6, "s", "not reached"),
+        u.tau.map_or("—".into(), |t| format!("{t:.4} 1/s")),
+        u.threshold_ratio
+    )?;
     writeln!(
         f,
         "first-order fit Δ∞(1 − e^(−τt)): τ = {:.4} 1/s, RMS error {:.2} % of Δ∞ (max {:.2} %)",

@@ -143,10 +143,12 @@ fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec
             format!("fitted τ within {:.0} % of ln(10)/T_d", 100.0 * TAU_TOLERANCE),
             gap <= TAU_TOLERANCE,
             format!(
-                "fitted τ = {:.3} s⁻¹, ln(10)/T_d = {tau:.3} s⁻¹ (gap {:.1} %), ln(10)/T_90 = {}",
+                "fitted τ = {:.3} s⁻¹, ln(10)/T_d = {tau:.3} s⁻¹ (gap {:.1} %), ln(10)/T_90 = {}; eq. (36)'s reading, the end measured from θ0 as δ_d is: T_90 = {}, ln(10)/T_90 = {}",
                 r.fit.tau,
                 100.0 * gap,
-                r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.3} s⁻¹"))
+                r.tau_from_rise_time.map_or("—".into(), |t| format!("{t:.3} s⁻¹")),
+                r.from_unloaded.rise_time.map_or("not reached".into(), |t| format!("{t:.4} s")),
+                r.from_unloaded.tau.map_or("—".into(), |t| format!("{t:.3} s⁻¹"))
             ),
         ));
     }
