@@ -207,7 +207,7 @@ pub fn step_designs_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureO
 /// Fig. 12: one damping run with several targets; one response panel per target and the dampers.
 pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let [run] = runs else { return Err(FieldError::new("runs", "fig12 needs one damping run with its targets")) };
-    let (_, designs, _) = damping_designs(run)?;
+    let (_, designs, periodic) = damping_designs(run)?;
     let mut out = FigureOutput::default();
     let mut fig = Figure::new(title, 2);
     let mut bars = Vec::new();
@@ -224,12 +224,52 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutp
         out.tables.push((format!("response_T{t}.csv"), samples_table(&d.response.samples)));
         out.tables.push((format!("damping_T{t}.csv"), values_table("damping_n_m_s_per_rad", &d.damping)));
         out.claims.extend(damping_claims(&format!("T_d = {t} s"), d, false));
+        // Under the case's pulse train, where it has one ("even if the actuating force is not
+        // constant").
+        if let Some(r) = periodic.get(k) {
+            out.tables.push((format!("pulse_T{t}.csv"), samples_table(&r.samples)));
+            out.claims.extend(pulse_claims(&format!("T_d = {t} s, pulse train"), r));
+        }
         list.push(damping_summary(d));
     }
     fig = fig.with(damping_panel(&format!("({}) nodal damping for each rise time", letter(designs.len())), bars));
     out.summary.insert("designs".into(), Value::Array(list));
     out.figures.push(("figure".into(), fig));
     Ok(out)
+}
+
+/// The paper's two statements on a damping design under a pulse train (Sec. 5.2.2, "from Fig. 11
+/// and Fig 12."), on the settled periodic response `r`.
+fn pulse_claims(scope: &str, r: &PeriodicResponse) -> Vec<Claim> {
+    let mut claims = Vec::new();
+    let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
+    let last: Vec<&Sample> =
+        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
+    // Time the force is on in a period, from the samples of the last period.
+    let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;
+    let (on, off) = (on_fraction * r.period, (1.0 - on_fraction) * r.period);
+    let follows = (r.min_end_displacement - r.ends.loaded_displacement).abs() <= 0.01 * swing.abs()
+        && (r.max_end_displacement - r.ends.passive_displacement).abs() <= 0.01 * swing.abs();
+    claims.push(Claim::new(
+        scope,
+        "\"fast responsive structure can generate motion as per our requirement even if the actuating force is not constant\" (Sec. 5.2.2)",
+        "over a settled period the end reaches the static loaded displacement and returns to the passive one, each within 1 % of the swing",
+        r.settled && follows,
+        format!("min X − L_x = {:.6} m (static loaded {:.6} m), max {:.6} m (static passive {:.6} m); settled: {}",
+            r.min_end_displacement, r.ends.loaded_displacement, r.max_end_displacement, r.ends.passive_displacement, r.settled),
+    ));
+    claims.push(Claim::new(
+        scope,
+        "the response keeps up with the pulses (\"valid only for loading patterns with lower frequency\")",
+        "reach (90 %) shorter than the time the force is on, return (90 %) shorter than the time it is off",
+        matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
+        format!(
+            "reach {} (on for {on:.3} s), return {} (off for {off:.3} s)",
+            quantity(r.reach_time, 4, "s", "not reached"),
+            quantity(r.return_time, 4, "s", "not reached")
+        ),
+    ));
+    claims
 }
 
 /// Fig. 11: a gradient-based design (eq. (33) then eq. (35)) under a pulse train.
@@ -242,7 +282,6 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
         return Err(run.error("fig11 needs a damping design and a periodic forcing to simulate it under"));
     };
     let mut out = FigureOutput::default();
-    let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
     // Shapes at eight instants of the last simulated period.
     let last: Vec<&Sample> =
         r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
@@ -269,30 +308,7 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
         },
     ));
     out.claims.extend(damping_claims(run.name, d, false));
-    // Time the force is on in a period, from the samples of the last period.
-    let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;
-    let (on, off) = (on_fraction * r.period, (1.0 - on_fraction) * r.period);
-    let follows = (r.min_end_displacement - r.ends.loaded_displacement).abs() <= 0.01 * swing.abs()
-        && (r.max_end_displacement - r.ends.passive_displacement).abs() <= 0.01 * swing.abs();
-    out.claims.push(Claim::new(
-        run.name,
-        "\"fast responsive structure can generate motion as per our requirement even if the actuating force is not constant\" (Sec. 5.2.2)",
-        "over a settled period the end reaches the static loaded displacement and returns to the passive one, each within 1 % of the swing",
-        r.settled && follows,
-        format!("min X − L_x = {:.6} m (static loaded {:.6} m), max {:.6} m (static passive {:.6} m); settled: {}",
-            r.min_end_displacement, r.ends.loaded_displacement, r.max_end_displacement, r.ends.passive_displacement, r.settled),
-    ));
-    out.claims.push(Claim::new(
-        run.name,
-        "the response keeps up with the pulses (\"valid only for loading patterns with lower frequency\")",
-        "reach (90 %) shorter than the time the force is on, return (90 %) shorter than the time it is off",
-        matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
-        format!(
-            "reach {} (on for {on:.3} s), return {} (off for {off:.3} s)",
-            quantity(r.reach_time, 4, "s", "not reached"),
-            quantity(r.return_time, 4, "s", "not reached")
-        ),
-    ));
+    out.claims.extend(pulse_claims(run.name, r));
     out.summary.insert(
         run.name.to_string(),
         json!({
