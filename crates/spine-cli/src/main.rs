@@ -22,6 +22,8 @@ use std::process::ExitCode;
 pub enum Failure {
     Input(String),
     Other(String),
+    /// The run ended without a clean result and nothing to write (its time limit passed first, or
+    /// the eq. (33) design it rests on did not end clean): exit code 3.
     TimeLimit(String),
     Interrupted,
 }
@@ -182,7 +184,7 @@ fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
 fn failure(path: &str, e: spine_run::RunError) -> Failure {
     if e.is_interrupted() {
         Failure::Interrupted
-    } else if e.is_time_limit() {
+    } else if e.is_time_limit() || e.is_not_clean() {
         Failure::TimeLimit(format!("{path}: {e}"))
     } else if e.is_input() {
         Failure::Input(format!("{path}: {e}"))

@@ -361,3 +361,22 @@ fn a_long_sweep_stops_on_its_time_limit_and_on_ctrl_c() {
     assert!(!interrupted.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A dynamic case whose eq. (33) design does not end clean (links of 10¹⁹ kg: the equilibria
+/// diverge) runs no dynamics on it: exit 3, the reason on stderr, nothing written.
+#[test]
+fn a_dynamic_case_on_an_unclean_static_design_exits_3_and_writes_nothing() {
+    let dir = tmpdir("unclean-static");
+    let mut case: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/fig11.json")).unwrap()).unwrap();
+    case["base"]["chain"]["masses"] = serde_json::json!(1e19);
+    case["runs"] = serde_json::json!([case["runs"][0]]);
+    let path = dir.join("case.json");
+    std::fs::write(&path, case.to_string()).unwrap();
+    let out = dir.join("out");
+    let o = spine(&["case", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("the static design of eq. (33) did not end clean"), "{stderr}");
+    assert!(!out.exists());
+}

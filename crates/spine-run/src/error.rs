@@ -76,6 +76,16 @@ impl RunError {
         matches!(self, Self::TimeLimit { .. })
     }
 
+    /// An embedded eq. (33) design (of a dynamic case, or of a figure's dynamic run) did not end
+    /// clean, so nothing ran on it: the run ended but not clean (exit code 3, nothing written).
+    pub fn is_not_clean(&self) -> bool {
+        match self {
+            Self::StaticDesignNotClean { .. } => true,
+            Self::InRun { source, .. } => source.is_not_clean(),
+            _ => false,
+        }
+    }
+
     /// The run was stopped from outside (exit code 130).
     pub fn is_interrupted(&self) -> bool {
         match self {

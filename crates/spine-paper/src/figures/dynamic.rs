@@ -2,11 +2,11 @@
 //! periodic-load design of eq. (37)), Fig. 11 (a fast design under a pulse train), Fig. 12 (damping
 //! designs for three rise times).
 
+use super::pulse::pulse_claims;
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::DampingDesign;
 use spine_dynamics::{PeriodicResponse, StepResponse};
-use spine_run::text::quantity;
 use spine_run::{samples_table, Animation, Track};
 use std::f64::consts::LN_10;
 
@@ -15,7 +15,7 @@ const FIRST_ORDER_RMS: f64 = 0.05;
 /// Relative gap allowed between the fitted rate and `ln(10)/T_d`.
 const TAU_TOLERANCE: f64 = 0.10;
 
-fn damping_designs<'a>(
+pub(super) fn damping_designs<'a>(
     run: &NamedRun<'a>,
 ) -> Result<(&'a UsedDesign, &'a [DampingDesign], &'a [PeriodicResponse]), FieldError> {
     match expect_dynamics(run)? {
@@ -73,7 +73,7 @@ fn damping_panel(title: &str, series: Vec<Series>) -> Panel {
 }
 
 /// The claims on one eq. (35) design.
-fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec<Claim> {
+pub(super) fn damping_claims(scope: &str, d: &DampingDesign, with_first_order: bool) -> Vec<Claim> {
     let target = d.target_rise_time;
     let err = d.rise_time_error.unwrap_or(f64::INFINITY);
     let r = &d.response;
@@ -234,88 +234,6 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutp
     }
     fig = fig.with(damping_panel(&format!("({}) nodal damping for each rise time", letter(designs.len())), bars));
     out.summary.insert("designs".into(), Value::Array(list));
-    out.figures.push(("figure".into(), fig));
-    Ok(out)
-}
-
-/// The paper's two statements on a damping design under a pulse train (Sec. 5.2.2, "from Fig. 11
-/// and Fig 12."), on the settled periodic response `r`.
-fn pulse_claims(scope: &str, r: &PeriodicResponse) -> Vec<Claim> {
-    let mut claims = Vec::new();
-    let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
-    let last: Vec<&Sample> =
-        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
-    // Time the force is on in a period, from the samples of the last period.
-    let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;
-    let (on, off) = (on_fraction * r.period, (1.0 - on_fraction) * r.period);
-    let follows = (r.min_end_displacement - r.ends.loaded_displacement).abs() <= 0.01 * swing.abs()
-        && (r.max_end_displacement - r.ends.passive_displacement).abs() <= 0.01 * swing.abs();
-    claims.push(Claim::new(
-        scope,
-        "\"fast responsive structure can generate motion as per our requirement even if the actuating force is not constant\" (Sec. 5.2.2)",
-        "over a settled period the end reaches the static loaded displacement and returns to the passive one, each within 1 % of the swing",
-        r.settled && follows,
-        format!("min X − L_x = {:.6} m (static loaded {:.6} m), max {:.6} m (static passive {:.6} m); settled: {}",
-            r.min_end_displacement, r.ends.loaded_displacement, r.max_end_displacement, r.ends.passive_displacement, r.settled),
-    ));
-    claims.push(Claim::new(
-        scope,
-        "the response keeps up with the pulses (\"valid only for loading patterns with lower frequency\")",
-        "reach (90 %) shorter than the time the force is on, return (90 %) shorter than the time it is off",
-        matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
-        format!(
-            "reach {} (on for {on:.3} s), return {} (off for {off:.3} s)",
-            quantity(r.reach_time, 4, "s", "not reached"),
-            quantity(r.return_time, 4, "s", "not reached")
-        ),
-    ));
-    claims
-}
-
-/// Fig. 11: a gradient-based design (eq. (33) then eq. (35)) under a pulse train.
-pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
-    let [run] = runs else {
-        return Err(FieldError::new("runs", "fig11 needs one damping run with a periodic forcing"));
-    };
-    let (used, designs, periodic) = damping_designs(run)?;
-    let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {
-        return Err(run.error("fig11 needs a damping design and a periodic forcing to simulate it under"));
-    };
-    let mut out = FigureOutput::default();
-    // Shapes at eight instants of the last simulated period.
-    let last: Vec<&Sample> =
-        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
-    let mut shapes = Panel::new("(b) structure responding to the pulsating force", "X (m)", "Y (m)").equal_aspect();
-    for k in 0..8 {
-        if let Some(s) = last.get(k * last.len().saturating_sub(1) / 7) {
-            shapes = shapes.with(
-                Series::line(format!("t = {:.3} s", s.t), nodes_of(&used.spans, &used.design.theta0, &s.theta))
-                    .colour(k),
-            );
-        }
-    }
-    let fig = Figure::new(title, 2)
-        .with(periodic_panel("(a) pulsating force and end-point motion", r, r.ends.loaded_displacement, None))
-        .with(shapes);
-    out.tables.push(("response.csv".into(), samples_table(&r.samples)));
-    out.tables.push(("damping.csv".into(), values_table("damping_n_m_s_per_rad", &d.damping)));
-    out.animations.push((
-        "animation".into(),
-        Animation {
-            title: "Fig. 11: the fast design under the pulse train".into(),
-            tracks: vec![Track::new(run.title(), &used.spans, &used.design.theta0, &r.samples)],
-            options: Default::default(),
-        },
-    ));
-    out.claims.extend(damping_claims(run.name, d, false));
-    out.claims.extend(pulse_claims(run.name, r));
-    out.summary.insert(
-        run.name.to_string(),
-        json!({
-            "damping": d.damping, "rise_time": d.rise_time, "min_end_displacement": r.min_end_displacement,
-            "reach_time": r.reach_time, "return_time": r.return_time, "period": r.period,
-        }),
-    );
     out.figures.push(("figure".into(), fig));
     Ok(out)
 }

@@ -4,6 +4,7 @@
 mod criteria;
 mod dynamic;
 mod periodic;
+mod pulse;
 mod statics;
 mod twolink;
 
@@ -35,7 +36,7 @@ pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<Figure
         "fig5" => statics::load_sweep_figure(title, runs),
         "fig9" => dynamic::step_designs_figure(title, runs),
         "fig10" => periodic::periodic_design_figure(title, runs),
-        "fig11" => dynamic::pulse_figure(title, runs),
+        "fig11" => pulse::pulse_figure(title, runs),
         "fig12" => dynamic::rise_time_figure(title, runs),
         "objectives" => criteria::criteria_figure(title, runs),
         other => Err(FieldError::new("figure", format!("no recipe for {other:?}"))),

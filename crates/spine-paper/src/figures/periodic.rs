@@ -149,7 +149,7 @@ fn beside_claims(name: &str, p: &PeriodicDesign, q: &PeriodicDesign) -> Vec<Clai
 }
 
 /// The eq. (37) design of a Fig. 10 run.
-fn periodic<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a PeriodicDesign), FieldError> {
+pub(super) fn periodic<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a PeriodicDesign), FieldError> {
     match expect_dynamics(run)? {
         (used, DynamicOutput::PeriodicDesign { design }) => Ok((used, design)),
         _ => Err(run.error("fig10 needs \"periodic\" runs (eq. (37))")),
