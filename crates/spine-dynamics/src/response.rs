@@ -3,6 +3,8 @@
 //! response (static end states, samples, constraint drift).
 
 use crate::eom::Dynamics;
+pub use crate::eq36::{fit_first_order, FirstOrderFit};
+use crate::eq36::{rise_from_unloaded, RiseFromUnloaded};
 use crate::forcing::Forcing;
 use crate::integrator::adjoint::{adjoint, Sensitivities, Term};
 use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
@@ -198,50 +200,6 @@ impl Default for StepSettings {
     }
 }
 
-/// The first-order model `Δ∞ (1 − e^{−τ t})` fitted to the samples by least squares in `τ`.
-#[derive(Clone, Debug, Serialize)]
-pub struct FirstOrderFit {
-    /// Fitted rate `τ`, 1/s.
-    pub tau: f64,
-    /// RMS and largest residual of the fit, as fractions of `|Δ∞|`.
-    pub rms_error: f64,
-    pub max_error: f64,
-}
-
-/// Least-squares `τ` for `Δ(t) ≈ Δ∞ (1 − e^{−τ t})`: a log-spaced scan then golden-section refinement.
-pub fn fit_first_order(times: &[f64], delta: &[f64], delta_inf: f64) -> FirstOrderFit {
-    let t_max = times.iter().cloned().fold(0.0, f64::max);
-    let cost = |ln_tau: f64| -> f64 {
-        let tau = ln_tau.exp();
-        times.iter().zip(delta).map(|(&t, &d)| (d - delta_inf * (1.0 - (-tau * t).exp())).powi(2)).sum()
-    };
-    let (lo, hi) = ((1e-3 / t_max).ln(), (1e5 / t_max).ln());
-    let grid = 400;
-    let best = (0..=grid)
-        .map(|k| lo + (hi - lo) * k as f64 / grid as f64)
-        .min_by(|a, b| cost(*a).total_cmp(&cost(*b)))
-        .expect("a non-empty grid");
-    let step = (hi - lo) / grid as f64;
-    let (mut a, mut b) = (best - step, best + step);
-    let phi = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..100 {
-        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
-        if cost(c) < cost(d) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    let tau = (0.5 * (a + b)).exp();
-    let residuals: Vec<f64> = times
-        .iter()
-        .zip(delta)
-        .map(|(&t, &d)| (d - delta_inf * (1.0 - (-tau * t).exp())).abs() / delta_inf.abs())
-        .collect();
-    let rms_error = (residuals.iter().map(|r| r * r).sum::<f64>() / residuals.len() as f64).sqrt();
-    FirstOrderFit { tau, rms_error, max_error: residuals.iter().cloned().fold(0.0, f64::max) }
-}
-
 /// The step response of Sec. 5.2.1.
 #[derive(Clone, Debug, Serialize)]
 pub struct StepResponse {
@@ -256,7 +214,7 @@ pub struct StepResponse {
     /// `τ = −ln(1 − rise_fraction) / T_90` (eq. (36) corrected), 1/s.
     pub tau_from_rise_time: Option<f64>,
     /// The rise with the end displacement measured from `θ0`, as eq. (36) measures `δ_d`.
-    pub from_unloaded: crate::eq36::RiseFromUnloaded,
+    pub from_unloaded: RiseFromUnloaded,
     pub fit: FirstOrderFit,
     /// `Δ(t_end)`, m, and `|Δ(t_end) − Δ∞| / |Δ∞|`.
     pub final_delta: f64,
@@ -382,7 +340,13 @@ pub fn simulate_step(d: &Dynamics, ends: StaticEnds, settings: &StepSettings, gr
         rise_time,
         rise_time_gradient: event.and_then(|e| e.t_sensitivity),
         tau_from_rise_time: rise_time.map(|t| -(1.0 - settings.rise_fraction).ln() / t),
-        from_unloaded: crate::eq36::rise_from_unloaded(d, &ends, &settings.integrator, settings.rise_fraction, &traj),
+        from_unloaded: rise_from_unloaded(
+            d,
+            (ends.x1, ends.x2, length_x),
+            &settings.integrator,
+            settings.rise_fraction,
+            &traj,
+        ),
         fit,
         final_delta,
         settle_error,

@@ -2,11 +2,11 @@
 //! periodic-load design of eq. (37)), Fig. 11 (a fast design under a pulse train), Fig. 12 (damping
 //! designs for three rise times).
 
-use super::pulse::pulse_claims;
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::DampingDesign;
 use spine_dynamics::{PeriodicResponse, StepResponse};
+use spine_run::text::quantity;
 use spine_run::{samples_table, Animation, Track};
 use std::f64::consts::LN_10;
 
@@ -236,4 +236,38 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutp
     out.summary.insert("designs".into(), Value::Array(list));
     out.figures.push(("figure".into(), fig));
     Ok(out)
+}
+
+/// The paper's two statements on a damping design under a pulse train (Sec. 5.2.2, "from Fig. 11
+/// and Fig 12."), on the settled periodic response `r`.
+pub(super) fn pulse_claims(scope: &str, r: &PeriodicResponse) -> Vec<Claim> {
+    let mut claims = Vec::new();
+    let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
+    let last: Vec<&Sample> =
+        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
+    // Time the force is on in a period, from the samples of the last period.
+    let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;
+    let (on, off) = (on_fraction * r.period, (1.0 - on_fraction) * r.period);
+    let follows = (r.min_end_displacement - r.ends.loaded_displacement).abs() <= 0.01 * swing.abs()
+        && (r.max_end_displacement - r.ends.passive_displacement).abs() <= 0.01 * swing.abs();
+    claims.push(Claim::new(
+        scope,
+        "\"fast responsive structure can generate motion as per our requirement even if the actuating force is not constant\" (Sec. 5.2.2)",
+        "over a settled period the end reaches the static loaded displacement and returns to the passive one, each within 1 % of the swing",
+        r.settled && follows,
+        format!("min X − L_x = {:.6} m (static loaded {:.6} m), max {:.6} m (static passive {:.6} m); settled: {}",
+            r.min_end_displacement, r.ends.loaded_displacement, r.max_end_displacement, r.ends.passive_displacement, r.settled),
+    ));
+    claims.push(Claim::new(
+        scope,
+        "the response keeps up with the pulses (\"valid only for loading patterns with lower frequency\")",
+        "reach (90 %) shorter than the time the force is on, return (90 %) shorter than the time it is off",
+        matches!((r.reach_time, r.return_time), (Some(a), Some(b)) if a < on && b < off),
+        format!(
+            "reach {} (on for {on:.3} s), return {} (off for {off:.3} s)",
+            quantity(r.reach_time, 4, "s", "not reached"),
+            quantity(r.return_time, 4, "s", "not reached")
+        ),
+    ));
+    claims
 }
