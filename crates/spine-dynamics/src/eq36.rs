@@ -7,8 +7,9 @@
 //! fraction, 0.9); zero when the rest state is already past it. The two agree when the passive
 //! load does not move the end (`θ1 = θ0`).
 
+use crate::end_x::EndX;
 use crate::eom::Dynamics;
-use crate::integrator::{first_event, EventFunction, Options, Trajectory};
+use crate::integrator::{Options, Trajectory};
 use crate::system::{Parameters, SpineOde};
 use serde::Serialize;
 
@@ -36,21 +37,15 @@ pub(crate) fn rise_from_unloaded(
     fraction: f64,
     traj: &Trajectory,
 ) -> RiseFromUnloaded {
-    let n = d.n_links();
     let delta_d = x2 - length_x;
-    let target = length_x + fraction * delta_d;
-    let travel = target - x1;
+    let travel = length_x + fraction * delta_d - x1;
     let threshold_ratio = travel / (fraction * (x2 - x1));
     let rise_time = if travel * (x2 - x1) <= 0.0 {
         // The rest state is already at or past the threshold.
         Some(0.0)
     } else {
-        let ode = SpineOde { dynamics: d, parameters: Parameters::None };
-        let g = |y: &[f64]| d.end_x(&y[..n]) - target;
-        let grad = |y: &[f64]| d.end_x_state_gradient(y);
-        let lipschitz = d.end_x_lipschitz();
-        let function = EventFunction::new(&g, &grad).with_lipschitz(&lipschitz);
-        first_event(&ode, options, traj, 0.0, &function).map(|e| e.t)
+        let end = EndX::new(SpineOde { dynamics: d, parameters: Parameters::None }, options, length_x);
+        end.crossing(traj, 0.0, fraction * delta_d)
     };
     let tau = rise_time.filter(|&t| t > 0.0).map(|t| -(1.0 - fraction).ln() / t);
     RiseFromUnloaded { delta_d, threshold_ratio, rise_time, tau }

@@ -49,6 +49,7 @@
 
 pub mod articulated;
 mod cholesky;
+mod end_x;
 pub mod eom;
 pub mod eq36;
 #[cfg(any(test, feature = "testing"))]

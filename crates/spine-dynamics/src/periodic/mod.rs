@@ -22,9 +22,10 @@ mod springs;
 
 pub use springs::{EndValue, LastPeriod, SpringGradients};
 
+use crate::end_x::EndX;
 use crate::eom::Dynamics;
 use crate::forcing::Forcing;
-use crate::integrator::{first_event, integrate, EventFunction, Extras, Options, Outcome, Stats, Trajectory};
+use crate::integrator::{integrate, Extras, Options, Outcome, Stats, Trajectory};
 use crate::response::{sample, Drift, DynamicProblem, DynamicsError, Sample, StaticEnds};
 use crate::system::{Parameters, SpineOde};
 use extremes::{extremes, relative_change};
@@ -148,29 +149,7 @@ pub fn simulate_periodic_springs(
     run_periodic(d, ends, length_x, target, &settings, Some(gradients))
 }
 
-/// The end's X displacement `X_{N+1} − L_x` on a trajectory of one ODE: its value, its state
-/// gradient, and the first time it reaches a level (an event on the steps).
-struct EndX<'a> {
-    d: &'a Dynamics,
-    ode: SpineOde<'a>,
-    options: &'a Options,
-    length_x: f64,
-    lipschitz: Vec<f64>,
-}
-
 impl EndX<'_> {
-    fn at(&self, y: &[f64]) -> f64 {
-        self.d.end_x(&y[..self.d.n_links()]) - self.length_x
-    }
-
-    /// The first time after `after` that the end's X displacement reaches `level`.
-    fn crossing(&self, traj: &Trajectory, after: f64, level: f64) -> Option<f64> {
-        let g = |y: &[f64]| self.at(y) - level;
-        let grad = |y: &[f64]| self.d.end_x_state_gradient(y);
-        let event = EventFunction::new(&g, &grad).with_lipschitz(&self.lipschitz);
-        first_event(&self.ode, self.options, traj, after, &event).map(|e| e.t)
-    }
-
     /// `(t, value)` with its gradient in the springs, `∇_y X · S(t)`.
     fn with_gradient(&self, traj: &Trajectory, t: f64, value: f64) -> EndValue {
         let dx = self.d.end_x_state_gradient(&traj.value(t));
@@ -276,7 +255,7 @@ fn run_periodic(
     let forward = matches!(springs, Some(SpringGradients::Forward(_)));
     let parameters = if forward { Parameters::Springs } else { Parameters::None };
     let ode = SpineOde { dynamics: d, parameters };
-    let end = EndX { d, ode, options: &settings.integrator, length_x, lipschitz: d.end_x_lipschitz() };
+    let end = EndX::new(ode, &settings.integrator, length_x);
     let run = simulate_periods(&end, &ends, settings, springs);
     let traj = &run.last;
     let (t_start, _) = traj.span();

@@ -238,13 +238,18 @@ pub fn rise_time_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutp
     Ok(out)
 }
 
+/// The samples of the last simulated period of `r`.
+pub(super) fn last_period(r: &PeriodicResponse) -> Vec<&Sample> {
+    let t_end = r.samples.last().map_or(0.0, |s| s.t);
+    r.samples.iter().filter(|s| s.t >= t_end - r.period).collect()
+}
+
 /// The paper's two statements on a damping design under a pulse train (Sec. 5.2.2, "from Fig. 11
 /// and Fig 12."), on the settled periodic response `r`.
 pub(super) fn pulse_claims(scope: &str, r: &PeriodicResponse) -> Vec<Claim> {
     let mut claims = Vec::new();
     let swing = r.ends.loaded_displacement - r.ends.passive_displacement;
-    let last: Vec<&Sample> =
-        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
+    let last = last_period(r);
     // Time the force is on in a period, from the samples of the last period.
     let on_fraction = last.iter().filter(|s| s.load_factor >= 0.5).count() as f64 / last.len().max(1) as f64;
     let (on, off) = (on_fraction * r.period, (1.0 - on_fraction) * r.period);

@@ -41,12 +41,10 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
 /// the same problem (the case file's: the paper's other search, the pattern search, and Ipopt with
 /// exact gradients), drawn beside it and compared by objective and simulations.
 pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
-    let [run, beside @ ..] = runs else {
-        return Err(FieldError::new("runs", "fig10 needs one periodic design run, and at most two beside it"));
+    let (run, beside) = match runs {
+        [run, beside @ ..] if beside.len() <= 2 => (run, beside),
+        _ => return Err(FieldError::new("runs", "fig10 needs one periodic design run, and at most two beside it")),
     };
-    if beside.len() > 2 {
-        return Err(FieldError::new("runs", "fig10 needs one periodic design run, and at most two beside it"));
-    }
     let (used, p) = periodic(run)?;
     let others = beside.iter().map(periodic).collect::<Result<Vec<_>, _>>()?;
     let r = &p.response;

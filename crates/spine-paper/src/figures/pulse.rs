@@ -2,7 +2,7 @@
 //! algorithm on the same structure (eq. (37)), and the two statements on pulsed forcing that
 //! Fig. 12 shares.
 
-use super::dynamic::{damping_claims, damping_designs, pulse_claims};
+use super::dynamic::{damping_claims, damping_designs, last_period, pulse_claims};
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::{DampingDesign, PeriodicDesign};
@@ -17,10 +17,9 @@ const SIMILAR: f64 = 0.10;
 const MUCH_FEWER: f64 = 5.0;
 
 /// The end point's displacement over the last simulated period against the phase `t − t_start`.
-fn last_period(r: &PeriodicResponse) -> Vec<(f64, f64)> {
-    let t_end = r.samples.last().map_or(0.0, |s| s.t);
-    let start = t_end - r.period;
-    r.samples.iter().filter(|s| s.t >= start - 1e-12).map(|s| (s.t - start, s.end_displacement)).collect()
+fn last_trace(r: &PeriodicResponse) -> Vec<(f64, f64)> {
+    let start = r.samples.last().map_or(0.0, |s| s.t) - r.period;
+    last_period(r).iter().map(|s| (s.t - start, s.end_displacement)).collect()
 }
 
 /// Linear interpolation of `trace` (sorted by its first entry) at `x`, clamped at its ends.
@@ -38,7 +37,7 @@ fn at(trace: &[(f64, f64)], x: f64) -> f64 {
 /// the eq. (33) + eq. (35) design `d` with its response `r`): "the response at the end-point is
 /// similar" and "the gradient-based approach is however much faster".
 fn ga_claims(name: &str, d: &DampingDesign, r: &PeriodicResponse, q: &PeriodicDesign) -> Vec<Claim> {
-    let (mine, theirs) = (last_period(r), last_period(&q.response));
+    let (mine, theirs) = (last_trace(r), last_trace(&q.response));
     let swing = (r.ends.loaded_displacement - r.ends.passive_displacement).abs();
     let squares: f64 = mine.iter().map(|&(x, y)| (y - at(&theirs, x)).powi(2)).sum();
     let rms = (squares / mine.len().max(1) as f64).sqrt() / swing;
@@ -86,8 +85,7 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
     };
     let mut out = FigureOutput::default();
     // Shapes at eight instants of the last simulated period.
-    let last: Vec<&Sample> =
-        r.samples.iter().filter(|s| s.t >= r.samples.last().map_or(0.0, |l| l.t) - r.period).collect();
+    let last = last_period(r);
     let mut shapes = Panel::new("(b) structure responding to the pulsating force", "X (m)", "Y (m)").equal_aspect();
     for k in 0..8 {
         if let Some(s) = last.get(k * last.len().saturating_sub(1) / 7) {
