@@ -172,6 +172,11 @@ bench-gradients *ARGS:
     ./target/release/dynamic_gradients {{ARGS}}
 
 # Eq. (33) scaling table (full and reduced space) on the scaled family of PEERS.md.
+# The chain against the continuum it discretises (Euler's load, the elastica), N = 10 … 10⁴:
+# the table of docs/continuum.md and docs/continuum-convergence.svg.
+continuum:
+    cargo run --release --quiet -p spine-benchmarks --bin continuum_convergence
+
 bench-design *SIZES:
     cargo run --release --quiet -p spine-benchmarks --bin design_scaling -- {{SIZES}}
 

@@ -97,7 +97,7 @@ pub fn design_damping(
     settings: &DampingSettings,
 ) -> Result<DampingDesign, DynamicDesignError> {
     let clock = std::time::Instant::now();
-    let first = design_with_limit(problem, target, settings)?;
+    let first = design_with_limit(problem, target, settings, None)?;
     if !settings.overdamped {
         return Ok(first);
     }
@@ -108,7 +108,14 @@ pub fn design_damping(
     let mut raised = None;
     if let (false, Some(c0)) = (trials[0].1, first.uniform_start) {
         let mut limited = |c_min: f64, trials: &mut Vec<(f64, bool)>| -> Result<DampingDesign, DynamicDesignError> {
-            let d = design_with_limit(problem, target, &DampingSettings { damping_min: c_min, ..settings.clone() })?;
+            // At the uniform start the limit leaves one feasible point, the uniform design itself.
+            let uniform = (c_min == c0).then_some(c0);
+            let d = design_with_limit(
+                problem,
+                target,
+                &DampingSettings { damping_min: c_min, ..settings.clone() },
+                uniform,
+            )?;
             simulations += d.simulations;
             trials.push((c_min, over(&d)));
             Ok(d)
@@ -138,12 +145,16 @@ pub fn design_damping(
 }
 
 /// How an eq. (35) design ended: Ipopt's status, or no feasible uniform start (then Ipopt is not
-/// run). Serialised as Ipopt's snake_case name or `"uniform-start-infeasible"`.
+/// run). Serialised as Ipopt's snake_case name, `"uniform-start-infeasible"` or `"uniform-only"`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DampingStatus {
     Ipopt(Status),
     /// No uniform damping in `[C_min, C_max]` reaches `T_d`.
     UniformStartInfeasible,
+    /// The lower limit is the uniform start `C_0`: since `T_90` grows with every damper, every
+    /// damper at `C_0` is the only point with `C ≥ C_0` and `T_90 = T_d`, so it is eq. (35)'s
+    /// solution without an Ipopt run (Ipopt, started on that bound, has no interior to move in).
+    UniformOnly,
 }
 
 impl DampingStatus {
@@ -152,6 +163,7 @@ impl DampingStatus {
         match self {
             Self::Ipopt(s) => s.name(),
             Self::UniformStartInfeasible => "uniform-start-infeasible".into(),
+            Self::UniformOnly => "uniform-only".into(),
         }
     }
 }
@@ -274,11 +286,14 @@ fn uniform_rise_time(base: &Dynamics, ends: &StaticEnds, settings: &StepSettings
     rise_time(&d, ends, settings, false).0
 }
 
-/// Solves eq. (35) for the rise time `target` (s) with the dampers' bounds of `settings`.
+/// Solves eq. (35) for the rise time `target` (s) with the dampers' bounds of `settings`; with
+/// `uniform` (the uniform start `C_0`, found before, equal to `damping_min`), the uniform design
+/// is the solution ([`DampingStatus::UniformOnly`]).
 fn design_with_limit(
     problem: &DynamicProblem,
     target: f64,
     settings: &DampingSettings,
+    uniform: Option<f64>,
 ) -> Result<DampingDesign, DynamicDesignError> {
     let clock = std::time::Instant::now();
     let ends = problem.static_ends(&settings.step.continuation)?;
@@ -292,23 +307,27 @@ fn design_with_limit(
     // Uniform start: T_90 grows with the damping in the overdamped range; a bracketing root
     // search on ln C (Illinois regula falsi, a bisection step where the slow end has no rise).
     let (lo, hi) = (settings.damping_min.ln(), settings.damping_max.ln());
-    let t_lo = uniform_rise_time(&base, &ends, &settings.step, lo.exp());
-    let t_hi = uniform_rise_time(&base, &ends, &settings.step, hi.exp());
-    simulations += 2;
-    // Not reaching the rise within t_end counts as slower than any target below t_end.
-    let bracketed = matches!(t_lo, Some(a) if a <= target) && t_hi.is_none_or(|b| target <= b);
-    let uniform_start = bracketed.then(|| {
-        // Not reaching the rise within t_end counts as slower than any target (+∞).
-        let mut residual = |x: f64| {
-            simulations += 1;
-            uniform_rise_time(&base, &ends, &settings.step, x.exp()).map_or(f64::INFINITY, |t| t - target)
-        };
-        let ends_at = (t_lo.map_or(f64::INFINITY, |t| t - target), t_hi.map_or(f64::INFINITY, |t| t - target));
-        illinois((lo, hi), ends_at, &mut residual, &|r| r.abs() <= 1e-10 * target, 1e-6).exp()
-    });
+    let mut root_search = || {
+        let t_lo = uniform_rise_time(&base, &ends, &settings.step, lo.exp());
+        let t_hi = uniform_rise_time(&base, &ends, &settings.step, hi.exp());
+        simulations += 2;
+        // Not reaching the rise within t_end counts as slower than any target below t_end.
+        let bracketed = matches!(t_lo, Some(a) if a <= target) && t_hi.is_none_or(|b| target <= b);
+        bracketed.then(|| {
+            // Not reaching the rise within t_end counts as slower than any target (+∞).
+            let mut residual = |x: f64| {
+                simulations += 1;
+                uniform_rise_time(&base, &ends, &settings.step, x.exp()).map_or(f64::INFINITY, |t| t - target)
+            };
+            let ends_at = (t_lo.map_or(f64::INFINITY, |t| t - target), t_hi.map_or(f64::INFINITY, |t| t - target));
+            illinois((lo, hi), ends_at, &mut residual, &|r| r.abs() <= 1e-10 * target, 1e-6).exp()
+        })
+    };
+    let uniform_start = if uniform.is_some() { uniform } else { root_search() };
 
     let (status, converged, iterations, damping) = match uniform_start {
         None => (DampingStatus::UniformStartInfeasible, false, 0, vec![settings.damping_min; n_dampers]),
+        Some(c0) if uniform.is_some() => (DampingStatus::UniformOnly, true, 0, vec![c0; n_dampers]),
         Some(c0) => {
             let mut eq35 = Eq35 {
                 base: &base,
@@ -351,4 +370,24 @@ fn design_with_limit(
         response,
         lower_limit: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With the lower limit at the uniform start, the design is the uniform one: converged,
+    /// every damper at `C_0`, and `T_90 = T_d` to the root search's accuracy.
+    #[test]
+    fn a_lower_limit_at_the_uniform_start_leaves_the_uniform_design() {
+        let (p, target) = (spine_dynamics::fixtures::arch_problem(5, 20.0), 0.2);
+        let settings = DampingSettings::default();
+        let c0 = design_with_limit(&p, target, &settings, None).unwrap().uniform_start.unwrap();
+        let at = DampingSettings { damping_min: c0, ..settings };
+        let d = design_with_limit(&p, target, &at, Some(c0)).unwrap();
+        assert_eq!((d.status, d.converged, d.iterations), (DampingStatus::UniformOnly, true, 0));
+        assert!(d.damping.iter().all(|&c| c == c0) && d.damping.len() == 6, "{:?}", d.damping);
+        assert!(d.meets_target() && d.rise_time_error.unwrap() < 1e-5, "T90 = {:?}", d.rise_time);
+        assert_eq!(d.status.name(), "uniform-only");
+    }
 }
