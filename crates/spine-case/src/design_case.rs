@@ -6,7 +6,7 @@ use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::refine::Refine;
-use spine_design::{DesignBounds, DesignProblem, Formulation, SolverSettings};
+use spine_design::{DesignBounds, DesignProblem, Formulation, SolverPreset, SolverSettings};
 use spine_model::{Design, Structure};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
@@ -118,6 +118,19 @@ pub struct DesignCase {
     pub multistart: MultiStartSpec,
     #[serde(default)]
     pub solver: SolverSettings,
+    /// "exact" (default: `formulation` and `solver` as written) or "fmincon-like" (the paper's
+    /// kind of optimiser: the reduced space, L-BFGS, fmincon's default stopping rules; it replaces
+    /// `formulation` and those fields of `solver`).
+    #[serde(default, skip_serializing_if = "is_exact")]
+    pub preset: SolverPreset,
+    /// Also solve from the same start with the "fmincon-like" preset (no census) and report it
+    /// beside this case's design: which conclusions come from the optimiser, which from eq. (33).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub fmincon_like_beside: bool,
+}
+
+fn is_exact(p: &SolverPreset) -> bool {
+    *p == SolverPreset::Exact
 }
 
 fn is_default_objective(o: &ObjectiveSpec) -> bool {
@@ -142,6 +155,25 @@ pub struct ValidDesign {
     pub formulation: Formulation,
     pub multistart: MultiStartSpec,
     pub settings: SolverSettings,
+    /// The preset `formulation` and `settings` come from.
+    pub preset: SolverPreset,
+    /// Solve with the fmincon-like preset beside this case ([`DesignCase::fmincon_like_beside`]).
+    pub fmincon_like_beside: bool,
+}
+
+impl ValidDesign {
+    /// This case solved with `preset` applied over its formulation and settings, without a census.
+    pub fn with_preset(&self, preset: SolverPreset) -> Self {
+        let (formulation, settings) = preset.apply(self.formulation, &self.settings);
+        Self {
+            formulation,
+            settings,
+            preset,
+            multistart: MultiStartSpec::default(),
+            fmincon_like_beside: false,
+            ..self.clone()
+        }
+    }
 }
 
 impl DesignCase {
@@ -175,7 +207,8 @@ impl DesignCase {
             }
         }
         self.solver.validate().map_err(|e| e.under("solver"))?;
-        if matches!(self.solver.refine, Refine::Ladder(_)) && self.formulation == Formulation::Reduced {
+        let (formulation, settings) = self.preset.apply(self.formulation, &self.solver);
+        if matches!(settings.refine, Refine::Ladder(_)) && formulation == Formulation::Reduced {
             return Err(CaseError::invalid(
                 "solver.refine",
                 "mesh sequencing needs formulation \"full\"; use \"off\" or \"auto\" with \"reduced\"",
@@ -191,13 +224,28 @@ impl DesignCase {
             strain_energy_max: self.constraints.validate()?,
         };
         problem.objective = self.objective.resolve(&problem, &start)?;
-        check_formulation(self.formulation, &problem)?;
+        check_formulation(formulation, &problem).map_err(|e| match self.preset {
+            SolverPreset::Exact => e,
+            SolverPreset::FminconLike => {
+                CaseError::invalid("preset", format!("\"fmincon-like\" solves in the reduced space: {e}"))
+            }
+        })?;
+        if self.fmincon_like_beside {
+            check_formulation(Formulation::Reduced, &problem).map_err(|e| {
+                CaseError::invalid(
+                    "fmincon_like_beside",
+                    format!("the fmincon-like solve needs the reduced space: {e}"),
+                )
+            })?;
+        }
         Ok(ValidDesign {
             problem,
             start,
-            formulation: self.formulation,
+            formulation,
             multistart: self.multistart.clone(),
-            settings: self.solver.clone(),
+            settings,
+            preset: self.preset,
+            fmincon_like_beside: self.fmincon_like_beside,
         })
     }
 }

@@ -241,6 +241,8 @@ impl DynamicsCase {
                     formulation: s.formulation,
                     multistart: MultiStartSpec::default(),
                     solver: s.solver.clone(),
+                    preset: Default::default(),
+                    fmincon_like_beside: false,
                 };
                 let valid = as_design.validate().map_err(|e| match e.field() {
                     f if f.starts_with("chain") || f.starts_with("loads") => e,

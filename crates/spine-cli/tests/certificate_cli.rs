@@ -46,7 +46,7 @@ fn debug_text_is_found_where_it_is_and_not_in_plain_prose() {
 
 #[test]
 fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
-    let mut checked = 0;
+    let (mut checked, mut fmincon) = (0, 0);
     let mut cases: Vec<_> = std::fs::read_dir(workspace().join("paper-cases"))
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -81,6 +81,15 @@ fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
         let mut found = Vec::new();
         design_results(&result, name.clone(), &mut found);
         for (path, r) in found {
+            // The fmincon-like design beside a figure's run is the paper's kind of optimiser's
+            // last iterate, reported as that (its preset says so), neither certified nor polished.
+            if path.contains(".fmincon_like") {
+                let parent = path.rsplit_once(".result").map_or(path.as_str(), |(p, _)| p);
+                assert!(parent.ends_with(".fmincon_like"), "{path}");
+                assert!(r["certificate"].is_null() && r["escapes"].as_array().is_none_or(Vec::is_empty), "{path}");
+                fmincon += 1;
+                continue;
+            }
             let converged = r["solver"]["converged"].as_bool().unwrap_or(false);
             let status = r["certificate"]["status"].as_str();
             if converged {
@@ -104,6 +113,7 @@ fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
         }
     }
     assert!(checked >= 20, "only {checked} design results found");
+    assert!(fmincon >= 10, "figs. 3–8 solve fmincon-like beside each run: {fmincon} found");
 }
 
 #[test]

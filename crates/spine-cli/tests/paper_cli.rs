@@ -108,8 +108,15 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
     assert!(r.get("timings").is_none());
     let c = claims(&r);
     // δ_d met; orientation over stiffness; R in its two readings; end-load change in its two
-    // readings (N = 5 is odd: the middle link in the end half, or in neither).
-    assert_eq!(c.len(), 6, "{c:?}");
+    // readings (N = 5 is odd: the middle link in the end half, or in neither); the same six on
+    // the fmincon-like design beside it.
+    assert_eq!(c.len(), 12, "{c:?}");
+    let fmincon: Vec<&Value> = c.iter().filter(|c| c["scope"] == "n5 fmincon-like").collect();
+    assert_eq!(fmincon.len(), 6, "{c:?}");
+    assert_eq!((&fmincon[0]["check"], &fmincon[0]["pass"]), (&json!("solver"), &json!(true)), "{:?}", fmincon[0]);
+    let beside = &r["summary"]["n5_fmincon"];
+    assert_eq!(beside["solver"], "fmincon-like");
+    assert!((beside["end_displacement"].as_f64().unwrap() + 0.02).abs() < 1e-6, "{beside}");
     // The solver check passes; the paper's statements are reported whichever way they go.
     assert_eq!(c[0]["check"], "solver");
     assert_eq!(c[0]["pass"], json!(true), "{:?}", c[0]);
@@ -117,20 +124,37 @@ fn fig3_five_link_panel_meets_delta_d_with_stable_equilibria_and_same_bytes() {
     let summary = &r["summary"]["n5"];
     assert!((summary["end_displacement"].as_f64().unwrap() + 0.02).abs() < 1e-8);
     assert!((summary["objective"].as_f64().unwrap() - 7.6031253e-3).abs() < 1e-9, "{summary}");
-    assert_files(&out, &r, &["shape_n5.csv", "design_n5.csv", "figure.svg", "figure.png", "figure.pdf"]);
+    assert_files(
+        &out,
+        &r,
+        &[
+            "shape_n5.csv",
+            "design_n5.csv",
+            "shape_n5_fmincon.csv",
+            "design_n5_fmincon.csv",
+            "figure.svg",
+            "figure.png",
+            "figure.pdf",
+        ],
+    );
     let shape = std::fs::read_to_string(out.join("shape_n5.csv")).unwrap();
     assert_eq!(shape.lines().count(), 1 + 6, "header and six nodes");
     let svg = std::fs::read_to_string(out.join("figure.svg")).unwrap();
-    for text in
-        ["(a) 5 links, -10 N per node: shapes", "(b) 5 links, -10 N per node: nodal stiffness", "X (m)", "Kⱼ (N·m/rad)"]
-    {
+    for text in [
+        "(a) 5 links, -10 N per node: shapes",
+        "(b) 5 links, -10 N per node: nodal stiffness",
+        "(c) 5 links, -10 N per node, fmincon-like: shapes",
+        "X (m)",
+        "Kⱼ (N·m/rad)",
+    ] {
         assert!(svg.contains(text), "{text}");
     }
     // Issue 16: the stiffness panel counts nodes (whole-number labels 1…6, nothing between) and
     // spans decades (labels 10^k on a logarithmic axis); no tick reads "-0".
     let labels: Vec<&str> = svg.split(">\n").filter_map(|t| t.split_once("\n<").map(|(l, _)| l)).collect();
     let panel_d = labels.iter().position(|l| l.starts_with("(b) 5 links")).unwrap();
-    let ticks = &labels[panel_d..];
+    let panel_c = labels.iter().position(|l| l.starts_with("(c) 5 links")).unwrap();
+    let ticks = &labels[panel_d..panel_c];
     for node in 1..=6 {
         assert!(ticks.contains(&node.to_string().as_str()), "node label {node}: {ticks:?}");
     }

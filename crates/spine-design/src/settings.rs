@@ -192,6 +192,39 @@ impl Default for SolverSettings {
     }
 }
 
+/// How a design case solves eq. (33): this program's own settings, or made to behave like the
+/// paper's optimiser.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum SolverPreset {
+    /// The case's `formulation` and `solver` as written (default).
+    #[default]
+    Exact,
+    /// Like MATLAB's `fmincon` with its defaults, the paper's optimiser: the reduced space with
+    /// [`SolverSettings::fmincon_like`] (L-BFGS, tolerances 1e-6, 1000 iterations, no mesh
+    /// sequencing), from the case's start. It replaces the case's `formulation` and those fields of
+    /// `solver`.
+    FminconLike,
+}
+
+impl SolverPreset {
+    /// The formulation and settings this preset solves with, from the case's.
+    pub fn apply(self, formulation: Formulation, settings: &SolverSettings) -> (Formulation, SolverSettings) {
+        match self {
+            Self::Exact => (formulation, settings.clone()),
+            Self::FminconLike => (Formulation::Reduced, settings.fmincon_like()),
+        }
+    }
+
+    /// The name written in case files and results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Exact => "exact",
+            Self::FminconLike => "fmincon-like",
+        }
+    }
+}
+
 /// `acceptable_obj_change_tol` of every design solve (see [`SolverSettings::ipopt`]).
 pub const ACCEPTABLE_OBJ_CHANGE: f64 = 1e-10;
 

@@ -40,6 +40,11 @@ pub struct StaticDesign {
     /// the optimum from the case's own start (the paper's), with the census that found it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub best: Option<Box<BestDesign>>,
+    /// How it was solved: "exact" or "fmincon-like" (the paper's kind of optimiser).
+    pub preset: spine_design::SolverPreset,
+    /// With `fmincon_like_beside`: the same case solved fmincon-like from the same start.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fmincon_like: Option<Box<StaticDesign>>,
 }
 
 /// The best design of a census, as a figure draws it beside the paper-start optimum.

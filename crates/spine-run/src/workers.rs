@@ -72,8 +72,7 @@ impl Task {
             v.settings.scaling = s;
         }
         if self.fmincon_like {
-            v.formulation = spine_design::Formulation::Reduced;
-            v.settings = v.settings.fmincon_like();
+            v = v.with_preset(spine_design::SolverPreset::FminconLike);
         }
         v
     }

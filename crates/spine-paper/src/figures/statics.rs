@@ -30,11 +30,22 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
     let change = DesignChange::new(&r.design, &s.start);
     let end_error = r.end_displacement.map_or(f64::INFINITY, |d| (d - r.delta_d).abs());
     let stable = |x: &Option<spine_design::result::StateReport>| x.as_ref().is_some_and(|x| x.stability.stable);
+    // The fmincon-like solver is read as fmincon returns: its last iterate, converged or stopped at
+    // its iteration limit, if it meets the constraints (how it stopped is in the numbers).
+    let fmincon = s.preset == spine_design::SolverPreset::FminconLike;
+    let (how, ended) = if fmincon {
+        (
+            "fmincon-like (reduced space, L-BFGS, 1e-6, 1000 iterations) returned a design within the constraints",
+            r.is_feasible(),
+        )
+    } else {
+        ("Ipopt converged", r.is_clean())
+    };
     let mut claims = vec![Claim::solver(
         scope,
         "the end displacement equals δ_d and both loaded equilibria are stable (eq. (33))",
-        format!("Ipopt converged, |X(θ2) − L_x − δ_d| ≤ {END_TOLERANCE:.0e} m, θ1 and θ2 stable and on the load path"),
-        r.is_clean() && end_error <= END_TOLERANCE && stable(&r.passive) && stable(&r.loaded),
+        format!("{how}, |X(θ2) − L_x − δ_d| ≤ {END_TOLERANCE:.0e} m, θ1 and θ2 stable and on the load path"),
+        ended && end_error <= END_TOLERANCE && stable(&r.passive) && stable(&r.loaded),
         format!(
             "{} after {} iterations; X(θ2) − L_x = {} m against δ_d = {} m (error {end_error:.1e} m); θ1 {}; θ2 {}; load path {}",
             r.solver.status,
@@ -99,6 +110,7 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
         "end_displacement": r.end_displacement,
         "delta_d": r.delta_d,
         "clean": r.is_clean(),
+        "solver": s.preset.name(),
         "status": r.solver.status,
         "iterations": r.solver.iterations,
         "change": change,
@@ -108,6 +120,17 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
         "stiffness": r.design.stiffness,
     });
     (claims, summary)
+}
+
+/// Which design of a run a static figure draws.
+#[derive(Clone, Copy)]
+enum Drawn<'a> {
+    /// The optimum from the case's (the paper's) start.
+    Start,
+    /// The best optimum of a census.
+    Best(&'a spine_run::BestDesign),
+    /// The fmincon-like solver's design from the same start.
+    FminconLike,
 }
 
 /// One shape panel and one stiffness panel per run: Figs. 3, 4, 6, 7, 8.
@@ -120,13 +143,20 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
         let s = expect_design(run)?;
         designs.push(s);
         // The optimum from the paper's start, then (with a census) the best optimum found.
-        let best = s.best.as_deref().map(|b| (&b.design, b));
-        let drawn = std::iter::once((s, None)).chain(best.map(|(d, b)| (d, Some(b))));
-        for (d, census) in drawn {
-            let (suffix, label) = match (census, &s.best) {
-                (None, None) => ("", run.title().to_string()),
-                (None, Some(_)) => ("", format!("{}, paper's start", run.title())),
-                (Some(b), _) => ("_best", format!("{}, best of {} optima", run.title(), b.optima)),
+        // and (when asked) the fmincon-like solver's design from the paper's start.
+        let best = s.best.as_deref().map(|b| (&b.design, Drawn::Best(b)));
+        let fmincon = s.fmincon_like.as_deref().map(|d| (d, Drawn::FminconLike));
+        let drawn = std::iter::once((s, Drawn::Start)).chain(best).chain(fmincon);
+        for (d, kind) in drawn {
+            let census = match kind {
+                Drawn::Best(b) => Some(b),
+                _ => None,
+            };
+            let (suffix, label) = match (kind, &s.best) {
+                (Drawn::Start, None) => ("", run.title().to_string()),
+                (Drawn::Start, Some(_)) => ("", format!("{}, paper's start", run.title())),
+                (Drawn::Best(b), _) => ("_best", format!("{}, best of {} optima", run.title(), b.optima)),
+                (Drawn::FminconLike, _) => ("_fmincon", format!("{}, fmincon-like", run.title())),
             };
             let shapes = Shapes::of_static(d).ok_or_else(|| run.error("the design has no equilibria to draw"))?;
             fig = fig.with(shapes.panel(&format!("({}) {label}: shapes", letter(panel)))).with(stiffness_panel(
@@ -136,7 +166,15 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
             panel += 2;
             out.tables.push((format!("shape_{}{suffix}.csv", run.name), shapes.table()));
             out.tables.push((format!("design_{}{suffix}.csv", run.name), design_table(&d.result.design)));
-            let scope = format!("{}{}", run.name, if census.is_some() { " best" } else { "" });
+            let scope = format!(
+                "{}{}",
+                run.name,
+                match kind {
+                    Drawn::Start => "",
+                    Drawn::Best(_) => " best",
+                    Drawn::FminconLike => " fmincon-like",
+                }
+            );
             let (claims, mut summary) = design_claims(&scope, d);
             if let Some(b) = census {
                 summary["census"] = json!({
@@ -241,6 +279,19 @@ pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOut
         let (claims, summary) = design_claims(run.name, s);
         out.claims.extend(claims);
         out.summary.insert(run.name.to_string(), summary);
+        if let Some(f) = s.fmincon_like.as_deref() {
+            let fd = &f.result.design;
+            let label = format!("{}, fmincon-like", run.title());
+            shape = shape.with(Series::dashed(label.clone(), points(&fd.theta0, 1)).colour(k));
+            stiffness = stiffness.with(Series::dashed(label, points(&fd.stiffness, 1)).colour(k));
+            let mut rows = design_table(fd);
+            let run_names = spine_run::Cells::Labels(vec![format!("{}_fmincon", run.name); fd.stiffness.len()]);
+            rows.columns.insert(0, spine_run::Column { name: "run".into(), cells: run_names });
+            table.extend(rows);
+            let (claims, summary) = design_claims(&format!("{} fmincon-like", run.name), f);
+            out.claims.extend(claims);
+            out.summary.insert(format!("{}_fmincon", run.name), summary);
+        }
     }
     out.tables.push(("designs.csv".into(), table));
     out.figures.push(("figure".into(), Figure::new(title, 2).with(shape).with(stiffness)));
