@@ -36,14 +36,23 @@ fn time_claim(scope: &str, statement: &str, measured: Option<f64>, paper: f64, w
     )
 }
 
+/// Runs Fig. 10 draws beside its first.
+const MAX_BESIDE: usize = 3;
+
 /// Fig. 10: the eq. (37) design — stiffness, end-point motion under the periodic force, shapes.
-/// The first run is the paper's (its genetic algorithm); up to two more runs are other methods on
-/// the same problem (the case file's: the paper's other search, the pattern search, and Ipopt with
-/// exact gradients), drawn beside it and compared by objective and simulations.
+/// The first run is the paper's (its genetic algorithm); up to [`MAX_BESIDE`] more runs are other
+/// methods or starts on the same loads (the case file's: the paper's other search, the pattern
+/// search, Ipopt with exact gradients, and the GA on the eq. (33) design), drawn beside it and
+/// compared by objective and simulations.
 pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let (run, beside) = match runs {
-        [run, beside @ ..] if beside.len() <= 2 => (run, beside),
-        _ => return Err(FieldError::new("runs", "fig10 needs one periodic design run, and at most two beside it")),
+        [run, beside @ ..] if beside.len() <= MAX_BESIDE => (run, beside),
+        _ => {
+            return Err(FieldError::new(
+                "runs",
+                format!("fig10 needs one periodic design run, and at most {MAX_BESIDE} beside it"),
+            ))
+        }
     };
     let (used, p) = periodic(run)?;
     let others = beside.iter().map(periodic).collect::<Result<Vec<_>, _>>()?;
@@ -57,16 +66,15 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     ];
     let mut motion = periodic_panel("(b) end-point motion under the periodic force", r, p.delta_d, Some(p.delta_d));
     let mut shape_panels = vec![shapes.panel(&format!("(c) shapes of the {} design", p.method.describe()))];
-    for (k, (used_q, q)) in others.iter().enumerate() {
+    for (k, ((used_q, q), q_run)) in others.iter().zip(beside).enumerate() {
         let colour = 2 + k;
-        bars.push(Series::bars(format!("eq. (37), {}", q.method.describe()), points(&q.stiffness, 1)).colour(colour));
+        bars.push(Series::bars(format!("eq. (37), {}", q_run.title()), points(&q.stiffness, 1)).colour(colour));
         let samples = q.response.samples.iter().map(|s| (s.t, s.end_displacement)).collect();
         motion.series[0].label = format!("end-point motion, {} design", short(p.method));
-        motion =
-            motion.with(Series::line(format!("end-point motion, {} design", short(q.method)), samples).colour(colour));
+        motion = motion.with(Series::line(format!("end-point motion, {}", q_run.title()), samples).colour(colour));
         let q_design = Design { theta0: used_q.design.theta0.clone(), stiffness: q.stiffness.clone() };
         let q_shapes = Shapes::of_ends(&used_q.spans, &q_design, &q.response.ends);
-        let caption = format!("({}) shapes of the {} design", letter(3 + k), q.method.describe());
+        let caption = format!("({}) shapes: {}", letter(3 + k), q_run.title());
         shape_panels.push(q_shapes.panel(&caption));
     }
     let fig = Figure::new(title, 2).with(stiffness_panel("(a) nodal stiffness", bars)).with(motion);
@@ -93,7 +101,8 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
     out.claims.extend(periodic_design_claims(run.name, p));
     out.summary.insert(run.name.to_string(), summary(p));
     for (other_run, (_, q)) in beside.iter().zip(&others) {
-        out.tables.push((format!("stiffness_{}.csv", q.method), values_table("stiffness_n_m_per_rad", &q.stiffness)));
+        out.tables
+            .push((format!("stiffness_{}.csv", other_run.name), values_table("stiffness_n_m_per_rad", &q.stiffness)));
         out.claims.extend(beside_claims(other_run.name, p, q));
         out.summary.insert(other_run.name.to_string(), summary(q));
     }
