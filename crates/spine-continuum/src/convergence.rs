@@ -80,7 +80,8 @@ pub fn table(rows: &[ConvergenceRow]) -> String {
 pub fn figure(rows: &[ConvergenceRow]) -> Figure {
     let pts = |f: &dyn Fn(&ConvergenceRow) -> f64| rows.iter().map(|r| (r.critical_load.links as f64, f(r))).collect();
     let first = rows.first().map_or(1.0, |r| r.critical_load.links as f64);
-    let anchor = rows.first().map_or(1.0, |r| r.post_buckled.error);
+    // A factor 3 above the post-buckled line, so that the two do not overlap.
+    let anchor = rows.first().map_or(1.0, |r| 3.0 * r.post_buckled.error);
     let slope = rows.iter().map(|r| r.critical_load.links as f64).map(|n| (n, anchor * (first / n).powi(2))).collect();
     let panel = Panel::new("chain against the rod", "N (links)", "error")
         .x_log()
