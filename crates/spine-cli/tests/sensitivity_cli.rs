@@ -128,8 +128,21 @@ fn bad_sweep_input_exits_2_names_the_flag_and_writes_nothing() {
 /// figure without design runs (fig. 9: dynamics) exits 2 naming `runs`.
 #[test]
 fn sensitivity_of_a_figure_case_differentiates_each_design_run() {
-    let case = workspace().join("paper-cases/fig3.json");
+    let full = workspace().join("paper-cases/fig3.json");
     let out = tmpdir("sensitivity-fig3");
+    // fig3's runs under the text's stiffness bound 1000 put every spring on that bound (and the
+    // 10-link one its angles on theirs): the conditions fail there, and the run says which.
+    let args = ["sensitivity", full.to_str().unwrap(), "--param", "delta_d", "--starts", "0"];
+    let out_full = tmpdir("sensitivity-fig3-full");
+    let output = spine(&[&args[..], &["--out", out_full.to_str().unwrap(), "--deterministic"]].concat());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("n10-k1000") && stderr.contains("conditions fail"), "{stderr}");
+    // The paper's two runs (bound 10⁴).
+    let mut text: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&full).unwrap()).unwrap();
+    text["runs"].as_array_mut().unwrap().truncate(2);
+    let case = out.with_extension("json");
+    std::fs::write(&case, text.to_string()).unwrap();
     let args = ["sensitivity", case.to_str().unwrap(), "--param", "delta_d", "--starts", "0"];
     let output = spine(&[&args[..], &["--out", out.to_str().unwrap(), "--deterministic"]].concat());
     let stderr = String::from_utf8_lossy(&output.stderr);
