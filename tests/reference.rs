@@ -102,6 +102,7 @@ fn ipopt_full_and_reduced_space_reproduce_the_reference() {
             stiffness_max: stiffness.clone(),
             height_min: 1e-3,
             height_max: 1.0,
+            height_ramp: 0.0,
         },
         stiffness_scale: 1.0,
         objective: Default::default(),

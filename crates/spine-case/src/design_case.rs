@@ -31,6 +31,16 @@ pub struct BoundsSpec {
     pub height_min: f64,
     #[serde(default)]
     pub height_max: Option<f64>,
+    /// `ℓ`, m (default 0): the lower height bound ramps from 0 at the base and the end to
+    /// `height_min` over this distance, `Y0_j ≥ height_min · min(1, x_j/ℓ, (L_x − x_j)/ℓ)`, so
+    /// that it is a function of `x` (a rod's bound) rather than one number per node; 0 is the
+    /// paper's bound, the same at every interior node. At most `L_x / 2`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub height_ramp: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn pi_over_six() -> f64 {
@@ -55,6 +65,7 @@ impl Default for BoundsSpec {
             stiffness_max: k_max(),
             height_min: y_min(),
             height_max: None,
+            height_ramp: 0.0,
         }
     }
 }
@@ -282,6 +293,12 @@ impl BoundsSpec {
                 format!("must be a finite height (m) > height_min = {}, got {height_max}", b.height_min),
             ));
         }
+        if !(b.height_ramp.is_finite() && (0.0..=0.5 * length_x).contains(&b.height_ramp)) {
+            return Err(CaseError::invalid(
+                "bounds.height_ramp",
+                format!("must be a length (m) in [0, L_x / 2 = {}], got {}", 0.5 * length_x, b.height_ramp),
+            ));
+        }
         Ok(DesignBounds {
             theta0_max: b.theta0_max,
             relative_angle_max: b.relative_angle_max,
@@ -289,6 +306,7 @@ impl BoundsSpec {
             stiffness_max,
             height_min: b.height_min,
             height_max,
+            height_ramp: b.height_ramp,
         })
     }
 }

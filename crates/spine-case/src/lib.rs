@@ -6,6 +6,7 @@
 //!
 //! Further modules:
 //!
+//! * `continuum_case`: `"kind": "continuum"`: eq. (33) for one physical rod at a ladder of `N`.
 //! * `design_case`: `"kind": "design"`: the static design problem of eq. (33).
 //! * `dynamic_kinds`: The three dynamic kinds (`simulate`, `damping`, `periodic`): one case
 //!   format, a case type per kind that knows its task.
@@ -67,11 +68,14 @@ macro_rules! case_kinds {
             Periodic($crate::PeriodicCase) = "periodic",
             /// `"kind": "figure"`: a figure of the paper, several runs drawn and checked together.
             Figure($crate::FigureCase) = "figure",
+            /// `"kind": "continuum"`: eq. (33) for one rod at a ladder of `N` (`N → ∞`).
+            Continuum($crate::ContinuumCase) = "continuum",
         }
     };
 }
 
 mod case;
+mod continuum_case;
 mod design_case;
 mod dynamic_kinds;
 mod dynamics_case;
@@ -90,6 +94,7 @@ mod tangent;
 mod twolink_case;
 
 pub use case::{json_schema, Case, ValidRun, KINDS};
+pub use continuum_case::{ContinuumCase, ValidContinuum};
 pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
 pub use dynamic_kinds::{DampingCase, PeriodicCase, SimulateCase};
 pub use dynamics_case::{

@@ -24,6 +24,9 @@ pub mod buckling;
 pub mod chebyshev;
 pub mod compare;
 pub mod convergence;
+pub mod design;
+pub mod design_figure;
+pub mod design_study;
 pub mod elastica;
 pub mod rod;
 

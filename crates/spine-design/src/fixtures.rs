@@ -16,6 +16,7 @@ pub fn paper_bounds(n: usize, length_x: f64, k_min: f64, k_max: f64, y_min: f64)
         stiffness_max: vec![k_max; n + 1],
         height_min: y_min,
         height_max: 0.25 * length_x,
+        height_ramp: 0.0,
     }
 }
 

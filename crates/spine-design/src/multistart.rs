@@ -23,6 +23,7 @@ pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<
     let n = problem.n_links();
     let b = &problem.bounds;
     let spans = &problem.structure.chain.spans;
+    let floors = b.height_floors(spans);
     let lx = problem.structure.chain.length_x();
     let mut starts = Vec::with_capacity(count);
     while starts.len() < count {
@@ -45,7 +46,7 @@ pub fn feasible_starts(problem: &DesignProblem, count: usize, seed: u64) -> Vec<
             let target = rng.uniform(b.height_min, b.height_max);
             let scale = if n > 1 { (target / hi).min(b.height_max / hi) } else { 0.0 };
             let heights: Vec<f64> = y.iter().map(|v| v * scale).collect();
-            if n > 1 && heights[1..n].iter().any(|h| *h < b.height_min || *h > b.height_max) {
+            if n > 1 && heights[1..n].iter().zip(&floors).any(|(h, floor)| *h < *floor || *h > b.height_max) {
                 continue;
             }
             let t: Vec<f64> = (0..n).map(|i| ((heights[i + 1] - heights[i]) / spans[i]).atan()).collect();

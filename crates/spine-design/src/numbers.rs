@@ -91,6 +91,7 @@ fn numbers_mut(p: &mut DesignProblem) -> Vec<&mut [f64]> {
         &mut b.stiffness_max,
         from_mut(&mut b.height_min),
         from_mut(&mut b.height_max),
+        from_mut(&mut b.height_ramp),
     ];
     if let Some(budget) = &mut p.strain_energy_max {
         numbers.push(from_mut(budget));
@@ -153,6 +154,8 @@ pub(crate) struct Numbers<T> {
     pub stiffness_max: Vec<T>,
     pub height_min: T,
     pub height_max: T,
+    /// [`crate::DesignBounds::height_ramp`], m.
+    pub height_ramp: T,
     /// What the objective measures.
     pub criterion: Criterion<T>,
     /// `U_max` of the strain-energy budget row, J.
@@ -240,6 +243,7 @@ impl<T: Scalar> Numbers<T> {
             stiffness_max: each(&b.stiffness_max, &rb.stiffness_max),
             height_min: lift(b.height_min, rb.height_min),
             height_max: lift(b.height_max, rb.height_max),
+            height_ramp: lift(b.height_ramp, rb.height_ramp),
         }
     }
 
@@ -259,6 +263,7 @@ impl<T: Scalar> Numbers<T> {
             stiffness_max: each(&self.stiffness_max),
             height_min: f(self.height_min),
             height_max: f(self.height_max),
+            height_ramp: f(self.height_ramp),
             strain_energy_max: self.strain_energy_max.map(&f),
             criterion: match &self.criterion {
                 Criterion::StrainEnergy => Criterion::StrainEnergy,
@@ -283,9 +288,12 @@ impl<T: Scalar> Numbers<T> {
             lower[n + j] = self.stiffness_min[j] / self.stiffness_scale;
             upper[n + j] = self.stiffness_max[j] / self.stiffness_scale;
         }
+        let length_x = self.spans.iter().fold(T::zero(), |sum, &a| sum + a);
+        let mut x = T::zero();
         for j in 1..n {
+            x += self.spans[j - 1];
             let v = height(j).expect("interior node has a height variable");
-            lower[v] = self.height_min;
+            lower[v] = crate::problem::height_floor(self.height_min, self.height_ramp, x, length_x);
             upper[v] = self.height_max;
         }
     }

@@ -20,6 +20,44 @@ pub struct DesignBounds {
     /// (paper: 0.01 m and 0.25 L_x).
     pub height_min: f64,
     pub height_max: f64,
+    /// `ℓ`, m: the lower height bound ramps from 0 at the base and the end to `height_min` over
+    /// this distance, `Y0_j ≥ height_min · min(1, x_j/ℓ, (L_x − x_j)/ℓ)` ([`height_floor`]);
+    /// 0 (the paper's): the same bound at every interior node. A bound that is a function of `x`
+    /// is a property of the rod, where a per-node number is not: node 2 sits at `x = a`, and
+    /// `Y0_2 ≤ a tan θ0_max` falls below any fixed bound once `a` is small enough.
+    pub height_ramp: f64,
+}
+
+/// The lower height bound at `x` (m) on a chain of horizontal length `length_x` (m), with
+/// [`DesignBounds::height_ramp`] `ramp` and `height_min` (m), in any scalar (the sensitivities
+/// differentiate it).
+pub fn height_floor<T: spine_model::Scalar>(height_min: T, ramp: T, x: T, length_x: T) -> T {
+    if ramp.re() <= 0.0 {
+        return height_min;
+    }
+    let (start, end) = (x / ramp, (length_x - x) / ramp);
+    let near = if start.re() <= end.re() { start } else { end };
+    if near.re() < 1.0 {
+        height_min * near
+    } else {
+        height_min
+    }
+}
+
+impl DesignBounds {
+    /// The lower bound of each interior node's height `Y0_j`, `j = 2..N` (`N − 1` entries), m, on
+    /// a chain of horizontal spans `spans` ([`height_floor`]).
+    pub fn height_floors(&self, spans: &[f64]) -> Vec<f64> {
+        let length_x: f64 = spans.iter().sum();
+        let mut x = 0.0;
+        spans[..spans.len().saturating_sub(1)]
+            .iter()
+            .map(|a| {
+                x += a;
+                height_floor(self.height_min, self.height_ramp, x, length_x)
+            })
+            .collect()
+    }
 }
 
 /// Eq. (33): find `θ0` and `K` minimising the strain energy `J = U(θ1; θ0, K)` stored under the

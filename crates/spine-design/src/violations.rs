@@ -45,7 +45,11 @@ impl Violations {
                 .windows(2)
                 .map(|w| excess(w[0] - w[1], -b.relative_angle_max, b.relative_angle_max))
                 .fold(0.0, f64::max),
-            height_bounds: heights[1..n].iter().map(|y| excess(*y, b.height_min, b.height_max)).fold(0.0, f64::max),
+            height_bounds: heights[1..n]
+                .iter()
+                .zip(b.height_floors(spans))
+                .map(|(y, floor)| excess(*y, floor, b.height_max))
+                .fold(0.0, f64::max),
             stiffness_bounds: design
                 .stiffness
                 .iter()

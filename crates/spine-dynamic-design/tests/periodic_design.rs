@@ -240,6 +240,7 @@ fn the_strain_energy_gradient_equals_the_static_designs_hand_adjoint() {
         stiffness_max: vec![1e4; n + 1],
         height_min: 0.0,
         height_max: 1.0,
+        height_ramp: 0.0,
     };
     let problem = spine_design::DesignProblem {
         structure: q.structure.clone(),

@@ -46,6 +46,12 @@ use serde::{Deserialize, Serialize};
 /// 0.1 s at this size); above, the inertia alone decides.
 pub const MAX_DENSE_FREE: usize = 600;
 
+/// Most dense work for the critical cone's search, in units of `free³` per face (`2^w` faces for
+/// `w` weakly active bounds): four faces at [`MAX_DENSE_FREE`], about 0.4 s. Above, the inertia
+/// decides. Measured: the rod of `spine_continuum::design` at `N = 100` (450 free variables,
+/// 8 weak bounds) took 24 s in 256 dense eigensolves before this budget.
+pub const MAX_DENSE_WORK: f64 = 4.0 * (MAX_DENSE_FREE * MAX_DENSE_FREE * MAX_DENSE_FREE) as f64;
+
 /// A bound at zero gap is weakly active for the certificate when its multiplier is below this
 /// fraction of the terms it balances: a multiplier above protects the bound to first order
 /// (moving off it raises `J` by `z·gap`), however small beside the sensitivities' threshold
@@ -111,7 +117,7 @@ pub struct Certificate {
     /// of the active rows, moving each weakly active bound only to its feasible side), in the
     /// NLP's variables (`θ` in rad, `K/C_K`, `λ` in N, heights in m), and the largest magnitude
     /// of an entry of `H` on the free variables (the scale [`ZERO_CURVATURE`] is taken of). `None` above
-    /// [`MAX_DENSE_FREE`] free variables or [`crate::sensitivity::MAX_WEAK`] weak bounds (the
+    /// [`MAX_DENSE_FREE`] free variables, [`crate::sensitivity::MAX_WEAK`] weak bounds or [`MAX_DENSE_WORK`] (the
     /// inertia decides there), and for a vertex (no direction).
     pub smallest_curvature: Option<f64>,
     pub curvature_scale: Option<f64>,
@@ -326,7 +332,9 @@ pub fn certify(
     // The inertia with the weakly active bounds free (a superset of the critical cone).
     let system = ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone());
     let inertia = system.kkt.as_ref().map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]);
-    let cone = (weak <= crate::sensitivity::MAX_WEAK).then(|| cone_minimum(layout, &set, &matrices)).flatten();
+    let free = (n - set.variables.len()) as f64;
+    let affordable = weak <= crate::sensitivity::MAX_WEAK && (1u64 << weak) as f64 * free.powi(3) <= MAX_DENSE_WORK;
+    let cone = affordable.then(|| cone_minimum(layout, &set, &matrices)).flatten();
     let (status, negative, smallest, scale) = match cone {
         Some((minimum, scale, direction)) => {
             let zero = ZERO_CURVATURE * scale.max(f64::MIN_POSITIVE);
