@@ -29,7 +29,9 @@ fn every_n_poses_the_same_rod() {
     let floors = paper_rod().problem(10).bounds.height_floors(&[0.1; 10]);
     assert!(floors.iter().all(|f| (f - 0.01).abs() < 1e-15), "{floors:?}");
     let floors = paper_rod().problem(100).bounds.height_floors(&[0.01; 100]);
-    assert!((floors[0] - 0.001).abs() < 1e-15 && (floors[49] - 0.01).abs() < 1e-15 && (floors[98] - 0.001).abs() < 1e-12);
+    assert!(
+        (floors[0] - 0.001).abs() < 1e-15 && (floors[49] - 0.01).abs() < 1e-15 && (floors[98] - 0.001).abs() < 1e-12
+    );
 }
 
 #[test]
