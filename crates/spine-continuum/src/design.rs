@@ -21,6 +21,7 @@
 use crate::rod::Rod;
 use serde::{Deserialize, Serialize};
 use spine_check::{require, FieldError};
+use spine_design::refine::interpolate;
 use spine_design::{DesignBounds, DesignProblem, Objective};
 use spine_model::Design;
 use std::f64::consts::PI;
@@ -157,16 +158,9 @@ impl RodDesign {
     pub fn prolong(&self, coarse: &Design, n: usize) -> Design {
         let m = coarse.theta0.len();
         let (a_m, a_n) = (self.span(m), self.span(n));
-        // Linear interpolation of `values` given at `x = offset + i·step`, constant beyond the ends.
-        let at = |values: &[f64], x: f64, offset: f64, step: f64| {
-            if values.len() == 1 {
-                return values[0];
-            }
-            let u = ((x - offset) / step).clamp(0.0, (values.len() - 1) as f64);
-            let i = (u.floor() as usize).min(values.len() - 2);
-            values[i] + (u - i as f64) * (values[i + 1] - values[i])
-        };
-        let theta: Vec<f64> = (0..n).map(|i| at(&coarse.theta0, (i as f64 + 0.5) * a_n, 0.5 * a_m, a_m)).collect();
+        let middles = |k: usize, a: f64| (0..k).map(|i| (i as f64 + 0.5) * a).collect::<Vec<f64>>();
+        let joints = |k: usize, a: f64| (0..=k).map(|j| j as f64 * a).collect::<Vec<f64>>();
+        let theta = interpolate(&middles(m, a_m), &coarse.theta0, &middles(n, a_n));
         let limit = self.theta0_max;
         let shifted = |c: f64| theta.iter().map(|t| (t + c).clamp(-limit, limit)).collect::<Vec<f64>>();
         let end_height = |c: f64| shifted(c).iter().map(|t| a_n * t.tan()).sum::<f64>();
@@ -181,15 +175,11 @@ impl RodDesign {
             }
         }
         let ei: Vec<f64> = (0..=m).map(|j| self.bending_stiffness_of(m, j, coarse.stiffness[j])).collect();
+        let ei = interpolate(&joints(m, a_m), &ei, &joints(n, a_n));
+        let (low_ei, high_ei) = (self.bending_stiffness_min, self.bending_stiffness_max);
         Design {
             theta0: shifted(0.5 * (low + high)),
-            stiffness: (0..=n)
-                .map(|j| {
-                    let e =
-                        at(&ei, j as f64 * a_n, 0.0, a_m).clamp(self.bending_stiffness_min, self.bending_stiffness_max);
-                    self.stiffness_of(n, j, e)
-                })
-                .collect(),
+            stiffness: (0..=n).map(|j| self.stiffness_of(n, j, ei[j].clamp(low_ei, high_ei))).collect(),
         }
     }
 }

@@ -111,7 +111,7 @@ pub fn restrict(fine: &DesignProblem, coarse: &DesignProblem, nodes: &[usize], d
 }
 
 /// Linear interpolation of `values` given at increasing `at` onto `to` (constant beyond the ends).
-pub(super) fn interpolate(at: &[f64], values: &[f64], to: &[f64]) -> Vec<f64> {
+pub fn interpolate(at: &[f64], values: &[f64], to: &[f64]) -> Vec<f64> {
     let mut k = 0;
     to.iter()
         .map(|&x| {

@@ -32,7 +32,7 @@ mod mesh;
 mod multipliers;
 
 pub use level::{prepare_level, restore_end_displacement, solution_parts, warm_states, LevelSetup, LevelStart};
-pub use mesh::{coarse_nodes, coarsen, prolong, restrict};
+pub use mesh::{coarse_nodes, coarsen, interpolate, prolong, restrict};
 pub use multipliers::prolong_multipliers;
 
 use serde::{Deserialize, Serialize};
