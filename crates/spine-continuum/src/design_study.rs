@@ -10,7 +10,7 @@
 //! optimum put on the wrong bound). The level reports every attempt and keeps the lowest `J`
 //! among the clean ones that are not certified `not_a_minimum`.
 //!
-//! Then every level but the finest is solved again from the finest optimum carried back (the same
+//! Then every level below the finest clean one is solved again from its optimum carried back (the same
 //! barrier starts), and keeps the lower clean optimum: the first pass inherits the coarsest
 //! level's basin, which need not be the basin the fine levels settle in (the paper's rod: from
 //! the arch, `N = 10` and 20 reach hinge designs with `J*` 6.54 and 6.43 mJ; carried back from
@@ -273,7 +273,7 @@ fn solve_level(
 }
 
 /// Solves `design` at each `N` of `links` (increasing), each level from the previous one, then
-/// every level but the finest again from the finest optimum carried back (module docs).
+/// every level below the finest clean one again from its optimum carried back (module docs).
 /// `progress` hears of each level as its first pass ends.
 pub fn study(
     design: &RodDesign,
@@ -294,9 +294,12 @@ pub fn study(
         progress(&describe(design, n, result.clone(), attempts.clone(), clock.elapsed().as_secs_f64()));
         passes.push((attempts, result, clock.elapsed().as_secs_f64()));
     }
-    let finest = passes.last().map(|(_, r, _)| r.design.clone());
-    let count = passes.len();
-    let mut levels = Vec::with_capacity(count);
+    // The finest level that kept a usable optimum (an unconverged finest level carries nothing
+    // back), and the levels below it.
+    let finest_clean = passes.iter().rposition(|(_, r, _)| usable(r));
+    let finest = finest_clean.map(|k| passes[k].1.design.clone());
+    let count = finest_clean.unwrap_or(0) + 1;
+    let mut levels = Vec::with_capacity(links.len());
     for (k, ((mut attempts, result, seconds), &n)) in passes.into_iter().zip(links).enumerate() {
         let clock = Instant::now();
         let mut kept = Some(result);
