@@ -100,6 +100,16 @@ impl RodDesign {
         self.length / n as f64
     }
 
+    /// `x` of the middles of the `n` links, m (where `θ0_i` is drawn and interpolated).
+    pub fn link_middles(&self, n: usize) -> Vec<f64> {
+        (0..n).map(|i| (i as f64 + 0.5) * self.span(n)).collect()
+    }
+
+    /// `x` of the `n + 1` joints, m (where `EI_j` is drawn and interpolated).
+    pub fn joints(&self, n: usize) -> Vec<f64> {
+        (0..=n).map(|j| j as f64 * self.span(n)).collect()
+    }
+
     /// `K_j = EI / a` for `EI`, with the base and end springs' factor 2 (`j = 0` and `j = N`).
     pub fn stiffness_of(&self, n: usize, j: usize, bending_stiffness: f64) -> f64 {
         let end = if j == 0 || j == n { 2.0 } else { 1.0 };
@@ -157,10 +167,8 @@ impl RodDesign {
     /// again (`Φ(θ0) = 0`); `EI(x)` interpolated at the new joints. Both clamped into the bounds.
     pub fn prolong(&self, coarse: &Design, n: usize) -> Design {
         let m = coarse.theta0.len();
-        let (a_m, a_n) = (self.span(m), self.span(n));
-        let middles = |k: usize, a: f64| (0..k).map(|i| (i as f64 + 0.5) * a).collect::<Vec<f64>>();
-        let joints = |k: usize, a: f64| (0..=k).map(|j| j as f64 * a).collect::<Vec<f64>>();
-        let theta = interpolate(&middles(m, a_m), &coarse.theta0, &middles(n, a_n));
+        let a_n = self.span(n);
+        let theta = interpolate(&self.link_middles(m), &coarse.theta0, &self.link_middles(n));
         let limit = self.theta0_max;
         let shifted = |c: f64| theta.iter().map(|t| (t + c).clamp(-limit, limit)).collect::<Vec<f64>>();
         let end_height = |c: f64| shifted(c).iter().map(|t| a_n * t.tan()).sum::<f64>();
@@ -175,7 +183,7 @@ impl RodDesign {
             }
         }
         let ei: Vec<f64> = (0..=m).map(|j| self.bending_stiffness_of(m, j, coarse.stiffness[j])).collect();
-        let ei = interpolate(&joints(m, a_m), &ei, &joints(n, a_n));
+        let ei = interpolate(&self.joints(m), &ei, &self.joints(n));
         let (low_ei, high_ei) = (self.bending_stiffness_min, self.bending_stiffness_max);
         Design {
             theta0: shifted(0.5 * (low + high)),

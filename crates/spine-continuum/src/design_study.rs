@@ -158,6 +158,14 @@ pub struct RodOptimum {
     pub wall_seconds: f64,
 }
 
+impl RodOptimum {
+    /// The level kept a clean optimum that is not certified `not_a_minimum` (some attempt
+    /// reached one, and the kept result is the best of those).
+    pub fn is_clean(&self) -> bool {
+        self.attempts.iter().any(|a| a.clean)
+    }
+}
+
 /// A Richardson estimate from three levels `N1 < N2 < N3`: `J(N) = J∞ + C N^−p` through them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Richardson {
@@ -274,12 +282,12 @@ fn solve_level(
 
 /// Solves `design` at each `N` of `links` (increasing), each level from the previous one, then
 /// every level below the finest clean one again from its optimum carried back (module docs).
-/// `progress` hears of each level as its first pass ends.
+/// `progress` hears of each level's first pass as it ends: `N` and the result kept.
 pub fn study(
     design: &RodDesign,
     links: &[usize],
     settings: &StudySettings,
-    progress: &mut dyn FnMut(&RodOptimum),
+    progress: &mut dyn FnMut(usize, &DesignResult),
 ) -> Result<RodStudy, DesignError> {
     let mut passes: Vec<(Vec<Attempt>, DesignResult, f64)> = Vec::new();
     for &n in links {
@@ -291,7 +299,7 @@ pub fn study(
         let (mut attempts, mut kept) = (Vec::new(), None);
         solve_level(design, n, (&start.0, start.1), settings, &mut attempts, &mut kept)?;
         let result = kept.expect("every level makes at least one attempt");
-        progress(&describe(design, n, result.clone(), attempts.clone(), clock.elapsed().as_secs_f64()));
+        progress(n, &result);
         passes.push((attempts, result, clock.elapsed().as_secs_f64()));
     }
     // The finest level that kept a usable optimum (an unconverged finest level carries nothing
@@ -311,7 +319,7 @@ pub fn study(
         levels.push(describe(design, n, result, attempts, seconds + clock.elapsed().as_secs_f64()));
     }
     let clean: Vec<(usize, f64)> =
-        levels.iter().filter(|l| l.attempts.iter().any(|a| a.clean)).map(|l| (l.links, l.result.objective)).collect();
+        levels.iter().filter(|l| l.is_clean()).map(|l| (l.links, l.result.objective)).collect();
     let richardson = (clean.len() >= 3)
         .then(|| Richardson::through([clean[clean.len() - 3], clean[clean.len() - 2], clean[clean.len() - 1]]))
         .flatten();
@@ -337,19 +345,18 @@ fn solver_settings(settings: &StudySettings, mu_init: Option<f64>) -> SolverSett
 }
 
 fn describe(design: &RodDesign, n: usize, result: DesignResult, attempts: Vec<Attempt>, seconds: f64) -> RodOptimum {
-    let a = design.span(n);
     let d: &Design = &result.design;
     let pattern = bound_pattern(design, n, &d.stiffness);
     let switches = pattern.as_bytes().windows(2).filter(|w| w[0] != w[1]).count();
     let soft_share = pattern.chars().filter(|c| *c == 'L').count() as f64 / (n + 1) as f64;
     let at_theta = d.theta0.iter().filter(|t| t.abs() >= design.theta0_max * (1.0 - 1e-6)).count();
-    let kappa = design.curvature_max * a;
+    let kappa = design.curvature_max * design.span(n);
     let at_curvature = d.theta0.windows(2).filter(|w| (w[0] - w[1]).abs() >= kappa * (1.0 - 1e-6)).count();
     RodOptimum {
         links: n,
         attempts,
-        x_links: (0..n).map(|i| (i as f64 + 0.5) * a).collect(),
-        x_joints: (0..=n).map(|j| j as f64 * a).collect(),
+        x_links: design.link_middles(n),
+        x_joints: design.joints(n),
         bending_stiffness: (0..=n).map(|j| design.bending_stiffness_of(n, j, d.stiffness[j])).collect(),
         pattern,
         switches,

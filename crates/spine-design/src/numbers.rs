@@ -288,12 +288,10 @@ impl<T: Scalar> Numbers<T> {
             lower[n + j] = self.stiffness_min[j] / self.stiffness_scale;
             upper[n + j] = self.stiffness_max[j] / self.stiffness_scale;
         }
-        let length_x = self.spans.iter().fold(T::zero(), |sum, &a| sum + a);
-        let mut x = T::zero();
-        for j in 1..n {
-            x += self.spans[j - 1];
+        let floors = crate::problem::height_floors(self.height_min, self.height_ramp, &self.spans);
+        for (j, floor) in (1..n).zip(floors) {
             let v = height(j).expect("interior node has a height variable");
-            lower[v] = crate::problem::height_floor(self.height_min, self.height_ramp, x, length_x);
+            lower[v] = floor;
             upper[v] = self.height_max;
         }
     }

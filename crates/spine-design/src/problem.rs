@@ -44,19 +44,24 @@ pub fn height_floor<T: spine_model::Scalar>(height_min: T, ramp: T, x: T, length
     }
 }
 
+/// The lower bound of each interior node's height `Y0_j`, `j = 2..N` (`N − 1` entries), m, on a
+/// chain of horizontal spans `spans` ([`height_floor`] at each node's `x`), in any scalar.
+pub fn height_floors<T: spine_model::Scalar>(height_min: T, ramp: T, spans: &[T]) -> Vec<T> {
+    let length_x = spans.iter().fold(T::zero(), |sum, &a| sum + a);
+    let mut x = T::zero();
+    spans[..spans.len().saturating_sub(1)]
+        .iter()
+        .map(|&a| {
+            x += a;
+            height_floor(height_min, ramp, x, length_x)
+        })
+        .collect()
+}
+
 impl DesignBounds {
-    /// The lower bound of each interior node's height `Y0_j`, `j = 2..N` (`N − 1` entries), m, on
-    /// a chain of horizontal spans `spans` ([`height_floor`]).
+    /// [`height_floors`] of these bounds on a chain of horizontal spans `spans`, m.
     pub fn height_floors(&self, spans: &[f64]) -> Vec<f64> {
-        let length_x: f64 = spans.iter().sum();
-        let mut x = 0.0;
-        spans[..spans.len().saturating_sub(1)]
-            .iter()
-            .map(|a| {
-                x += a;
-                height_floor(self.height_min, self.height_ramp, x, length_x)
-            })
-            .collect()
+        height_floors(self.height_min, self.height_ramp, spans)
     }
 }
 

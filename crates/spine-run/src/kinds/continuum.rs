@@ -68,7 +68,7 @@ fn certificate(level: &spine_continuum::design_study::RodOptimum) -> String {
 impl crate::KindOutput for ContinuumResult {
     /// Every level kept a clean optimum that is not certified `not_a_minimum`.
     fn is_clean(&self) -> bool {
-        self.study.levels.iter().all(|l| l.attempts.iter().any(|a| a.clean))
+        self.study.levels.iter().all(|l| l.is_clean())
     }
 
     fn files(&self) -> Vec<OutputFile> {
@@ -83,7 +83,7 @@ impl crate::KindOutput for ContinuumResult {
         self.study
             .levels
             .iter()
-            .filter(|l| !l.attempts.iter().any(|a| a.clean))
+            .filter(|l| !l.is_clean())
             .map(|l| {
                 format!(
                     "N = {}: no attempt ended clean and certified ({})",
@@ -105,7 +105,6 @@ impl std::fmt::Display for ContinuumResult {
             "N", "J* (J)", "status", "certificate", "clean", "switches", "time (s)"
         )?;
         for l in &self.study.levels {
-            let clean = l.attempts.iter().any(|a| a.clean);
             writeln!(
                 f,
                 "{:>7} {:>16.9e} {:>28} {:>16} {:>6} {:>9} {:>8.2}  {}",
@@ -113,7 +112,7 @@ impl std::fmt::Display for ContinuumResult {
                 l.result.objective,
                 l.result.solver.status.to_string(),
                 certificate(l),
-                if clean { "yes" } else { "NO" },
+                if l.is_clean() { "yes" } else { "NO" },
                 l.switches,
                 l.wall_seconds,
                 runs(&l.pattern)
@@ -139,7 +138,7 @@ impl crate::RunKind for ContinuumCase {
         let clock = std::time::Instant::now();
         let total = valid.links.len();
         let mut done = 0;
-        let study = study(&valid.rod, &valid.links, &valid.settings, &mut |_| {
+        let study = study(&valid.rod, &valid.links, &valid.settings, &mut |_, _| {
             done += 1;
             (cx.progress)(crate::Progress::Step { stage: "levels", done, total });
         })
