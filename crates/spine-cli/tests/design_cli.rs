@@ -120,6 +120,14 @@ fn multistart_reports_the_best_clean_optimum_with_every_optimum_in_full() {
     // leads with the best one.
     let own = optima.iter().find(|o| o["starts"].as_array().unwrap().contains(&serde_json::json!(0))).unwrap();
     assert!(own["objective"].as_f64().unwrap() > best_j * (1.0 + 1e-6), "the case no longer shows the point");
+    // The seeded starts run with the census's barrier strategy (`multistart.barrier_strategy`,
+    // adaptive by default), the case's own start with its own (`solver.barrier_strategy`,
+    // monotone by default).
+    for o in optima {
+        let seeded = o["starts"][0] != serde_json::json!(0);
+        let expected = if seeded { "adaptive" } else { "monotone" };
+        assert_eq!(o["solver"]["ipopt_options"]["mu_strategy"], expected, "optimum from start {}", o["starts"][0]);
+    }
     assert_eq!(r["reported_start"], best["starts"][0]);
     assert_eq!(r["objective"].as_f64().unwrap(), best_j);
     assert_eq!(r["design"], best["design"]);
@@ -148,6 +156,11 @@ fn bad_design_input_exits_2_and_names_the_field() {
             "\"formulation\": \"full\"",
             "\"formulation\": \"full\", \"solver\": {\"barrier_strategy\": \"fast\"}",
             "solver.barrier_strategy",
+        ),
+        (
+            "\"formulation\": \"full\"",
+            "\"formulation\": \"full\", \"multistart\": {\"starts\": 2, \"barrier_strategy\": \"fast\"}",
+            "multistart.barrier_strategy",
         ),
         (
             "\"formulation\": \"full\"",

@@ -80,6 +80,6 @@ pub use numbers::ProblemTangent;
 pub use objective::Objective;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
-pub use settings::{Formulation, ScalingMethod, SolverPreset, SolverSettings};
+pub use settings::{BarrierStrategy, Formulation, ScalingMethod, SolverPreset, SolverSettings};
 pub use solve::{ipopt_solve, run_solver, DesignError, SolverRun};
 pub use warnings::{DesignWarning, LoadCase};

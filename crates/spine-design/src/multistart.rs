@@ -232,7 +232,8 @@ impl<'a> Settled<'a> {
     }
 
     /// The census estimate of the runs so far: the clean settled optima (groups whose settled
-    /// results are one optimum merged, mirror images distinct) and how many runs reached each.
+    /// results are one optimum merged), an optimum and its mirror image one class
+    /// ([`mirror_classes`]), and how many runs reached each.
     pub fn estimate(&self) -> CensusEstimate {
         let mut optima: Vec<(usize, usize)> = Vec::new(); // (group, runs)
         let mut counts = vec![0usize; self.groups.len()];
@@ -251,8 +252,42 @@ impl<'a> Settled<'a> {
                 None => optima.push((g, counts[g])),
             }
         }
-        estimate(optima.into_iter().map(|(_, c)| c).collect())
+        let results: Vec<&DesignResult> = optima.iter().map(|(g, _)| &self.groups[*g].1).collect();
+        let mirror_of: Vec<Option<usize>> =
+            (0..results.len()).map(|k| mirror_among(&results[..k], results[k])).collect();
+        estimate(mirror_classes(&optima.iter().map(|(_, c)| *c).collect::<Vec<_>>(), &mirror_of))
     }
+}
+
+/// The earliest of `earlier` that `result` is the mirror image of ([`mirror`]).
+fn mirror_among(earlier: &[&DesignResult], result: &DesignResult) -> Option<usize> {
+    let mirrored = mirror(&result.design);
+    earlier.iter().position(|e| same_optimum(e, result, &mirrored.theta0))
+}
+
+/// How many runs reached each class of optima, an optimum and its mirror image one class:
+/// `counts[k]` runs reached optimum `k`, which is the mirror image of optimum `mirror_of[k]`
+/// (an earlier one) or of none. The census estimate counts classes, not points: the question it
+/// answers is whether a *better* design is unseen, and a mirror image has the same `J` as its
+/// partner (it is the same design read from the other end), so seeing either settles the value
+/// of both. Where the case is not mirror-symmetric no two optima are mirror images and every
+/// optimum is its own class.
+pub fn mirror_classes(counts: &[usize], mirror_of: &[Option<usize>]) -> Vec<usize> {
+    let mut classes: Vec<usize> = Vec::new();
+    let mut class_of = Vec::with_capacity(counts.len());
+    for (k, &c) in counts.iter().enumerate() {
+        match mirror_of[k].map(|m| class_of[m]) {
+            Some(class) => {
+                classes[class] += c;
+                class_of.push(class);
+            }
+            None => {
+                class_of.push(classes.len());
+                classes.push(c);
+            }
+        }
+    }
+    classes
 }
 
 /// Groups converged results: two belong to the same optimum when both are clean or both are
@@ -295,6 +330,27 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
             }
         }
     }
-    let census = estimate(optima.iter().filter(|o| o.clean).map(|o| o.count).collect());
+    let clean: Vec<&Optimum> = optima.iter().filter(|o| o.clean).collect();
+    let mirror_of: Vec<Option<usize>> = clean
+        .iter()
+        .enumerate()
+        .map(|(k, o)| mirror_among(&clean[..k].iter().map(|e| &e.result).collect::<Vec<_>>(), &o.result))
+        .collect();
+    let census = estimate(mirror_classes(&clean.iter().map(|o| o.count).collect::<Vec<_>>(), &mirror_of));
     MultiStartSummary { starts, seed, converged, optima, failed, census, confidence: None }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::mirror_classes;
+
+    #[test]
+    fn mirror_images_join_their_partners_class() {
+        // Optima 0..5: 2 is the image of 0, 4 the image of 1, 3 and 5 stand alone.
+        let counts = [5, 3, 2, 7, 1, 4];
+        let mirror_of = [None, None, Some(0), None, Some(1), None];
+        assert_eq!(mirror_classes(&counts, &mirror_of), vec![7, 4, 7, 4]);
+        // No mirror images: every optimum is its own class.
+        assert_eq!(mirror_classes(&counts, &[None; 6]), counts.to_vec());
+    }
 }

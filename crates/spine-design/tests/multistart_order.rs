@@ -41,3 +41,16 @@ fn the_earlier_start_leads_a_mirror_pair() {
         assert_eq!(summary.optima[1].mirror_of, Some(0), "shift {shift}");
     }
 }
+
+#[test]
+fn the_census_counts_a_mirror_pair_as_one_class() {
+    let (optimum, image) = optimum_and_image(0.0);
+    let summary = cluster(vec![optimum.clone(), image.clone(), optimum.clone()], 0);
+    assert_eq!(summary.optima.len(), 2, "both members are listed");
+    assert_eq!(summary.optima.iter().map(|o| o.count).collect::<Vec<_>>(), vec![2, 1]);
+    assert_eq!((summary.census.searches, summary.census.distinct), (3, 1));
+    assert_eq!(summary.census.reached, vec![3]);
+    // Without its image the optimum is alone in its class: one class either way.
+    let alone = cluster(vec![optimum.clone(), optimum], 0);
+    assert_eq!((alone.census.searches, alone.census.distinct), (2, 1));
+}

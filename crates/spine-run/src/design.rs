@@ -138,8 +138,9 @@ pub fn run_design_case(
         return to_confidence(case, valid, own, target, workers, progress);
     }
     let seeded = feasible_starts(&valid.problem, valid.multistart.starts, valid.multistart.seed);
+    let tasks: Vec<Task> = seeded.iter().map(Task::seeded).collect();
     let mut runs = vec![own];
-    runs.extend(solve_all(valid, &seeded, workers, progress)?);
+    runs.extend(solve_all(valid, &tasks, workers, progress)?);
     census(case, valid, runs)
 }
 
@@ -189,8 +190,8 @@ pub fn census_to(
     let mut census = ConfidenceCensus::new(valid, target, own)?;
     while let Some(starts) = Batches::new(valid).seeded(census.batches() + 1) {
         let drawn = feasible_starts(&valid.problem, *starts.end(), valid.multistart.seed);
-        let batch = &drawn[*starts.start() - 1..];
-        let runs = solve_all(valid, batch, workers, progress)?;
+        let batch: Vec<Task> = drawn[*starts.start() - 1..].iter().map(Task::seeded).collect();
+        let runs = solve_all(valid, &batch, workers, progress)?;
         let complete = runs.len() == batch.len();
         if census.add_batch(runs)? || !complete {
             break;
@@ -202,16 +203,16 @@ pub fn census_to(
     Ok(census.finish())
 }
 
-/// Eq. (33), unchecked, from each of `starts` in order (in `workers` processes when given with
+/// Eq. (33), unchecked, for each of `tasks` in order (in `workers` processes when given with
 /// more than one job), with the multi-start's progress. A time limit ends it early: the runs
 /// completed come back; an interrupt is [`RunError::Interrupted`].
 pub fn solve_all(
     valid: &ValidDesign,
-    starts: &[Design],
+    tasks: &[Task],
     workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Vec<SolverRun>, RunError> {
-    let total = starts.len();
+    let total = tasks.len();
     if total == 0 {
         return Ok(Vec::new());
     }
@@ -219,17 +220,16 @@ pub fn solve_all(
     match workers.filter(|w| w.jobs > 1) {
         Some(w) => {
             progress(Progress::Step { stage: "multi-start", done: 0, total });
-            let tasks: Vec<Task> = starts.iter().map(Task::start).collect();
-            runs = solve_starts(w, &tasks, &mut |k| progress(Progress::Step { stage: "multi-start", done: k, total }))?;
+            runs = solve_starts(w, tasks, &mut |k| progress(Progress::Step { stage: "multi-start", done: k, total }))?;
         }
         None => {
-            for (k, d) in starts.iter().enumerate() {
+            for (k, task) in tasks.iter().enumerate() {
                 progress(Progress::Step { stage: "multi-start", done: k, total });
                 if spine_stop::check().is_some() {
                     // Time limit: the census holds the starts run so far (`multistart.starts` says how many).
                     break;
                 }
-                runs.push(solve_unchecked(valid, d)?);
+                runs.push(solve_unchecked(&task.case(valid), &task.start)?);
             }
         }
     }

@@ -45,7 +45,7 @@ impl DesignCaseResult {
             |v: Option<f64>, digits: usize| v.map_or("n/a (too few runs)".to_string(), |v| format!("{v:.digits$}"));
         writeln!(
             f,
-            "census (Boender-Rinnooy Kan): {} clean optima from {} runs; estimated number of optima {}, P(all seen) {}, P(a better one unseen) {}",
+            "census (Boender-Rinnooy Kan): {} classes of clean optima (an optimum and its mirror image one class) from {} runs; estimated number of classes {}, P(all seen) {}, P(a better one unseen) {}",
             e.distinct,
             e.searches,
             number(e.estimated_optima, 1),

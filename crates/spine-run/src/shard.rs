@@ -21,7 +21,7 @@ use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::registry::KindResult;
 use crate::result::CaseResult;
-use crate::workers::Workers;
+use crate::workers::{Task, Workers};
 use serde::{Deserialize, Serialize};
 use spine_design::multistart::feasible_starts;
 use spine_design::SolverRun;
@@ -133,9 +133,9 @@ pub fn run_shard(
         DesignOverrides { starts: Some(valid.multistart.starts), seed: Some(valid.multistart.seed), ..*overrides };
     let last = share.last().copied().unwrap_or(0);
     let seeded = feasible_starts(&valid.problem, last, valid.multistart.seed);
-    let designs: Vec<_> =
-        share.iter().map(|&i| if i == 0 { valid.start.clone() } else { seeded[i - 1].clone() }).collect();
-    let runs = solve_all(&valid, &designs, workers, progress)?;
+    let tasks: Vec<Task> =
+        share.iter().map(|&i| if i == 0 { Task::start(&valid.start) } else { Task::seeded(&seeded[i - 1]) }).collect();
+    let runs = solve_all(&valid, &tasks, workers, progress)?;
     let complete = runs.len() == share.len();
     Ok(Shard {
         format: SHARD_FORMAT.into(),

@@ -54,12 +54,21 @@ pub struct Task {
     /// [`spine_design::SolverSettings::fmincon_like`].
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub fmincon_like: bool,
+    /// A seeded start of a multi-start: solved with the census's barrier strategy
+    /// (`multistart.barrier_strategy`) instead of the case's.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub seeded: bool,
 }
 
 impl Task {
     /// A start of the case as it is.
     pub fn start(start: &Design) -> Self {
-        Self { start: start.clone(), stiffness_scale: None, scaling: None, fmincon_like: false }
+        Self { start: start.clone(), stiffness_scale: None, scaling: None, fmincon_like: false, seeded: false }
+    }
+
+    /// A seeded start of the case's multi-start.
+    pub fn seeded(start: &Design) -> Self {
+        Self { seeded: true, ..Self::start(start) }
     }
 
     /// The case this task solves: `valid` with the task's C_K, scaling and solver.
@@ -70,6 +79,9 @@ impl Task {
         }
         if let Some(s) = self.scaling {
             v.settings.scaling = s;
+        }
+        if self.seeded {
+            v.settings.barrier_strategy = v.multistart.barrier_strategy;
         }
         if self.fmincon_like {
             v = v.with_preset(spine_design::SolverPreset::FminconLike);

@@ -55,7 +55,13 @@ impl CkSolver {
             Self::Exact(s) => (s, false),
             Self::FminconLike => (ScalingMethod::GradientBased, true),
         };
-        Task { start: start.clone(), stiffness_scale: Some(stiffness_scale), scaling: Some(scaling), fmincon_like }
+        Task {
+            start: start.clone(),
+            stiffness_scale: Some(stiffness_scale),
+            scaling: Some(scaling),
+            fmincon_like,
+            seeded: false,
+        }
     }
 }
 
