@@ -87,6 +87,25 @@ impl DynamicArgs {
     }
 }
 
+/// `spine case`: any case file by its kind.
+#[derive(clap::Args)]
+pub struct CaseArgs {
+    #[command(flatten)]
+    pub dynamic: DynamicArgs,
+    /// Worker processes for the seeded starts of a design case's or a figure's multi-starts,
+    /// 1..=256 (default: the number of cores; 1: this process). The same bytes either way.
+    #[arg(long, value_name = "N", value_parser = parse_jobs)]
+    pub jobs: Option<usize>,
+}
+
+impl CaseArgs {
+    /// The overrides, with worker processes for the multi-starts: `--jobs`, or one per core.
+    pub fn overrides(&self) -> Result<spine_run::Overrides, crate::Failure> {
+        let workers = workers(self.jobs, &self.dynamic.run.case, &Default::default())?;
+        Ok(spine_run::Overrides { workers, ..self.dynamic.overrides() })
+    }
+}
+
 #[derive(clap::Args)]
 pub struct DesignArgs {
     #[command(flatten)]
@@ -119,10 +138,9 @@ pub struct DesignArgs {
     /// write `DIR/shard.json`; `spine merge` combines the N shards into the single run's result.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<spine_run::shard::ShardSpec>,
-    /// With `--confidence` and `--shard`: the batch of a census to a stated confidence whose
-    /// starts the shard takes (batch B: seeded starts 100(B−1)+1..=100B; batch 1 also start 0).
-    /// `spine merge` of batches 1..=B says whether the census is done or which batch is next
-    /// (scripts/slurm/census.sh runs it on a cluster).
+    /// With `--confidence` and `--shard`: the batch whose starts the shard takes (B: seeded starts
+    /// 100(B−1)+1..=100B, batch 1 also start 0); `spine merge` of batches 1..=B says whether the
+    /// census is done or which batch is next (scripts/slurm/census.sh).
     #[arg(long, value_name = "B", value_parser = parse_batch)]
     pub batch: Option<usize>,
     /// Add the derivatives of the reported optimum with respect to the case's parameters
@@ -153,6 +171,9 @@ pub struct WorkerArgs {
     /// The parent's design overrides, as JSON.
     #[arg(long)]
     pub overrides: String,
+    /// CASE is a figure: solve its run NAME (a design run).
+    #[arg(long, value_name = "NAME")]
+    pub run: Option<String>,
 }
 
 #[derive(clap::Args)]
@@ -288,7 +309,7 @@ pub enum Command {
     /// The periodic-load design of eq. (37) by a genetic algorithm or a pattern search.
     Periodic(PeriodicArgs),
     /// Runs any case file by its `kind` (a `figure` case: its runs, plots, tables and checked claims).
-    Case(DynamicArgs),
+    Case(CaseArgs),
     /// A parameter study on a design case (`ck`: the C_K study of eq. (34)).
     Study(StudyArgs),
     /// Eq. (33) on a design case, then the derivatives of its optimum (θ0*, K*, θ1*, θ2*, λ*, J*)

@@ -73,7 +73,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => run(&a.run, Some("simulate"), a.overrides(), Mode::Case),
         Command::Damping(a) => run(&a.run, Some("damping"), a.overrides(), Mode::Case),
         Command::Periodic(a) => run(&a.run, Some("periodic"), a.overrides(), Mode::Case),
-        Command::Case(a) => run(&a.run, None, a.overrides(), Mode::Case),
+        Command::Case(a) => a.overrides().and_then(|o| run(&a.dynamic.run, None, o, Mode::Case)),
         Command::Study(a) => a.values().and_then(|v| run(&a.run, None, a.overrides()?, Mode::Study(v))),
         Command::Sensitivity(a) => run(&a.run, None, a.overrides(), Mode::Sensitivity(&a.params)),
         Command::Sweep(a) => run(&a.run, Some("design"), a.overrides(), Mode::Sweep(a)),
@@ -197,8 +197,20 @@ fn failure(path: &str, e: spine_run::RunError) -> Failure {
 /// standard input until it closes.
 fn worker(a: &args::WorkerArgs) -> Result<bool, Failure> {
     let path = a.case.display().to_string();
-    let (_, spine_case::Case::Design(c)) = read_case(&a.case)? else {
-        return Err(Failure::Input(format!("{path}: kind: a worker solves \"design\" cases")));
+    let (_, case) = read_case(&a.case)?;
+    let case = match (case, &a.run) {
+        (case, None) => case,
+        (spine_case::Case::Figure(f), Some(name)) => {
+            let runs = f.validate().map_err(|e| Failure::Input(format!("{path}: {e}")))?;
+            let run = runs.into_iter().find(|r| &r.name == name);
+            run.ok_or_else(|| Failure::Input(format!("{path}: --run: the figure has no run {name:?}")))?.case
+        }
+        (_, Some(_)) => return Err(Failure::Input(format!("{path}: --run: only a figure case has runs"))),
+    };
+    let spine_case::Case::Design(c) = case else {
+        return Err(Failure::Input(format!(
+            "{path}: kind: a worker solves \"design\" cases (or a figure's design run)"
+        )));
     };
     let overrides: spine_run::DesignOverrides =
         serde_json::from_str(&a.overrides).map_err(|e| Failure::Input(format!("--overrides: {e}")))?;

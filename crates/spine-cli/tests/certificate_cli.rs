@@ -156,6 +156,52 @@ fn a_figure_draws_the_best_design_of_its_census_beside_the_papers() {
 }
 
 #[test]
+fn a_figure_holds_the_best_designs_mirror_image_to_the_same_claims() {
+    // fig3's 10-link run with one batch of its census (P ≤ 0.2: 101 runs, a few seconds) finds
+    // the best optimum (J 5.79e-3) and its mirror image.
+    let mut case: Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/fig3.json")).unwrap()).unwrap();
+    case["runs"].as_array_mut().unwrap().retain(|r| r["name"] == "n10");
+    case["base"]["multistart"] = serde_json::json!({ "confidence": 0.2, "seed": 1 });
+    let dir = tmpdir("figure-mirror");
+    let file = dir.with_extension("json");
+    std::fs::write(&file, case.to_string()).unwrap();
+    // The census in two worker processes (each checks the figure's run `n10`) and in this one:
+    // the same bytes.
+    let mut texts = Vec::new();
+    for jobs in ["2", "1"] {
+        let out = dir.join(format!("jobs-{jobs}"));
+        let o =
+            spine(&["case", file.to_str().unwrap(), "--out", out.to_str().unwrap(), "--deterministic", "--jobs", jobs]);
+        assert!(o.status.code().is_some_and(|c| c == 0 || c == 3), "{}", String::from_utf8_lossy(&o.stderr));
+        texts.push(std::fs::read_to_string(out.join("result.json")).unwrap());
+    }
+    assert!(texts[0] == texts[1], "the figure's result depends on --jobs");
+    let r: Value = serde_json::from_str(&texts[0]).unwrap();
+    let best = &r["runs"][0]["result"]["best"];
+    let (design, image) = (&best["design"]["result"], &best["mirror_image"]["result"]);
+    let (j, j_image) = (design["objective"].as_f64().unwrap(), image["objective"].as_f64().unwrap());
+    assert!((j - j_image).abs() <= 1e-6 * j, "a mirror pair has one J: {j} and {j_image}");
+    let theta0 = |d: &Value| -> Vec<f64> {
+        d["design"]["theta0"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    let (t, t_image) = (theta0(design), theta0(image));
+    assert!(t.iter().zip(t_image.iter().rev()).all(|(a, b)| (a + b).abs() <= 1e-4), "{t:?} against {t_image:?}");
+    assert!(t.iter().zip(&t_image).any(|(a, b)| (a - b).abs() > 1e-2), "not its own image: {t:?}");
+    let claims = r["claims"].as_array().unwrap();
+    let scoped = |scope: &str| claims.iter().filter(|c| c["scope"] == scope).cloned().collect::<Vec<_>>();
+    let (on_best, on_image) = (scoped("n10 best"), scoped("n10 best, mirror image"));
+    assert!(on_best.len() >= 4 && on_image.len() == on_best.len(), "{claims:?}");
+    // A claim about one end of the chain turns with the image.
+    let end_load = |cs: &[Value]| {
+        cs.iter().find(|c| c["statement"].as_str().unwrap().contains("end-point load")).unwrap()["pass"]
+            .as_bool()
+            .unwrap()
+    };
+    assert_ne!(end_load(&on_best), end_load(&on_image), "{on_best:?} against {on_image:?}");
+}
+
+#[test]
 fn a_census_to_a_stated_confidence_stops_at_it_and_is_the_same_with_one_or_two_jobs() {
     let case = workspace().join("paper-cases/design5.json");
     let mut texts = Vec::new();

@@ -421,6 +421,43 @@ fn worker_processes_give_the_census_of_one_process_byte_for_byte() {
 }
 
 #[test]
+fn a_worker_checks_a_figures_run_by_name_and_refuses_what_it_cannot_solve() {
+    let fig3 = workspace().join("paper-cases/fig3.json");
+    let design = workspace().join("paper-cases/design10.json");
+    let start = r#"{"start":{"theta0":[0.3,0.2,-0.2,-0.3,0.0],"stiffness":[1000,1000,1000,1000,1000,1000]}}"#;
+    // A start of fig3's 5-link run answered by a worker of that run: one line, a run.
+    let worker = |case: &Path, run: Option<&str>, input: &str| {
+        let mut args = vec!["worker".to_string(), case.display().to_string(), "--overrides".into(), "{}".into()];
+        if let Some(run) = run {
+            args.extend(["--run".to_string(), run.to_string()]);
+        }
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_spine"))
+            .args(&args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let o = worker(&fig3, Some("n5"), &format!("{start}\n"));
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let answer: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(answer["run"]["solver"]["iterations"].as_u64().unwrap() > 0, "{answer}");
+    for (case, run, expected) in [
+        (&fig3, Some("n7"), "the figure has no run \"n7\""),
+        (&fig3, None, "a worker solves \"design\" cases"),
+        (&design, Some("n5"), "only a figure case has runs"),
+    ] {
+        let o = worker(case, run, "");
+        assert_eq!(o.status.code(), Some(2), "{run:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(expected), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+}
+
+#[test]
 fn shards_merge_to_the_single_run_and_mismatched_or_incomplete_shards_are_refused() {
     let case = workspace().join("paper-cases/design10.json");
     let dir = tmpdir("shards");

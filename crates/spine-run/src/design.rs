@@ -58,8 +58,8 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
 
 /// Eq. (33) from the case's start; with `multistart.confidence`, also the best optimum of a census
 /// to that confidence (seeded starts in this process, `census_to`).
-pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
-    let mut design = run_design_alone(valid)?;
+pub fn run_design(valid: &ValidDesign, workers: Option<&Workers>) -> Result<StaticDesign, RunError> {
+    let mut design = run_design_alone(valid, workers)?;
     if valid.fmincon_like_beside {
         let fmincon = valid.with_preset(spine_design::SolverPreset::FminconLike);
         design.fmincon_like = Some(Box::new(static_design(&fmincon, solve(&fmincon, &fmincon.start)?)));
@@ -68,16 +68,18 @@ pub fn run_design(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
 }
 
 /// [`run_design`] without the fmincon-like solve beside it.
-fn run_design_alone(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
+fn run_design_alone(valid: &ValidDesign, workers: Option<&Workers>) -> Result<StaticDesign, RunError> {
     let Some(target) = valid.multistart.confidence else {
         return Ok(static_design(valid, solve(valid, &valid.start)?));
     };
     // The census's start 0 is the case's own start, settled as `solve` settles it.
     let own = solve_unchecked(valid, &valid.start)?;
-    let (results, confidence) = census_to(valid, own, target, None, &mut |_| {})?;
+    let (results, confidence) = census_to(valid, own, target, workers, &mut |_| {})?;
     let mut design = static_design(valid, results[0].clone());
     let summary = cluster(results, valid.multistart.seed);
     if let Some(best) = summary.best_clean() {
+        // The best optimum leads the list, so its image is the clean optimum that names it.
+        let image = summary.optima.iter().find(|o| o.clean && o.mirror_of == Some(0));
         design.best = Some(Box::new(BestDesign {
             design: static_design(valid, best.result.clone()),
             reported_start: best.starts[0],
@@ -85,6 +87,7 @@ fn run_design_alone(valid: &ValidDesign) -> Result<StaticDesign, RunError> {
             optima: summary.optima.iter().filter(|o| o.clean).count(),
             census: summary.census.clone(),
             confidence,
+            mirror_image: image.map(|o| static_design(valid, o.result.clone())),
         }));
     }
     Ok(design)

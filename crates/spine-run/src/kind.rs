@@ -31,8 +31,10 @@ pub struct RunContext<'a> {
     pub figure_run: &'a FigureRun,
 }
 
-/// A case run as a run of a figure ([`RunKind::in_figure`] of its kind).
-pub type FigureRun = dyn Fn(&spine_case::Case, &mut dyn FnMut(Progress<'_>)) -> Result<RunOutput, RunError> + Sync;
+/// A case run as a run of a figure ([`RunKind::in_figure`] of its kind), with the worker
+/// processes its multi-start may use (already pointed at this run of the figure).
+pub type FigureRun = dyn Fn(&spine_case::Case, Option<&crate::workers::Workers>, &mut dyn FnMut(Progress<'_>)) -> Result<RunOutput, RunError>
+    + Sync;
 
 /// The result of a kind: `result.json`'s body (serialised with the kind's name as its `"kind"`),
 /// the summary a person reads (`Display`), whether it is clean (exit code 0, else 3) and the
@@ -66,8 +68,12 @@ pub trait RunKind {
     fn run(&self, cx: &mut RunContext<'_>) -> Result<Self::Output, RunError>;
 
     /// The run as a run of a figure (what a recipe draws), or `None` for a kind a figure cannot
-    /// hold.
-    fn in_figure(&self, _progress: &mut dyn FnMut(Progress<'_>)) -> Option<Result<RunOutput, RunError>> {
+    /// hold; `workers` may solve its multi-start (the figure's `--jobs`).
+    fn in_figure(
+        &self,
+        _workers: Option<&crate::workers::Workers>,
+        _progress: &mut dyn FnMut(Progress<'_>),
+    ) -> Option<Result<RunOutput, RunError>> {
         None
     }
 }
@@ -164,10 +170,11 @@ macro_rules! define_results {
         /// Runs a case as a run of a figure ([`RunKind::in_figure`]($crate::RunKind::in_figure)).
         pub fn in_figure(
             case: &Case,
+            workers: Option<&$crate::workers::Workers>,
             progress: &mut dyn FnMut($crate::Progress<'_>),
         ) -> Result<$crate::RunOutput, $crate::RunError> {
             match case {
-                $( Case::$kind(c) => $crate::RunKind::in_figure(c, progress)
+                $( Case::$kind(c) => $crate::RunKind::in_figure(c, workers, progress)
                     .unwrap_or(Err($crate::RunError::WrongKind { command: "a figure's run", needs: "a design, dynamic or twolink", kind: $kname })), )+
             }
         }

@@ -60,6 +60,12 @@ pub struct BestDesign {
     pub optima: usize,
     pub census: spine_design::census::CensusEstimate,
     pub confidence: ConfidenceRun,
+    /// The best optimum's mirror image (`θ0_i → −θ0_{N−1−i}`, `K_j → K_{N−j}`), when the census
+    /// found it: a mirror-symmetric case's optima come in pairs of equal `J`, and which member
+    /// leads the census depends on which start reached it first, so the claims are held to both
+    /// (docs/findings.md, "Which conclusions survive at the best design?").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mirror_image: Option<StaticDesign>,
 }
 
 /// The design a dynamic run used: given, or from eq. (33) first.

@@ -105,7 +105,7 @@ mod tests {
         assert!(unknown.contains("one of equilibrium, tally"), "{unknown}");
         assert_eq!(json_schema()["oneOf"][1]["properties"]["kind"]["const"], "tally");
         // The kind cannot be a figure's run (its runner gives no figure run).
-        let in_figure = registry::in_figure(&case, &mut crate::quiet).unwrap_err().to_string();
+        let in_figure = registry::in_figure(&case, None, &mut crate::quiet).unwrap_err().to_string();
         assert!(in_figure.contains("\"tally\""), "{in_figure}");
         assert!(!registry::moves(&case));
     }

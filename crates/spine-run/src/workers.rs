@@ -38,6 +38,16 @@ pub struct Workers {
     pub command: WorkerCommand,
 }
 
+impl Workers {
+    /// The same workers for the run `name` of a figure case: each worker checks that run
+    /// (`spine worker FIGURE … --run NAME`).
+    pub fn for_run(&self, name: &str) -> Self {
+        let mut command = self.command.clone();
+        command.args.extend(["--run".to_string(), name.to_string()]);
+        Self { jobs: self.jobs, command }
+    }
+}
+
 /// Most worker processes allowed.
 pub const MAX_JOBS: usize = 256;
 

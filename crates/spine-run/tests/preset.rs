@@ -32,7 +32,7 @@ fn the_preset_replaces_the_formulation_and_the_stopping_rules() {
 #[test]
 fn beside_the_exact_design_the_fmincon_like_one_is_solved_from_the_same_start() {
     let valid = DesignCase { fmincon_like_beside: true, ..design5() }.validate().unwrap();
-    let d = run_design(&valid).unwrap();
+    let d = run_design(&valid, None).unwrap();
     assert_eq!(d.preset, SolverPreset::Exact);
     assert!(d.result.is_clean(), "{:?}", d.result.warnings);
     let f = d.fmincon_like.as_deref().expect("solved beside");

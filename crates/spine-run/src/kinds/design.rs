@@ -19,12 +19,17 @@ impl crate::RunKind for DesignCase {
         Ok(result)
     }
 
-    /// Eq. (33) from the case's own start, with what a figure draws ([`run_design`]).
-    fn in_figure(&self, _: &mut dyn FnMut(Progress<'_>)) -> Option<Result<crate::RunOutput, RunError>> {
+    /// Eq. (33) from the case's own start, with what a figure draws ([`run_design`]; its census
+    /// in `workers`).
+    fn in_figure(
+        &self,
+        workers: Option<&crate::workers::Workers>,
+        _: &mut dyn FnMut(Progress<'_>),
+    ) -> Option<Result<crate::RunOutput, RunError>> {
         Some(
             self.validate()
                 .map_err(RunError::from)
-                .and_then(|valid| Ok(crate::RunOutput::Design(Box::new(run_design(&valid)?)))),
+                .and_then(|valid| Ok(crate::RunOutput::Design(Box::new(run_design(&valid, workers)?)))),
         )
     }
 }

@@ -32,7 +32,7 @@ fn design_of(valid: &ValidDynamics) -> Result<UsedDesign, RunError> {
             Ok(UsedDesign { design: d.clone(), spans: valid.chain.spans.clone(), static_design: None })
         }
         DesignSource::Optimise(v) => {
-            let s = run_design(v)?;
+            let s = run_design(v, None)?;
             Ok(UsedDesign { design: s.result.design.clone(), spans: valid.chain.spans.clone(), static_design: Some(s) })
         }
     }
@@ -276,7 +276,11 @@ macro_rules! dynamic_runners {
                 run_dynamics_case(Self::KIND, &self.title, &valid, cx.overrides.animation, cx.progress)
             }
 
-            fn in_figure(&self, progress: &mut dyn FnMut(Progress<'_>)) -> Option<Result<RunOutput, RunError>> {
+            fn in_figure(
+                &self,
+                _: Option<&crate::workers::Workers>,
+                progress: &mut dyn FnMut(Progress<'_>),
+            ) -> Option<Result<RunOutput, RunError>> {
                 Some(self.validate().map_err(RunError::from).and_then(|valid| {
                     let (used, output) = run_dynamics(&valid, progress)?;
                     Ok(RunOutput::Dynamics { used: Box::new(used), output })

@@ -54,6 +54,7 @@ pub fn run_figure(
     runs: &[ValidRun],
     recipes: &dyn FigureRecipes,
     figure_run: &FigureRun,
+    workers: Option<&crate::workers::Workers>,
     animation: Option<AnimationOptions>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<FigureResult, RunError> {
@@ -64,7 +65,8 @@ pub fn run_figure(
     for (index, r) in runs.iter().enumerate() {
         let stage = format!("run {} ({})", r.name, r.case.kind());
         let started = std::time::Instant::now();
-        let output = figure_run(&r.case, &mut |p| match p {
+        let run_workers = workers.map(|w| w.for_run(&r.name));
+        let output = figure_run(&r.case, run_workers.as_ref(), &mut |p| match p {
             Progress::Step { done, total, .. } => progress(Progress::Step { stage: &stage, done, total }),
             Progress::Done { .. } => progress(p),
         })
@@ -153,6 +155,7 @@ impl crate::RunKind for FigureCase {
     const MOVES: bool = true;
 
     fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<FigureResult, RunError> {
-        run_figure(self, &self.validate()?, cx.recipes, cx.figure_run, cx.overrides.animation, cx.progress)
+        let workers = cx.overrides.workers.as_ref();
+        run_figure(self, &self.validate()?, cx.recipes, cx.figure_run, workers, cx.overrides.animation, cx.progress)
     }
 }

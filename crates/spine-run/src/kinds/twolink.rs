@@ -121,7 +121,11 @@ impl crate::RunKind for TwoLinkCase {
     }
 
     /// The same study as the kind's own run: a figure draws its rows.
-    fn in_figure(&self, _: &mut dyn FnMut(crate::Progress<'_>)) -> Option<Result<crate::RunOutput, crate::RunError>> {
+    fn in_figure(
+        &self,
+        _: Option<&crate::workers::Workers>,
+        _: &mut dyn FnMut(crate::Progress<'_>),
+    ) -> Option<Result<crate::RunOutput, crate::RunError>> {
         Some(self.validate().map(|valid| crate::RunOutput::Twolink(run_twolink_case(self, &valid))).map_err(Into::into))
     }
 }

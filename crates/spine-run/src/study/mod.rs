@@ -151,7 +151,7 @@ pub fn ck_study(
         None => {
             for (task, &solver) in tasks.iter().zip(&solvers) {
                 progress(rows.len(), total);
-                rows.push(row(solver, task, &run_design(&task.case(case))?.result));
+                rows.push(row(solver, task, &run_design(&task.case(case), None)?.result));
             }
         }
     }
