@@ -121,16 +121,23 @@ fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
     assert!(fmincon >= 10, "figs. 3–8 solve fmincon-like beside each run: {fmincon} found");
 }
 
+/// fig3 cut to its run `run`, with a census to `confidence` (seed 1), written beside a fresh
+/// output folder: the folder and the case file.
+fn fig3_run_with_census(run: &str, confidence: f64, tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let mut case: Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/fig3.json")).unwrap()).unwrap();
+    case["runs"].as_array_mut().unwrap().retain(|r| r["name"] == run);
+    case["base"]["multistart"] = serde_json::json!({ "confidence": confidence, "seed": 1 });
+    let dir = tmpdir(tag);
+    let file = dir.with_extension("json");
+    std::fs::write(&file, case.to_string()).unwrap();
+    (dir, file)
+}
+
 #[test]
 fn a_figure_draws_the_best_design_of_its_census_beside_the_papers() {
     // fig3's 5-link run with its census to 5 % (a few seconds).
-    let mut case: Value =
-        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/fig3.json")).unwrap()).unwrap();
-    case["runs"].as_array_mut().unwrap().retain(|r| r["name"] == "n5");
-    case["base"]["multistart"] = serde_json::json!({ "confidence": 0.05, "seed": 1 });
-    let dir = tmpdir("figure-best");
-    let file = dir.with_extension("json");
-    std::fs::write(&file, case.to_string()).unwrap();
+    let (dir, file) = fig3_run_with_census("n5", 0.05, "figure-best");
     let o = spine(&["case", file.to_str().unwrap(), "--out", dir.to_str().unwrap(), "--deterministic"]);
     assert!(o.status.code().is_some_and(|c| c == 0 || c == 3), "{}", String::from_utf8_lossy(&o.stderr));
     let r: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
@@ -159,13 +166,7 @@ fn a_figure_draws_the_best_design_of_its_census_beside_the_papers() {
 fn a_figure_holds_the_best_designs_mirror_image_to_the_same_claims() {
     // fig3's 10-link run with one batch of its census (P ≤ 0.2: 101 runs, a few seconds) finds
     // the best optimum (J 5.79e-3) and its mirror image.
-    let mut case: Value =
-        serde_json::from_str(&std::fs::read_to_string(workspace().join("paper-cases/fig3.json")).unwrap()).unwrap();
-    case["runs"].as_array_mut().unwrap().retain(|r| r["name"] == "n10");
-    case["base"]["multistart"] = serde_json::json!({ "confidence": 0.2, "seed": 1 });
-    let dir = tmpdir("figure-mirror");
-    let file = dir.with_extension("json");
-    std::fs::write(&file, case.to_string()).unwrap();
+    let (dir, file) = fig3_run_with_census("n10", 0.2, "figure-mirror");
     // The census in two worker processes (each checks the figure's run `n10`) and in this one:
     // the same bytes.
     let mut texts = Vec::new();

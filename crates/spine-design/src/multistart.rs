@@ -330,13 +330,11 @@ pub fn cluster(results: Vec<DesignResult>, seed: u64) -> MultiStartSummary {
             }
         }
     }
-    let clean: Vec<&Optimum> = optima.iter().filter(|o| o.clean).collect();
-    let mirror_of: Vec<Option<usize>> = clean
-        .iter()
-        .enumerate()
-        .map(|(k, o)| mirror_among(&clean[..k].iter().map(|e| &e.result).collect::<Vec<_>>(), &o.result))
-        .collect();
-    let census = estimate(mirror_classes(&clean.iter().map(|o| o.count).collect::<Vec<_>>(), &mirror_of));
+    // The clean optima lead the list and a mirror image names an earlier optimum as clean as
+    // itself, so the clean ones' `mirror_of` index among them.
+    let (counts, mirror_of): (Vec<usize>, Vec<Option<usize>>) =
+        optima.iter().filter(|o| o.clean).map(|o| (o.count, o.mirror_of)).unzip();
+    let census = estimate(mirror_classes(&counts, &mirror_of));
     MultiStartSummary { starts, seed, converged, optima, failed, census, confidence: None }
 }
 
