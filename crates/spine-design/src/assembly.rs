@@ -205,6 +205,9 @@ impl<E: Element<M> + 'static, const M: usize> AnyGroup for Group<E, M> {
         self.jacobian_positions.clear();
         self.hessian_positions.clear();
         self.constant_values.clear();
+        self.jacobian_positions.reserve(self.items.len());
+        self.hessian_positions.reserve(self.items.len() * E::HESSIAN_PAIRS.len());
+        self.constant_values.reserve(self.items.len() * E::CONSTANT_PAIRS.len());
         for item in &self.items {
             // The constant second derivatives, the same at every point (tested per element).
             if !E::CONSTANT_PAIRS.is_empty() {
@@ -337,6 +340,8 @@ impl Assembled {
         });
         patterns.jacobian_index.reserve(jacobian);
         patterns.hessian_index.reserve(hessian);
+        patterns.jacobian.reserve(jacobian);
+        patterns.hessian.reserve(hessian);
         for group in &mut groups {
             group.register(&mut patterns);
         }
@@ -366,13 +371,7 @@ impl Assembled {
     /// the problem's rates ([`crate::full_space::groups`]); `n` variables, `m` rows, constraint
     /// multipliers `lambda`.
     pub fn rates(&self, direction: &[Box<dyn AnyGroup + Send + Sync>], x: &[f64], lambda: &[f64]) -> NlpRates {
-        let mut rates =
-            NlpRates { objective: 0.0, constraints: vec![0.0; lambda.len()], lagrangian_gradient: vec![0.0; x.len()] };
-        assert_eq!(direction.len(), self.groups.len(), "one direction per group");
-        for (group, moving) in self.groups.iter().zip(direction) {
-            group.add_rates(moving.as_ref(), x, lambda, &mut rates);
-        }
-        rates
+        rates(&self.groups, direction, x, lambda)
     }
 
     /// Hessian of the Lagrangian values (overwritten).
@@ -382,4 +381,20 @@ impl Assembled {
             group.add_hessian(x, sigma, lambda, hessian);
         }
     }
+}
+
+/// [`Assembled::rates`] for groups registered or not (the rates need no sparsity pattern).
+pub fn rates(
+    groups: &[Box<dyn AnyGroup + Send + Sync>],
+    direction: &[Box<dyn AnyGroup + Send + Sync>],
+    x: &[f64],
+    lambda: &[f64],
+) -> NlpRates {
+    let mut rates =
+        NlpRates { objective: 0.0, constraints: vec![0.0; lambda.len()], lagrangian_gradient: vec![0.0; x.len()] };
+    assert_eq!(direction.len(), groups.len(), "one direction per group");
+    for (group, moving) in groups.iter().zip(direction) {
+        group.add_rates(moving.as_ref(), x, lambda, &mut rates);
+    }
+    rates
 }

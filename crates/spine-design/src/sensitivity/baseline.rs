@@ -32,7 +32,7 @@ impl KktBaseline {
         let mut right_hand_sides = Vec::new();
         if let Some(kkt) = &system.kkt {
             for p in parameters {
-                let rates = rates(optimum, &assembled, &p.name, &p.tangent)?;
+                let rates = rates(optimum, &assembled.groups, &p.name, &p.tangent)?;
                 right_hand_sides.push(right_hand_side(kkt, &system.variables, &matrices, &rates).1);
             }
         }

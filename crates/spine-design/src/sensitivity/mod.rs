@@ -24,6 +24,7 @@ mod derivative;
 mod point;
 mod polish;
 mod rates;
+mod smallest_eigenvalue;
 mod system;
 
 pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
@@ -135,16 +136,27 @@ pub struct SensitivityReport {
 
 /// The sensitivities of the optimum to each parameter.
 ///
-/// The whole step is handed to rayon's pool at once (one wake-up): inside it, the factorisation of
-/// the reduced KKT matrix, LICQ's measure and every parameter's rates (which need no
-/// factorisation) run side by side, then each parameter's solve. Handed over piece by piece from
-/// outside the pool, each hand-over cost a wake-up of the pool's threads (tens of µs here, as much
-/// as the work at N = 10).
+/// The whole step is handed to rayon's pool at once (one wake-up). Inside it, two halves run side
+/// by side: the evaluation, the active set and the factorisation of the reduced KKT matrix (with
+/// LICQ's measure offered to whichever thread is free), and every parameter's rates, which need
+/// the problem's elements but not their sparsity patterns (so they start at once, on elements of
+/// their own); then each parameter's solve. Handed over piece by piece from outside the pool, each
+/// hand-over cost a wake-up of the pool's threads (tens of µs here, as much as the work at N = 10).
 pub fn sensitivities(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityReport, SensitivityError> {
     rayon::scope(|_| step(optimum, parameters))
 }
 
-fn step(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityReport, SensitivityError> {
+/// What the optimum's factorised KKT system is built from: its evaluation, matrices and active
+/// set, the system and LICQ's measure.
+struct Prepared {
+    at: point::Evaluation,
+    matrices: Matrices,
+    set: ActiveSet,
+    system: ActiveSystem,
+    licq: Option<f64>,
+}
+
+fn prepare(optimum: &Optimum<'_>) -> Prepared {
     let (layout, x) = (optimum.layout, optimum.x);
     let assembled = crate::full_space::assemble(optimum.problem, layout.states);
     let (at, matrices) = Matrices::of(&assembled, optimum.problem, layout, x, &optimum.multipliers.constraints);
@@ -152,18 +164,20 @@ fn step(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityRe
     // Rows that depend on others are left out of the system (their multipliers are not unique);
     // each derivative is then checked against them.
     let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
-    let ((system, licq), rates) = rayon::join(
+    let (system, licq) = rayon::join(
+        || ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone()),
+        || system::smallest_singular_value(layout.num_variables(), &set.variables, &set.rows, jacobian),
+    );
+    Prepared { at, matrices, set, system, licq }
+}
+
+fn step(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityReport, SensitivityError> {
+    let layout = optimum.layout;
+    let (Prepared { at, matrices, set, system, licq }, rates) = rayon::join(
+        || prepare(optimum),
         || {
-            rayon::join(
-                || ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone()),
-                || system::smallest_singular_value(layout.num_variables(), &set.variables, &set.rows, jacobian),
-            )
-        },
-        || {
-            parameters
-                .par_iter()
-                .map(|p| rates(optimum, &assembled, &p.name, &p.tangent))
-                .collect::<Result<Vec<_>, _>>()
+            let elements = crate::full_space::groups(&crate::numbers::Numbers::of(optimum.problem), layout.states);
+            parameters.iter().map(|p| rates(optimum, &elements, &p.name, &p.tangent)).collect::<Result<Vec<_>, _>>()
         },
     );
     let rates = rates?;

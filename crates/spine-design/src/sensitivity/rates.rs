@@ -6,7 +6,7 @@
 //! differenced: the assembled patterns of the optimum are reused.
 
 use super::{Optimum, SensitivityError};
-use crate::assembly::{Assembled, NlpRates};
+use crate::assembly::{AnyGroup, NlpRates};
 use crate::full_space::groups;
 use crate::numbers::{FullSpaceBounds, Numbers};
 use crate::ProblemTangent;
@@ -25,11 +25,11 @@ pub(crate) struct Rates {
     pub stiffness_scale: f64,
 }
 
-/// The exact rates of the NLP's data along `tangent` at the optimum, whose elements are
-/// `assembled`.
+/// The exact rates of the NLP's data along `tangent` at the optimum, whose elements are `elements`
+/// (the groups of [`crate::full_space::groups`], registered or not).
 pub(crate) fn rates(
     optimum: &Optimum<'_>,
-    assembled: &Assembled,
+    elements: &[Box<dyn AnyGroup + Send + Sync>],
     name: &str,
     tangent: &ProblemTangent,
 ) -> Result<Rates, SensitivityError> {
@@ -42,7 +42,7 @@ pub(crate) fn rates(
     let (n, m) = (layout.num_variables(), layout.num_constraints());
     // A parameter that moves only bounds or `δ_d` (no element's constant) has no element rates.
     let nlp = if moving.moves_elements() {
-        assembled.rates(&groups(&moving, layout.states), optimum.x, &optimum.multipliers.constraints)
+        crate::assembly::rates(elements, &groups(&moving, layout.states), optimum.x, &optimum.multipliers.constraints)
     } else {
         NlpRates { objective: 0.0, constraints: vec![0.0; m], lagrangian_gradient: vec![0.0; n] }
     };
@@ -126,7 +126,7 @@ mod tests {
                     Multipliers { constraints: lambda.clone(), z_lower: vec![0.0; n], z_upper: vec![0.0; n] };
                 let optimum = Optimum { problem: &problem, layout, x: &x, multipliers: &multipliers };
                 let assembled = assemble(&problem, states);
-                let exact = rates(&optimum, &assembled, "all", &tangent).unwrap();
+                let exact = rates(&optimum, &assembled.groups, "all", &tangent).unwrap();
                 let h = 1e-6;
                 let at = |t: f64| {
                     let p = tangent.moved(&problem, t);

@@ -233,11 +233,7 @@ fn active_rows_dense(
     if rows.is_empty() || rows.len() * count > MAX_DENSE {
         return None;
     }
-    let m = jacobian.0.iter().map(|&(r, _)| r + 1).chain(rows.iter().map(|b| b.index + 1)).max().unwrap_or(0);
-    let mut position = vec![None; m];
-    for (p, b) in rows.iter().enumerate() {
-        position[b.index] = Some(p);
-    }
+    let position = row_positions(rows, jacobian.0);
     let mut a = vec![0.0; rows.len() * count];
     for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
         if let (Some(p), Some(q)) = (position[r], free[c]) {
@@ -248,23 +244,50 @@ fn active_rows_dense(
 }
 
 /// LICQ's measure at the active set: the smallest singular value of the active rows' Jacobian on
-/// the free variables (zero with more rows than free variables), from the eigenvalues of the Gram
-/// matrix `A Aᵀ` (values only: a fraction of an SVD's cost; `σ_min²` carries an absolute error of
-/// about 1e-16 ‖A‖², ample for this measure). `None` above [`MAX_DENSE`].
+/// the free variables (zero with more rows than free variables), from the smallest eigenvalue of
+/// the Gram matrix `A Aᵀ` (that one alone: a fraction of an SVD's cost; `σ_min²` carries an absolute error of
+/// about 1e-16 ‖A‖², ample for this measure). The Gram matrix is summed column by column from the
+/// sparse Jacobian (each column adds the outer product of its few entries), not from a dense `A`.
+/// `None` above [`MAX_DENSE`].
 pub(crate) fn smallest_singular_value(
     n: usize,
     variables: &[Bound],
     rows: &[Bound],
     jacobian: (&[(usize, usize)], &[f64]),
 ) -> Option<f64> {
-    let (a, count) = active_rows_dense(n, variables, rows, jacobian)?;
+    let (free, count) = free_positions(n, variables);
     let k = rows.len();
+    if k == 0 || k * count > MAX_DENSE {
+        return None;
+    }
     if k > count {
         return Some(0.0);
     }
-    let dense = nalgebra::DMatrix::from_row_slice(k, count, &a);
-    let gram = &dense * dense.transpose();
-    Some(gram.symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min).max(0.0).sqrt())
+    let position = row_positions(rows, jacobian.0);
+    // The active entries as (column, row position, value), column by column.
+    let mut entries: Vec<(usize, usize, f64)> =
+        jacobian.0.iter().zip(jacobian.1).filter_map(|(&(r, c), &v)| Some((free[c]?, position[r]?, v))).collect();
+    entries.sort_unstable_by_key(|&(c, p, _)| (c, p));
+    let mut gram = vec![0.0; k * k];
+    for column in entries.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, p, u) in column {
+            for &(_, q, w) in column {
+                gram[p * k + q] += u * w;
+            }
+        }
+    }
+    Some(super::smallest_eigenvalue::smallest_eigenvalue(&mut gram, k).max(0.0).sqrt())
+}
+
+/// Each constraint row's position among the active `rows` (`None` for an inactive row), sized for
+/// every row the Jacobian's `pattern` or `rows` names.
+fn row_positions(rows: &[Bound], pattern: &[(usize, usize)]) -> Vec<Option<usize>> {
+    let m = pattern.iter().map(|&(r, _)| r + 1).chain(rows.iter().map(|b| b.index + 1)).max().unwrap_or(0);
+    let mut position = vec![None; m];
+    for (p, b) in rows.iter().enumerate() {
+        position[b.index] = Some(p);
+    }
+    position
 }
 
 /// The active rows (constraint indices) that depend linearly on earlier ones on the free variables
@@ -298,4 +321,57 @@ pub(crate) fn dependent_rows(
         }
     }
     Some(dependent)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spine_model::rng::SplitMix64;
+
+    fn bound(index: usize) -> Bound {
+        Bound { index, side: Side::Both, multiplier: 1.0, gap: 0.0 }
+    }
+
+    /// LICQ's measure from the Gram matrix summed column by column over the sparse Jacobian (with
+    /// repeated entries, fixed variables and inactive rows) against the SVD of the dense active
+    /// rows; and zero for dependent rows, where Gram–Schmidt finds the dependent one.
+    #[test]
+    fn the_sparse_gram_measure_is_the_dense_svds_smallest_singular_value() {
+        let (n, m) = (14, 9);
+        let mut rng = SplitMix64::new(3);
+        let mut pattern = Vec::new();
+        let mut values = Vec::new();
+        for r in 0..m {
+            for _ in 0..5 {
+                pattern.push((r, (rng.uniform(0.0, n as f64) as usize).min(n - 1)));
+                values.push(rng.uniform(-2.0, 2.0));
+            }
+        }
+        // A repeated entry (the assembly's patterns never repeat one, but the sum must not care).
+        pattern.push(pattern[0]);
+        values.push(0.7);
+        let variables = [bound(2), bound(9)];
+        let rows: Vec<Bound> = [0, 2, 3, 5, 6, 8].into_iter().map(bound).collect();
+        let jacobian = (&pattern[..], &values[..]);
+        let (dense, count) = active_rows_dense(n, &variables, &rows, jacobian).unwrap();
+        let a = nalgebra::DMatrix::from_row_slice(rows.len(), count, &dense);
+        let svd = a.singular_values().iter().copied().fold(f64::INFINITY, f64::min);
+        let measure = smallest_singular_value(n, &variables, &rows, jacobian).unwrap();
+        assert!(svd > 1e-3, "the random rows are independent ({svd:e})");
+        assert!((measure - svd).abs() <= 1e-12 * a.norm(), "Gram {measure:e} vs SVD {svd:e}");
+        // Row 6 made a combination of rows 0 and 3: the measure falls to round-off.
+        let mut dependent: Vec<f64> =
+            pattern.iter().zip(&values).map(|(&(r, _), &v)| if r == 6 { 0.0 } else { v }).collect();
+        let mut extended = pattern.clone();
+        for (k, &(r, c)) in pattern.iter().enumerate() {
+            if r == 0 || r == 3 {
+                extended.push((6, c));
+                dependent.push(if r == 0 { 2.0 } else { -0.5 } * values[k]);
+            }
+        }
+        let jacobian = (&extended[..], &dependent[..]);
+        let measure = smallest_singular_value(n, &variables, &rows, jacobian).unwrap();
+        assert!(measure <= 1e-6, "dependent rows: {measure:e}");
+        assert_eq!(dependent_rows(n, &variables, &rows, jacobian), Some(vec![6]));
+    }
 }
