@@ -46,6 +46,19 @@ pub fn targets(measurements: &[Measurement], peers: &[PeerRow]) -> Vec<Target> {
             met: Some(at_1000.1 <= 0.8e-3),
         });
     }
+    // Issue 51, item 3: the sensitivity step of design10 (19 parameters) at most twice its reduced
+    // KKT factorisation and solves.
+    let step = by_name.get("optimum_parameters/sensitivity_step");
+    let baseline = by_name.get("optimum_parameters/factorisation_and_solves");
+    if let (Some(step), Some(baseline)) = (step, baseline) {
+        if let Some(&(n, r)) = ratios(step, baseline).first() {
+            out.push(Target {
+                statement: "the sensitivity step (design10, 19 parameters) ≤ 2 × its factorisation and solves".into(),
+                measured: format!("N={n}: {r:.2}×"),
+                met: Some(r <= 2.0),
+            });
+        }
+    }
     for name in ["residual", "jacobian/ad", "hessian", "newton_step"] {
         let p = by_name.get(name).and_then(|s| fit_exponent(s, FIT_FROM_N));
         out.push(Target {
