@@ -15,7 +15,7 @@
 //! elements.
 //!
 //! The rates of the values and first derivatives along a parameter of the problem
-//! ([`Assembled::rates`]) come from the same groups built from the problem's rates: element by
+//! ([`rates`]) come from the same groups built from the problem's rates: element by
 //! element, one pass of a tangent jet ([`local::rates`]) where the element's constants move.
 
 use spine_model::local::{self, Element};
@@ -367,13 +367,6 @@ impl Assembled {
         }
     }
 
-    /// The rates at `x` along a parameter whose direction is `direction`: these groups built from
-    /// the problem's rates ([`crate::full_space::groups`]); `n` variables, `m` rows, constraint
-    /// multipliers `lambda`.
-    pub fn rates(&self, direction: &[Box<dyn AnyGroup + Send + Sync>], x: &[f64], lambda: &[f64]) -> NlpRates {
-        rates(&self.groups, direction, x, lambda)
-    }
-
     /// Hessian of the Lagrangian values (overwritten).
     pub fn hessian(&self, x: &[f64], sigma: f64, lambda: &[f64], hessian: &mut [f64]) {
         hessian.fill(0.0);
@@ -383,7 +376,9 @@ impl Assembled {
     }
 }
 
-/// [`Assembled::rates`] for groups registered or not (the rates need no sparsity pattern).
+/// The rates at `x` along a parameter whose direction is `direction`: `groups` (registered or
+/// not: the rates need no sparsity pattern) built again from the problem's rates
+/// ([`crate::full_space::groups`]); constraint multipliers `lambda`.
 pub fn rates(
     groups: &[Box<dyn AnyGroup + Send + Sync>],
     direction: &[Box<dyn AnyGroup + Send + Sync>],

@@ -2,8 +2,8 @@
 //! parameter at the optimum, exact: the problem's numbers carried as duals along the parameter's
 //! [`ProblemTangent`] ([`Numbers::along`]: load resultants, spans, `C_K`, the end target and the
 //! bounds, `K/C_K` included), and each element whose constants move differentiated by one pass of
-//! a tangent jet ([`crate::assembly::Assembled::rates`]). Nothing is rebuilt and nothing is
-//! differenced: the assembled patterns of the optimum are reused.
+//! a tangent jet ([`crate::assembly::rates`]). Nothing is differenced, and the elements need no
+//! sparsity patterns.
 
 use super::{Optimum, SensitivityError};
 use crate::assembly::{AnyGroup, NlpRates};

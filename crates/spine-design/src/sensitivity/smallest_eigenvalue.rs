@@ -1,8 +1,9 @@
 //! The smallest eigenvalue of a small dense symmetric matrix (LICQ's measure: the Gram matrix of
 //! the active rows), without the others: Householder reduction to tridiagonal form, then
-//! bisection on the Sturm count of the tridiagonal matrix. At the sizes of a sensitivity step
-//! (k ≈ 35 rows at N = 10) this costs about a third of nalgebra's `symmetric_eigenvalues`, which
-//! also runs the implicit QL iteration for every eigenvalue.
+//! bisection on the Sturm count of the tridiagonal matrix. At the size of design10's sensitivity
+//! step (k = 34 rows) this costs about half of nalgebra's `symmetric_eigenvalues`, which also runs
+//! the implicit QL iteration for every eigenvalue (18 µs against 38 µs, measured apart,
+//! 2026-11-28).
 
 /// The smallest eigenvalue of the symmetric `k × k` matrix `a` (row-major, both triangles),
 /// to an absolute error of a few `ε ‖a‖`, as a backward-stable eigen-solver gives it. `a` is
