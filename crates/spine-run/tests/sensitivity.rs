@@ -64,6 +64,9 @@ fn derivatives_match_central_differences_of_re_solves_on_design10() {
     let r = report(&case, &["delta_d", "loads.p_y[5]", "bounds.theta0_max", "bounds.relative_angle_max"]);
     let s = r.sensitivity.as_ref().expect("a clean optimum");
     assert!(s.conditions.hold, "{:?}", s.conditions);
+    // LICQ's measure, not lost to rounding (through the Gram matrix it came out 0 here).
+    let sigma = s.conditions.licq_smallest_singular_value.expect("measured");
+    assert!((sigma - 3.172e-4).abs() < 1e-6, "σ_min {sigma:e}");
     check_against_re_solves(&case, &r);
 }
 

@@ -40,14 +40,17 @@ pub(crate) fn derivative(
     let (mut dx, mut rhs) = right_hand_side(kkt, &system.variables, matrices, rates);
     // A failed solve leaves the right-hand side; the factorisation succeeded, so it does not fail.
     let _ = kkt.solve(&mut rhs);
-    let mut dlambda = vec![0.0; m];
     for i in 0..n {
         if let Some(p) = kkt.free_position[i] {
             dx[i] = rhs[p];
         }
     }
-    for (k, b) in kkt.rows.iter().enumerate() {
-        dlambda[b.index] = rhs[kkt.free + k];
+    // The multipliers' rates are checked only by a one-sided choice.
+    let mut dlambda = vec![0.0; if one_sided { m } else { 0 }];
+    if one_sided {
+        for (k, b) in kkt.rows.iter().enumerate() {
+            dlambda[b.index] = rhs[kkt.free + k];
+        }
     }
     let dz: Vec<f64> = if one_sided {
         let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
@@ -83,23 +86,23 @@ pub(crate) fn right_hand_side(
     }
     // Most parameters move no active variable bound: then `H dx` and `J dx` are zero.
     let fixed_move = dx.iter().any(|&d| d != 0.0);
-    let (h_dx, j_dx) = if fixed_move {
+    let moved = fixed_move.then(|| {
         (
             hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx),
             jacobian_times(&matrices.jacobian_pattern, &matrices.jacobian, &dx, m),
         )
-    } else {
-        (vec![0.0; n], vec![0.0; m])
-    };
+    });
+    let h_dx = |i: usize| moved.as_ref().map_or(0.0, |(h, _)| h[i]);
+    let j_dx = |r: usize| moved.as_ref().map_or(0.0, |(_, j)| j[r]);
     let mut rhs = vec![0.0; kkt.free + kkt.rows.len()];
     for i in 0..n {
         if let Some(p) = kkt.free_position[i] {
-            rhs[p] = -(rates.lagrangian_gradient[i] + h_dx[i]);
+            rhs[p] = -(rates.lagrangian_gradient[i] + h_dx(i));
         }
     }
     for (k, b) in kkt.rows.iter().enumerate() {
         let r = b.index;
-        rhs[kkt.free + k] = bound_rate(b, rates.row_lower[r], rates.row_upper[r]) - rates.constraints[r] - j_dx[r];
+        rhs[kkt.free + k] = bound_rate(b, rates.row_lower[r], rates.row_upper[r]) - rates.constraints[r] - j_dx(r);
     }
     (dx, rhs)
 }

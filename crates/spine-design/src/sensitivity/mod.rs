@@ -24,7 +24,9 @@ mod derivative;
 mod point;
 mod polish;
 mod rates;
-mod smallest_eigenvalue;
+mod shared;
+mod smallest_singular_value;
+mod step;
 mod system;
 
 pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
@@ -33,9 +35,6 @@ pub use polish::{polish, POLISH_TOLERANCE};
 
 use crate::full_space::{Layout, Multipliers};
 use crate::{DesignProblem, ProblemTangent};
-use derivative::{derivative, one_sided, weak_candidates};
-use rates::rates;
-use rayon::prelude::*;
 use serde::Serialize;
 pub(crate) use system::{dependent_rows, ActiveSystem, Matrices};
 
@@ -136,112 +135,14 @@ pub struct SensitivityReport {
 
 /// The sensitivities of the optimum to each parameter.
 ///
-/// The whole step is handed to rayon's pool at once (one wake-up). Inside it, two halves run side
-/// by side: the evaluation, the active set and the factorisation of the reduced KKT matrix (with
-/// LICQ's measure offered to whichever thread is free), and every parameter's rates, which need
-/// the problem's elements but not their sparsity patterns (so they start at once, on elements of
-/// their own); then each parameter's solve. Handed over piece by piece from outside the pool, each
-/// hand-over cost a wake-up of the pool's threads (tens of µs here, as much as the work at N = 10).
+/// The calling thread starts at once and one helper from rayon's pool is offered the same work
+/// ([`shared`], [`step`]): while the caller evaluates the optimum, identifies its active set and
+/// factorises the reduced KKT matrix, the helper takes the parameters' rates (they need the
+/// problem's elements, not the sparsity patterns, so they start at once on elements of their
+/// own) and then LICQ's measure; the caller takes whatever is left. Each parameter's solve is
+/// then shared the same way. A helper that wakes late costs nothing but the offer.
 pub fn sensitivities(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityReport, SensitivityError> {
-    rayon::scope(|_| step(optimum, parameters))
-}
-
-/// What the optimum's factorised KKT system is built from: its evaluation, matrices and active
-/// set, the system and LICQ's measure.
-struct Prepared {
-    at: point::Evaluation,
-    matrices: Matrices,
-    set: ActiveSet,
-    system: ActiveSystem,
-    licq: Option<f64>,
-}
-
-fn prepare(optimum: &Optimum<'_>) -> Prepared {
-    let (layout, x) = (optimum.layout, optimum.x);
-    let assembled = crate::full_space::assemble(optimum.problem, layout.states);
-    let (at, matrices) = Matrices::of(&assembled, optimum.problem, layout, x, &optimum.multipliers.constraints);
-    let set = ActiveSet::identify(x, &at, &matrices.jacobian_pattern, optimum.multipliers);
-    // Rows that depend on others are left out of the system (their multipliers are not unique);
-    // each derivative is then checked against them.
-    let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
-    let (system, licq) = rayon::join(
-        || ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone()),
-        || system::smallest_singular_value(layout.num_variables(), &set.variables, &set.rows, jacobian),
-    );
-    Prepared { at, matrices, set, system, licq }
-}
-
-fn step(optimum: &Optimum<'_>, parameters: &[Parameter]) -> Result<SensitivityReport, SensitivityError> {
-    let layout = optimum.layout;
-    let (Prepared { at, matrices, set, system, licq }, rates) = rayon::join(
-        || prepare(optimum),
-        || {
-            let elements = crate::full_space::groups(&crate::numbers::Numbers::of(optimum.problem), layout.states);
-            parameters.iter().map(|p| rates(optimum, &elements, &p.name, &p.tangent)).collect::<Result<Vec<_>, _>>()
-        },
-    );
-    let rates = rates?;
-    let conditions = conditions(&set, &system, layout, licq);
-    let weak = set.weak_variables.len() + set.weak_rows.len();
-    let candidates = (weak > 0 && weak <= MAX_WEAK).then(|| weak_candidates(optimum, &matrices, &set));
-    let step = Step { optimum, at: &at, matrices: &matrices, system: &system };
-    let two_sided = weak == 0 && conditions.second_order_sufficient;
-    // The parameters are independent: each on its own, in parallel, in order.
-    let out = parameters
-        .par_iter()
-        .zip(&rates)
-        .map(|(parameter, rates)| step.differentiate(parameter, rates, two_sided, candidates.as_ref()))
-        .collect();
-    Ok(SensitivityReport { conditions, active: active_labels(&set, layout), parameters: out })
-}
-
-/// What every parameter's derivative is formed from: the optimum, its evaluation, matrices and
-/// factorised system.
-struct Step<'s, 'a> {
-    optimum: &'s Optimum<'a>,
-    at: &'s point::Evaluation,
-    matrices: &'s Matrices,
-    system: &'s ActiveSystem,
-}
-
-impl Step<'_, '_> {
-    /// The sensitivity to one parameter whose NLP data moves at `rates`: two-sided where
-    /// `two_sided` (the conditions hold but for dependent rows, which it is checked against),
-    /// one-sided over the weak `candidates`.
-    fn differentiate(
-        &self,
-        parameter: &Parameter,
-        rates: &rates::Rates,
-        two_sided: bool,
-        candidates: Option<&derivative::WeakCandidates>,
-    ) -> ParameterSensitivity {
-        let (optimum, matrices, at) = (self.optimum, self.matrices, self.at);
-        let mut note = None;
-        let solution = two_sided.then(|| derivative(optimum, matrices, self.system, rates, at, false)).flatten();
-        let derivative = solution.and_then(|s| match s.broken_row {
-            Some(row) => {
-                note = Some(format!(
-                    "the active rows are dependent (LICQ fails) and constraint row {row} cannot follow the parameter: no two-sided derivative"
-                ));
-                None
-            }
-            None => Some(s.derivative),
-        });
-        let (increase, decrease) = match candidates {
-            Some(c) => {
-                (one_sided(optimum, matrices, c, rates, at, 1.0), one_sided(optimum, matrices, c, rates, at, -1.0))
-            }
-            None => (None, None),
-        };
-        ParameterSensitivity {
-            name: parameter.name.clone(),
-            value: parameter.value,
-            derivative,
-            increase,
-            decrease,
-            note,
-        }
-    }
+    step::Work::new(optimum, parameters).run()
 }
 
 /// The strictly active inequality bounds by name and side (equalities left out).

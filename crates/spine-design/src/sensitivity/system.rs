@@ -247,12 +247,10 @@ fn active_rows_dense(
     Some((a, count))
 }
 
-/// LICQ's measure at the active set: the smallest singular value of the active rows' Jacobian on
-/// the free variables (zero with more rows than free variables), from the smallest eigenvalue of
-/// the Gram matrix `A Aᵀ` (that one alone: a fraction of an SVD's cost; `σ_min²` carries an absolute error of
-/// about 1e-16 ‖A‖², ample for this measure). The Gram matrix is summed column by column from the
-/// sparse Jacobian (each column adds the outer product of its few entries), not from a dense `A`.
-/// `None` above [`MAX_DENSE`].
+/// LICQ's measure at the active set: the smallest singular value of the active rows' Jacobian `A`
+/// on the free variables (zero with more rows than free variables), by bidiagonalisation of the
+/// dense `Aᵀ` ([`super::smallest_singular_value`]; not through the Gram matrix `A Aᵀ`, which
+/// squares the condition and lost design10's `σ_min`). `None` above [`MAX_DENSE`].
 pub(crate) fn smallest_singular_value(
     n: usize,
     variables: &[Bound],
@@ -265,19 +263,14 @@ pub(crate) fn smallest_singular_value(
         return Some(0.0);
     }
     let position = row_positions(rows, jacobian.0);
-    // The active entries as (column, row position, value), column by column.
-    let mut entries: Vec<(usize, usize, f64)> =
-        jacobian.0.iter().zip(jacobian.1).filter_map(|(&(r, c), &v)| Some((free[c]?, position[r]?, v))).collect();
-    entries.sort_unstable_by_key(|&(c, p, _)| (c, p));
-    let mut gram = vec![0.0; k * k];
-    for column in entries.chunk_by(|a, b| a.0 == b.0) {
-        for &(_, p, u) in column {
-            for &(_, q, w) in column {
-                gram[p * k + q] += u * w;
-            }
+    // `Aᵀ`, free variables by active rows, row-major.
+    let mut transposed = vec![0.0; count * k];
+    for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
+        if let (Some(p), Some(q)) = (position[r], free[c]) {
+            transposed[q * k + p] += v;
         }
     }
-    Some(super::smallest_eigenvalue::smallest_eigenvalue(&mut gram, k).max(0.0).sqrt())
+    Some(super::smallest_singular_value::smallest_singular_value(&mut transposed, count, k))
 }
 
 /// Each constraint row's position among the active `rows` (`None` for an inactive row), sized for
@@ -333,11 +326,11 @@ mod tests {
         Bound { index, side: Side::Both, multiplier: 1.0, gap: 0.0 }
     }
 
-    /// LICQ's measure from the Gram matrix summed column by column over the sparse Jacobian (with
+    /// LICQ's measure from the sparse Jacobian's active rows (with
     /// repeated entries, fixed variables and inactive rows) against the SVD of the dense active
     /// rows; and zero for dependent rows, where Gram–Schmidt finds the dependent one.
     #[test]
-    fn the_sparse_gram_measure_is_the_dense_svds_smallest_singular_value() {
+    fn licqs_measure_is_the_dense_svds_smallest_singular_value() {
         let (n, m) = (14, 9);
         let mut rng = SplitMix64::new(3);
         let mut pattern = Vec::new();
@@ -359,7 +352,7 @@ mod tests {
         let svd = a.singular_values().iter().copied().fold(f64::INFINITY, f64::min);
         let measure = smallest_singular_value(n, &variables, &rows, jacobian).unwrap();
         assert!(svd > 1e-3, "the random rows are independent ({svd:e})");
-        assert!((measure - svd).abs() <= 1e-12 * a.norm(), "Gram {measure:e} vs SVD {svd:e}");
+        assert!((measure - svd).abs() <= 1e-12 * a.norm(), "measure {measure:e} vs SVD {svd:e}");
         // Row 6 made a combination of rows 0 and 3: the measure falls to round-off.
         let mut dependent: Vec<f64> =
             pattern.iter().zip(&values).map(|(&(r, _), &v)| if r == 6 { 0.0 } else { v }).collect();
