@@ -17,6 +17,11 @@ use args::{Cli, Command, RunArgs};
 use clap::Parser;
 use std::process::ExitCode;
 
+/// mimalloc for Rust's allocations; its `override` feature also makes it the process's `malloc`,
+/// for Ipopt, MUMPS and our linear solver's shim (Cargo.toml says why).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// An error with its exit code: bad input (2), a time limit that left nothing to write (3),
 /// interrupted (130) or any other failure (1).
 pub enum Failure {

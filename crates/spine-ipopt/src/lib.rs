@@ -68,6 +68,7 @@
 
 mod barrier;
 mod c_bool;
+mod clock;
 mod context;
 #[allow(unsafe_code)]
 mod ffi;
@@ -271,7 +272,13 @@ static SOLVE_LOCK: Mutex<()> = Mutex::new(());
 /// per iteration, each read a `getrusage` system call in the library's own clock). Zero when the
 /// library does not call the replacement.
 pub fn replaced_clock_reads() -> usize {
-    ffi::CPU_TIME_CALLS.load(std::sync::atomic::Ordering::Relaxed)
+    clock::CPU_TIME_CALLS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// How many times Ipopt has read its wall clock through this crate's replacement of
+/// `Ipopt::WallclockTime()` (`ffi.rs`) in this process; zero when the library does not call it.
+pub fn replaced_wall_clock_reads() -> usize {
+    clock::WALL_CLOCK_CALLS.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// Solves `problem` with Ipopt.

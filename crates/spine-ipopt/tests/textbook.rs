@@ -131,16 +131,20 @@ fn hs071_exact_hessian_reaches_the_known_optimum() {
 
 /// Debian's Ipopt 3.11 reads its CPU clock (`Ipopt::CpuTime()`, a `getrusage` call in the library)
 /// about 70 times per iteration; the binding's definition of that function interposes the
-/// library's (`ffi.rs`), and the library calls it: the reads counted here. `max_cpu_time` still
+/// library's (`ffi.rs`), and the library calls it: the reads counted here, and those of its wall
+/// clock, replaced the same way. `max_cpu_time` still
 /// stops a run, on the replacement's clock.
 #[test]
 fn ipopt_3_11_reads_the_replaced_cpu_clock() {
-    let before = spine_ipopt::replaced_clock_reads();
+    let before = (spine_ipopt::replaced_clock_reads(), spine_ipopt::replaced_wall_clock_reads());
     let solution = solve(&mut Hs071::new(), &tight()).unwrap();
     assert_eq!(solution.status, Status::SolveSucceeded);
-    let reads = spine_ipopt::replaced_clock_reads() - before;
+    let reads = spine_ipopt::replaced_clock_reads() - before.0;
+    let wall = spine_ipopt::replaced_wall_clock_reads() - before.1;
     if spine_ipopt::IPOPT_VERSION.starts_with("3.11") {
         assert!(reads >= 10 * solution.iterations, "{reads} reads in {} iterations", solution.iterations);
+        // Its wall clock too (`Ipopt::WallclockTime()`, a `gettimeofday` in the library).
+        assert!(wall >= 10 * solution.iterations, "{wall} wall-clock reads in {} iterations", solution.iterations);
     }
     let limited = solve(&mut Hs071::new(), &tight().number("max_cpu_time", 1e-9)).unwrap();
     assert_eq!(limited.status, Status::MaximumCpuTimeExceeded);
