@@ -91,12 +91,6 @@ impl Front {
         (&self.a[c * s..c * s + c + 1], (c + 1..self.len()).map(move |i| self.a[i * s + c]))
     }
 
-    /// Column `c` of the front, `len` entries.
-    fn column(&self, c: usize) -> impl Iterator<Item = f64> + '_ {
-        let (upper, below) = self.column_parts(c);
-        upper.iter().copied().chain(below)
-    }
-
     /// Adds variable `v` with an empty row and column; returns its slot.
     pub fn push(&mut self, v: usize) -> usize {
         let slot = self.len();
@@ -158,20 +152,29 @@ impl Front {
     /// out.
     pub fn scan(&self, c: usize, skip: usize, border: usize) -> ColumnScan {
         let mut scan = ColumnScan { largest: 0.0, row: None, summed_largest: 0.0, summed_row: None, border: 0.0 };
-        for (i, ((x, &var), &summed)) in self.column(c).zip(&self.var).zip(&self.summed).enumerate() {
+        let mut visit = |i: usize, x: f64| {
             let v = x.abs();
-            if var < border {
+            if self.var[i] < border {
                 scan.border = scan.border.max(v);
             } else if i != c && i != skip {
                 if v > scan.largest {
                     scan.largest = v;
                     scan.row = Some(i);
                 }
-                if summed && (scan.summed_row.is_none() || v >= scan.summed_largest) {
+                if self.summed[i] && (scan.summed_row.is_none() || v >= scan.summed_largest) {
                     scan.summed_largest = v;
                     scan.summed_row = Some(i);
                 }
             }
+        };
+        // The column's two parts as two plain loops (row `c` up to the diagonal, then down the
+        // rows below it): a chained iterator cost a branch per entry.
+        let s = self.stride;
+        for (i, &x) in self.a[c * s..c * s + c + 1].iter().enumerate() {
+            visit(i, x);
+        }
+        for i in c + 1..self.len() {
+            visit(i, self.a[i * s + c]);
         }
         scan
     }
