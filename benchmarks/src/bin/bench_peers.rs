@@ -29,6 +29,11 @@ use spine_model::{Design, State};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// The allocator `spine` ships with (mimalloc, the whole process's `malloc`), so that ours is
+/// timed as a user runs it; CasADi runs in its own Python process with its own allocator.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
     SolverRun {
         status: r.solver.status.to_string(),
