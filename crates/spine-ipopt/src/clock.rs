@@ -3,9 +3,9 @@
 //!
 //! Debian's Ipopt 3.11 reads both clocks at every start and stop of its timed tasks, about 140
 //! reads per iteration: even at the monotonic clock's 20 ns a read, 4 % of a design10 census
-//! (2026-11-28). So each thread reads the real clock at every [`REFRESH`]-th read and returns its
-//! last reading in between: the clock stays monotonic and lags by at most 15 reads (a few
-//! microseconds of Ipopt's work), which is what its timing statistics and `max_cpu_time` see.
+//! (2026-11-28). So with 3.11 each thread reads the real clock at every [`REFRESH`]-th read and
+//! returns its last reading in between: the clock stays monotonic and lags by at most 15 reads (a
+//! few microseconds of Ipopt's work), which is what its timing statistics and `max_cpu_time` see.
 
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -18,8 +18,16 @@ use std::time::Instant;
 pub(crate) static CPU_TIME_CALLS: AtomicUsize = AtomicUsize::new(0);
 pub(crate) static WALL_CLOCK_CALLS: AtomicUsize = AtomicUsize::new(0);
 
-/// One read in this many reads the real clock.
-pub(crate) const REFRESH: u32 = 16;
+/// One read in this many reads the real clock: 16 with Ipopt 3.11, whose timed tasks read it
+/// about 140 times an iteration; every read with later versions, which read it a few times a
+/// solve (a clock refreshed every 16th read would be stale there for a whole short solve, and
+/// `max_cpu_time` would not see it pass).
+pub(crate) const REFRESH: u32 = if is_3_11(crate::IPOPT_VERSION) { 16 } else { 1 };
+
+const fn is_3_11(version: &str) -> bool {
+    let v = version.as_bytes();
+    v.len() >= 4 && v[0] == b'3' && v[1] == b'.' && v[2] == b'1' && v[3] == b'1'
+}
 
 thread_local! {
     /// This thread's reads since its last real reading, that reading, and the reads of each clock
