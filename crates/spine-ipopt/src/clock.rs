@@ -12,11 +12,22 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 use std::time::Instant;
 
+/// The two replaced clocks.
+#[derive(Clone, Copy)]
+pub(crate) enum Clock {
+    Cpu = 0,
+    Wall = 1,
+}
+
 /// Reads of the replaced `Ipopt::CpuTime()` and `Ipopt::WallclockTime()` in this process (0 where
-/// the library binds its own clocks; counted in steps of [`REFRESH`] per thread): the test that
-/// the replacements are used.
-pub(crate) static CPU_TIME_CALLS: AtomicUsize = AtomicUsize::new(0);
-pub(crate) static WALL_CLOCK_CALLS: AtomicUsize = AtomicUsize::new(0);
+/// the library binds its own clocks; counted at each thread's refreshes): the test that the
+/// replacements are used.
+static READS: [AtomicUsize; 2] = [AtomicUsize::new(0), AtomicUsize::new(0)];
+
+/// How many times Ipopt has read `clock` (up to each thread's last refresh).
+pub(crate) fn reads(clock: Clock) -> usize {
+    READS[clock as usize].load(Ordering::Relaxed)
+}
 
 /// One read in this many reads the real clock: 16 with Ipopt 3.11, whose timed tasks read it
 /// about 140 times an iteration; every read with later versions, which read it a few times a
@@ -37,13 +48,12 @@ thread_local! {
 }
 
 /// Seconds of the monotonic clock since the first read in the process, refreshed at every
-/// [`REFRESH`]-th read on this thread; the read is counted in `calls`.
-pub(crate) fn read(calls: &'static AtomicUsize) -> f64 {
+/// [`REFRESH`]-th read on this thread; the read is counted for `clock`.
+pub(crate) fn read(clock: Clock) -> f64 {
     static START: OnceLock<Instant> = OnceLock::new();
-    let which = usize::from(!std::ptr::eq(calls, &CPU_TIME_CALLS));
     UNCOUNTED.with(|u| {
         let mut counts = u.get();
-        counts[which] += 1;
+        counts[clock as usize] += 1;
         u.set(counts);
     });
     LAST.with(|last| {
@@ -54,11 +64,10 @@ pub(crate) fn read(calls: &'static AtomicUsize) -> f64 {
         }
         let seconds = START.get_or_init(Instant::now).elapsed().as_secs_f64();
         last.set((reads + 1, seconds));
-        UNCOUNTED.with(|u| {
-            let counts = u.replace([0, 0]);
-            CPU_TIME_CALLS.fetch_add(counts[0], Ordering::Relaxed);
-            WALL_CLOCK_CALLS.fetch_add(counts[1], Ordering::Relaxed);
-        });
+        let counts = UNCOUNTED.with(|u| u.replace([0, 0]));
+        for (total, count) in READS.iter().zip(counts) {
+            total.fetch_add(count, Ordering::Relaxed);
+        }
         seconds
     })
 }
@@ -71,18 +80,18 @@ mod tests {
     /// to the last refresh.
     #[test]
     fn the_clock_is_monotonic_and_refreshes() {
-        let before = CPU_TIME_CALLS.load(Ordering::Relaxed);
-        let first = read(&CPU_TIME_CALLS);
+        let before = reads(Clock::Cpu);
+        let first = read(Clock::Cpu);
         std::thread::sleep(std::time::Duration::from_millis(2));
         let mut previous = first;
         let mut moved = false;
         for _ in 0..REFRESH {
-            let now = read(&CPU_TIME_CALLS);
+            let now = read(Clock::Cpu);
             assert!(now >= previous);
             moved |= now > first + 1e-3;
             previous = now;
         }
         assert!(moved, "no fresh reading within {REFRESH} reads");
-        assert!(CPU_TIME_CALLS.load(Ordering::Relaxed) - before >= REFRESH as usize);
+        assert!(reads(Clock::Cpu) - before >= REFRESH as usize);
     }
 }

@@ -372,13 +372,14 @@ extern "C" fn intermediate(
 /// 3.11 times every task of every iteration, each start and stop a `getrusage` call: about 140
 /// per iteration at 0.6–0.8 µs, a third of a 5-link solve (docs/design.md, "Ipopt's timing").
 /// The library calls it through its PLT (`R_X86_64_JUMP_SLOT`), so this definition in the
-/// executable interposes it: the monotonic clock (vDSO, about 0.02 µs; read for real at every
-/// 16th read, `clock.rs`), seconds since the first read. `max_cpu_time` therefore counts wall-clock seconds, an upper bound of a one-thread
-/// solve's CPU time. Where a library binds the call locally this definition is not used.
+/// executable interposes it: the monotonic clock (vDSO, about 0.02 µs; with 3.11 read for real at
+/// every 16th read, `clock.rs`), seconds since the first read. `max_cpu_time` therefore counts
+/// wall-clock seconds, an upper bound of a one-thread solve's CPU time. Where a library binds the
+/// call locally this definition is not used.
 #[allow(non_snake_case)]
 #[no_mangle]
 pub extern "C" fn _ZN5Ipopt7CpuTimeEv() -> f64 {
-    clock::read(&clock::CPU_TIME_CALLS)
+    clock::read(clock::Clock::Cpu)
 }
 
 /// Ipopt's wall clock (`Ipopt::WallclockTime()`, a `gettimeofday` read beside the CPU clock:
@@ -386,7 +387,7 @@ pub extern "C" fn _ZN5Ipopt7CpuTimeEv() -> f64 {
 #[allow(non_snake_case)]
 #[no_mangle]
 pub extern "C" fn _ZN5Ipopt13WallclockTimeEv() -> f64 {
-    clock::read(&clock::WALL_CLOCK_CALLS)
+    clock::read(clock::Clock::Wall)
 }
 
 /// Ipopt's clock of system CPU seconds (`Ipopt::SysTime()`), replaced with the same reasoning as

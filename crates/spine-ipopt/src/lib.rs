@@ -272,13 +272,13 @@ static SOLVE_LOCK: Mutex<()> = Mutex::new(());
 /// per iteration, each read a `getrusage` system call in the library's own clock). Zero when the
 /// library does not call the replacement.
 pub fn replaced_clock_reads() -> usize {
-    clock::CPU_TIME_CALLS.load(std::sync::atomic::Ordering::Relaxed)
+    clock::reads(clock::Clock::Cpu)
 }
 
 /// How many times Ipopt has read its wall clock through this crate's replacement of
 /// `Ipopt::WallclockTime()` (`ffi.rs`) in this process; zero when the library does not call it.
 pub fn replaced_wall_clock_reads() -> usize {
-    clock::WALL_CLOCK_CALLS.load(std::sync::atomic::Ordering::Relaxed)
+    clock::reads(clock::Clock::Wall)
 }
 
 /// Solves `problem` with Ipopt.

@@ -169,12 +169,12 @@ impl Front {
         };
         // The column's two parts as two plain loops (row `c` up to the diagonal, then down the
         // rows below it): a chained iterator cost a branch per entry.
-        let s = self.stride;
-        for (i, &x) in self.a[c * s..c * s + c + 1].iter().enumerate() {
+        let (upper, below) = self.column_parts(c);
+        for (i, &x) in upper.iter().enumerate() {
             visit(i, x);
         }
-        for i in c + 1..self.len() {
-            visit(i, self.a[i * s + c]);
+        for (i, x) in (c + 1..).zip(below) {
+            visit(i, x);
         }
         scan
     }

@@ -46,12 +46,15 @@ pub(crate) fn derivative(
         }
     }
     // The multipliers' rates are checked only by a one-sided choice.
-    let mut dlambda = vec![0.0; if one_sided { m } else { 0 }];
-    if one_sided {
+    let dlambda: Vec<f64> = if one_sided {
+        let mut dlambda = vec![0.0; m];
         for (k, b) in kkt.rows.iter().enumerate() {
             dlambda[b.index] = rhs[kkt.free + k];
         }
-    }
+        dlambda
+    } else {
+        Vec::new()
+    };
     let dz: Vec<f64> = if one_sided {
         let h_dx = hessian_times(&matrices.hessian_pattern, &matrices.hessian, &dx);
         let jt_dl = jacobian_transpose_times(&matrices.jacobian_pattern, &matrices.jacobian, &dlambda, n);

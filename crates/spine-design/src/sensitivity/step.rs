@@ -140,9 +140,7 @@ impl<'s, 'a> Work<'s, 'a> {
         self.rates_and_licq();
         let ready = shared::wait(&self.caller, || {
             // LICQ's measure may become possible while waiting.
-            if let Some(stage) = self.stage.get() {
-                self.licq.run(|| stage.licq(self.optimum.layout));
-            }
+            self.licq_if_known();
             self.ready.get()
         });
         if let (Some(ready), Some(stage)) = (ready, self.stage.get()) {
@@ -162,8 +160,13 @@ impl<'s, 'a> Work<'s, 'a> {
             let p = &self.parameters[i];
             let _ = self.rates[i].set(rates(optimum, elements, &p.name, &p.tangent));
         }
+        self.licq_if_known();
+    }
+
+    /// LICQ's measure, if no thread has claimed it and the active set is known.
+    fn licq_if_known(&self) {
         if let Some(stage) = self.stage.get() {
-            self.licq.run(|| stage.licq(layout));
+            self.licq.run(|| stage.licq(self.optimum.layout));
         }
     }
 

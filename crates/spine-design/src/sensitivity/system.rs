@@ -221,13 +221,6 @@ pub(crate) fn with_weak(set: &ActiveSet, variables: &[Bound], rows: &[Bound]) ->
 /// Most entries of the dense active-row Jacobian for the LICQ measures.
 pub(crate) const MAX_DENSE: usize = 250_000;
 
-/// The free variables' positions and count ([`free_positions`]) for the LICQ measures; `None`
-/// without active rows or when their dense Jacobian would exceed [`MAX_DENSE`] entries.
-fn measured_free_positions(n: usize, variables: &[Bound], rows: &[Bound]) -> Option<(Vec<Option<usize>>, usize)> {
-    let (free, count) = free_positions(n, variables);
-    (!rows.is_empty() && rows.len() * count <= MAX_DENSE).then_some((free, count))
-}
-
 /// The active rows' Jacobian on the free variables of `variables`, dense and row-major, with the
 /// number of free variables; `None` above [`MAX_DENSE`] entries or without rows.
 fn active_rows_dense(
@@ -236,7 +229,10 @@ fn active_rows_dense(
     rows: &[Bound],
     jacobian: (&[(usize, usize)], &[f64]),
 ) -> Option<(Vec<f64>, usize)> {
-    let (free, count) = measured_free_positions(n, variables, rows)?;
+    let (free, count) = free_positions(n, variables);
+    if rows.is_empty() || rows.len() * count > MAX_DENSE {
+        return None;
+    }
     let position = row_positions(rows, jacobian.0);
     let mut a = vec![0.0; rows.len() * count];
     for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
@@ -257,19 +253,13 @@ pub(crate) fn smallest_singular_value(
     rows: &[Bound],
     jacobian: (&[(usize, usize)], &[f64]),
 ) -> Option<f64> {
-    let (free, count) = measured_free_positions(n, variables, rows)?;
+    let (a, count) = active_rows_dense(n, variables, rows, jacobian)?;
     let k = rows.len();
     if k > count {
         return Some(0.0);
     }
-    let position = row_positions(rows, jacobian.0);
-    // `Aᵀ`, free variables by active rows, row-major.
-    let mut transposed = vec![0.0; count * k];
-    for (&(r, c), &v) in jacobian.0.iter().zip(jacobian.1) {
-        if let (Some(p), Some(q)) = (position[r], free[c]) {
-            transposed[q * k + p] += v;
-        }
-    }
+    // `Aᵀ` (free variables by active rows, row-major): the bidiagonalisation wants it tall.
+    let mut transposed: Vec<f64> = (0..count * k).map(|e| a[(e % k) * count + e / k]).collect();
     Some(super::smallest_singular_value::smallest_singular_value(&mut transposed, count, k))
 }
 
