@@ -121,12 +121,26 @@ bench-ad-peers *SIZES:
     ./target/release/bench_report
 
 # Global bounds on eq. (33) with SCIP 10, optional (installs the `pyscipopt` wheel, which ships
-# libscip, into benchmarks/peers/.venv-scip; nothing else depends on it): SCIP's best point, its
-# dual bound and the gap within TIME seconds; with RESULT (a `spine design` result.json of the same
-# case) the workspace's optimum is evaluated in SCIP's model first (benchmarks/peers/scip_global.py).
-certify CASE TIME="600" RESULT="":
+# libscip, into benchmarks/peers/.venv-scip; nothing else depends on it). CENSUS is a `spine design`
+# result.json of the same case (a census's best): its J is the cutoff the derived bounds use and its
+# point is checked in SCIP's equations; SCIP reports its best point, its dual (lower) bound and the
+# gap within TIME seconds (benchmarks/peers/scip_global.py; FLAGS e.g. `--incumbent`).
+certify CASE CENSUS TIME="600" *FLAGS:
     test -x benchmarks/peers/.venv-scip/bin/python || (python3 -m venv benchmarks/peers/.venv-scip && benchmarks/peers/.venv-scip/bin/pip install -q pyscipopt==6.3.0)
-    benchmarks/peers/.venv-scip/bin/python benchmarks/peers/scip_global.py {{CASE}} --time {{TIME}} {{ if RESULT != "" { "--check " + RESULT } else { "" } }}
+    benchmarks/peers/.venv-scip/bin/python benchmarks/peers/scip_global.py {{CASE}} {{CENSUS}} --time {{TIME}} {{FLAGS}}
+
+# The global-bound table of benchmarks/analysis.md: for design5's loads with N = 2 … 5 links, a
+# census to P <= 0.001, then SCIP with the census's point as its incumbent (TIME seconds each);
+# one JSON report per N in results/certify/.
+certify-table TIME="600":
+    cargo build --release --quiet -p spine-cli
+    mkdir -p results/certify
+    for n in 2 3 4 5; do \
+      case=benchmarks/peers/certify/design5-${n}links.json; [ $n = 5 ] && case=paper-cases/design5.json; \
+      ./target/release/spine design $case --confidence 0.001 --jobs 2 --deterministic --out results/certify/census-$n | grep -E "^census to"; \
+      just certify $case results/certify/census-$n/result.json {{TIME}} --incumbent > results/certify/scip-$n.json; \
+      python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print('N =', r['links'], r['status'], r['seconds'], 's, census J', r['census_J'], 'dual bound', r['dual_bound'], 'gap to census', r['gap_to_census'])" results/certify/scip-$n.json; \
+    done
 
 # A census to a stated confidence, timed (design10, seeded starts in `JOBS` worker processes until
 # P(a better optimum unseen) <= P; issue 45's target: P = 0.01 in under 10 s on 2 cores).
