@@ -11,7 +11,9 @@ CENSUS_RESULT.json is a `spine design` result of the same case (best of a census
 cutoff `J_u` that the derived bounds below use, and its point is first evaluated in this problem's
 equations (`check_point`: every residual and `J`), so the two are known to be one problem. With
 `--incumbent` its point is also handed to SCIP as the first solution; without it SCIP finds its
-own best point, and agreement with the census is a separate result.
+own best point, and agreement with the census is a separate result. The report (JSON on stdout)
+has `gap_to_census = (J_census − dual bound) / J_census` (no design has `J` below the dual bound)
+and `dual_bound_trace`, the dual bound against time.
 
 The formulation (`formulate`), in the scaled deflection form:
 
@@ -276,6 +278,33 @@ def check_point(p, r):
     return {"largest_residual": worst, "J": energy, "J_reported": r["objective"]}
 
 
+def dual_bound_trace(model):
+    """Records SCIP's dual bound against time (`[seconds, J]`, J in J) whenever a node is solved and
+    the bound has risen by 1e-4 relative since the last record: the gap against time in one run."""
+    import pyscipopt as scip
+
+    class Trace(scip.Eventhdlr):
+        def __init__(self):
+            self.points = []
+            self.clock = time.time()
+
+        def eventinit(self):
+            self.model.catchEvent(scip.SCIP_EVENTTYPE.NODESOLVED, self)
+
+        def eventexit(self):
+            self.model.dropEvent(scip.SCIP_EVENTTYPE.NODESOLVED, self)
+
+        def eventexec(self, event):
+            bound = self.model.getDualbound() / 1000
+            if not self.points or bound > self.points[-1][1] + 1e-4 * abs(self.points[-1][1]):
+                self.points.append([round(time.time() - self.clock, 2), bound])
+            return {}
+
+    trace = Trace()
+    model.includeEventhdlr(trace, "dual_bound_trace", "the dual bound against time")
+    return trace
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("case")
@@ -295,6 +324,7 @@ def main():
     model.setParam("limits/gap", args.gap)
     model.setParam("randomization/randomseedshift", args.seed)
     accepted = incumbent(model, v, p, census) if args.incumbent else None
+    trace = dual_bound_trace(model)
     clock = time.time()
     model.optimize()
     seconds = time.time() - clock
@@ -318,6 +348,7 @@ def main():
         # What the certificate says about the census's optimum: no design has J below the dual bound.
         "gap_to_census": (census["objective"] - lower) / census["objective"],
         "best_vs_census": None if best is None else (best - census["objective"]) / census["objective"],
+        "dual_bound_trace": trace.points,
         "bounds": {"lambda_passive": v["lambda_max"]["passive"], "lambda_loaded": v["lambda_max"]["loaded"]},
     }
     if found:
