@@ -107,6 +107,21 @@ fn main() {
                     );
                 }
             }
+            if let Some(c) = &r.certificate {
+                eprintln!(
+                    "  N = {n} certificate: {:?}, {} free, {} active rows, {} weakly active, inertia {:?}",
+                    c.status, c.free_variables, c.active_rows, c.weakly_active, c.reduced_kkt_inertia
+                );
+            }
+            for e in &r.escapes {
+                eprintln!(
+                    "  N = {n} left J = {:.9e} ({:?}) by {} to J = {:.9e}",
+                    e.objective,
+                    e.status,
+                    e.how.name(),
+                    e.reached
+                );
+            }
             println!(
                 "| {n} | {} | {} | {} | {t:.4} | {per_iteration:.3} | {:.9e} | {} |",
                 formulation.name(),
