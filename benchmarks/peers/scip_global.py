@@ -107,6 +107,13 @@ def beyond(values, i):
     return sum(values[j] for j in range(i + 1, len(values)))
 
 
+def relative_rotations(d):
+    """The N + 1 springs' relative rotations `r_j = d_j − d_{j−1}` from the N links' deflections
+    (the base and the end held: `d_{−1} = d_N = 0`); numbers or SCIP expressions alike."""
+    n = len(d)
+    return [(d[j] if j < n else 0) - (d[j - 1] if j > 0 else 0) for j in range(n + 1)]
+
+
 def lambda_bound(p):
     """A bound on the loaded state's slider reaction |λ2|. Row i of the equilibrium, times
     L_i cos θ_i and summed: the spring moments and the loads' moments are bounded by the largest
@@ -176,7 +183,7 @@ def formulate(p, cutoff):
             m.addCons(sin_d[i] * sin_d[i] == 2 * vers_d[i] - vers_d[i] * vers_d[i] * (1.0 / (s * s)))
             m.addCons(du[i] == -1000 * a * (vers_d[i] * (1.0 / (s * s)) + t[i] * sin_d[i] * (1.0 / s)))
         m.addCons(scip.quicksum(sin_d[i] - t[i] * vers_d[i] * (1.0 / s) for i in range(n)) == 0)
-        rotation = [(d[j] if j < n else 0) - (d[j - 1] if j > 0 else 0) for j in range(n + 1)]
+        rotation = relative_rotations(d)
         moment = [m.addVar(f"M_{key}_{j}", lb=None, ub=None) for j in range(n + 1)]  # s m / K_UNIT
         for j in range(n + 1):
             m.addCons(moment[j] == k[j] * rotation[j])
@@ -230,7 +237,7 @@ def incumbent(model, v, p, r):
     for key, p_x in (("passive", [0.0] * (n + 1)), ("loaded", p["p_x"])):
         st, s = v["states"][key], SCALE[key]
         d = [point[key][i] - point["theta0"][i] for i in range(n)]
-        rot = [(d[j] if j < n else 0) - (d[j - 1] if j > 0 else 0) for j in range(n + 1)]
+        rot = relative_rotations(d)
         for i in range(n):
             model.setSolVal(sol, st["d"][i], s * d[i])
             model.setSolVal(sol, st["sin"][i], s * math.sin(d[i]))
@@ -264,7 +271,7 @@ def check_point(p, r):
         th = r[key]["theta"]
         lam = r[key]["lambda"]
         d = [th[i] - t0[i] for i in range(n)]
-        rot = [(d[j] if j < n else 0) - (d[j - 1] if j > 0 else 0) for j in range(n + 1)]
+        rot = relative_rotations(d)
         for i in range(n):
             load = length[i] * math.cos(th[i]) * beyond(p["p_y"], i) - length[i] * math.sin(th[i]) * beyond(p_x, i)
             row = k[i] * rot[i] - k[i + 1] * rot[i + 1] - load - lam * length[i] * math.cos(th[i])

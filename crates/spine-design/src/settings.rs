@@ -340,6 +340,21 @@ impl SolverSettings {
     }
 }
 
+/// Ipopt's options for a solve that starts from a whole point and its multipliers
+/// (`warm_start_init_point`): the barrier's `mu_init`, and `push` for every warm-start bound push
+/// and fraction (of the variables, the slacks and the bound multipliers). A followed sweep's
+/// corrector and the certificate's solve at the case's tolerance set them.
+pub(crate) fn warm_point_options(mu_init: f64, push: f64) -> [(&'static str, f64); 6] {
+    [
+        ("mu_init", mu_init),
+        ("warm_start_bound_push", push),
+        ("warm_start_bound_frac", push),
+        ("warm_start_slack_bound_push", push),
+        ("warm_start_slack_bound_frac", push),
+        ("warm_start_mult_bound_push", push),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -27,7 +27,7 @@
 use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature};
 use crate::result::DesignWarning;
 use crate::sensitivity::polish;
-use crate::settings::ExtraOption;
+use crate::settings::{warm_point_options, ExtraOption};
 use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
 use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};
@@ -191,6 +191,7 @@ fn restart(
 fn at_case_tolerance(
     problem: &DesignProblem,
     polished: SolverRun,
+    polished_objective: f64,
     settings: &SolverSettings,
 ) -> Result<SolverRun, DesignError> {
     let (Some(states), Some(multipliers)) = (polished.states.as_ref(), polished.multipliers.as_ref()) else {
@@ -201,23 +202,16 @@ fn at_case_tolerance(
     }
     let mut warm = settings.clone();
     warm.ipopt_options.insert("warm_start_init_point".into(), ExtraOption::Str("yes".into()));
-    for name in [
-        "mu_init",
-        "warm_start_bound_push",
-        "warm_start_bound_frac",
-        "warm_start_slack_bound_push",
-        "warm_start_slack_bound_frac",
-        "warm_start_mult_bound_push",
-    ] {
-        warm.ipopt_options.insert(name.into(), ExtraOption::Num(if name == "mu_init" { 1e-11 } else { 1e-12 }));
+    for (name, value) in warm_point_options(1e-11, 1e-12) {
+        warm.ipopt_options.insert(name.into(), ExtraOption::Num(value));
     }
     let form = polished.solver.layout(problem).states;
     let point = FullPoint { form, design: &polished.design, states, multipliers: Some(multipliers) };
     let next = resolve_from(problem, point, &warm.ipopt())?;
-    let (before, after) = (polished.clone().check(problem, settings), next.clone().check(problem, settings));
+    let after = next.clone().check(problem, settings);
     let kept = next.solver.status.is_optimal()
         && after.is_clean()
-        && after.objective <= before.objective * (1.0 + FLAT_MARGIN);
+        && after.objective <= polished_objective * (1.0 + FLAT_MARGIN);
     Ok(if kept { next } else { polished })
 }
 
@@ -298,7 +292,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     curvature: None,
                     reached: polished.objective,
                 });
-                current = at_case_tolerance(problem, polished_run, settings)?;
+                current = at_case_tolerance(problem, polished_run, polished.objective, settings)?;
                 continue;
             }
             // The tight re-solve failed or rose: the run's own certificate stands.
@@ -348,12 +342,12 @@ mod tests {
         assert!(polished.solver.status.is_optimal(), "{:?}", polished.solver.status);
         let j = polished.clone().check(&problem, &settings).objective;
         // A run that succeeded is returned as it is.
-        let same = at_case_tolerance(&problem, polished.clone(), &settings).expect("runs");
+        let same = at_case_tolerance(&problem, polished.clone(), j, &settings).expect("runs");
         assert_eq!(same.solver.iterations, polished.solver.iterations);
         // One that Ipopt stopped at its acceptable level is solved again from its point, warm.
         let mut stopped = polished;
         stopped.solver.status = spine_ipopt::Status::SolvedToAcceptableLevel;
-        let carried = at_case_tolerance(&problem, stopped, &settings).expect("runs");
+        let carried = at_case_tolerance(&problem, stopped, j, &settings).expect("runs");
         assert!(carried.solver.status.is_optimal(), "{:?}", carried.solver.status);
         let carried_j = carried.clone().check(&problem, &settings).objective;
         assert!((carried_j - j).abs() <= FLAT_MARGIN * j, "{carried_j} against {j}");

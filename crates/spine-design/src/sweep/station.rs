@@ -6,7 +6,7 @@ use super::{Sweep, SweepError};
 use crate::certificate::{certify_run, CertifiedPoint};
 use crate::full_space::{Multipliers, StateForm};
 use crate::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport, POLISH_TOLERANCE};
-use crate::settings::ExtraOption;
+use crate::settings::{warm_point_options, ExtraOption};
 use crate::solve::{resolve_from, FullPoint, SolverRun};
 use crate::{DesignProblem, DesignResult, SolverSettings};
 use spine_model::{Design, State};
@@ -120,14 +120,7 @@ impl Sweep<'_> {
     pub(crate) fn settle(&self, parameter: f64, prediction: &Prediction) -> Result<Station, SweepError> {
         let problem = self.problem(parameter)?;
         let mut settings = tight(self.solver);
-        for (name, value) in [
-            ("mu_init", self.settings.mu_init),
-            ("warm_start_bound_push", 1e-9),
-            ("warm_start_bound_frac", 1e-9),
-            ("warm_start_slack_bound_push", 1e-9),
-            ("warm_start_slack_bound_frac", 1e-9),
-            ("warm_start_mult_bound_push", 1e-9),
-        ] {
+        for (name, value) in warm_point_options(self.settings.mu_init, 1e-9) {
             settings.ipopt_options.entry(name.into()).or_insert(ExtraOption::Num(value));
         }
         if prediction.multipliers.is_some() {
