@@ -24,9 +24,9 @@
 //! ([`crate::DesignResult::escapes`]). A result still `not_a_minimum` after that carries the
 //! warning [`crate::result::DesignWarning::NotAMinimum`] and is not clean.
 
-use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature};
+use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature, MAX_DENSE_FREE};
 use crate::result::DesignWarning;
-use crate::sensitivity::polish;
+use crate::sensitivity::{polish, tight_settings};
 use crate::settings::{warm_point_options, ExtraOption};
 use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
 use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
@@ -180,6 +180,37 @@ fn restart(
     Ok((result.is_clean() && result.objective < below * (1.0 - 1e-9)).then_some((next, result)))
 }
 
+/// The tight re-solve of `run` (step 2 of the module docs) with [`polish`]'s settings. Where the
+/// run's own certificate has more than [`MAX_DENSE_FREE`] free variables (so that no direction is
+/// formed and a flat probe cannot follow), it starts from the run's whole point and multipliers
+/// (`warm_start_init_point`, `mu_init` 1e-11, warm pushes 1e-12) and goes on from where the run
+/// stopped: the cold polish finds every multiplier again, which at N = 1000 cost about 1 s of
+/// the 3 s of the whole solve. Otherwise, and where the warm re-solve does not converge, from the
+/// design alone ([`polish`]): smaller problems keep the cold polish's own path, which is what finds
+/// fig8's lower vertex (docs/design.md, "Second-order certificate").
+fn tight_resolve(
+    problem: &DesignProblem,
+    run: &SolverRun,
+    own: Option<&Certificate>,
+    settings: &SolverSettings,
+) -> Result<SolverRun, DesignError> {
+    let large = own.is_some_and(|c| c.free_variables > MAX_DENSE_FREE);
+    if let (true, Some(states), Some(multipliers)) = (large, run.states.as_ref(), run.multipliers.as_ref()) {
+        let mut warm = tight_settings(settings);
+        warm.ipopt_options.insert("warm_start_init_point".into(), ExtraOption::Str("yes".into()));
+        for (name, value) in warm_point_options(1e-11, 1e-12) {
+            warm.ipopt_options.insert(name.into(), ExtraOption::Num(value));
+        }
+        let form = run.solver.layout(problem).states;
+        let point = FullPoint { form, design: &run.design, states, multipliers: Some(multipliers) };
+        let again = resolve_from(problem, point, &warm.ipopt())?;
+        if again.solver.status.is_converged() {
+            return Ok(again);
+        }
+    }
+    polish(problem, &run.design, settings)
+}
+
 /// A tight re-solve that descended but stopped short of its own tolerance (Ipopt's acceptable
 /// level: the refined N = 1000 peers case, 3 278 free variables and 274 weakly active bounds) is
 /// carried to the case's tolerance from its point and multipliers, warm (`mu_init` 1e-11 and the
@@ -238,6 +269,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
     // How the first solve started and its levels stay the result's: the escapes say what followed.
     let (first_notes, first_refinement) = (run.start_notes.clone(), run.refinement.clone());
     let mut current = run;
+    let mut tight_before: Option<SolverRun> = None;
     loop {
         let result = current.clone().check(problem, settings);
         let finish = |mut result: DesignResult, certificate: Option<Certificate>, escapes: Vec<Escape>| {
@@ -259,7 +291,14 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         if own.as_ref().is_some_and(|(c, _)| c.status == MinimumStatus::StrictMinimum) || escapes.len() >= MAX_ESCAPES {
             return Ok(finish(result, own.map(|(c, _)| c), escapes));
         }
-        let polished_run = polish(problem, &result.design, settings)?;
+        // After a tight re-solve's escape `current` is that re-solve (carried to the case's
+        // tolerance): its tight point is known and is not solved for again (unless the carrying
+        // moved off it).
+        let known = tight_before.take().filter(|k| same_optimum(&result, &k.clone().check(problem, settings)));
+        let polished_run = match known {
+            Some(known) => known,
+            None => tight_resolve(problem, &current, own.as_ref().map(|(c, _)| c), settings)?,
+        };
         let polished = polished_run.clone().check(problem, settings);
         let tight =
             polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
@@ -292,7 +331,8 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     curvature: None,
                     reached: polished.objective,
                 });
-                current = at_case_tolerance(problem, polished_run, polished.objective, settings)?;
+                current = at_case_tolerance(problem, polished_run.clone(), polished.objective, settings)?;
+                tight_before = Some(polished_run);
                 continue;
             }
             // The tight re-solve failed or rose: the run's own certificate stands.

@@ -31,6 +31,7 @@ mod system;
 
 pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
 pub use baseline::KktBaseline;
+pub(crate) use polish::tight_settings;
 pub use polish::{polish, POLISH_TOLERANCE};
 
 use crate::full_space::{Layout, Multipliers};

@@ -13,13 +13,22 @@ use spine_model::Design;
 /// Ipopt's `tol` of the polishing solve.
 pub const POLISH_TOLERANCE: f64 = 1e-12;
 
-/// Eq. (33) in the full space from `optimum` with the tight settings above (the same problem and
-/// state form; no mesh sequencing).
-pub fn polish(problem: &DesignProblem, optimum: &Design, settings: &SolverSettings) -> Result<SolverRun, DesignError> {
+/// The case's settings with the polishing tolerance ([`POLISH_TOLERANCE`], on the constraints
+/// too where the case's is looser) and no mesh sequencing: the polish's, the certificate's warm
+/// tight re-solve's and every corrector's of a followed sweep (so that the active set can be read
+/// and differentiated).
+pub(crate) fn tight_settings(settings: &SolverSettings) -> SolverSettings {
     let mut tight = settings.clone();
     tight.tolerance = POLISH_TOLERANCE;
     tight.constraint_tolerance = settings.constraint_tolerance.min(POLISH_TOLERANCE);
     tight.refine = Refine::Mode(RefineMode::Off);
+    tight
+}
+
+/// Eq. (33) in the full space from `optimum` with the tight settings above (the same problem and
+/// state form; no mesh sequencing).
+pub fn polish(problem: &DesignProblem, optimum: &Design, settings: &SolverSettings) -> Result<SolverRun, DesignError> {
+    let mut tight = tight_settings(settings);
     for (name, value) in [("mu_init", 1e-11), ("bound_push", 1e-12), ("bound_frac", 1e-12)] {
         tight.ipopt_options.insert(name.into(), ExtraOption::Num(value));
     }

@@ -5,10 +5,10 @@
 use super::{Sweep, SweepError};
 use crate::certificate::{certify_run, CertifiedPoint};
 use crate::full_space::{Multipliers, StateForm};
-use crate::sensitivity::{polish, sensitivities, Derivative, Optimum, Parameter, SensitivityReport, POLISH_TOLERANCE};
+use crate::sensitivity::{polish, sensitivities, tight_settings, Derivative, Optimum, Parameter, SensitivityReport};
 use crate::settings::{warm_point_options, ExtraOption};
 use crate::solve::{resolve_from, FullPoint, SolverRun};
-use crate::{DesignProblem, DesignResult, SolverSettings};
+use crate::{DesignProblem, DesignResult};
 use spine_model::{Design, State};
 
 /// The optimum at one parameter value.
@@ -95,16 +95,6 @@ impl Station {
     }
 }
 
-/// The Ipopt settings of every corrector: the case's, with the polishing tolerance (so that the
-/// active set can be read and differentiated, [`crate::sensitivity::polish`]).
-pub(crate) fn tight(settings: &SolverSettings) -> SolverSettings {
-    let mut tight = settings.clone();
-    tight.tolerance = POLISH_TOLERANCE;
-    tight.constraint_tolerance = settings.constraint_tolerance.min(POLISH_TOLERANCE);
-    tight.refine = crate::refine::Refine::Mode(crate::refine::RefineMode::Off);
-    tight
-}
-
 impl Sweep<'_> {
     /// A tight solve at `parameter` from `design` alone (start states by continuation, fresh
     /// multipliers): the first station (the given optimum re-solved from itself), and the restart
@@ -119,7 +109,7 @@ impl Sweep<'_> {
     /// predicted multipliers and a small barrier parameter.
     pub(crate) fn settle(&self, parameter: f64, prediction: &Prediction) -> Result<Station, SweepError> {
         let problem = self.problem(parameter)?;
-        let mut settings = tight(self.solver);
+        let mut settings = tight_settings(self.solver);
         for (name, value) in warm_point_options(self.settings.mu_init, 1e-9) {
             settings.ipopt_options.entry(name.into()).or_insert(ExtraOption::Num(value));
         }
