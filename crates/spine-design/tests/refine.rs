@@ -6,7 +6,7 @@ use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{self, Ladder, LevelStart, Refine, RefineMode};
 use spine_design::result::DesignWarning;
 use spine_design::settings::ExtraOption;
-use spine_design::{solve_design, DesignProblem, Formulation, SolverSettings};
+use spine_design::{run_solver, solve_design, DesignProblem, Formulation, SolverSettings};
 use spine_model::kinematics::end_constraint;
 use spine_model::{Design, State};
 
@@ -345,11 +345,14 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     let mut restarting = plain.clone();
     restarting.warm_start.restart_after = 3;
     let mut seen = 0;
-    let r = solve_design(&problem, &start_of(n), Formulation::Full, &restarting, &mut |_| {
+    // The ladder's own run (`run_solver`, not settled): a certificate that leaves the point would
+    // report the iterations of the run that left it.
+    let r = run_solver(&problem, &start_of(n), Formulation::Full, &restarting, &mut |_| {
         seen += 1;
         true
     })
-    .unwrap();
+    .unwrap()
+    .check(&problem, &restarting);
     let levels = &r.refinement.as_ref().unwrap().levels;
     let last = levels.last().unwrap();
     assert!(last.restarts >= 1, "{last:?}");
