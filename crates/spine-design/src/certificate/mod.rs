@@ -33,6 +33,7 @@
 //! `strict_minimum`, and reports the minimum it reaches with the points it left.
 
 mod settle;
+mod tight;
 
 pub use settle::{certify_run, same_optimum, settle, solve_design, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
 
