@@ -93,7 +93,7 @@ mod tests {
     use crate::Formulation;
 
     /// Above [`MAX_DENSE_FREE`] free variables the tight re-solve goes on from the run's point and
-    /// multipliers: within its budget, to the cold polish's `J` or below, in fewer iterations.
+    /// multipliers, within its budget, to the cold polish's `J`; below, it is the cold polish.
     #[test]
     fn a_large_weak_minimum_is_re_solved_warm_within_the_budget() {
         let n = 300;
@@ -107,12 +107,12 @@ mod tests {
         let warm = tight_resolve(&problem, &run, Some(&own), &settings).expect("runs");
         let cold = polish(&problem, &run.design, &settings).expect("runs");
         assert!(warm.solver.iterations <= TIGHT_RESOLVE_ITERATIONS, "{}", warm.solver.iterations);
-        assert!(
-            warm.solver.iterations < cold.solver.iterations,
-            "{} against {}",
-            warm.solver.iterations,
-            cold.solver.iterations
-        );
+        // Warm from the run's point, capped (the cold polish's iteration count is no yardstick at
+        // this size: Ipopt 3.14 took 18 warm against 13 cold, 3.11 fewer warm).
+        let option = |r: &SolverRun, name: &str| r.solver.ipopt_options.get(name).cloned();
+        assert_eq!(option(&warm, "warm_start_init_point").as_deref(), Some("yes"));
+        assert_eq!(option(&warm, "max_iter"), Some(TIGHT_RESOLVE_ITERATIONS.to_string()));
+        assert_eq!(option(&cold, "warm_start_init_point"), None);
         let j = |r: &SolverRun| r.clone().check(&problem, &settings).objective;
         assert!(j(&warm) <= j(&run) * (1.0 + FLAT_MARGIN), "{} against the run's {}", j(&warm), j(&run));
         assert!((j(&warm) - j(&cold)).abs() <= 1e-5 * j(&cold), "{} against the cold polish's {}", j(&warm), j(&cold));
@@ -121,6 +121,7 @@ mod tests {
         let few = Certificate { free_variables: MAX_DENSE_FREE, ..own };
         let again = tight_resolve(&problem, &small, Some(&few), &settings).expect("runs");
         assert_eq!(again.solver.iterations, cold.solver.iterations);
+        assert_eq!(option(&again, "warm_start_init_point"), None);
     }
 
     #[test]
