@@ -198,7 +198,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
     // How the first solve started and its levels stay the result's: the escapes say what followed.
     let (first_notes, first_refinement) = (run.start_notes.clone(), run.refinement.clone());
     let mut current = run;
-    let mut tight_before: Option<SolverRun> = None;
+    let mut tight_before: Option<(SolverRun, DesignResult)> = None;
     loop {
         let result = current.clone().check(problem, settings);
         let finish = |mut result: DesignResult, certificate: Option<Certificate>, escapes: Vec<Escape>| {
@@ -223,12 +223,14 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         // After a tight re-solve's escape `current` is that re-solve (carried to the case's
         // tolerance): its tight point is known and is not solved for again (unless the carrying
         // moved off it).
-        let known = tight_before.take().filter(|k| same_optimum(&result, &k.clone().check(problem, settings)));
-        let polished_run = match known {
+        let (polished_run, polished) = match tight_before.take().filter(|(_, known)| same_optimum(&result, known)) {
             Some(known) => known,
-            None => tight_resolve(problem, &current, own.as_ref().map(|(c, _)| c), settings)?,
+            None => {
+                let run = tight_resolve(problem, &current, own.as_ref().map(|(c, _)| c), settings)?;
+                let checked = run.clone().check(problem, settings);
+                (run, checked)
+            }
         };
-        let polished = polished_run.clone().check(problem, settings);
         let tight =
             polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
         // The point to leave (not a minimum): its certificate, its direction of negative curvature
@@ -261,7 +263,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     reached: polished.objective,
                 });
                 current = at_case_tolerance(problem, polished_run.clone(), polished.objective, settings)?;
-                tight_before = Some(polished_run);
+                tight_before = Some((polished_run, polished));
                 continue;
             }
             // The tight re-solve failed or rose: the run's own certificate stands.

@@ -32,21 +32,34 @@ pub(super) fn tight_resolve(
     own: Option<&Certificate>,
     settings: &SolverSettings,
 ) -> Result<SolverRun, DesignError> {
-    let large = own.is_some_and(|c| c.free_variables > MAX_DENSE_FREE);
-    if let (true, Some(states), Some(multipliers)) = (large, run.states.as_ref(), run.multipliers.as_ref()) {
-        let mut warm = tight_settings(settings);
-        warm.ipopt_options.insert("warm_start_init_point".into(), ExtraOption::Str("yes".into()));
-        for (name, value) in warm_point_options(1e-11, 1e-12) {
-            warm.ipopt_options.insert(name.into(), ExtraOption::Num(value));
-        }
-        let form = run.solver.layout(problem).states;
-        let point = FullPoint { form, design: &run.design, states, multipliers: Some(multipliers) };
-        warm.max_iterations = TIGHT_RESOLVE_ITERATIONS.min(settings.max_iterations);
+    if own.is_some_and(|c| c.free_variables > MAX_DENSE_FREE) {
+        let mut capped = tight_settings(settings);
+        capped.max_iterations = TIGHT_RESOLVE_ITERATIONS.min(settings.max_iterations);
         // Converged or not: a cold polish of a problem this size would creep along the same
         // valley for longer (N = 10⁴: 1 400–1 700 iterations either way).
-        return resolve_from(problem, point, &warm.ipopt());
+        if let Some(resolved) = from_whole_point(problem, run, capped) {
+            return resolved;
+        }
     }
     polish(problem, &run.design, settings)
+}
+
+/// Eq. (33) solved again from `run`'s whole point and multipliers (`warm_start_init_point`,
+/// `mu_init` 1e-11, every warm push 1e-12) with `settings`; `None` where the run has no states or
+/// multipliers.
+fn from_whole_point(
+    problem: &DesignProblem,
+    run: &SolverRun,
+    mut settings: SolverSettings,
+) -> Option<Result<SolverRun, DesignError>> {
+    let (states, multipliers) = (run.states.as_ref()?, run.multipliers.as_ref()?);
+    settings.ipopt_options.insert("warm_start_init_point".into(), ExtraOption::Str("yes".into()));
+    for (name, value) in warm_point_options(1e-11, 1e-12) {
+        settings.ipopt_options.insert(name.into(), ExtraOption::Num(value));
+    }
+    let form = run.solver.layout(problem).states;
+    let point = FullPoint { form, design: &run.design, states, multipliers: Some(multipliers) };
+    Some(resolve_from(problem, point, &settings.ipopt()))
 }
 
 /// A tight re-solve that descended but stopped short of its own tolerance (Ipopt's acceptable
@@ -63,20 +76,11 @@ pub(super) fn at_case_tolerance(
     polished_objective: f64,
     settings: &SolverSettings,
 ) -> Result<SolverRun, DesignError> {
-    let (Some(states), Some(multipliers)) = (polished.states.as_ref(), polished.multipliers.as_ref()) else {
-        return Ok(polished);
-    };
     if polished.solver.status.is_optimal() {
         return Ok(polished);
     }
-    let mut warm = settings.clone();
-    warm.ipopt_options.insert("warm_start_init_point".into(), ExtraOption::Str("yes".into()));
-    for (name, value) in warm_point_options(1e-11, 1e-12) {
-        warm.ipopt_options.insert(name.into(), ExtraOption::Num(value));
-    }
-    let form = polished.solver.layout(problem).states;
-    let point = FullPoint { form, design: &polished.design, states, multipliers: Some(multipliers) };
-    let next = resolve_from(problem, point, &warm.ipopt())?;
+    let Some(next) = from_whole_point(problem, &polished, settings.clone()) else { return Ok(polished) };
+    let next = next?;
     let after = next.clone().check(problem, settings);
     let kept = next.solver.status.is_optimal()
         && after.is_clean()
@@ -117,9 +121,8 @@ mod tests {
         assert!(j(&warm) <= j(&run) * (1.0 + FLAT_MARGIN), "{} against the run's {}", j(&warm), j(&run));
         assert!((j(&warm) - j(&cold)).abs() <= 1e-5 * j(&cold), "{} against the cold polish's {}", j(&warm), j(&cold));
         // Small problems keep the cold polish.
-        let small = SolverRun { ..run.clone() };
         let few = Certificate { free_variables: MAX_DENSE_FREE, ..own };
-        let again = tight_resolve(&problem, &small, Some(&few), &settings).expect("runs");
+        let again = tight_resolve(&problem, &run, Some(&few), &settings).expect("runs");
         assert_eq!(again.solver.iterations, cold.solver.iterations);
         assert_eq!(option(&again, "warm_start_init_point"), None);
     }
