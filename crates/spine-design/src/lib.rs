@@ -58,6 +58,7 @@ pub mod fixtures;
 pub mod full_space;
 mod ipopt_allowed;
 mod layout;
+pub mod log_variables;
 pub mod multistart;
 mod numbers;
 pub mod objective;
@@ -72,6 +73,7 @@ mod solver_report;
 mod solver_run;
 pub mod start_point;
 pub mod sweep;
+pub mod variables;
 mod violations;
 mod warnings;
 

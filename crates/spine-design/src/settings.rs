@@ -1,8 +1,6 @@
 //! The settings of a design run (case file field `solver`): formulation, Ipopt's options, the
 //! continuation of the equilibrium solves, mesh sequencing.
 
-use crate::full_space::StateForm;
-use crate::problem::DesignProblem;
 use crate::reduced_space::ReducedHessian;
 use crate::refine::{Refine, WarmStart};
 use serde::{Deserialize, Serialize};
@@ -43,6 +41,7 @@ pub enum ScalingMethod {
     None,
 }
 
+pub use crate::variables::{SpringVariables, StateVariables, ABSOLUTE_ANGLE_FLOOR_FACTOR, LOG_SPRINGS_FROM_LINKS};
 pub use spine_ipopt::BarrierStrategy;
 
 /// The factorisation of Ipopt's KKT matrices (case field `solver.linear_solver`; docs/design.md,
@@ -73,48 +72,6 @@ impl LinearSolver {
         match self {
             Self::Spine => spine_kkt::install(),
             Self::Mumps => Ok(()),
-        }
-    }
-}
-
-/// How the full space's states are Ipopt's variables (case field `solver.state_variables`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum StateVariables {
-    /// Deflections where absolute angles cannot resolve the tolerance, else absolute angles:
-    /// see [`StateVariables::resolve`].
-    #[default]
-    Auto,
-    /// The absolute link angles `θ1`, `θ2`, as the paper writes eq. (33).
-    Absolute,
-    /// The deflections `θ1 − θ0`, `θ2 − θ0`.
-    Deflection,
-}
-
-/// Round-off of absolute angles, in units of `K_max θ0_max ε` (N·m), above which
-/// [`StateVariables::Auto`] takes deflections once it exceeds the tolerance: measured 2.6 at the
-/// scaled family's N = 1000 (a floor of 3e-8 N·m with `K_max` = 1e8 N·m/rad); 8 leaves a margin.
-pub const ABSOLUTE_ANGLE_FLOOR_FACTOR: f64 = 8.0;
-
-impl StateVariables {
-    /// The form of this run. `Auto` takes deflections when the round-off of a spring moment formed
-    /// from absolute angles, `8 K_max θ0_max ε` (N·m; `ε` the machine epsilon), exceeds the smaller
-    /// of `tolerance` and `constraint_tolerance`: the paper's cases (`K ≤ 1e4` N·m/rad) stay on
-    /// absolute angles; the scaled family of docs/PEERS.md (`K_max = 100 N²` N·m/rad, `tol` 1e-8)
-    /// moves to deflections from N ≈ 330.
-    pub fn resolve(self, problem: &DesignProblem, settings: &SolverSettings) -> StateForm {
-        match self {
-            Self::Absolute => StateForm::Absolute,
-            Self::Deflection => StateForm::Deflection,
-            Self::Auto => {
-                let k_max = problem.bounds.stiffness_max.iter().fold(0.0f64, |m, &k| m.max(k));
-                let floor = ABSOLUTE_ANGLE_FLOOR_FACTOR * k_max * problem.bounds.theta0_max * f64::EPSILON;
-                if floor > settings.tolerance.min(settings.constraint_tolerance) {
-                    StateForm::Deflection
-                } else {
-                    StateForm::Absolute
-                }
-            }
         }
     }
 }
@@ -171,6 +128,10 @@ pub struct SolverSettings {
     /// Full space only: the states as absolute angles or as deflections from the unloaded shape
     /// (`"auto"`, `"absolute"`, `"deflection"`).
     pub state_variables: StateVariables,
+    /// Full space only: the springs as Ipopt sees them, `"log"` (`ln k`), `"linear"` (`k`
+    /// itself) or `"auto"` (default: logarithms from 100 links on). The problem and its optima
+    /// are the same; Ipopt's path differs.
+    pub spring_variables: SpringVariables,
 }
 
 impl Default for SolverSettings {
@@ -188,6 +149,7 @@ impl Default for SolverSettings {
             refine: Refine::default(),
             warm_start: WarmStart::default(),
             state_variables: StateVariables::Auto,
+            spring_variables: SpringVariables::Auto,
         }
     }
 }
@@ -361,30 +323,4 @@ pub(crate) fn warm_point_options(mu_init: f64, push: f64) -> [(&'static str, f64
         ("warm_start_slack_bound_frac", push),
         ("warm_start_mult_bound_push", push),
     ]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fixtures::{paper_problem, scaled_family};
-
-    #[test]
-    fn auto_takes_deflections_only_where_absolute_angles_cannot_resolve_the_tolerance() {
-        // The scaled family's settings in docs/PEERS.md: tol 1e-8, constraints 1e-9 s² (here 1e-5).
-        let mut settings = SolverSettings { tolerance: 1e-8, constraint_tolerance: 1e-5, ..SolverSettings::default() };
-        let auto = StateVariables::Auto;
-        // The paper's bounds (K ≤ 1e4 N·m/rad): round-off 8 K θ0_max ε ≈ 9e-12 N·m.
-        assert_eq!(auto.resolve(&paper_problem(10, -5.0, -400.0, -0.02, 1.0), &settings), StateForm::Absolute);
-        // The scaled family, K_max = 100 N²: the threshold 1.1e7 N·m/rad lies between N = 300 and 400.
-        assert_eq!(auto.resolve(&scaled_family(300), &settings), StateForm::Absolute);
-        assert_eq!(auto.resolve(&scaled_family(400), &settings), StateForm::Deflection);
-        assert_eq!(auto.resolve(&scaled_family(1000), &settings), StateForm::Deflection);
-        // A tighter constraint tolerance counts too.
-        settings.constraint_tolerance = 1e-12;
-        assert_eq!(auto.resolve(&scaled_family(100), &settings), StateForm::Deflection);
-        // Forced forms are taken as given.
-        assert_eq!(StateVariables::Absolute.resolve(&scaled_family(1000), &settings), StateForm::Absolute);
-        let paper = paper_problem(5, -5.0, -400.0, -0.02, 1.0);
-        assert_eq!(StateVariables::Deflection.resolve(&paper, &settings), StateForm::Deflection);
-    }
 }

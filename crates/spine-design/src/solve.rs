@@ -7,7 +7,7 @@ use crate::problem::DesignProblem;
 use crate::reduced_space::ReducedSpaceNlp;
 use crate::refine::{self, LevelStart, MAX_RESTARTS};
 use crate::result::{LevelReport, RefinementReport, SolverReport};
-use crate::settings::{Formulation, SolverSettings};
+use crate::settings::{Formulation, SolverSettings, SpringVariables};
 pub use crate::solver_run::SolverRun;
 use spine_ipopt::{IterationInfo, OptionValue, SetupError, Solution};
 use spine_model::{Design, State};
@@ -35,6 +35,24 @@ pub fn ipopt_solve(
         crate::settings::LinearSolver::Spine.ready().map_err(DesignError::LinearSolver)?;
     }
     Ok(spine_ipopt::solve(nlp, options)?)
+}
+
+/// [`ipopt_solve`] on the full space, the springs `k` handed to Ipopt by their logarithm
+/// ([`crate::log_variables`]) when `springs` resolves to [`SpringVariables::Log`] for the NLP's
+/// problem; the solution in `k` either way.
+pub fn ipopt_solve_full(
+    nlp: &mut FullSpaceNlp<'_>,
+    options: &spine_ipopt::Options,
+    springs: SpringVariables,
+) -> Result<Solution, DesignError> {
+    if springs.resolve(nlp.problem) != SpringVariables::Log {
+        return ipopt_solve(nlp, options);
+    }
+    let logged: Vec<usize> = (0..=nlp.layout.n).map(|j| nlp.layout.stiffness(j)).collect();
+    let mut wrapped = crate::log_variables::LogVariables::new(nlp, &logged);
+    let options = crate::log_variables::relaxed_in_logs(&wrapped, options);
+    let solution = ipopt_solve(&mut wrapped, &options)?;
+    Ok(wrapped.solution_back(solution))
 }
 
 /// Eq. (33) with Ipopt from `start`, as [`crate::solve_design`], without the final check and certificate.
@@ -67,7 +85,7 @@ pub fn run_solver(
                     start_seconds = clock.elapsed().as_secs_f64();
                     let mut nlp = FullSpaceNlp::new(problem, state_form, &start, &passive, &loaded);
                     nlp.on_iteration = Some(observer);
-                    let solution = ipopt_solve(&mut nlp, &options)?;
+                    let solution = ipopt_solve_full(&mut nlp, &options, settings.spring_variables.resolve(problem))?;
                     let (design, states) = refine::solution_parts(&nlp, &solution.x);
                     (solution, design, states)
                 }
@@ -85,7 +103,8 @@ pub fn run_solver(
         }
     };
     let layout = crate::full_space::Layout::of(problem, state_form);
-    let run = Finished { formulation, layout, start_seconds, equilibrium_evaluations, clock };
+    let springs = (formulation == Formulation::Full).then(|| settings.spring_variables.resolve(problem));
+    let run = Finished { formulation, layout, springs, start_seconds, equilibrium_evaluations, clock };
     Ok(run.into_run(&solution, &options, design, states, notes, refinement))
 }
 
@@ -94,6 +113,8 @@ struct Finished {
     formulation: Formulation,
     /// The full space's layout at the problem's own size (its state form; whether it holds `θ3`).
     layout: crate::full_space::Layout,
+    /// Full space: how Ipopt saw the springs (resolved).
+    springs: Option<SpringVariables>,
     start_seconds: f64,
     equilibrium_evaluations: usize,
     clock: Instant,
@@ -119,6 +140,7 @@ impl Finished {
         });
         let mut report = SolverReport::from_ipopt(solution, self.equilibrium_evaluations);
         report.state_variables = full.then_some(self.layout.states);
+        report.spring_variables = self.springs;
         report.start_seconds = self.start_seconds;
         report.ipopt_options = options
             .iter()
@@ -145,6 +167,8 @@ pub struct FullPoint<'a> {
     pub design: &'a Design,
     pub states: &'a (State, State),
     pub multipliers: Option<&'a Multipliers>,
+    /// How Ipopt sees the springs (`solver.spring_variables`).
+    pub springs: SpringVariables,
 }
 
 /// Eq. (33) in the full space from a whole point (no start equilibria are computed, no mesh
@@ -160,11 +184,12 @@ pub fn resolve_from(
     let (design, notes) = problem.project_start(start.design);
     let mut nlp = FullSpaceNlp::new(problem, start.form, &design, &start.states.0, &start.states.1);
     nlp.multipliers = start.multipliers.cloned();
-    let solution = ipopt_solve(&mut nlp, options)?;
+    let solution = ipopt_solve_full(&mut nlp, options, start.springs)?;
     let (design, states) = refine::solution_parts(&nlp, &solution.x);
     let run = Finished {
         formulation: Formulation::Full,
         layout: crate::full_space::Layout::of(problem, start.form),
+        springs: Some(start.springs),
         start_seconds: 0.0,
         equilibrium_evaluations: 0,
         clock,
@@ -197,6 +222,7 @@ impl RestartBudget {
 struct LevelRun<'a> {
     level: &'a DesignProblem,
     form: crate::full_space::StateForm,
+    springs: SpringVariables,
     design: &'a Design,
     states: &'a (State, State),
 }
@@ -216,7 +242,7 @@ impl LevelRun<'_> {
         let mut nlp = FullSpaceNlp::new(self.level, self.form, self.design, &self.states.0, &self.states.1);
         nlp.multipliers = multipliers(&nlp);
         nlp.on_iteration = Some(&mut watched);
-        let solution = ipopt_solve(&mut nlp, options)?;
+        let solution = ipopt_solve_full(&mut nlp, options, self.springs)?;
         let (design, states) = refine::solution_parts(&nlp, &solution.x);
         Ok((solution, design, states))
     }
@@ -296,7 +322,7 @@ fn solve_refined(
             spine_ipopt::Problem::variable_bounds(nlp, &mut lower, &mut upper);
             Some(refine::prolong_multipliers(coarser, level, multipliers, &nlp.start, &lower, &upper))
         };
-        let start = LevelRun { level, form, design, states };
+        let start = LevelRun { level, form, springs: settings.spring_variables.resolve(problem), design, states };
         let first = start.solve(&options, &mut budget, &mut *observer, prolonged_multipliers)?;
         let restart_options = options.clone().number("mu_init", settings.tolerance / 10.0);
         let (solution, design, states, restarts) =

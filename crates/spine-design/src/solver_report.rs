@@ -40,6 +40,9 @@ pub struct SolverReport {
     /// Full space: how the states were Ipopt's variables in the last level (`solver.state_variables`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub state_variables: Option<crate::full_space::StateForm>,
+    /// Full space: how Ipopt saw the springs, `log` or `linear` (`solver.spring_variables`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring_variables: Option<crate::settings::SpringVariables>,
 }
 
 fn deserialize_counts<'de, D: serde::Deserializer<'de>>(d: D) -> Result<EvaluationCounts, D::Error> {
@@ -93,6 +96,7 @@ impl SolverReport {
             evaluations: solution.evaluations,
             equilibrium_solves,
             state_variables: None,
+            spring_variables: None,
         }
     }
 }

@@ -169,7 +169,13 @@ fn restart(
 ) -> Result<Option<(SolverRun, DesignResult)>, DesignError> {
     let Some(states) = run.states.as_ref() else { return Ok(None) };
     let form = run.solver.layout(problem).states;
-    let point = FullPoint { form, design: &run.design, states, multipliers: None };
+    let point = FullPoint {
+        form,
+        design: &run.design,
+        states,
+        multipliers: None,
+        springs: settings.spring_variables.resolve(problem),
+    };
     let next = resolve_from(problem, point, &settings.ipopt())?;
     let result = next.clone().check(problem, settings);
     Ok((result.is_clean() && result.objective < below * (1.0 - 1e-9)).then_some((next, result)))

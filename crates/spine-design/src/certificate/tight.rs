@@ -58,7 +58,13 @@ fn from_whole_point(
         settings.ipopt_options.insert(name.into(), ExtraOption::Num(value));
     }
     let form = run.solver.layout(problem).states;
-    let point = FullPoint { form, design: &run.design, states, multipliers: Some(multipliers) };
+    let point = FullPoint {
+        form,
+        design: &run.design,
+        states,
+        multipliers: Some(multipliers),
+        springs: settings.spring_variables.resolve(problem),
+    };
     Some(resolve_from(problem, point, &settings.ipopt()))
 }
 

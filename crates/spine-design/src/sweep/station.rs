@@ -121,6 +121,7 @@ impl Sweep<'_> {
             design: &prediction.design,
             states: &prediction.states,
             multipliers: prediction.multipliers.as_ref(),
+            springs: settings.spring_variables.resolve(&problem),
         };
         let run = resolve_from(&problem, point, &settings.ipopt()).map_err(SweepError::Solver)?;
         self.station(parameter, &problem, run)
