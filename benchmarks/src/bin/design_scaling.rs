@@ -3,12 +3,13 @@
 //! iteration and the optimum J. Each configuration runs `REPEATS` times and reports the fastest
 //! (machines here are shared and noisy).
 //!
-//! Usage: `design_scaling [--refine=off|auto|FROM[:FACTOR]] [--repeats=R] [--peers] [N ...]`
+//! Usage: `design_scaling [--refine=off|auto|FROM[:FACTOR]] [--springs=auto|log|linear] [--repeats=R] [--peers] [N ...]`
 //! (default N: 5 10 20 50 100 200 500 1000; default refine: the solver's default, "auto"; FROM: a
 //! ladder from FROM links, factor FACTOR or 2). `--peers` solves `bench_peers`' case files instead
 //! (its tolerances, 1e-8 and 1e-9 s²), with its ladder under `--refine=auto`; the full space only. `--ipopt=NAME=VALUE`
 //! (repeatable) adds an Ipopt option to every solve, as the case file's `solver.ipopt_options`;
-//! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false).
+//! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false);
+//! `--springs=auto|log|linear` sets `solver.spring_variables`.
 #![forbid(unsafe_code)]
 
 use spine_benchmarks::peers;
@@ -28,6 +29,7 @@ fn main() {
     let mut peers_cases = false;
     let mut extra = Vec::new();
     let mut warm = Vec::new();
+    let mut springs = None;
     for arg in std::env::args().skip(1) {
         if let Some(field) = arg.strip_prefix("--warm=") {
             let (name, value) = field.split_once('=').expect("--warm=FIELD=VALUE");
@@ -40,6 +42,10 @@ fn main() {
             let (name, value) = option.split_once('=').expect("--ipopt=NAME=VALUE");
             let parsed = value.parse().map(ExtraOption::Int).or_else(|_| value.parse().map(ExtraOption::Num));
             extra.push((name.to_string(), parsed.unwrap_or_else(|_| ExtraOption::Str(value.to_string()))));
+            continue;
+        }
+        if let Some(form) = arg.strip_prefix("--springs=") {
+            springs = Some(serde_json::from_value(serde_json::json!(form)).expect("--springs=auto|log|linear"));
             continue;
         }
         if arg == "--peers" {
@@ -73,6 +79,9 @@ fn main() {
             (scaled_family(n), arch_start(n, 0.3, 1e3 * s * s), settings.clone())
         };
         let mut settings = settings;
+        if let Some(springs) = springs {
+            settings.spring_variables = springs;
+        }
         settings.ipopt_options.extend(extra.iter().cloned());
         let mut warm_start = serde_json::to_value(settings.warm_start).expect("serialisable");
         for (name, value) in &warm {
