@@ -9,11 +9,17 @@
 //! (docs/design.md, "Springs by their logarithm"). In `u = ln k` the same function is
 //! `2√(ab) cosh(u − u*)`, whose Newton step is `−tanh(u − u*)`: at most one e-fold.
 //!
+//! Each logged variable is `u = s ln x` with `s = min(1, x_min)`: Newton's step is the same for
+//! any constant `s`, and with `s ≤ x_min` the gradient `∂L/∂u = (x / s) ∂L/∂x` is never smaller
+//! than in `x`, so Ipopt's stopping test is at least as strict (with `s` = 1 and springs `k < 1`,
+//! as in the continuum study where `k ∈ [0.01, 1]`, it would be looser by `k`).
+//!
 //! [`LogVariables`] wraps any [`spine_ipopt::Problem`] and transforms the variables it names: the
 //! bounds, the start point and start multipliers on the way in, first and second derivatives by
-//! the chain rule (`∂/∂u = x ∂/∂x`; the Hessian of the Lagrangian gains the diagonal term
-//! `x ∂L/∂x`), and the solution back on the way out ([`LogVariables::solution_back`]), so that
-//! everything after Ipopt sees the problem's own variables and multipliers (`z_x = z_u / x`).
+//! the chain rule (`∂/∂u = (x / s) ∂/∂x`; the Hessian of the Lagrangian gains the diagonal term
+//! `(x / s²) ∂L/∂x`), and the solution back on the way out ([`LogVariables::solution_back`]), so
+//! that everything after Ipopt sees the problem's own variables and multipliers
+//! (`z_x = (s / x) z_u`).
 //! A KKT point in `u` is a KKT point in `x` with those multipliers: the problem is the same, only
 //! Ipopt's path to it differs.
 
@@ -25,6 +31,10 @@ pub struct LogVariables<'p> {
     /// Sorted indices of the transformed variables.
     logged: Vec<usize>,
     is_logged: Vec<bool>,
+    /// `s` of each variable: a logged one is `u = s ln x` with `s = min(1, x_min)`, so that
+    /// `∂L/∂u = (x / s) ∂L/∂x` is never smaller than `∂L/∂x` and Ipopt's stopping test in `u` is
+    /// at least as strict as in `x` (1 for the others).
+    scale: Vec<f64>,
     /// The inner Hessian's pattern, then the diagonals of logged variables it lacks.
     hessian: Option<Vec<(usize, usize)>>,
     /// Where each logged variable's diagonal entry is in `hessian`.
@@ -45,6 +55,9 @@ impl<'p> LogVariables<'p> {
             is_logged[v] = true;
         }
         let logged: Vec<usize> = (0..n).filter(|&v| is_logged[v]).collect();
+        let (mut lower, mut upper) = (vec![0.0; n], vec![0.0; n]);
+        inner.variable_bounds(&mut lower, &mut upper);
+        let scale: Vec<f64> = (0..n).map(|v| if is_logged[v] { lower[v].min(1.0) } else { 1.0 }).collect();
         let jacobian = inner.jacobian_structure();
         let mut diagonal_at = vec![usize::MAX; n];
         let inner_pattern = inner.hessian_structure();
@@ -68,6 +81,7 @@ impl<'p> LogVariables<'p> {
             inner,
             logged,
             is_logged,
+            scale,
             hessian,
             diagonal_at,
             inner_hessian_len,
@@ -82,25 +96,33 @@ impl<'p> LogVariables<'p> {
     fn inner_x(&mut self, u: &[f64]) {
         self.x.copy_from_slice(u);
         for &v in &self.logged {
-            self.x[v] = u[v].exp();
+            self.x[v] = (u[v] / self.scale[v]).exp();
+        }
+    }
+
+    /// `dx/du = x / s` of variable `v` at the last point (1 if it is not logged).
+    fn dx_du(&self, v: usize) -> f64 {
+        if self.is_logged[v] {
+            self.x[v] / self.scale[v]
+        } else {
+            1.0
         }
     }
 
     /// Ipopt's solution in `u` as a solution of the inner problem: `x = exp(u)`, `z_x = z_u / x`.
     pub fn solution_back(&self, mut solution: Solution) -> Solution {
         for &v in &self.logged {
-            let x = solution.x[v].exp();
+            let x = (solution.x[v] / self.scale[v]).exp();
             solution.x[v] = x;
-            solution.z_lower[v] /= x;
-            solution.z_upper[v] /= x;
+            solution.z_lower[v] *= self.scale[v] / x;
+            solution.z_upper[v] *= self.scale[v] / x;
         }
         solution
     }
 }
 
-/// `options` with Ipopt's `bound_relax_factor` divided by the largest `|ln|` of a logged
-/// variable's bound (when above 1), so that Ipopt's relaxation of the bounds in `u`,
-/// `bound_relax_factor · max(1, |u_bound|)`, moves no logged variable by more than
+/// `options` with Ipopt's `bound_relax_factor` shrunk so that Ipopt's relaxation of the bounds
+/// in `u`, `bound_relax_factor · max(1, |u_bound|)`, moves no logged variable by more than
 /// `bound_relax_factor` relative to its own bound: what the design check allows
 /// ([`crate::result::IPOPT_BOUND_RELAX_FACTOR`]). Without it a spring at `k = 10⁴` ended
 /// 2.5e-8 relative beyond its bound (the scaled family at N = 20), ten times what the check allows.
@@ -108,18 +130,20 @@ pub fn relaxed_in_logs(problem: &LogVariables<'_>, options: &spine_ipopt::Option
     let n = problem.num_variables();
     let (mut lower, mut upper) = (vec![0.0; n], vec![0.0; n]);
     problem.variable_bounds(&mut lower, &mut upper);
-    let largest = problem
+    // Ipopt moves a bound `b` of `u = s ln x` by `f max(1, |b|)`, which is `f max(1, |b|) / s`
+    // in `ln x`: the factor that keeps that within `f` is the smallest `s / max(1, |b|)`.
+    let shrink = problem
         .logged
         .iter()
-        .flat_map(|&v| [lower[v], upper[v]])
-        .filter(|b| b.is_finite())
-        .fold(1.0f64, |m, b| m.max(b.abs()));
+        .flat_map(|&v| [lower[v], upper[v]].map(|b| (v, b)))
+        .filter(|(_, b)| b.is_finite())
+        .fold(1.0f64, |m, (v, b)| m.min(problem.scale[v] / b.abs().max(1.0)));
     let relax = match options.get("bound_relax_factor") {
         Some(spine_ipopt::OptionValue::Num(x)) => *x,
         Some(spine_ipopt::OptionValue::Int(i)) => *i as f64,
         _ => crate::result::IPOPT_BOUND_RELAX_FACTOR,
     };
-    options.clone().number("bound_relax_factor", relax / largest)
+    options.clone().number("bound_relax_factor", relax * shrink)
 }
 
 impl Problem for LogVariables<'_> {
@@ -133,8 +157,9 @@ impl Problem for LogVariables<'_> {
         self.inner.variable_bounds(lower, upper);
         for &v in &self.logged {
             debug_assert!(lower[v] > 0.0, "a logged variable needs a positive lower bound");
-            lower[v] = lower[v].ln();
-            upper[v] = if upper[v].is_finite() && upper[v] < 1e19 { upper[v].ln() } else { f64::INFINITY };
+            lower[v] = self.scale[v] * lower[v].ln();
+            upper[v] =
+                if upper[v].is_finite() && upper[v] < 1e19 { self.scale[v] * upper[v].ln() } else { f64::INFINITY };
         }
     }
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
@@ -143,7 +168,7 @@ impl Problem for LogVariables<'_> {
     fn initial_point(&self, x: &mut [f64]) {
         self.inner.initial_point(x);
         for &v in &self.logged {
-            x[v] = x[v].max(f64::MIN_POSITIVE).ln();
+            x[v] = self.scale[v] * x[v].max(f64::MIN_POSITIVE).ln();
         }
     }
     fn initial_multipliers(&self, z_lower: &mut [f64], z_upper: &mut [f64], lambda: &mut [f64]) -> bool {
@@ -153,8 +178,8 @@ impl Problem for LogVariables<'_> {
         let mut x = vec![0.0; self.num_variables()];
         self.inner.initial_point(&mut x);
         for &v in &self.logged {
-            z_lower[v] *= x[v];
-            z_upper[v] *= x[v];
+            z_lower[v] *= x[v] / self.scale[v];
+            z_upper[v] *= x[v] / self.scale[v];
         }
         true
     }
@@ -166,7 +191,7 @@ impl Problem for LogVariables<'_> {
         self.inner_x(u);
         let ok = self.inner.objective_gradient(&self.x, new_x, gradient);
         for &v in &self.logged {
-            gradient[v] *= self.x[v];
+            gradient[v] *= self.dx_du(v);
         }
         ok
     }
@@ -181,9 +206,7 @@ impl Problem for LogVariables<'_> {
         self.inner_x(u);
         let ok = self.inner.jacobian_values(&self.x, new_x, values);
         for (value, &(_, c)) in values.iter_mut().zip(&self.jacobian) {
-            if self.is_logged[c] {
-                *value *= self.x[c];
-            }
+            *value *= self.dx_du(c);
         }
         ok
     }
@@ -205,8 +228,7 @@ impl Problem for LogVariables<'_> {
         let mut ok = self.inner.hessian_values(&self.x, new_x, sigma, lambda, new_lambda, &mut values[..split]);
         values[split..].iter_mut().for_each(|v| *v = 0.0);
         for (value, &(r, c)) in values[..split].iter_mut().zip(pattern) {
-            let scale =
-                if self.is_logged[r] { self.x[r] } else { 1.0 } * if self.is_logged[c] { self.x[c] } else { 1.0 };
+            let scale = self.dx_du(r) * self.dx_du(c);
             *value *= scale;
         }
         // The chain rule's second term: x_v ∂L/∂x_v on the diagonal of each logged variable.
@@ -223,7 +245,7 @@ impl Problem for LogVariables<'_> {
             }
         }
         for &v in &self.logged {
-            values[self.diagonal_at[v]] += x[v] * dl[v];
+            values[self.diagonal_at[v]] += x[v] / (self.scale[v] * self.scale[v]) * dl[v];
         }
         ok
     }
@@ -258,8 +280,16 @@ mod tests {
     /// springs spread over their range so that `x ∂L/∂x` varies).
     #[test]
     fn derivatives_in_log_springs_match_central_differences() {
+        // k in [100, 10⁴] (s = 1) and, with C_K 10⁴ times larger, in [0.01, 1] (s = 0.01).
+        for ck in [1.0, 1e4] {
+            derivatives_match(ck);
+        }
+    }
+
+    fn derivatives_match(ck: f64) {
         let n = 6;
-        let problem = scaled_family(n);
+        let mut problem = scaled_family(n);
+        problem.stiffness_scale *= ck;
         let mut start = arch_start(n, 0.3, 1e3 * 0.36);
         for (j, k) in start.stiffness.iter_mut().enumerate() {
             *k *= 0.5 + 0.4 * j as f64;
