@@ -4,7 +4,7 @@
 //! 1. The run is certified at its own solution with Ipopt's multipliers ([`super::certify`]);
 //!    `strict_minimum` ends here (the common case: no extra solve).
 //! 2. Otherwise (a weak or no certificate, a reduced-space run without multipliers) it is re-solved
-//!    tightly from itself ([`polish`](crate::sensitivity::polish), warm from its point and multipliers above 600 free variables: [`tight_resolve`]) and certified there. The same optimum (`J` within 1e-6
+//!    tightly from itself ([`polish`](crate::sensitivity::polish), cold from its design, at most 200 iterations above 600 free variables: [`tight_resolve`]) and certified there. The same optimum (`J` within 1e-6
 //!    relative, or lower by at most 1e-4 with `θ0` within 1e-4 rad: [`same_optimum`]) keeps the
 //!    run's numbers with the polished point's certificate. A re-solve that descends further
 //!    shows the run's point was not a minimum: the polished run is taken (carried to the case's
