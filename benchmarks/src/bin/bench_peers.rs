@@ -265,7 +265,7 @@ fn cross_check(
     for (k, v) in [("mu_init", 1e-9), ("bound_push", 1e-10), ("bound_frac", 1e-10)] {
         warm.ipopt_options.insert(k.into(), ExtraOption::Num(v));
     }
-    let states = settings.state_variables.resolve(problem, settings);
+    let states = settings.state_variables.resolve(problem, settings.smaller_tolerance());
     let mut nlp = FullSpaceNlp::new(problem, states, &design, passive, loaded);
     let solution = spine_ipopt::solve(&mut nlp, &warm.ipopt()).expect("valid options");
     CrossCheck {

@@ -283,6 +283,12 @@ impl SolverSettings {
 pub const MUMPS_PIVOT_ORDER: i64 = 5;
 
 impl SolverSettings {
+    /// The smaller of [`Self::tolerance`] and [`Self::constraint_tolerance`], which
+    /// [`StateVariables::resolve`] compares with the round-off of absolute angles.
+    pub fn smaller_tolerance(&self) -> f64 {
+        self.tolerance.min(self.constraint_tolerance)
+    }
+
     /// Ipopt's `tol` at the coarse levels of mesh sequencing: [`WarmStart::coarse_tolerance`], never
     /// tighter than [`Self::tolerance`].
     pub fn coarse_tolerance(&self) -> f64 {

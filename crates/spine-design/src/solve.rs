@@ -69,7 +69,7 @@ pub fn run_solver(
     let mut refinement = None;
     let mut start_seconds = 0.0;
     // The full space's form at the problem's own size (a ladder resolves each level's).
-    let state_form = settings.state_variables.resolve(problem, settings);
+    let state_form = settings.state_variables.resolve(problem, settings.smaller_tolerance());
     let (solution, design, states, equilibrium_evaluations) = match formulation {
         Formulation::Full => {
             let ladder = settings.refine.ladder(problem.n_links());
@@ -307,7 +307,7 @@ fn solve_refined(
         let setup = refine::prepare_level(problem, m, previous_level, start, restore, &settings.continuation, notes);
         let (level, how, design, states) = (setup.problem(problem), setup.start, &setup.design, &setup.states);
         let start_seconds = clock.elapsed().as_secs_f64();
-        let form = settings.state_variables.resolve(level, settings);
+        let form = settings.state_variables.resolve(level, settings.smaller_tolerance());
         // The finest warm level is restarted after `restart_after` iterations (docs/design.md).
         let restart_after =
             if m == n && how != LevelStart::Cold && warm.restart_after > 0 { warm.restart_after } else { usize::MAX };

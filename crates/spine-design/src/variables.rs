@@ -4,7 +4,6 @@
 
 use crate::full_space::StateForm;
 use crate::problem::DesignProblem;
-use crate::settings::SolverSettings;
 use serde::{Deserialize, Serialize};
 
 /// How the full space's states are Ipopt's variables (case field `solver.state_variables`).
@@ -62,18 +61,19 @@ pub const ABSOLUTE_ANGLE_FLOOR_FACTOR: f64 = 8.0;
 
 impl StateVariables {
     /// The form of this run. `Auto` takes deflections when the round-off of a spring moment formed
-    /// from absolute angles, `8 K_max θ0_max ε` (N·m; `ε` the machine epsilon), exceeds the smaller
-    /// of `tolerance` and `constraint_tolerance`: the paper's cases (`K ≤ 1e4` N·m/rad) stay on
+    /// from absolute angles, `8 K_max θ0_max ε` (N·m; `ε` the machine epsilon), exceeds
+    /// `tolerance`, the smaller of the run's `tolerance` and `constraint_tolerance`
+    /// ([`crate::SolverSettings::smaller_tolerance`]): the paper's cases (`K ≤ 1e4` N·m/rad) stay on
     /// absolute angles; the scaled family of docs/PEERS.md (`K_max = 100 N²` N·m/rad, `tol` 1e-8)
     /// moves to deflections from N ≈ 330.
-    pub fn resolve(self, problem: &DesignProblem, settings: &SolverSettings) -> StateForm {
+    pub fn resolve(self, problem: &DesignProblem, tolerance: f64) -> StateForm {
         match self {
             Self::Absolute => StateForm::Absolute,
             Self::Deflection => StateForm::Deflection,
             Self::Auto => {
                 let k_max = problem.bounds.stiffness_max.iter().fold(0.0f64, |m, &k| m.max(k));
                 let floor = ABSOLUTE_ANGLE_FLOOR_FACTOR * k_max * problem.bounds.theta0_max * f64::EPSILON;
-                if floor > settings.tolerance.min(settings.constraint_tolerance) {
+                if floor > tolerance {
                     StateForm::Deflection
                 } else {
                     StateForm::Absolute
@@ -91,20 +91,21 @@ mod tests {
     #[test]
     fn auto_takes_deflections_only_where_absolute_angles_cannot_resolve_the_tolerance() {
         // The scaled family's settings in docs/PEERS.md: tol 1e-8, constraints 1e-9 s² (here 1e-5).
-        let mut settings = SolverSettings { tolerance: 1e-8, constraint_tolerance: 1e-5, ..SolverSettings::default() };
+        let settings = crate::SolverSettings { tolerance: 1e-8, constraint_tolerance: 1e-5, ..Default::default() };
+        let mut tolerance = settings.smaller_tolerance();
         let auto = StateVariables::Auto;
         // The paper's bounds (K ≤ 1e4 N·m/rad): round-off 8 K θ0_max ε ≈ 9e-12 N·m.
-        assert_eq!(auto.resolve(&paper_problem(10, -5.0, -400.0, -0.02, 1.0), &settings), StateForm::Absolute);
+        assert_eq!(auto.resolve(&paper_problem(10, -5.0, -400.0, -0.02, 1.0), tolerance), StateForm::Absolute);
         // The scaled family, K_max = 100 N²: the threshold 1.1e7 N·m/rad lies between N = 300 and 400.
-        assert_eq!(auto.resolve(&scaled_family(300), &settings), StateForm::Absolute);
-        assert_eq!(auto.resolve(&scaled_family(400), &settings), StateForm::Deflection);
-        assert_eq!(auto.resolve(&scaled_family(1000), &settings), StateForm::Deflection);
+        assert_eq!(auto.resolve(&scaled_family(300), tolerance), StateForm::Absolute);
+        assert_eq!(auto.resolve(&scaled_family(400), tolerance), StateForm::Deflection);
+        assert_eq!(auto.resolve(&scaled_family(1000), tolerance), StateForm::Deflection);
         // A tighter constraint tolerance counts too.
-        settings.constraint_tolerance = 1e-12;
-        assert_eq!(auto.resolve(&scaled_family(100), &settings), StateForm::Deflection);
+        tolerance = crate::SolverSettings { constraint_tolerance: 1e-12, ..settings }.smaller_tolerance();
+        assert_eq!(auto.resolve(&scaled_family(100), tolerance), StateForm::Deflection);
         // Forced forms are taken as given.
-        assert_eq!(StateVariables::Absolute.resolve(&scaled_family(1000), &settings), StateForm::Absolute);
+        assert_eq!(StateVariables::Absolute.resolve(&scaled_family(1000), tolerance), StateForm::Absolute);
         let paper = paper_problem(5, -5.0, -400.0, -0.02, 1.0);
-        assert_eq!(StateVariables::Deflection.resolve(&paper, &settings), StateForm::Deflection);
+        assert_eq!(StateVariables::Deflection.resolve(&paper, tolerance), StateForm::Deflection);
     }
 }

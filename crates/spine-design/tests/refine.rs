@@ -212,7 +212,7 @@ fn stays_at(problem: &DesignProblem, design: &Design, states: (&State, &State)) 
     for (k, v) in [("mu_init", 1e-9), ("bound_push", 1e-10), ("bound_frac", 1e-10)] {
         s.ipopt_options.insert(k.into(), ExtraOption::Num(v));
     }
-    let form = s.state_variables.resolve(problem, &s);
+    let form = s.state_variables.resolve(problem, s.smaller_tolerance());
     let mut nlp = FullSpaceNlp::new(problem, form, design, states.0, states.1);
     let solution = spine_design::ipopt_solve(&mut nlp, &s.ipopt()).unwrap();
     (solution.objective, solution.iterations, solution.status.is_optimal())

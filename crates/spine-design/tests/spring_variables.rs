@@ -4,14 +4,15 @@
 //! put, and the multipliers Ipopt returns in `ln k`, carried back to `k`, make the Lagrangian
 //! stationary in `k`.
 
+mod common;
+
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
-use spine_design::settings::{ExtraOption, SpringVariables};
-use spine_design::solve::ipopt_solve_full;
+use spine_design::settings::SpringVariables;
 use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, SolverSettings};
 use spine_ipopt::{Problem, Solution};
-use spine_model::{Design, State};
+use spine_model::Design;
 
 fn solve(problem: &DesignProblem, start: &Design, springs: SpringVariables) -> DesignResult {
     let settings = SolverSettings {
@@ -25,18 +26,7 @@ fn solve(problem: &DesignProblem, start: &Design, springs: SpringVariables) -> D
 /// Ipopt with the springs as `springs`, started at a result's design and states with `mu_init`
 /// 1e-9, and the NLP it ran on (for the stationarity check).
 fn restart<'p>(problem: &'p DesignProblem, springs: SpringVariables, r: &DesignResult) -> (Solution, FullSpaceNlp<'p>) {
-    let mut settings = SolverSettings::default();
-    for (k, v) in [("mu_init", 1e-9), ("bound_push", 1e-10), ("bound_frac", 1e-10)] {
-        settings.ipopt_options.insert(k.into(), ExtraOption::Num(v));
-    }
-    let state = |s: &Option<spine_design::result::StateReport>| {
-        let s = s.as_ref().expect("a clean result has both states");
-        State { theta: s.theta.clone(), lambda: s.lambda }
-    };
-    let form = r.solver.state_variables.expect("full space");
-    let mut nlp = FullSpaceNlp::new(problem, form, &r.design, &state(&r.passive), &state(&r.loaded));
-    let solution = ipopt_solve_full(&mut nlp, &settings.ipopt(), springs).unwrap();
-    (solution, nlp)
+    common::restart_at(problem, r.solver.state_variables.expect("full space"), springs, r)
 }
 
 /// Largest `|∇f + Jᵀλ − z_L + z_U|` of `nlp` at `solution`, relative to the largest `|∇f|`.

@@ -3,12 +3,14 @@
 //! linear change of variables, so an optimum of one, handed to the other with a barrier close to
 //! zero, stays put.
 
+mod common;
+
 use spine_design::fixtures::{arch_start, scaled_family};
-use spine_design::full_space::{FullSpaceNlp, StateForm};
+use spine_design::full_space::StateForm;
 use spine_design::refine::{Refine, RefineMode};
-use spine_design::settings::{ExtraOption, StateVariables};
+use spine_design::settings::{SpringVariables, StateVariables};
 use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, SolverSettings};
-use spine_model::{Design, State};
+use spine_model::Design;
 
 fn solve(problem: &DesignProblem, start: &Design, states: StateVariables) -> DesignResult {
     let settings =
@@ -18,16 +20,8 @@ fn solve(problem: &DesignProblem, start: &Design, states: StateVariables) -> Des
 
 /// Ipopt on `form` started at a result's design and states with `mu_init` 1e-9: J and iterations.
 fn restart(problem: &DesignProblem, form: StateForm, r: &DesignResult) -> (f64, usize, bool) {
-    let mut settings = SolverSettings::default();
-    for (k, v) in [("mu_init", 1e-9), ("bound_push", 1e-10), ("bound_frac", 1e-10)] {
-        settings.ipopt_options.insert(k.into(), ExtraOption::Num(v));
-    }
-    let state = |s: &Option<spine_design::result::StateReport>| {
-        let s = s.as_ref().expect("a clean result has both states");
-        State { theta: s.theta.clone(), lambda: s.lambda }
-    };
-    let mut nlp = FullSpaceNlp::new(problem, form, &r.design, &state(&r.passive), &state(&r.loaded));
-    let solution = spine_design::ipopt_solve(&mut nlp, &settings.ipopt()).unwrap();
+    let springs = r.solver.spring_variables.unwrap_or(SpringVariables::Linear);
+    let (solution, _) = common::restart_at(problem, form, springs, r);
     (solution.objective, solution.iterations, solution.status.is_optimal())
 }
 
