@@ -109,7 +109,8 @@ impl<'p> LogVariables<'p> {
         }
     }
 
-    /// Ipopt's solution in `u` as a solution of the inner problem: `x = exp(u)`, `z_x = z_u / x`.
+    /// Ipopt's solution in `u` as a solution of the inner problem: `x = exp(u / s)`,
+    /// `z_x = (s / x) z_u`.
     pub fn solution_back(&self, mut solution: Solution) -> Solution {
         for &v in &self.logged {
             let x = (solution.x[v] / self.scale[v]).exp();
@@ -231,21 +232,20 @@ impl Problem for LogVariables<'_> {
             let scale = self.dx_du(r) * self.dx_du(c);
             *value *= scale;
         }
-        // The chain rule's second term: x_v ∂L/∂x_v on the diagonal of each logged variable.
-        let x = self.x.clone();
-        ok &= self.inner.objective_gradient(&x, false, &mut self.gradient);
-        ok &= self.inner.jacobian_values(&x, false, &mut self.jacobian_values);
-        let mut dl = vec![0.0; x.len()];
+        // The chain rule's second term, `(x / s²) ∂L/∂x` on the diagonal of each logged variable,
+        // with `∂L/∂x = σ ∇f + Jᵀλ` gathered in `gradient` (the inner problem caches both at `x`).
+        ok &= self.inner.objective_gradient(&self.x, false, &mut self.gradient);
+        ok &= self.inner.jacobian_values(&self.x, false, &mut self.jacobian_values);
         for &v in &self.logged {
-            dl[v] = sigma * self.gradient[v];
+            self.gradient[v] *= sigma;
         }
         for (value, &(r, c)) in self.jacobian_values.iter().zip(&self.jacobian) {
             if self.is_logged[c] {
-                dl[c] += lambda[r] * value;
+                self.gradient[c] += lambda[r] * value;
             }
         }
         for &v in &self.logged {
-            values[self.diagonal_at[v]] += x[v] / (self.scale[v] * self.scale[v]) * dl[v];
+            values[self.diagonal_at[v]] += self.x[v] / (self.scale[v] * self.scale[v]) * self.gradient[v];
         }
         ok
     }

@@ -97,8 +97,9 @@ mod tests {
     use crate::solve::run_solver;
     use crate::Formulation;
 
-    /// Above [`MAX_DENSE_FREE`] free variables the tight re-solve goes on from the run's point and
-    /// multipliers, within its budget, to the cold polish's `J`; below, it is the cold polish.
+    /// Above [`MAX_DENSE_FREE`] free variables the tight re-solve is the cold polish capped at
+    /// [`TIGHT_RESOLVE_ITERATIONS`] (the same run when it converges within the cap); below, the
+    /// cold polish without a cap.
     #[test]
     fn a_large_weak_minimum_is_polished_cold_within_the_budget() {
         let n = 300;
