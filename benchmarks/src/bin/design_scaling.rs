@@ -10,6 +10,11 @@
 //! (repeatable) adds an Ipopt option to every solve, as the case file's `solver.ipopt_options`;
 //! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false);
 //! `--springs=auto|log|linear` sets `solver.spring_variables`.
+//!
+//! With a ladder, each N also reports its work in iterations of the finest level's size (`Σ m ·
+//! iterations(m) / N` over the levels of `m` links) and its longest level from 400 links, and a
+//! run over several sizes sums them up: the levels' iteration counts are a chaotic function of
+//! rounding (benchmarks/analysis.md), so options are compared on that sum over many sizes.
 #![forbid(unsafe_code)]
 
 use spine_benchmarks::peers;
@@ -61,6 +66,7 @@ fn main() {
         }
     }
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
+    let mut ladders: Vec<(usize, LadderWork)> = Vec::new();
     println!("| N | formulation | status | iterations | wall time (s) | time per iteration (ms) | J (J) | clean |");
     println!("|---|---|---|---|---|---|---|---|");
     for &n in &sizes {
@@ -115,6 +121,12 @@ fn main() {
                         l.links, l.start, l.status, l.iterations, l.restarts, l.objective, l.wall_seconds, l.start_seconds
                     );
                 }
+                let work = LadderWork::of(n, refinement.levels.iter().map(|l| (l.links, l.iterations)));
+                eprintln!(
+                    "  N = {n} ladder work: {:.0} iterations of the finest level's size (sum of links x iterations / N), longest level from {LONG_LEVEL_FROM} links {} iterations",
+                    work.finest_equivalent, work.longest
+                );
+                ladders.push((n, work));
             }
             if let Some(c) = &r.certificate {
                 eprintln!(
@@ -139,6 +151,45 @@ fn main() {
                 r.objective,
                 if r.is_clean() { "yes" } else { "no" }
             );
+        }
+    }
+    if ladders.len() > 1 {
+        let mut works: Vec<f64> = ladders.iter().map(|(_, w)| w.finest_equivalent).collect();
+        works.sort_by(f64::total_cmp);
+        let (n_longest, longest) =
+            ladders.iter().map(|(n, w)| (*n, w.longest)).max_by_key(|&(_, l)| l).expect("two or more ladders");
+        eprintln!(
+            "ladder work over {} sizes: total {:.0}, median {:.0}, largest {:.0}; longest level from {LONG_LEVEL_FROM} links {longest} iterations (N = {n_longest})",
+            ladders.len(),
+            works.iter().sum::<f64>(),
+            works[works.len() / 2],
+            works[works.len() - 1]
+        );
+    }
+}
+
+/// Levels from this many links count for [`LadderWork::longest`] (issue 50's table: no level of
+/// any N in 500 … 10⁴ above 150 iterations).
+const LONG_LEVEL_FROM: usize = 400;
+
+/// What a ladder cost, in a unit that does not depend on the machine's speed: an iteration of a
+/// level of `m` links costs about `m / N` of the finest level's (every part of an iteration is
+/// O(m)). The iteration counts of the scaled family's levels are a chaotic function of rounding
+/// (benchmarks/analysis.md), so an Ipopt option or a change of path is judged on this sum over
+/// many sizes, not on one N.
+struct LadderWork {
+    /// `Σ m · iterations(m) / N` over the levels.
+    finest_equivalent: f64,
+    /// The most iterations of a level of at least [`LONG_LEVEL_FROM`] links.
+    longest: usize,
+}
+
+impl LadderWork {
+    /// From each level's links and iterations.
+    fn of(n: usize, levels: impl Iterator<Item = (usize, usize)> + Clone) -> Self {
+        LadderWork {
+            finest_equivalent: levels.clone().map(|(m, its)| (m * its) as f64).sum::<f64>() / n as f64,
+            longest: levels.filter(|&(m, _)| m >= LONG_LEVEL_FROM).map(|(_, its)| its).max().unwrap_or(0),
         }
     }
 }
