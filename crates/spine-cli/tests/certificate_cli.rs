@@ -115,6 +115,12 @@ fn every_paper_case_reports_certified_minima_and_fig8_the_lower_one() {
             // It says which point it left: the first solve's 7.28338e-3.
             let left = r["escapes"][0]["objective"].as_f64().unwrap();
             assert!((left - 7.28338e-3).abs() < 1e-8, "{left}");
+            // Its iterations count every run on the path: the first run's, then the escapes'.
+            let escapes = r["escapes"].as_array().unwrap();
+            let escaped: u64 = escapes.iter().map(|e| e["iterations"].as_u64().unwrap()).sum();
+            let total = r["solver"]["iterations"].as_u64().unwrap();
+            assert!(escapes.iter().all(|e| e["iterations"].as_u64() > Some(0)), "{escapes:?}");
+            assert!(total > escaped, "{total} iterations in all, {escaped} of them the escapes'");
         }
     }
     assert!(checked >= 20, "only {checked} design results found");

@@ -20,12 +20,16 @@ pub struct SolverReport {
     pub converged: bool,
     /// Ipopt concluded the constraints cannot be met.
     pub infeasible: bool,
+    /// Ipopt iterations: of the run (the finest level of a refined one, every restart's counted),
+    /// and where the reported point was reached by leaving others
+    /// ([`crate::DesignResult::escapes`]) of every run on that path (the first run's, then each
+    /// escape's `iterations`).
     pub iterations: usize,
     /// Primal and dual infeasibility at the last iteration (Ipopt's scaled measures).
     pub final_primal_infeasibility: f64,
     pub final_dual_infeasibility: f64,
     /// Wall time inside Ipopt, s, and the part spent in our function evaluations, s (last level
-    /// of a refined run).
+    /// of a refined run; with escapes, every run on the path, as `iterations`).
     pub ipopt_seconds: f64,
     pub evaluation_seconds: f64,
     /// Start equilibria by continuation before Ipopt (cold full space), the final check of the

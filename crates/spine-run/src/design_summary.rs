@@ -201,11 +201,12 @@ impl DesignCaseResult {
         for e in &r.escapes {
             writeln!(
                 f,
-                "NOTE: left a point that is not a minimum ({symbol} = {:.10e}{unit}, certificate {}) by {}; reached {symbol} = {:.10e}{unit}",
+                "NOTE: left a point that is not a minimum ({symbol} = {:.10e}{unit}, certificate {}) by {}; reached {symbol} = {:.10e}{unit} in {} iterations",
                 e.objective,
                 e.status.map_or("none", |s| s.name()),
                 e.how.name(),
-                e.reached
+                e.reached,
+                e.iterations
             )?;
         }
         Ok(())

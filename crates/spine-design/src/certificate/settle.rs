@@ -28,6 +28,7 @@ use super::tight::{at_case_tolerance, tight_resolve, FLAT_MARGIN};
 use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature};
 use crate::result::DesignWarning;
 use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
+use crate::solver_report::SolverReport;
 use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};
 use spine_ipopt::IterationInfo;
@@ -83,6 +84,38 @@ pub struct Escape {
     pub curvature: Option<f64>,
     /// `J` where the next solve ended, J.
     pub reached: f64,
+    /// Ipopt iterations of the solve that reached `reached` from the point left (after a tight
+    /// re-solve, with its carrying to the case's tolerance); the attempts that ended higher are not
+    /// counted.
+    #[serde(default)]
+    pub iterations: usize,
+}
+
+/// Ipopt's iterations and times of runs on the path to a reported point.
+#[derive(Clone, Copy, Debug, Default)]
+struct PathCost {
+    iterations: usize,
+    ipopt_seconds: f64,
+    evaluation_seconds: f64,
+}
+
+impl PathCost {
+    fn of(solver: &SolverReport) -> Self {
+        let mut cost = Self::default();
+        cost.add(solver);
+        cost
+    }
+    fn add(&mut self, solver: &SolverReport) {
+        self.iterations += solver.iterations;
+        self.ipopt_seconds += solver.ipopt_seconds;
+        self.evaluation_seconds += solver.evaluation_seconds;
+    }
+    /// Counts these runs in `solver`'s report.
+    fn add_to(self, solver: &mut SolverReport) {
+        solver.iterations += self.iterations;
+        solver.ipopt_seconds += self.ipopt_seconds;
+        solver.evaluation_seconds += self.evaluation_seconds;
+    }
 }
 
 /// Whether `polished` is the optimum `first` re-solved: `J` within 1e-6 relative (the first
@@ -205,9 +238,12 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
     let (first_notes, first_refinement) = (run.start_notes.clone(), run.refinement.clone());
     let mut current = run;
     let mut tight_before: Option<(SolverRun, DesignResult)> = None;
+    // What the runs on the path before `current` cost (the result counts them all).
+    let mut before = PathCost::default();
     loop {
         let result = current.clone().check(problem, settings);
         let finish = |mut result: DesignResult, certificate: Option<Certificate>, escapes: Vec<Escape>| {
+            before.add_to(&mut result.solver);
             if !escapes.is_empty() {
                 result.start_notes = first_notes.clone();
                 result.refinement = first_refinement.clone();
@@ -229,20 +265,29 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         // After a tight re-solve's escape `current` is that re-solve (carried to the case's
         // tolerance): its tight point is known and is not solved for again (unless the carrying
         // moved off it).
-        let (polished_run, polished) = match tight_before.take().filter(|(_, known)| same_optimum(&result, known)) {
-            Some(known) => known,
-            None => {
-                let run = tight_resolve(problem, &current, own.as_ref().map(|(c, _)| c), settings)?;
-                let checked = run.clone().check(problem, settings);
-                (run, checked)
-            }
-        };
+        // Whether `current` already counts the re-solve's iterations (it is that re-solve, carried).
+        let (polished_run, polished, polish_counted) =
+            match tight_before.take().filter(|(_, known)| same_optimum(&result, known)) {
+                Some((run, checked)) => (run, checked, true),
+                None => {
+                    let run = tight_resolve(problem, &current, own.as_ref().map(|(c, _)| c), settings)?;
+                    let checked = run.clone().check(problem, settings);
+                    (run, checked, false)
+                }
+            };
         let tight =
             polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
         // The point to leave (not a minimum): its certificate, its direction of negative curvature
         // (if formed), its run and its checked result.
-        let (certificate, negative, from, from_result) = match tight {
-            Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => (c, negative, polished_run, polished),
+        // … and the Ipopt iterations of the runs that ended at it (the run's, then the re-solve's).
+        let (certificate, negative, from, from_result, to_from) = match tight {
+            Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
+                let mut to_from = PathCost::of(&current.solver);
+                if !polish_counted {
+                    to_from.add(&polished_run.solver);
+                }
+                (c, negative, polished_run, polished, to_from)
+            }
             Some((c, flat)) if same_optimum(&result, &polished) => {
                 // A weak minimum: probed along its flat direction for a lower one.
                 let lower = match flat.filter(|_| c.status == MinimumStatus::WeakMinimum) {
@@ -256,25 +301,32 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     how: EscapeHow::FlatDirection,
                     curvature: c.smallest_curvature,
                     reached: reached.objective,
+                    iterations: next.solver.iterations,
                 });
+                before.add(&current.solver);
                 current = next;
                 continue;
             }
             Some(_) if polished.objective < result.objective => {
+                let carried = at_case_tolerance(problem, polished_run.clone(), polished.objective, settings)?;
                 escapes.push(Escape {
                     objective: result.objective,
                     status: own.map(|(c, _)| c.status),
                     how: EscapeHow::TightResolve,
                     curvature: None,
                     reached: polished.objective,
+                    iterations: carried.solver.iterations,
                 });
-                current = at_case_tolerance(problem, polished_run.clone(), polished.objective, settings)?;
+                before.add(&current.solver);
+                current = carried;
                 tight_before = Some((polished_run, polished));
                 continue;
             }
             // The tight re-solve failed or rose: the run's own certificate stands.
             _ => match own {
-                Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => (c, negative, current.clone(), result),
+                Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
+                    (c, negative, current.clone(), result, PathCost::of(&current.solver))
+                }
                 own => return Ok(finish(result, own.map(|(c, _)| c), escapes)),
             },
         };
@@ -291,13 +343,22 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     how: how_left,
                     curvature: negative.as_ref().map(|d| d.curvature),
                     reached: reached.objective,
+                    iterations: next.solver.iterations,
                 });
+                before.iterations += to_from.iterations;
+                before.ipopt_seconds += to_from.ipopt_seconds;
+                before.evaluation_seconds += to_from.evaluation_seconds;
                 current = next;
             }
             _ => {
                 // No lower minimum found along the direction: report the point with its certificate,
                 // which is of the reported run's own solution.
                 let c = Certificate { point: CertifiedPoint::Run, ..certificate };
+                let mut from_result = from_result;
+                from_result.solver.iterations = 0;
+                from_result.solver.ipopt_seconds = 0.0;
+                from_result.solver.evaluation_seconds = 0.0;
+                to_from.add_to(&mut from_result.solver);
                 return Ok(finish(from_result, Some(c), escapes));
             }
         }
