@@ -84,6 +84,10 @@ pub struct SolverRun {
     /// Levels of a mesh-sequenced run (empty for a cold solve).
     #[serde(default)]
     pub levels: Vec<LevelRun>,
+    /// Ours: why a run Ipopt ended with `Solve_Succeeded` is not counted as converged (the
+    /// result's warnings, e.g. a point that is not a minimum); empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// One level of a mesh-sequenced run.
@@ -97,10 +101,12 @@ pub struct LevelRun {
 
 impl SolverRun {
     /// A table cell: status mark, iterations, wall time (`✓` converged to the tolerances,
-    /// `acc.` Ipopt's acceptable level only).
+    /// `acc.` Ipopt's acceptable level only, `✗` converged with a warning: [`SolverRun::warnings`]).
     pub fn cell(&self) -> String {
         let mark = if self.converged {
             "✓".to_string()
+        } else if !self.warnings.is_empty() {
+            "✗".to_string()
         } else if self.status.to_lowercase().contains("acceptable") {
             "acc.".to_string()
         } else {
@@ -208,6 +214,9 @@ impl PeerRow {
                     );
                 }
                 return format!("neither converged (ours {}, CasADi {})", self.ours.status, c.status);
+            }
+            (false, true) if !self.ours.warnings.is_empty() => {
+                return format!("ours {}, but: {}", self.ours.status, self.ours.warnings.join("; "))
             }
             (false, true) => return format!("ours did not converge ({})", self.ours.status),
             (true, false) => return format!("CasADi did not converge ({})", c.status),

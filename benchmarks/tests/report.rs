@@ -52,6 +52,7 @@ fn run(objective: f64, seconds: f64, converged: bool) -> SolverRun {
         stiffness: vec![],
         ipopt_version: "3.11.9".into(),
         levels: vec![],
+        warnings: vec![],
     }
 }
 
@@ -82,6 +83,13 @@ fn the_table_tells_same_optimum_different_optima_and_failures_apart() {
     );
     let failed = row(run(1.0, 0.5, true), Some(run(1.1, 2.0, false)), None);
     assert_eq!(failed.verdict(), "CasADi did not converge (Maximum_Iterations_Exceeded)");
+    // Ipopt's success at a point the certificate refuses is neither a failure to converge nor ✓.
+    let mut saddle = run(0.9, 0.5, false);
+    saddle.status = "solve_succeeded".into();
+    saddle.warnings = vec!["not a minimum".into()];
+    assert!(saddle.cell().starts_with("✗ 40 it"), "{}", saddle.cell());
+    let refused = row(saddle, Some(run(1.0, 2.0, true)), None);
+    assert_eq!(refused.verdict(), "ours solve_succeeded, but: not a minimum");
     let missing = row(run(1.0, 0.5, true), None, None);
     assert_eq!(missing.verdict(), "CasADi gave no result: not installed");
     // The best converged run of ours is compared with CasADi's cold run.

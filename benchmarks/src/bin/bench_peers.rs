@@ -38,6 +38,7 @@ fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
     SolverRun {
         status: r.solver.status.to_string(),
         converged: r.solver.optimal && r.is_clean(),
+        warnings: if r.solver.optimal { r.warnings.iter().map(ToString::to_string).collect() } else { Vec::new() },
         iterations: r.solver.iterations,
         wall_seconds,
         objective: r.objective,
@@ -134,6 +135,7 @@ fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(Solver
         stiffness: floats("stiffness"),
         ipopt_version: v["ipopt_version"].as_str().unwrap_or("CasADi").into(),
         levels: Vec::new(),
+        warnings: Vec::new(),
     };
     let passive = State { theta: floats("theta1"), lambda: v["lambda1"].as_f64().unwrap_or(0.0) };
     let loaded = State { theta: floats("theta2"), lambda: v["lambda2"].as_f64().unwrap_or(0.0) };

@@ -101,14 +101,19 @@ struct PathCost {
 
 impl PathCost {
     fn of(solver: &SolverReport) -> Self {
-        let mut cost = Self::default();
-        cost.add(solver);
-        cost
+        PathCost {
+            iterations: solver.iterations,
+            ipopt_seconds: solver.ipopt_seconds,
+            evaluation_seconds: solver.evaluation_seconds,
+        }
     }
     fn add(&mut self, solver: &SolverReport) {
-        self.iterations += solver.iterations;
-        self.ipopt_seconds += solver.ipopt_seconds;
-        self.evaluation_seconds += solver.evaluation_seconds;
+        self.add_cost(Self::of(solver));
+    }
+    fn add_cost(&mut self, other: PathCost) {
+        self.iterations += other.iterations;
+        self.ipopt_seconds += other.ipopt_seconds;
+        self.evaluation_seconds += other.evaluation_seconds;
     }
     /// Counts these runs in `solver`'s report.
     fn add_to(self, solver: &mut SolverReport) {
@@ -278,8 +283,8 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         let tight =
             polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
         // The point to leave (not a minimum): its certificate, its direction of negative curvature
-        // (if formed), its run and its checked result.
-        // … and the Ipopt iterations of the runs that ended at it (the run's, then the re-solve's).
+        // (if formed), its run, its checked result, and what the runs that ended at it cost (the
+        // run's, then the re-solve's).
         let (certificate, negative, from, from_result, to_from) = match tight {
             Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
                 let mut to_from = PathCost::of(&current.solver);
@@ -303,7 +308,11 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     reached: reached.objective,
                     iterations: next.solver.iterations,
                 });
+                // The probe started from the re-solve's point: both runs are on the path.
                 before.add(&current.solver);
+                if !polish_counted {
+                    before.add(&polished_run.solver);
+                }
                 current = next;
                 continue;
             }
@@ -345,9 +354,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     reached: reached.objective,
                     iterations: next.solver.iterations,
                 });
-                before.iterations += to_from.iterations;
-                before.ipopt_seconds += to_from.ipopt_seconds;
-                before.evaluation_seconds += to_from.evaluation_seconds;
+                before.add_cost(to_from);
                 current = next;
             }
             _ => {
