@@ -245,7 +245,7 @@ pub fn results_markdown(measurements: &[Measurement], peers: &[PeerRow], machine
     if peers.is_empty() {
         let _ = writeln!(md, "Not run yet: `just bench-peers`.");
     } else {
-        let _ = writeln!(md, "Same case file and start point for every run (`just bench-peers`; tolerances in `peers::peer_tolerances`). `✓`: `solve_succeeded`; `acc.`: Ipopt's acceptable level only. Wall times include our start equilibria and final check; CasADi's exclude building its expression graph.\n");
+        let _ = writeln!(md, "Same case file and start point for every run (`just bench-peers`; tolerances in `peers::peer_tolerances`). `✓`: `solve_succeeded`; `✗`: Ipopt's `solve_succeeded` at a point our result refuses (the warning in the last column); `acc.`: Ipopt's acceptable level only. Our iterations count the certificate's re-solves (finest level and after for a refined run). Wall times include our start equilibria and final check; CasADi's exclude building its expression graph.\n");
         md.push_str(&crate::peers::table(peers));
         let _ = writeln!(md, "\nIterations per level of the refined runs (`links:iterations`, `(acc.)` where a level stopped at the acceptable level):\n");
         md.push_str(&crate::peers::ladder_table(peers));
