@@ -17,6 +17,7 @@ pub mod ad_peers;
 pub mod kkt;
 pub mod peers;
 pub mod report;
+pub mod report_merge;
 pub mod targets;
 
 use spine_design::adjoint::{self, ReducedGradients};

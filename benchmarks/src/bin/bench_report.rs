@@ -55,6 +55,16 @@ fn main() {
             None => md + "\n" + &section,
         };
     }
+    // Without criterion data (a `just bench-peers` alone), the criterion sections of the file
+    // before are kept, not wiped.
+    if measurements.is_empty() {
+        if let Some(merged) = std::fs::read_to_string("benchmarks/RESULTS.md")
+            .ok()
+            .and_then(|earlier| spine_benchmarks::report_merge::keep_earlier_measurements(&earlier, &md))
+        {
+            md = merged;
+        }
+    }
     std::fs::write("benchmarks/RESULTS.md", md).expect("benchmarks/RESULTS.md");
     if !measurements.is_empty() {
         let svg = figure(&measurements).to_svg().unwrap_or_else(|e| {
