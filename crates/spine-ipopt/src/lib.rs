@@ -315,6 +315,9 @@ pub fn solve(problem: &mut dyn Problem, options: &Options) -> Result<Solution, S
         stopped: None,
     };
     let clock = Instant::now();
+    // Ipopt's first clock reads of this solve see this solve's time, not this thread's last
+    // reading from before it.
+    clock::refresh();
     let finish = ffi::run(&mut context, start, &all_options.iter().collect::<Vec<_>>())?;
     let wall_time = clock.elapsed();
     if let Some(payload) = context.panic.take() {
