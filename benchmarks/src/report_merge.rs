@@ -18,7 +18,6 @@ const TARGETS: &str = "## Targets";
 pub fn keep_earlier_measurements(earlier: &str, fresh: &str) -> Option<String> {
     let (head, earlier_rows, earlier_rest) = split_targets(earlier)?;
     let (_, fresh_rows, fresh_rest) = split_targets(fresh)?;
-    let key = |row: &str| row.split(" | ").next().unwrap_or_default().to_string();
     let fresh_measured: Vec<&str> =
         fresh_rows.iter().copied().filter(|row| !row.trim_end().ends_with("| not measured |")).collect();
     let mut rows: Vec<&str> = earlier_rows
@@ -42,6 +41,11 @@ pub fn keep_earlier_measurements(earlier: &str, fresh: &str) -> Option<String> {
         &earlier_rest[eb..ec],
         &fresh_rest[fc..]
     ))
+}
+
+/// A targets row's statement (its first cell), which names it in both files.
+fn key(row: &str) -> &str {
+    row.split(" | ").next().unwrap_or_default()
 }
 
 /// The text before the targets table, its rows, and the text after it (from the next heading).

@@ -130,6 +130,44 @@ pub struct LevelReport {
     pub wall_seconds: f64,
 }
 
+/// Ipopt's iterations and times of runs on the path to a reported point (a run, then the
+/// certificate's re-solves and escapes: [`crate::certificate::settle`]), which its report counts.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct PathCost {
+    iterations: usize,
+    ipopt_seconds: f64,
+    evaluation_seconds: f64,
+}
+
+impl PathCost {
+    pub(crate) fn of(solver: &SolverReport) -> Self {
+        PathCost {
+            iterations: solver.iterations,
+            ipopt_seconds: solver.ipopt_seconds,
+            evaluation_seconds: solver.evaluation_seconds,
+        }
+    }
+    pub(crate) fn add(&mut self, solver: &SolverReport) {
+        self.add_cost(Self::of(solver));
+    }
+    pub(crate) fn add_cost(&mut self, other: PathCost) {
+        self.iterations += other.iterations;
+        self.ipopt_seconds += other.ipopt_seconds;
+        self.evaluation_seconds += other.evaluation_seconds;
+    }
+    /// Adds these runs to `solver`'s report.
+    pub(crate) fn add_to(mut self, solver: &mut SolverReport) {
+        self.add(solver);
+        self.put_in(solver);
+    }
+    /// Makes `solver`'s report count exactly these runs.
+    pub(crate) fn put_in(self, solver: &mut SolverReport) {
+        solver.iterations = self.iterations;
+        solver.ipopt_seconds = self.ipopt_seconds;
+        solver.evaluation_seconds = self.evaluation_seconds;
+    }
+}
+
 /// How a mesh-sequenced run went.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefinementReport {

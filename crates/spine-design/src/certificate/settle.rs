@@ -28,7 +28,7 @@ use super::tight::{at_case_tolerance, tight_resolve, FLAT_MARGIN};
 use super::{certify, Certificate, CertifiedPoint, MinimumStatus, NegativeCurvature};
 use crate::result::DesignWarning;
 use crate::solve::{resolve_from, run_solver, DesignError, FullPoint, SolverRun};
-use crate::solver_report::SolverReport;
+use crate::solver_report::PathCost;
 use crate::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use serde::{Deserialize, Serialize};
 use spine_ipopt::IterationInfo;
@@ -89,38 +89,6 @@ pub struct Escape {
     /// counted.
     #[serde(default)]
     pub iterations: usize,
-}
-
-/// Ipopt's iterations and times of runs on the path to a reported point.
-#[derive(Clone, Copy, Debug, Default)]
-struct PathCost {
-    iterations: usize,
-    ipopt_seconds: f64,
-    evaluation_seconds: f64,
-}
-
-impl PathCost {
-    fn of(solver: &SolverReport) -> Self {
-        PathCost {
-            iterations: solver.iterations,
-            ipopt_seconds: solver.ipopt_seconds,
-            evaluation_seconds: solver.evaluation_seconds,
-        }
-    }
-    fn add(&mut self, solver: &SolverReport) {
-        self.add_cost(Self::of(solver));
-    }
-    fn add_cost(&mut self, other: PathCost) {
-        self.iterations += other.iterations;
-        self.ipopt_seconds += other.ipopt_seconds;
-        self.evaluation_seconds += other.evaluation_seconds;
-    }
-    /// Counts these runs in `solver`'s report.
-    fn add_to(self, solver: &mut SolverReport) {
-        solver.iterations += self.iterations;
-        solver.ipopt_seconds += self.ipopt_seconds;
-        solver.evaluation_seconds += self.evaluation_seconds;
-    }
 }
 
 /// Whether `polished` is the optimum `first` re-solved: `J` within 1e-6 relative (the first
@@ -280,6 +248,12 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     (run, checked, false)
                 }
             };
+        // What the runs up to the re-solve's point cost: the run's, and the re-solve's unless
+        // `current` already counts it.
+        let mut to_polished = PathCost::of(&current.solver);
+        if !polish_counted {
+            to_polished.add(&polished_run.solver);
+        }
         let tight =
             polished.is_clean().then(|| certify_run(problem, &polished_run, CertifiedPoint::Polished)).flatten();
         // The point to leave (not a minimum): its certificate, its direction of negative curvature
@@ -287,11 +261,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
         // run's, then the re-solve's).
         let (certificate, negative, from, from_result, to_from) = match tight {
             Some((c, negative)) if c.status == MinimumStatus::NotAMinimum => {
-                let mut to_from = PathCost::of(&current.solver);
-                if !polish_counted {
-                    to_from.add(&polished_run.solver);
-                }
-                (c, negative, polished_run, polished, to_from)
+                (c, negative, polished_run, polished, to_polished)
             }
             Some((c, flat)) if same_optimum(&result, &polished) => {
                 // A weak minimum: probed along its flat direction for a lower one.
@@ -309,10 +279,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                     iterations: next.solver.iterations,
                 });
                 // The probe started from the re-solve's point: both runs are on the path.
-                before.add(&current.solver);
-                if !polish_counted {
-                    before.add(&polished_run.solver);
-                }
+                before.add_cost(to_polished);
                 current = next;
                 continue;
             }
@@ -362,10 +329,7 @@ pub fn settle(problem: &DesignProblem, run: SolverRun, settings: &SolverSettings
                 // which is of the reported run's own solution.
                 let c = Certificate { point: CertifiedPoint::Run, ..certificate };
                 let mut from_result = from_result;
-                from_result.solver.iterations = 0;
-                from_result.solver.ipopt_seconds = 0.0;
-                from_result.solver.evaluation_seconds = 0.0;
-                to_from.add_to(&mut from_result.solver);
+                to_from.put_in(&mut from_result.solver);
                 return Ok(finish(from_result, Some(c), escapes));
             }
         }

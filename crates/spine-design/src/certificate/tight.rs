@@ -6,6 +6,7 @@ use super::{Certificate, MAX_DENSE_FREE};
 use crate::sensitivity::polish;
 use crate::settings::{warm_point_options, ExtraOption};
 use crate::solve::{resolve_from, DesignError, FullPoint, SolverRun};
+use crate::solver_report::PathCost;
 use crate::{DesignProblem, SolverSettings};
 
 /// A probe along a weak minimum's flat direction counts only an end lower than this, relative
@@ -88,9 +89,7 @@ pub(super) fn at_case_tolerance(
         && after.objective <= polished_objective * (1.0 + FLAT_MARGIN);
     Ok(if kept {
         let mut next = next;
-        next.solver.iterations += polished.solver.iterations;
-        next.solver.ipopt_seconds += polished.solver.ipopt_seconds;
-        next.solver.evaluation_seconds += polished.solver.evaluation_seconds;
+        PathCost::of(&polished.solver).add_to(&mut next.solver);
         next
     } else {
         polished
