@@ -22,7 +22,8 @@
 //! the face where the bounds it moves are released and the others held, so the `2^w` faces are
 //! searched (`w ≤` [`crate::sensitivity::MAX_WEAK`]).
 //!
-//! The eigenvalues of `ZᵀHZ` are computed densely up to [`MAX_DENSE_FREE`] free variables; above,
+//! The eigenvalues of `ZᵀHZ` are computed densely up to [`MAX_DENSE_FREE`] free variables (one
+//! null-space basis shared by every face: `cone`); above,
 //! the inertia of the reduced KKT matrix `[H_FF A_Fᵀ; A_F 0]` (one sparse `LDLᵀ`, the factorisation
 //! [`crate::sensitivity`] uses) decides: `free` positive and one negative eigenvalue per active row
 //! is `ZᵀHZ ≻ 0` (Gould 1985) with the weak bounds released (sufficient), more negative ones than
@@ -32,25 +33,30 @@
 //! tightly or leaves it along a direction of negative curvature when the certificate does not say
 //! `strict_minimum`, and reports the minimum it reaches with the points it left.
 
+mod cone;
 mod settle;
 mod tight;
 
 pub use settle::{certify_run, same_optimum, settle, solve_design, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
 
 use crate::full_space::{Layout, Multipliers};
-use crate::sensitivity::{ActiveSet, ActiveSystem, Bound, Matrices};
+use crate::sensitivity::{ActiveSet, ActiveSystem, Matrices};
 use crate::DesignProblem;
-use nalgebra::DMatrix;
+use cone::cone_minimum;
 use serde::{Deserialize, Serialize};
 
-/// Most free variables for which `ZᵀHZ` is formed and its eigenvalues computed densely (about
-/// 0.1 s at this size); above, the inertia alone decides.
+/// Most free variables for which `ZᵀHZ` is formed and its eigenvalues computed densely (`cone`:
+/// 0.08 s for the whole certificate at 611 free variables and one face, the peers case at
+/// N = 150); above, the inertia alone decides. The null space's basis costs `free² · rows`
+/// (Householder, unblocked): 4.2 s at 2 031 free variables (N = 500).
 pub const MAX_DENSE_FREE: usize = 600;
 
 /// Most dense work for the critical cone's search, in units of `free³` per face (`2^w` faces for
-/// `w` weakly active bounds): four faces at [`MAX_DENSE_FREE`], about 0.4 s. Above, the inertia
-/// decides. Measured: the rod of `spine_continuum::design` at `N = 100` (450 free variables,
-/// 8 weak bounds) took 24 s in 256 dense eigensolves before this budget.
+/// `w` weakly active bounds): four faces at [`MAX_DENSE_FREE`]. Above, the inertia decides.
+/// Measured: the rod of `spine_continuum::design` at `N = 100` (450 free variables, 8 weak bounds)
+/// took 24 s in 256 dense eigensolves of the free variables' size before this budget. The faces
+/// now cost an eigensolve of the null space's size each (`cone`), so the budget is generous;
+/// it is kept so that the same points are certified densely as before.
 pub const MAX_DENSE_WORK: f64 = 4.0 * (MAX_DENSE_FREE * MAX_DENSE_FREE * MAX_DENSE_FREE) as f64;
 
 /// A bound at zero gap is weakly active for the certificate when its multiplier is below this
@@ -145,177 +151,6 @@ pub struct NegativeCurvature {
     pub curvature: f64,
 }
 
-/// The spectrum of `ZᵀHZ` on one face: its eigenvalues (ascending) and eigenvectors `Z y` in the
-/// full-space variables.
-struct Spectrum {
-    values: Vec<f64>,
-    vectors: Vec<Vec<f64>>,
-    /// The largest magnitude of an entry of `H` on the free variables.
-    hessian_scale: f64,
-}
-
-/// `ZᵀHZ`'s spectrum on the variables not fixed by `fixed`, for the active `rows` (independent
-/// ones): the symmetric matrix `P H P + c (I − P)` with `P = I − QQᵀ` the projector onto the null
-/// space (`Q` from a QR of `A_Fᵀ`) and `c` above every eigenvalue of `H` has `ZᵀHZ`'s eigenvalues
-/// and `c` for the rest. `None` above [`MAX_DENSE_FREE`] free variables.
-fn spectrum(n: usize, fixed: &[Bound], rows: &[Bound], matrices: &Matrices) -> Option<Spectrum> {
-    let mut position = vec![Some(0usize); n];
-    for b in fixed {
-        position[b.index] = None;
-    }
-    let mut free_vars = Vec::new();
-    for (i, slot) in position.iter_mut().enumerate() {
-        if slot.is_some() {
-            *slot = Some(free_vars.len());
-            free_vars.push(i);
-        }
-    }
-    let free = free_vars.len();
-    if free > MAX_DENSE_FREE {
-        return None;
-    }
-    let mut h = DMatrix::<f64>::zeros(free, free);
-    for (&(a, b), &v) in matrices.hessian_pattern.iter().zip(&matrices.hessian) {
-        if let (Some(p), Some(q)) = (position[a], position[b]) {
-            h[(p, q)] += v;
-            if p != q {
-                h[(q, p)] += v;
-            }
-        }
-    }
-    let hessian_scale = h.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    if rows.len() >= free {
-        return Some(Spectrum { values: Vec::new(), vectors: Vec::new(), hessian_scale });
-    }
-    let row_position: std::collections::HashMap<usize, usize> =
-        rows.iter().enumerate().map(|(k, b)| (b.index, k)).collect();
-    let mut at = DMatrix::<f64>::zeros(free, rows.len());
-    for (&(r, c), &v) in matrices.jacobian_pattern.iter().zip(&matrices.jacobian) {
-        if let (Some(&k), Some(p)) = (row_position.get(&r), position[c]) {
-            at[(p, k)] += v;
-        }
-    }
-    let identity = DMatrix::<f64>::identity(free, free);
-    let projector = if rows.is_empty() {
-        identity.clone()
-    } else {
-        let q = at.qr().q();
-        &identity - &q * q.transpose()
-    };
-    let lift = hessian_scale * free as f64 + 1.0;
-    let m = &projector * &h * &projector + (&identity - &projector) * lift;
-    let eigen = ((&m + m.transpose()) * 0.5).symmetric_eigen();
-    // The range's directions sit at `lift`; the null space's are the lowest `free − rows`.
-    let mut order: Vec<usize> = (0..free).collect();
-    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
-    order.truncate(free - rows.len());
-    let vectors = order
-        .iter()
-        .map(|&k| {
-            let mut v = vec![0.0; n];
-            for (p, &i) in free_vars.iter().enumerate() {
-                v[i] = eigen.eigenvectors[(p, k)];
-            }
-            v
-        })
-        .collect();
-    Some(Spectrum { values: order.iter().map(|&k| eigen.eigenvalues[k]).collect(), vectors, hessian_scale })
-}
-
-/// A weakly active bound as a linear form on directions, positive on its feasible side.
-struct WeakForm {
-    bound: Bound,
-    row: bool,
-}
-
-impl WeakForm {
-    fn value(&self, d: &[f64], matrices: &Matrices) -> f64 {
-        let raw = if self.row {
-            matrices
-                .jacobian_pattern
-                .iter()
-                .zip(&matrices.jacobian)
-                .filter(|((r, _), _)| *r == self.bound.index)
-                .map(|((_, c), j)| j * d[*c])
-                .sum()
-        } else {
-            d[self.bound.index]
-        };
-        if self.bound.side == crate::sensitivity::Side::Upper {
-            -raw
-        } else {
-            raw
-        }
-    }
-}
-
-/// Rows of `rows` independent of the earlier ones on the free variables of `fixed`.
-fn independent(layout: Layout, fixed: &[Bound], rows: Vec<Bound>, matrices: &Matrices) -> Vec<Bound> {
-    let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
-    match crate::sensitivity::dependent_rows(layout.num_variables(), fixed, &rows, jacobian) {
-        Some(dependent) => rows.into_iter().filter(|b| !dependent.contains(&b.index)).collect(),
-        None => rows,
-    }
-}
-
-/// The smallest curvature on the critical cone `{d : A d = 0, ℓ_b(d) ≥ 0 for each weakly active
-/// bound b}` and its direction: the minimum of `dᵀHd` on the cone's unit sphere is an eigenpair of
-/// `ZᵀHZ` on the face where the bounds with `ℓ_b(d) > 0` are released and the others held, so
-/// every face (2^w of them) is searched for eigenvectors that point into the cone. `None` where a
-/// face is too large to form densely.
-fn cone_minimum(layout: Layout, set: &ActiveSet, matrices: &Matrices) -> Option<(f64, f64, Option<Vec<f64>>)> {
-    let n = layout.num_variables();
-    let weak: Vec<WeakForm> = set
-        .weak_variables
-        .iter()
-        .map(|b| WeakForm { bound: *b, row: false })
-        .chain(set.weak_rows.iter().map(|b| WeakForm { bound: *b, row: true }))
-        .collect();
-    let faces: usize = 1 << weak.len();
-    let (mut minimum, mut scale, mut direction): (f64, f64, Option<Vec<f64>>) = (f64::INFINITY, 0.0, None);
-    for released in 0..faces {
-        let mut fixed = set.variables.clone();
-        let mut rows = set.rows.clone();
-        for (k, w) in weak.iter().enumerate() {
-            if released & (1 << k) == 0 {
-                if w.row {
-                    rows.push(w.bound);
-                } else {
-                    fixed.push(w.bound);
-                }
-            }
-        }
-        rows.sort_by_key(|b| b.index);
-        let rows = independent(layout, &fixed, rows, matrices);
-        let face = spectrum(n, &fixed, &rows, matrices)?;
-        scale = scale.max(face.hessian_scale);
-        for (value, vector) in face.values.iter().zip(&face.vectors) {
-            if *value >= minimum {
-                break;
-            }
-            let forms: Vec<f64> = weak
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| released & (1 << k) != 0)
-                .map(|(_, w)| w.value(vector, matrices))
-                .collect();
-            let sign = if forms.iter().all(|f| *f > SIGN_TOLERANCE) {
-                1.0
-            } else if forms.iter().all(|f| *f < -SIGN_TOLERANCE) {
-                -1.0
-            } else {
-                continue;
-            };
-            minimum = *value;
-            direction = Some(vector.iter().map(|v| sign * v).collect());
-        }
-    }
-    Some((minimum, scale, direction))
-}
-
-/// A weakly active bound's form counts as moved off the bound above this (unit directions).
-const SIGN_TOLERANCE: f64 = 1e-9;
-
 /// The certificate of a full-space point `x` (layout order) with Ipopt's `multipliers`, and the
 /// direction of the smallest curvature where the status is `not_a_minimum` (negative) or
 /// `weak_minimum` (zero within tolerance).
@@ -335,7 +170,7 @@ pub fn certify(
     let inertia = system.kkt.as_ref().map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]);
     let free = (n - set.variables.len()) as f64;
     let affordable = weak <= crate::sensitivity::MAX_WEAK && (1u64 << weak) as f64 * free.powi(3) <= MAX_DENSE_WORK;
-    let cone = affordable.then(|| cone_minimum(layout, &set, &matrices)).flatten();
+    let cone = affordable.then(|| cone_minimum(n, &set, &matrices)).flatten();
     let (status, negative, smallest, scale) = match cone {
         Some((minimum, scale, direction)) => {
             let zero = ZERO_CURVATURE * scale.max(f64::MIN_POSITIVE);
