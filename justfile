@@ -172,11 +172,13 @@ fuzz SECONDS="60":
     command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz
     cd fuzz && cargo +nightly fuzz run case_parser -- -max_total_time={{SECONDS}}
 
-# Lints: clippy with every warning an error (the workspace's `[workspace.lints]`), and rustfmt
-# (`rustfmt.toml`). Run by `just test`, hence by CI.
+# Lints: clippy with every warning an error (the workspace's `[workspace.lints]`), rustfmt
+# (`rustfmt.toml`), and rustdoc with every warning an error (no broken or private intra-doc
+# links). Run by `just test`, hence by CI.
 lint:
     cargo clippy --workspace --all-targets --quiet -- -D warnings
     cargo fmt --all --check
+    RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 
 # Eq. (37)'s gradients: the discrete adjoint against forward sensitivities (per gradient, N = 7,
 # 20, 50) and eq. (37) by gradients (adjoint, forward) against the GA (N = 7, 50), one run; writes

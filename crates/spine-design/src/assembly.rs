@@ -378,7 +378,7 @@ impl Assembled {
 
 /// The rates at `x` along a parameter whose direction is `direction`: `groups` (registered or
 /// not: the rates need no sparsity pattern) built again from the problem's rates
-/// ([`crate::full_space::groups`]); constraint multipliers `lambda`.
+/// (`crate::full_space::groups`); constraint multipliers `lambda`.
 pub fn rates(
     groups: &[Box<dyn AnyGroup + Send + Sync>],
     direction: &[Box<dyn AnyGroup + Send + Sync>],

@@ -39,7 +39,7 @@ impl ProblemTangent {
     }
 
     /// Whether the tangent has `problem`'s shape (as many spans, masses, loads and bounds; the
-    /// other numbers of [`numbers_mut`] are scalars).
+    /// other numbers of `numbers_mut` are scalars).
     pub fn fits(&self, problem: &DesignProblem) -> bool {
         let lengths = |d: &DesignProblem| {
             let (s, b) = (&d.structure, &d.bounds);

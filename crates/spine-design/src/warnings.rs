@@ -33,7 +33,7 @@ pub enum DesignWarning {
         loaded_status: Option<EquilibriumStatus>,
     },
     /// The reported design and states break a constraint of eq. (33) by more than allowed: the
-    /// part (a field of [`Violations`]), its recomputed violation and the allowance (its unit).
+    /// part (a field of `Violations`), its recomputed violation and the allowance (its unit).
     /// Ipopt's status alone does not show this: it judges its own last iterate, which a bound
     /// clipping after the solve (`honor_original_bounds`) or an "acceptable" stop can leave.
     ConstraintViolated { part: &'static str, violation: f64, allowed: f64 },

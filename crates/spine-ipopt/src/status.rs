@@ -116,7 +116,7 @@ impl std::fmt::Display for Status {
 
 impl Status {
     /// Every named status (all but [`Status::Unknown`]): those of Ipopt's return codes
-    /// ([`Status::from_code`], the one table of codes) and the two stops of this wrapper.
+    /// (`Status::from_code`, the one table of codes) and the two stops of this wrapper.
     pub fn named() -> impl Iterator<Item = Status> {
         (-199..=6)
             .map(Status::from_code)

@@ -11,7 +11,7 @@ pub const DENSE_FACTOR: usize = 4;
 /// Rows with at most this many neighbours are never treated as dense.
 pub const DENSE_MIN: usize = 16;
 
-/// Orders of at least this many variables have their leaves postponed ([`postpone_leaves`]).
+/// Orders of at least this many variables have their leaves postponed (`postpone_leaves`).
 /// Measured on eq. (33)'s scaled family: per Ipopt iteration 16 % cheaper at N = 100 (order 1003)
 /// and 12 % at N = 200, one factorisation 31 % cheaper at N = 1000. Below it the waits cost
 /// little, and the order stays plain reverse Cuthill–McKee: eq. (33) is multimodal, Ipopt's path

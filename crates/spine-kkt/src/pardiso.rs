@@ -1,5 +1,5 @@
 //! Pardiso's calling convention (the interface Ipopt's `linear_solver pardiso` calls) over
-//! [`SymmetricSolver`], in safe Rust: the C entry points of [`crate::abi`] turn their pointers into
+//! [`SymmetricSolver`], in safe Rust: the C entry points of `crate::abi` turn their pointers into
 //! these slices and call [`init`] and [`State::call`].
 //!
 //! What Ipopt 3.11 and 3.14 use of it (`IpPardisoSolverInterface.cpp`): `pardisoinit` once per

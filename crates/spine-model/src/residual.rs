@@ -71,7 +71,7 @@ impl<D: Elementary> JointStencil<D> {
     }
 
     /// The joint residual `r_i`, N·m (eqs. (5), (47), (48)), from absolute angles: see
-    /// [`joint_residual`].
+    /// `joint_residual`.
     pub fn residual<C: Copy>(&self, span: C, vertical: C, axial: C) -> D
     where
         D: Mul<C, Output = D>,

@@ -271,12 +271,14 @@ mod tests {
         let problem = scaled_family(n_links);
         let s = n_links as f64 / 10.0;
         let settings = SolverSettings::default();
-        let run = run_solver(&problem, &arch_start(n_links, 0.3, 1e3 * s * s), Formulation::Full, &settings, &mut |_| true)
-            .expect("solves");
+        let run =
+            run_solver(&problem, &arch_start(n_links, 0.3, 1e3 * s * s), Formulation::Full, &settings, &mut |_| true)
+                .expect("solves");
         let (layout, x) = run.point(&problem).expect("a full-space point");
         let multipliers = run.multipliers.as_ref().expect("multipliers");
         let (at, matrices) = Matrices::at(&problem, layout, &x, &multipliers.constraints);
-        let set = ActiveSet::identify_with(&x, &at, &matrices.jacobian_pattern, multipliers, CERTIFICATE_WEAK_MULTIPLIER);
+        let set =
+            ActiveSet::identify_with(&x, &at, &matrices.jacobian_pattern, multipliers, CERTIFICATE_WEAK_MULTIPLIER);
         let held = ActiveSet {
             variables: set.variables.iter().chain(&set.weak_variables).copied().collect(),
             rows: set.rows.iter().chain(&set.weak_rows).copied().collect(),

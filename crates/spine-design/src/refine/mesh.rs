@@ -187,7 +187,7 @@ fn prolong_compliance(coarse_spans: &[f64], coarse_stiffness: &[f64], fine_spans
 }
 
 /// A fine start from a coarse solution: the design (exactly feasible for the design constraints)
-/// and interpolated states (not yet equilibria: see [`warm_states`]).
+/// and interpolated states (not yet equilibria: see `warm_states`).
 pub fn prolong(
     coarse: &DesignProblem,
     fine: &DesignProblem,

@@ -2,15 +2,15 @@
 //! `θ1*`, `θ2*` (and their `λ`) and `J*` move when a load, `δ_d`, `C_K`, the span or a bound
 //! changes, by the implicit function theorem on the KKT conditions at the solution.
 //!
-//! * The active set is read from the primal-dual solution ([`active_set`]): a bound is active when
+//! * The active set is read from the primal-dual solution (`active_set`): a bound is active when
 //!   its multiplier exceeds its gap.
 //! * The KKT matrix reduced to the free variables and active rows is factorised once
-//!   ([`system`]); its inertia certifies second-order sufficiency (positive on the free
+//!   (`system`); its inertia certifies second-order sufficiency (positive on the free
 //!   variables, one negative eigenvalue per active row, none zero), the smallest singular value of
 //!   the active rows' Jacobian measures LICQ, and the smallest active multiplier against the
 //!   smallest inactive gap measures strict complementarity ([`Conditions`]).
 //! * A parameter's rates of the NLP's gradient, constraints, objective and bounds are exact
-//!   ([`rates`]): the problem's numbers carried as duals along the parameter's [`ProblemTangent`]
+//!   (`rates`): the problem's numbers carried as duals along the parameter's [`ProblemTangent`]
 //!   (the scaled bounds `K/C_K` included), and the elements whose constants move differentiated by
 //!   one tangent-jet pass each, on the optimum's own assembled patterns. No problem is rebuilt and
 //!   nothing is differenced.
@@ -137,7 +137,7 @@ pub struct SensitivityReport {
 /// The sensitivities of the optimum to each parameter.
 ///
 /// The calling thread starts at once and one helper from rayon's pool is offered the same work
-/// ([`shared`], [`step`]): while the caller evaluates the optimum, identifies its active set and
+/// (`shared`, `step`): while the caller evaluates the optimum, identifies its active set and
 /// factorises the reduced KKT matrix, the helper takes the parameters' rates (they need the
 /// problem's elements, not the sparsity patterns, so they start at once on elements of their
 /// own) and then LICQ's measure; the caller takes whatever is left. Each parameter's solve is

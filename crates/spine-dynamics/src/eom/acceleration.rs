@@ -62,7 +62,7 @@ impl Dynamics {
     /// Accelerations `θ̈` (rad/s²) and reaction `λ` (N) at `(t, θ, θ̇)` with dampers `damping`, from
     /// the index-1 form: `[M −∇Φ; ∇Φᵀ 0] [θ̈; λ] = [Q; Σ L_i sin θ_i θ̇_i²]` with
     /// `Q = P − h − C_m θ̇ − K_m (θ − θ0)` (the second row is `Φ̈ = 0`), in `O(N)`: `M⁻¹Q` and `M⁻¹∇Φ`
-    /// by the articulated-body recursion ([`ArticulatedChain`], one factorisation for both), then
+    /// by the articulated-body recursion (`ArticulatedChain`, one factorisation for both), then
     /// `λ = (b − ∇Φᵀ M⁻¹ Q) / (∇Φᵀ M⁻¹ ∇Φ)`. [`Self::acceleration_dense`] is the dense reference.
     pub fn acceleration<D: Scalar>(&self, loads: &LinkLoads, theta: &[D], omega: &[D], damping: &[D]) -> (Vec<D>, D) {
         self.acceleration_at(LoadsAt::Given(loads), theta, omega, damping)

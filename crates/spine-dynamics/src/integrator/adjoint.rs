@@ -10,7 +10,7 @@
 //!
 //! * The runs are swept last to first (e.g. the periods of a periodic response, each its own
 //!   run, the next one starting where the last ended), each step by
-//!   [`super::radau::adjoint::step_adjoint`].
+//!   `super::radau::adjoint::step_adjoint`.
 //! * An output at `t` belongs to the step with `t₀ < t ≤ t₁` (the first step for the start, the
 //!   first run whose span reaches `t`), where the forward dense output reads `S(t) = b₀ S₀ + b₁ Ṡ₀ +
 //!   b₂ S₁ + b₃ Ṡ₁` (cubic Hermite, `Ṡ = J S + ∂f/∂p`): its weights seed the step's two ends.

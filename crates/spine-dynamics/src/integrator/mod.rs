@@ -22,8 +22,8 @@
 //!   (internal differentiation: the exact derivative of the computed solution for the accepted step
 //!   sequence), including the projection.
 //!
-//! Modules: [`options`] (settings and statistics), [`radau`] and [`trbdf2`] (each method's step
-//! and driver), [`crate::newton`] (the chain's Newton matrices), [`dense`] (dense output and events); this file
+//! Modules: `options` (settings and statistics), `radau` and `trbdf2` (each method's step
+//! and driver), [`crate::newton`] (the chain's Newton matrices), `dense` (dense output and events); this file
 //! holds what the drivers share (stops, landing on breakpoints, projection).
 
 pub mod adjoint;

@@ -36,7 +36,7 @@ pub enum SpringGradients {
 }
 
 /// The local minima of the last period, lowest first, and the value at the period's end, of a
-/// fixed-horizon run ([`simulate_periodic_springs`]).
+/// fixed-horizon run (`simulate_periodic_springs`).
 #[derive(Clone, Debug)]
 pub struct LastPeriod {
     pub minima: Vec<EndValue>,

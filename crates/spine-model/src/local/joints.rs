@@ -41,7 +41,7 @@ impl Element<{ slot::COUNT }> for JointResidual {
     /// The residual is linear in `θ_{i±1}`, `θ0_{i±1}`, `K_i`, `K_{i+1}` and `λ`, and its only
     /// products of these are `K × angle`: second-order jets over `(θ_i, λ, θ0_i)` give the
     /// nonlinear block, one hyper-dual pass (`ε₁` over the two stiffnesses, `ε₂` over the six
-    /// angles) the bilinear block. About a third of the work of [`full_hessian`].
+    /// angles) the bilinear block. About a third of the work of `full_hessian`.
     fn hessian(&self, x: &[f64; slot::COUNT]) -> [[f64; slot::COUNT]; slot::COUNT] {
         use slot::*;
         let angles = [THETA_PREV, THETA, THETA_NEXT, THETA0_PREV, THETA0, THETA0_NEXT];

@@ -47,7 +47,7 @@ impl CkStudy {
             .collect()
     }
 
-    /// The paper's statement, checked for each solver on its rows ([`CkStudy::of`]): Kendall's τ
+    /// The paper's statement, checked for each solver on its rows (`CkStudy::of`): Kendall's τ
     /// of the stiffness coefficient of variation against C_K must be positive and that of
     /// `‖θ0 − θ0_s‖` negative, and each must change by more than 10 % from the smallest to the
     /// largest C_K.
