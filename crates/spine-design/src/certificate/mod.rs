@@ -255,25 +255,30 @@ pub fn certify(
     (certificate, negative)
 }
 
+/// The scaled family of `n` links solved from its arch start with the default settings: a
+/// solver's run for the certificate's tests.
+#[cfg(test)]
+pub(crate) fn solved_scaled_family(n: usize) -> (DesignProblem, crate::solve::SolverRun) {
+    use crate::fixtures::{arch_start, scaled_family};
+    let problem = scaled_family(n);
+    let s = n as f64 / 10.0;
+    let start = arch_start(n, 0.3, 1e3 * s * s);
+    let settings = crate::SolverSettings::default();
+    let run =
+        crate::solve::run_solver(&problem, &start, crate::Formulation::Full, &settings, &mut |_| true).expect("solves");
+    (problem, run)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixtures::{arch_start, scaled_family};
-    use crate::solve::run_solver;
-    use crate::{Formulation, SolverSettings};
 
     /// The shifted inertia against the dense search on the face with every weak bound held, at a
     /// solved point with a null space: an eigenvalue below the threshold is found exactly when
     /// the dense minimum is below it.
     #[test]
     fn the_shifted_inertia_finds_the_dense_minimum_of_the_held_face() {
-        let n_links = 20;
-        let problem = scaled_family(n_links);
-        let s = n_links as f64 / 10.0;
-        let settings = SolverSettings::default();
-        let run =
-            run_solver(&problem, &arch_start(n_links, 0.3, 1e3 * s * s), Formulation::Full, &settings, &mut |_| true)
-                .expect("solves");
+        let (problem, run) = solved_scaled_family(20);
         let (layout, x) = run.point(&problem).expect("a full-space point");
         let multipliers = run.multipliers.as_ref().expect("multipliers");
         let (at, matrices) = Matrices::at(&problem, layout, &x, &multipliers.constraints);

@@ -99,22 +99,15 @@ pub(super) fn at_case_tolerance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::certificate::{certify_run, CertifiedPoint};
-    use crate::fixtures::{arch_start, scaled_family};
-    use crate::solve::run_solver;
-    use crate::Formulation;
+    use crate::certificate::{certify_run, solved_scaled_family, CertifiedPoint};
 
     /// Above [`MAX_DENSE_FREE`] free variables the tight re-solve is the cold polish capped at
     /// [`TIGHT_RESOLVE_ITERATIONS`] (the same run when it converges within the cap); below, the
     /// cold polish without a cap.
     #[test]
     fn a_large_weak_minimum_is_polished_cold_within_the_budget() {
-        let n = 300;
-        let problem = scaled_family(n);
-        let s = n as f64 / 10.0;
+        let (problem, run) = solved_scaled_family(300);
         let settings = SolverSettings::default();
-        let run = run_solver(&problem, &arch_start(n, 0.3, 1e3 * s * s), Formulation::Full, &settings, &mut |_| true)
-            .expect("solves");
         let (own, _) = certify_run(&problem, &run, CertifiedPoint::Run).expect("a certificate");
         assert!(own.free_variables > MAX_DENSE_FREE, "{} free variables", own.free_variables);
         let capped = tight_resolve(&problem, &run, Some(&own), &settings).expect("runs");
@@ -137,10 +130,8 @@ mod tests {
 
     #[test]
     fn a_polish_stopped_at_the_acceptable_level_is_carried_to_the_case_tolerance() {
-        let problem = scaled_family(10);
+        let (problem, run) = solved_scaled_family(10);
         let settings = SolverSettings::default();
-        let run = run_solver(&problem, &arch_start(10, 0.3, 1e3), Formulation::Full, &settings, &mut |_| true)
-            .expect("solves");
         let polished = polish(&problem, &run.design, &settings).expect("polishes");
         assert!(polished.solver.status.is_optimal(), "{:?}", polished.solver.status);
         let j = polished.clone().check(&problem, &settings).objective;
