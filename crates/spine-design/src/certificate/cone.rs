@@ -12,7 +12,7 @@
 //! the reference the null-space form is checked against.
 
 use super::MAX_DENSE_FREE;
-use crate::sensitivity::{ActiveSet, Bound, Matrices, Side};
+use crate::sensitivity::{free_positions, ActiveSet, Bound, Matrices, Side};
 use nalgebra::{DMatrix, DVector};
 
 /// A weakly active bound's form counts as moved off the bound above this (unit directions).
@@ -89,18 +89,7 @@ struct NullSpace {
 impl NullSpace {
     /// `None` above [`MAX_DENSE_FREE`] free variables.
     fn of(n: usize, fixed: &[Bound], rows: &[Bound], matrices: &Matrices) -> Option<Self> {
-        let mut position = vec![Some(0usize); n];
-        for b in fixed {
-            position[b.index] = None;
-        }
-        let mut free_vars = Vec::new();
-        for (i, slot) in position.iter_mut().enumerate() {
-            if slot.is_some() {
-                *slot = Some(free_vars.len());
-                free_vars.push(i);
-            }
-        }
-        let free = free_vars.len();
+        let (position, free) = free_positions(n, fixed);
         if free > MAX_DENSE_FREE {
             return None;
         }
@@ -127,6 +116,7 @@ impl NullSpace {
             }
             complement(at)
         };
+        let free_vars = (0..n).filter(|&i| position[i].is_some()).collect();
         let reduced = basis.transpose() * &h * &basis;
         Some(Self { free_vars, basis, reduced: (&reduced + reduced.transpose()) * 0.5, hessian_scale })
     }

@@ -44,7 +44,7 @@ mod tight;
 pub use settle::{certify_run, same_optimum, settle, solve_design, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
 
 use crate::full_space::{Layout, Multipliers};
-use crate::sensitivity::{ActiveSet, ActiveSystem, Bound, Matrices};
+use crate::sensitivity::{with_weak, ActiveSet, ActiveSystem, Bound, Matrices};
 use crate::DesignProblem;
 use cone::cone_minimum;
 use serde::{Deserialize, Serialize};
@@ -179,8 +179,7 @@ fn curvature_below(matrices: &Matrices, layout: Layout, set: &ActiveSet, thresho
     };
     shifted.hessian_pattern.extend((0..n).map(|i| (i, i)));
     shifted.hessian.extend(std::iter::repeat_n(-threshold, n));
-    let fixed = set.variables.iter().chain(&set.weak_variables).copied().collect();
-    let rows = set.rows.iter().chain(&set.weak_rows).copied().collect();
+    let (fixed, rows) = with_weak(set, &set.weak_variables, &set.weak_rows);
     let held = ActiveSystem::new(&shifted, layout, fixed, rows);
     held.kkt.as_ref().map(|k| k.inertia.negative > k.rows.len())
 }
@@ -284,13 +283,8 @@ mod tests {
         let (at, matrices) = Matrices::at(&problem, layout, &x, &multipliers.constraints);
         let set =
             ActiveSet::identify_with(&x, &at, &matrices.jacobian_pattern, multipliers, CERTIFICATE_WEAK_MULTIPLIER);
-        let held = ActiveSet {
-            variables: set.variables.iter().chain(&set.weak_variables).copied().collect(),
-            rows: set.rows.iter().chain(&set.weak_rows).copied().collect(),
-            weak_variables: Vec::new(),
-            weak_rows: Vec::new(),
-            ..set.clone()
-        };
+        let (variables, rows) = with_weak(&set, &set.weak_variables, &set.weak_rows);
+        let held = ActiveSet { variables, rows, weak_variables: Vec::new(), weak_rows: Vec::new(), ..set.clone() };
         let n = layout.num_variables();
         let (minimum, scale, _) = cone_minimum(n, &held, &matrices).expect("small enough");
         assert!(minimum.is_finite() && scale > 0.0, "a face with directions: {minimum}, {scale}");

@@ -37,7 +37,7 @@ pub use polish::{polish, POLISH_TOLERANCE};
 use crate::full_space::{Layout, Multipliers};
 use crate::{DesignProblem, ProblemTangent};
 use serde::Serialize;
-pub(crate) use system::{dependent_rows, ActiveSystem, Matrices};
+pub(crate) use system::{dependent_rows, free_positions, with_weak, ActiveSystem, Matrices};
 
 /// At most this many weakly active bounds are enumerated for one-sided derivatives (2^k systems).
 pub const MAX_WEAK: usize = 8;

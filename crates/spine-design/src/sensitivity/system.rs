@@ -52,7 +52,7 @@ impl Matrices {
 
 /// The position of each of `n` variables among those not fixed by a bound in `fixed` (`None` for a
 /// fixed one), and how many are free.
-fn free_positions(n: usize, fixed: &[Bound]) -> (Vec<Option<usize>>, usize) {
+pub(crate) fn free_positions(n: usize, fixed: &[Bound]) -> (Vec<Option<usize>>, usize) {
     let mut position = vec![Some(0usize); n];
     for b in fixed {
         position[b.index] = None;
