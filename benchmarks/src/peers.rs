@@ -73,8 +73,9 @@ pub struct SolverRun {
     pub wall_seconds: f64,
     /// `J`, J.
     pub objective: f64,
-    /// Largest constraint violation at the returned point (Ipopt's unscaled measure for CasADi,
-    /// the design check's for ours).
+    /// Largest violation of the constraint rows at the returned point (equilibria N·m, end
+    /// conditions and heights m, relative angles rad), without the variables' own bounds: Ipopt's
+    /// unscaled measure for CasADi, the design check's `Violations::constraint_rows` for ours.
     pub constraint_violation: f64,
     pub theta0: Vec<f64>,
     pub stiffness: Vec<f64>,

@@ -42,7 +42,7 @@ fn run_of(r: &DesignResult, wall_seconds: f64) -> SolverRun {
         iterations: r.solver.iterations,
         wall_seconds,
         objective: r.objective,
-        constraint_violation: r.violations.as_ref().map_or(f64::NAN, |v| v.max),
+        constraint_violation: r.violations.as_ref().map_or(f64::NAN, |v| v.constraint_rows()),
         theta0: r.design.theta0.clone(),
         stiffness: r.design.stiffness.clone(),
         ipopt_version: r.solver.ipopt_version.clone(),
