@@ -14,6 +14,7 @@
 #![forbid(unsafe_code)]
 
 pub mod ad_peers;
+pub mod cli;
 pub mod kkt;
 pub mod peers;
 pub mod report;

@@ -19,6 +19,7 @@
 #![forbid(unsafe_code)]
 
 use serde_json::json;
+use spine_benchmarks::cli;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
@@ -144,14 +145,15 @@ fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(Solver
 
 fn main() {
     let mut args = std::env::args().skip(1);
-    let python = args.next().expect("usage: bench_peers PYTHON [--casadi-refined] [N ...]");
+    const USAGE: &str = "bench_peers PYTHON [--casadi-refined] [N ...]";
+    let python = args.next().unwrap_or_else(|| cli::usage_error("the Python interpreter is missing", USAGE));
     let mut casadi_ladder = false;
     let mut sizes: Vec<usize> = Vec::new();
     for a in args {
         if a == "--casadi-refined" {
             casadi_ladder = true;
         } else {
-            sizes.push(a.parse().expect("N must be a positive integer"));
+            sizes.push(cli::links(&a).unwrap_or_else(|message| cli::usage_error(message, USAGE)));
         }
     }
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };

@@ -17,9 +17,9 @@
 //! rounding (benchmarks/analysis.md), so options are compared on that sum over many sizes.
 #![forbid(unsafe_code)]
 
-use spine_benchmarks::peers;
+use spine_benchmarks::{cli, peers};
 use spine_design::fixtures::{arch_start, scaled_family};
-use spine_design::refine::{Refine, RefineMode};
+use spine_design::refine::{Refine, RefineMode, WarmStart};
 use spine_design::settings::ExtraOption;
 use spine_design::{solve_design, Formulation, SolverSettings};
 
@@ -27,44 +27,81 @@ use spine_design::{solve_design, Formulation, SolverSettings};
 /// solves per iteration and a dense (2N + 1)² block.
 const REDUCED_MAX_N: usize = 100;
 
-fn main() {
-    let mut settings = SolverSettings::default();
-    let mut repeats = 3;
-    let mut sizes: Vec<usize> = Vec::new();
-    let mut peers_cases = false;
-    let mut extra = Vec::new();
-    let mut warm = Vec::new();
-    let mut springs = None;
-    for arg in std::env::args().skip(1) {
+const USAGE: &str = "design_scaling [--refine=off|auto|FROM[:FACTOR]] [--springs=auto|log|linear] [--repeats=R] \
+                     [--peers] [--ipopt=NAME=VALUE]... [--warm=FIELD=VALUE]... [N ...]";
+
+/// The parsed command line.
+struct Args {
+    settings: SolverSettings,
+    repeats: usize,
+    sizes: Vec<usize>,
+    peers_cases: bool,
+    extra: Vec<(String, ExtraOption)>,
+    warm: Vec<(String, serde_json::Value)>,
+    springs: Option<spine_design::settings::SpringVariables>,
+}
+
+fn parse_args(args: impl Iterator<Item = String>) -> Result<Args, String> {
+    let mut parsed = Args {
+        settings: SolverSettings::default(),
+        repeats: 3,
+        sizes: Vec::new(),
+        peers_cases: false,
+        extra: Vec::new(),
+        warm: Vec::new(),
+        springs: None,
+    };
+    for arg in args {
+        if arg == "--help" || arg == "-h" {
+            println!("usage: {USAGE}");
+            std::process::exit(0);
+        }
         if let Some(field) = arg.strip_prefix("--warm=") {
-            let (name, value) = field.split_once('=').expect("--warm=FIELD=VALUE");
-            let value: serde_json::Value =
-                serde_json::from_str(value).expect("--warm=FIELD=VALUE: a number or true/false");
-            warm.push((name.to_string(), value));
-            continue;
-        }
-        if let Some(option) = arg.strip_prefix("--ipopt=") {
-            let (name, value) = option.split_once('=').expect("--ipopt=NAME=VALUE");
-            let parsed = value.parse().map(ExtraOption::Int).or_else(|_| value.parse().map(ExtraOption::Num));
-            extra.push((name.to_string(), parsed.unwrap_or_else(|_| ExtraOption::Str(value.to_string()))));
-            continue;
-        }
-        if let Some(form) = arg.strip_prefix("--springs=") {
-            springs = Some(serde_json::from_value(serde_json::json!(form)).expect("--springs=auto|log|linear"));
-            continue;
-        }
-        if arg == "--peers" {
-            peers_cases = true;
-            continue;
-        }
-        if let Some(mode) = arg.strip_prefix("--refine=") {
-            settings.refine = mode.parse().expect("--refine=off|auto|FROM|FROM:FACTOR");
+            let (name, value) = cli::name_value(field, "--warm")?;
+            let value = serde_json::from_str(value)
+                .map_err(|_| format!("--warm={name}: the value must be a number or true/false, got {value:?}"))?;
+            parsed.warm.push((name.to_string(), value));
+        } else if let Some(option) = arg.strip_prefix("--ipopt=") {
+            let (name, value) = cli::name_value(option, "--ipopt")?;
+            let number = value.parse().map(ExtraOption::Int).or_else(|_| value.parse().map(ExtraOption::Num));
+            parsed.extra.push((name.to_string(), number.unwrap_or_else(|_| ExtraOption::Str(value.to_string()))));
+        } else if let Some(form) = arg.strip_prefix("--springs=") {
+            let springs = serde_json::from_value(serde_json::json!(form))
+                .map_err(|_| format!("--springs must be auto, log or linear, got {form:?}"))?;
+            parsed.springs = Some(springs);
+        } else if arg == "--peers" {
+            parsed.peers_cases = true;
+        } else if let Some(mode) = arg.strip_prefix("--refine=") {
+            parsed.settings.refine = mode.parse().map_err(|e| format!("--refine: {e}"))?;
         } else if let Some(r) = arg.strip_prefix("--repeats=") {
-            repeats = r.parse().expect("--repeats=R");
+            parsed.repeats = cli::parse(r, "--repeats=R: R must be a whole number of runs")?;
         } else {
-            sizes.push(arg.parse().expect("N must be a positive integer"));
+            parsed.sizes.push(cli::links(&arg)?);
         }
     }
+    if parsed.repeats == 0 {
+        return Err("--repeats=R: R must be at least 1".into());
+    }
+    with_warm(SolverSettings::default().warm_start, &parsed.warm)?;
+    Ok(parsed)
+}
+
+/// `warm_start` with the `--warm` fields set, or which field or value is not allowed.
+fn with_warm(warm_start: WarmStart, fields: &[(String, serde_json::Value)]) -> Result<WarmStart, String> {
+    let mut value = serde_json::to_value(warm_start).map_err(|e| e.to_string())?;
+    for (name, field) in fields {
+        let Some(slot) = value.get_mut(name) else {
+            let names: Vec<&String> = value.as_object().map(|o| o.keys().collect()).unwrap_or_default();
+            return Err(format!("--warm: solver.warm_start has no field {name:?} (allowed: {names:?})"));
+        };
+        *slot = field.clone();
+    }
+    serde_json::from_value(value).map_err(|e| format!("--warm: {e}"))
+}
+
+fn main() {
+    let Args { settings, repeats, sizes, peers_cases, extra, warm, springs } =
+        parse_args(std::env::args().skip(1)).unwrap_or_else(|message| cli::usage_error(message, USAGE));
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
     let mut ladders: Vec<(usize, LadderWork)> = Vec::new();
     println!("| N | formulation | status | iterations | wall time (s) | time per iteration (ms) | J (J) | clean |");
@@ -89,12 +126,8 @@ fn main() {
             settings.spring_variables = springs;
         }
         settings.ipopt_options.extend(extra.iter().cloned());
-        let mut warm_start = serde_json::to_value(settings.warm_start).expect("serialisable");
-        for (name, value) in &warm {
-            assert!(warm_start.get(name).is_some(), "--warm: no field {name} in solver.warm_start");
-            warm_start[name] = value.clone();
-        }
-        settings.warm_start = serde_json::from_value(warm_start).expect("--warm: a valid value");
+        settings.warm_start =
+            with_warm(settings.warm_start, &warm).unwrap_or_else(|message| cli::usage_error(message, USAGE));
         for formulation in [Formulation::Full, Formulation::Reduced] {
             if peers_cases && formulation == Formulation::Reduced {
                 continue;
@@ -106,7 +139,10 @@ fn main() {
             let mut best: Option<(f64, spine_design::DesignResult)> = None;
             for _ in 0..repeats {
                 let clock = std::time::Instant::now();
-                let r = solve_design(&problem, &start, formulation, &settings, &mut |_| true).expect("valid problem");
+                let r = solve_design(&problem, &start, formulation, &settings, &mut |_| true).unwrap_or_else(|e| {
+                    eprintln!("error: N = {n}: {e}");
+                    std::process::exit(1)
+                });
                 let t = clock.elapsed().as_secs_f64();
                 if best.as_ref().is_none_or(|(bt, _)| t < *bt) {
                     best = Some((t, r));

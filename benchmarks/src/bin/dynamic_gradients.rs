@@ -30,6 +30,7 @@ use std::fmt::Write;
 use std::time::Instant;
 
 const REPEATS: usize = 3;
+use spine_benchmarks::cli;
 use spine_benchmarks::GRADIENTS_SECTION as SECTION;
 
 fn fastest<T>(mut f: impl FnMut() -> T) -> (f64, T) {
@@ -45,9 +46,13 @@ fn fastest<T>(mut f: impl FnMut() -> T) -> (f64, T) {
 }
 
 fn sizes(args: &[String], flag: &str, default: &[usize]) -> Vec<usize> {
-    args.iter()
-        .find_map(|a| a.strip_prefix(flag))
-        .map_or_else(|| default.to_vec(), |v| v.split(',').map(|x| x.parse().expect("N")).collect())
+    args.iter().find_map(|a| a.strip_prefix(flag)).map_or_else(
+        || default.to_vec(),
+        |v| {
+            let usage = format!("dynamic_gradients [{flag}N,N,...]");
+            v.split(',').map(|x| cli::links(x).unwrap_or_else(|message| cli::usage_error(message, &usage))).collect()
+        },
+    )
 }
 
 fn forcing() -> Forcing {
