@@ -102,7 +102,7 @@ impl NullSpace {
                 }
             }
         }
-        let hessian_scale = h.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let hessian_scale = super::hessian_scale(n, fixed, matrices);
         let basis = if rows.len() >= free {
             DMatrix::zeros(free, 0)
         } else {

@@ -156,7 +156,8 @@ pub struct NegativeCurvature {
     pub curvature: f64,
 }
 
-/// The largest magnitude of an entry of `H` on the variables `fixed` leaves free.
+/// The largest magnitude of an entry of `H` on the variables `fixed` leaves free: the scale
+/// [`ZERO_CURVATURE`] is taken of, by the dense search and the inertia alike.
 fn hessian_scale(n: usize, fixed: &[Bound], matrices: &Matrices) -> f64 {
     let mut free = vec![true; n];
     fixed.iter().for_each(|b| free[b.index] = false);
