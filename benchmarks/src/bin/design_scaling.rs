@@ -8,7 +8,8 @@
 //! ladder from FROM links, factor FACTOR or 2). `--peers` solves `bench_peers`' case files instead
 //! (its tolerances, 1e-8 and 1e-9 s²), with its ladder under `--refine=auto`; the full space only. `--ipopt=NAME=VALUE`
 //! (repeatable) adds an Ipopt option to every solve, as the case file's `solver.ipopt_options`;
-//! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a number or true/false);
+//! `--warm=FIELD=VALUE` (repeatable) sets a field of `solver.warm_start` (a JSON value: a number,
+//! true/false, null, or an object such as `--warm='barrier={"mu":3e-3,"exponent":2}'`);
 //! `--springs=auto|log|linear` sets `solver.spring_variables`.
 //!
 //! With a ladder, each N also reports its work in iterations of the finest level's size (`Σ m ·
@@ -58,8 +59,11 @@ fn parse_args(args: impl Iterator<Item = String>) -> Result<Args, String> {
         }
         if let Some(field) = arg.strip_prefix("--warm=") {
             let (name, value) = cli::name_value(field, "--warm")?;
-            let value = serde_json::from_str(value)
-                .map_err(|_| format!("--warm={name}: the value must be a number or true/false, got {value:?}"))?;
+            let value = serde_json::from_str(value).map_err(|_| {
+                format!(
+                    "--warm={name}: the value must be JSON (a number, true/false, null or an object), got {value:?}"
+                )
+            })?;
             parsed.warm.push((name.to_string(), value));
         } else if let Some(option) = arg.strip_prefix("--ipopt=") {
             let (name, value) = cli::name_value(option, "--ipopt")?;

@@ -295,24 +295,52 @@ impl SolverSettings {
         self.warm_start.coarse_tolerance.max(self.tolerance)
     }
 
-    /// The options of a warm level of mesh sequencing: these settings plus [`WarmStart`], unless
-    /// the case sets those options itself.
-    pub fn warm_ipopt(&self, warm: &WarmStart) -> Options {
-        let mut options = Options::new()
-            .number("mu_init", warm.mu_init)
-            .number("bound_push", warm.bound_push)
-            .number("bound_frac", warm.bound_frac);
-        if warm.multipliers {
+    /// Ipopt's options for level `m` of a ladder from `from` links towards the chain's own `n`
+    /// links (`cold`: the coarsest level, started from the case's start point), with
+    /// `barrier`: the level's `μ_m` of [`WarmStart::barrier`] ([`Self::level_barrier`]), or `None`.
+    ///
+    /// A warm level starts close to its bounds ([`WarmStart`]'s `bound_push`, `bound_frac`,
+    /// `mu_init`). With a barrier, a coarse level is solved to the barrier problem of `μ_m`
+    /// (`mu_target`) and a warm level starts at `μ_m` (`mu_init`, bound multipliers
+    /// `μ_m / slack`). The case's own Ipopt options override all of these, and the coarse levels
+    /// are solved to [`Self::coarse_tolerance`].
+    pub fn level_ipopt(&self, m: usize, n: usize, cold: bool, barrier: Option<f64>) -> Options {
+        let warm = &self.warm_start;
+        let mut options = Options::new();
+        if !cold {
             options = options
-                .string("warm_start_init_point", "yes")
-                .number("warm_start_bound_push", warm.bound_push)
-                .number("warm_start_bound_frac", warm.bound_frac)
-                .number("warm_start_slack_bound_push", warm.bound_push)
-                .number("warm_start_slack_bound_frac", warm.bound_frac)
-                .number("warm_start_mult_bound_push", warm.mult_bound_push);
+                .number("mu_init", warm.mu_init)
+                .number("bound_push", warm.bound_push)
+                .number("bound_frac", warm.bound_frac);
+            if warm.multipliers {
+                options = options
+                    .string("warm_start_init_point", "yes")
+                    .number("warm_start_bound_push", warm.bound_push)
+                    .number("warm_start_bound_frac", warm.bound_frac)
+                    .number("warm_start_slack_bound_push", warm.bound_push)
+                    .number("warm_start_slack_bound_frac", warm.bound_frac)
+                    .number("warm_start_mult_bound_push", warm.mult_bound_push);
+            }
+        }
+        if let Some(mu) = barrier {
+            if m < n {
+                options = options.number("mu_target", mu);
+            }
+            if !cold {
+                options = options.number("mu_init", mu).string("bound_mult_init_method", "mu-based");
+            }
         }
         options.extend(&self.ipopt());
+        if m < n {
+            options = options.number("tol", self.coarse_tolerance());
+        }
         options
+    }
+
+    /// `μ_m` of level `m` of a ladder from `from` links ([`WarmStart::barrier`]), never below a
+    /// tenth of [`Self::tolerance`]; `None` without a schedule.
+    pub fn level_barrier(&self, from: usize, m: usize) -> Option<f64> {
+        self.warm_start.barrier.map(|b| b.mu_at(from, m, self.tolerance / 10.0))
     }
 }
 

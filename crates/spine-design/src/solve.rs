@@ -292,9 +292,7 @@ fn solve_refined(
 ) -> Result<(Solution, Design, (State, State), RefinementReport), DesignError> {
     let n = problem.n_links();
     let sizes = ladder.levels(n);
-    let cold_options = settings.ipopt();
     let warm = settings.warm_start;
-    let warm_options = settings.warm_ipopt(&warm);
     let mut levels: Vec<LevelReport> = Vec::new();
     let mut previous: Option<(DesignProblem, Design, (State, State), Multipliers)> = None;
     let mut fell_back = false;
@@ -312,9 +310,11 @@ fn solve_refined(
         let restart_after =
             if m == n && how != LevelStart::Cold && warm.restart_after > 0 { warm.restart_after } else { usize::MAX };
         let mut budget = RestartBudget { after: restart_after, reached: false };
-        let options = if how == LevelStart::Cold { &cold_options } else { &warm_options };
-        // The coarse levels only prepare a start: solved to the coarse tolerance.
-        let options = if m < n { options.clone().number("tol", settings.coarse_tolerance()) } else { options.clone() };
+        // The coarse levels only prepare a start: solved to the coarse tolerance, and to their
+        // barrier problem when the ladder has a barrier schedule.
+        let cold = how == LevelStart::Cold;
+        let barrier = if fell_back { None } else { settings.level_barrier(ladder.from, m) };
+        let options = settings.level_ipopt(m, n, cold, barrier);
         let prolonged_multipliers = |nlp: &FullSpaceNlp<'_>| {
             let (coarser, _, _, multipliers) = previous.as_ref().filter(|_| warm.multipliers)?;
             let size = nlp.layout.num_variables();
@@ -324,12 +324,13 @@ fn solve_refined(
         };
         let start = LevelRun { level, form, springs: settings.spring_variables.resolve(problem), design, states };
         let first = start.solve(&options, &mut budget, &mut *observer, prolonged_multipliers)?;
-        let restart_options = options.clone().number("mu_init", settings.tolerance / 10.0);
+        let restart_options = settings.level_ipopt(m, n, cold, None).number("mu_init", settings.tolerance / 10.0);
         let (solution, design, states, restarts) =
             start.restarted(first, budget.reached.then_some(restart_after), &restart_options, &mut *observer)?;
         levels.push(LevelReport {
             links: m,
             start: how,
+            barrier,
             status: solution.status,
             optimal: solution.status.is_optimal(),
             iterations: solution.iterations,

@@ -111,6 +111,10 @@ pub struct LevelReport {
     /// Links of this level's chain.
     pub links: usize,
     pub start: LevelStart,
+    /// The barrier parameter `μ_m` of [`crate::refine::WarmStart::barrier`]: a coarse level's
+    /// barrier problem, the warm start of the chain itself; `None` without a schedule.
+    #[serde(default)]
+    pub barrier: Option<f64>,
     /// Ipopt's status at this level; `optimal`: `solve_succeeded`.
     pub status: spine_ipopt::Status,
     pub optimal: bool,

@@ -392,3 +392,83 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     assert_eq!((last.restarts, last.iterations), (0, 2), "{last:?}");
     assert!(!stopped.solver.converged, "{}", stopped.solver.status);
 }
+
+/// The ladder's barrier schedule (`warm_start.barrier`) sets each level's Ipopt options: a coarse
+/// level is solved to its barrier problem `μ_m = mu (from/m)^exponent` (`mu_target`, at the coarse
+/// tolerance), a warm level starts there (`mu_init`, bound multipliers `μ / slack`), the chain
+/// itself has no target and is solved to `tolerance`; the case's own options override, and
+/// without a schedule the levels get the options they had before it.
+#[test]
+fn the_barrier_schedule_sets_each_levels_ipopt_options() {
+    use spine_ipopt::OptionValue::{Num, Str};
+    let s = SolverSettings::default();
+    let schedule = s.warm_start.barrier.expect("on by default");
+    assert_eq!(schedule, refine::DEFAULT_BARRIER);
+    let mu = |m: usize| s.level_barrier(50, m).unwrap();
+    assert_eq!(mu(50), schedule.mu);
+    assert!((mu(100) - schedule.mu / 2f64.powf(schedule.exponent)).abs() <= 1e-15);
+    // Never below a tenth of the tolerance (a ladder to 10⁶ links).
+    assert_eq!(mu(1_000_000), s.tolerance / 10.0);
+
+    let coarse_cold = s.level_ipopt(50, 1000, true, Some(mu(50)));
+    assert_eq!(coarse_cold.get("mu_target"), Some(&Num(mu(50))));
+    assert_eq!(coarse_cold.get("mu_init"), None, "a cold level starts at Ipopt's own barrier");
+    assert_eq!(coarse_cold.get("tol"), Some(&Num(s.coarse_tolerance())));
+    let coarse_warm = s.level_ipopt(400, 1000, false, Some(mu(400)));
+    assert_eq!(coarse_warm.get("mu_target"), Some(&Num(mu(400))));
+    assert_eq!(coarse_warm.get("mu_init"), Some(&Num(mu(400))));
+    assert_eq!(coarse_warm.get("bound_mult_init_method"), Some(&Str("mu-based".into())));
+    assert_eq!(coarse_warm.get("bound_push"), Some(&Num(s.warm_start.bound_push)));
+    let finest = s.level_ipopt(1000, 1000, false, Some(mu(1000)));
+    assert_eq!(finest.get("mu_target"), None);
+    assert_eq!(finest.get("mu_init"), Some(&Num(mu(1000))));
+    assert_eq!(finest.get("tol"), Some(&Num(s.tolerance)));
+
+    let without = s.level_ipopt(400, 1000, false, None);
+    assert_eq!(without.get("mu_target"), None);
+    assert_eq!(without.get("bound_mult_init_method"), None);
+    assert_eq!(without.get("mu_init"), Some(&Num(s.warm_start.mu_init)));
+    let mut own = s.clone();
+    own.ipopt_options.insert("mu_init".into(), ExtraOption::Num(1e-4));
+    assert_eq!(own.level_ipopt(400, 1000, false, Some(mu(400))).get("mu_init"), Some(&Num(1e-4)));
+
+    let mut bad = s.clone();
+    bad.warm_start.barrier = Some(refine::BarrierSchedule { mu: 0.5, exponent: 2.0 });
+    assert_eq!(bad.validate().unwrap_err().field, "warm_start.barrier.mu");
+    bad.warm_start.barrier = Some(refine::BarrierSchedule { mu: 1e-3, exponent: -1.0 });
+    assert_eq!(bad.validate().unwrap_err().field, "warm_start.barrier.exponent");
+    let off: refine::WarmStart = serde_json::from_str(r#"{ "barrier": null }"#).unwrap();
+    assert_eq!(off.barrier, None);
+    let default: refine::WarmStart = serde_json::from_str("{}").unwrap();
+    assert_eq!(default.barrier, Some(refine::DEFAULT_BARRIER));
+}
+
+/// A ladder with the barrier schedule reports each level's `μ_m`, and ends at a clean optimum of
+/// the same NLP: a barely started re-solve from it stays put. The same ladder without a schedule
+/// reports none.
+#[test]
+fn a_scheduled_ladder_reports_its_barriers_and_ends_at_an_optimum() {
+    let n = 200;
+    let problem = scaled_family(n);
+    let ladder = Ladder { from: 50, factor: 2.0 };
+    let s = settings(Refine::Ladder(ladder));
+    let r = solve_design(&problem, &start_of(n), Formulation::Full, &s, &mut |_| true).unwrap();
+    let levels = &r.refinement.as_ref().unwrap().levels;
+    let sizes: Vec<usize> = levels.iter().map(|l| l.links).collect();
+    assert_eq!(sizes, vec![50, 100, 200]);
+    for l in levels {
+        assert_eq!(l.barrier, s.level_barrier(50, l.links), "level {}", l.links);
+        assert!(l.optimal, "level {}: {}", l.links, l.status);
+    }
+    assert!(r.solver.optimal && r.is_clean(), "{} {:?}", r.solver.status, r.warnings);
+    let (s1, s2) = states_of(&r);
+    let (j, iterations, optimal) = stays_at(&problem, &r.design, (&s1, &s2));
+    assert!(optimal && j <= r.objective * (1.0 + 1e-6), "re-solve: {iterations} iterations to J = {j:.9e}");
+
+    let mut plain = s.clone();
+    plain.warm_start.barrier = None;
+    let r0 = solve_design(&problem, &start_of(n), Formulation::Full, &plain, &mut |_| true).unwrap();
+    assert!(r0.refinement.as_ref().unwrap().levels.iter().all(|l| l.barrier.is_none()));
+    assert!(r0.solver.optimal && r0.is_clean());
+    eprintln!("N = {n}: J scheduled {:.9e}, without {:.9e}", r.objective, r0.objective);
+}

@@ -165,9 +165,53 @@ pub struct WarmStart {
     pub coarse_tolerance: f64,
     /// Iterations after which the finest level, not yet converged, is restarted from its current
     /// iterate with fresh multipliers and a fresh filter (`mu_init` = `solver.tolerance`/10), at
-    /// most [`MAX_RESTARTS`] times; 0: never (default 100). See docs/design.md, "Mesh sequencing".
+    /// most [`MAX_RESTARTS`] times; 0: never (default 200, a safety net: with the barrier schedule no
+    /// level of fourteen sizes from 500 to 10⁴ links took more than 121). See docs/design.md,
+    /// "Mesh sequencing".
     pub restart_after: usize,
+    /// The ladder's barrier schedule ([`BarrierSchedule`], default `{ "mu": 3e-3, "exponent": 2 }`);
+    /// `null`: every coarse level is solved to its optimum and every warm level starts at
+    /// `mu_init` (the ladder before 2026-11-29).
+    pub barrier: Option<BarrierSchedule>,
 }
+
+/// The barrier parameter each level of a ladder is solved to (docs/design.md, "The ladder's
+/// barrier schedule"): level `m` of a ladder from `from` links is solved to the barrier problem of
+/// `μ_m = mu · (from / m)^exponent` (Ipopt's `mu_target`; `μ_m` is Ipopt's scaled barrier
+/// parameter, dimensionless), and a warm level starts at its own `μ_m` (`mu_init`, bound
+/// multipliers `μ_m / slack`); the chain itself starts at `μ_N` and is solved to `tolerance`.
+///
+/// A coarse optimum is bang-bang with sharp edges that a finer chain places elsewhere, so a warm
+/// level started from it wanders until its edges have moved; a barrier solution is smooth on the
+/// scale of the barrier, and one whose barrier shrinks with the mesh (`exponent` 2: four times per
+/// doubling) is a start the next level only sharpens.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BarrierSchedule {
+    /// `μ` of the coarsest level, in (0, 0.1].
+    pub mu: f64,
+    /// How fast `μ` falls with the number of links, in [0, 4].
+    pub exponent: f64,
+}
+
+impl BarrierSchedule {
+    /// `μ_m` of level `m` of a ladder from `from` links, never below `floor`.
+    pub fn mu_at(&self, from: usize, m: usize, floor: f64) -> f64 {
+        (self.mu * (from as f64 / m as f64).powf(self.exponent)).max(floor)
+    }
+
+    /// Why the schedule is not usable, naming the field.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        let (mu, exponent) = (self.mu, self.exponent);
+        require(mu.is_finite() && mu > 0.0 && mu <= 0.1, "mu", || format!("must be a number in (0, 0.1], got {mu}"))?;
+        require(exponent.is_finite() && (0.0..=4.0).contains(&exponent), "exponent", || {
+            format!("must be a number in [0, 4], got {exponent}")
+        })
+    }
+}
+
+/// The default [`BarrierSchedule`] (docs/design.md: fourteen sizes from 500 to 10⁴ links).
+pub const DEFAULT_BARRIER: BarrierSchedule = BarrierSchedule { mu: 3e-3, exponent: 2.0 };
 
 /// Most restarts of the finest level ([`WarmStart::restart_after`]); the last one runs to
 /// Ipopt's own end.
@@ -183,7 +227,8 @@ impl Default for WarmStart {
             mult_bound_push: 1e-8,
             restore_end_displacement: true,
             coarse_tolerance: 1e-5,
-            restart_after: 100,
+            restart_after: 200,
+            barrier: Some(DEFAULT_BARRIER),
         }
     }
 }
@@ -202,6 +247,10 @@ impl WarmStart {
         let tol = self.coarse_tolerance;
         require(tol.is_finite() && tol > 0.0 && tol <= 1.0, "coarse_tolerance", || {
             format!("must be a number in (0, 1], got {tol}")
-        })
+        })?;
+        match self.barrier {
+            Some(barrier) => barrier.validate().map_err(|e| e.under("barrier")),
+            None => Ok(()),
+        }
     }
 }
