@@ -380,6 +380,9 @@ fn refined_design_reports_every_level_and_is_deterministic() {
         let levels = r["refinement"]["levels"].as_array().unwrap();
         assert_eq!(levels.iter().map(|l| l["links"].as_u64().unwrap()).collect::<Vec<_>>(), vec![5, 10]);
         assert_eq!(levels[0]["start"], "cold");
+        // The default barrier schedule: μ 3e-3 at the coarsest level, four times smaller per doubling.
+        assert_eq!((levels[0]["barrier"].as_f64(), levels[1]["barrier"].as_f64()), (Some(3e-3), Some(7.5e-4)));
+        assert!(stdout.contains("at barrier μ = 3.0e-3") && stdout.contains("from barrier μ = 7.5e-4"), "{stdout}");
         assert!(levels.iter().all(|l| l.get("wall_seconds").is_none()), "timings left in a deterministic result");
         assert_eq!(r["solver"]["status"], levels[1]["status"]);
         assert_eq!(r["solver"]["ipopt_options"]["honor_original_bounds"], "no");

@@ -141,15 +141,23 @@ impl DesignCaseResult {
         )?;
         if let Some(refinement) = &r.refinement {
             let (symbol, unit) = r.criterion.symbol_and_unit();
+            let finest = refinement.levels.last().map(|l| l.links);
             for l in &refinement.levels {
                 let restarts = match l.restarts {
                     0 => String::new(),
                     1 => " (1 restart)".to_string(),
                     r => format!(" ({r} restarts)"),
                 };
+                // A coarse level of a barrier schedule ends on its barrier problem, the chain
+                // itself starts there (`refine::BarrierSchedule`).
+                let barrier = match l.barrier {
+                    Some(mu) if Some(l.links) == finest => format!(" from barrier μ = {mu:.1e}"),
+                    Some(mu) => format!(" at barrier μ = {mu:.1e}"),
+                    None => String::new(),
+                };
                 writeln!(
                     f,
-                    "  level {:>5} links ({} start): {} after {} iterations{restarts}, {symbol} = {:.10e}{unit}",
+                    "  level {:>5} links ({} start): {}{barrier} after {} iterations{restarts}, {symbol} = {:.10e}{unit}",
                     l.links, l.start, l.status, l.iterations, l.objective
                 )?;
             }
