@@ -306,13 +306,12 @@ fn solve_refined(
         let (level, how, design, states) = (setup.problem(problem), setup.start, &setup.design, &setup.states);
         let start_seconds = clock.elapsed().as_secs_f64();
         let form = settings.state_variables.resolve(level, settings.smaller_tolerance());
+        let cold = how == LevelStart::Cold;
         // The finest warm level is restarted after `restart_after` iterations (docs/design.md).
-        let restart_after =
-            if m == n && how != LevelStart::Cold && warm.restart_after > 0 { warm.restart_after } else { usize::MAX };
+        let restart_after = if m == n && !cold && warm.restart_after > 0 { warm.restart_after } else { usize::MAX };
         let mut budget = RestartBudget { after: restart_after, reached: false };
         // The coarse levels only prepare a start: solved to the coarse tolerance, and to their
         // barrier problem when the ladder has a barrier schedule.
-        let cold = how == LevelStart::Cold;
         let barrier = if fell_back { None } else { settings.level_barrier(ladder.from, m) };
         let options = settings.level_ipopt(m, n, cold, barrier);
         let prolonged_multipliers = |nlp: &FullSpaceNlp<'_>| {
