@@ -30,7 +30,9 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
-usage() {
+# A refusal: why, on one line, exit 2, nothing submitted and nothing written.
+refuse() {
+  echo "error: census: $*; nothing submitted" >&2
   echo "usage: $0 [--tasks T] [--max-batches M] [--deterministic] [--wait] CASE.json P OUT" >&2
   exit 2
 }
@@ -43,32 +45,51 @@ deterministic=""
 wait=""
 batch=""
 args=()
+# The value of option $1 (the next argument), refused when it is missing or is another option.
+value_of() {
+  [ $# -ge 2 ] && [ -n "$2" ] && [[ "$2" != --* ]] || refuse "$1 needs a value"
+}
 while [ $# -gt 0 ]; do
   case "$1" in
-    --tasks) tasks="${2:-}"; shift 2 ;;
-    --max-batches) max_batches="${2:-}"; shift 2 ;;
+    --tasks) value_of "$@"; tasks="$2"; shift 2 ;;
+    --max-batches) value_of "$@"; max_batches="$2"; shift 2 ;;
     --deterministic) deterministic=1; shift ;;
     --wait) wait=1; shift ;;
-    --task | --merge) mode="${1#--}"; batch="${2:-}"; shift 2 ;;
-    -*) echo "census: unknown option $1" >&2; usage ;;
+    --task | --merge) value_of "$@"; mode="${1#--}"; batch="$2"; shift 2 ;;
+    -*) refuse "unknown option $1" ;;
     *) args+=("$1"); shift ;;
   esac
 done
-[ ${#args[@]} -eq 3 ] || usage
+[ ${#args[@]} -eq 3 ] || refuse "CASE.json, P and OUT expected, got ${#args[@]} argument(s)"
 case_file="${args[0]}" p="${args[1]}" out="${args[2]}"
-[[ "$tasks" =~ ^[1-9][0-9]{0,4}$ ]] || { echo "census: --tasks: a whole number 1..99999 expected, got '$tasks'" >&2; exit 2; }
+[[ "$tasks" =~ ^[1-9][0-9]{0,4}$ ]] || refuse "--tasks: a whole number 1..99999 expected, got '$tasks'"
 if [ -n "$max_batches" ]; then
-  [[ "$max_batches" =~ ^[1-9][0-9]{0,2}$|^1000$ ]] ||
-    { echo "census: --max-batches: a whole number 1..1000 expected, got '$max_batches'" >&2; exit 2; }
+  [[ "$max_batches" =~ ^[1-9][0-9]{0,2}$|^1000$ ]] || refuse "--max-batches: a whole number 1..1000 expected, got '$max_batches'"
 fi
-[ -f "$case_file" ] || { echo "census: CASE: no such file: $case_file" >&2; exit 2; }
+[[ "$p" =~ ^[0-9.eE+-]+$ ]] || refuse "P: a probability strictly between 0 and 1 expected (e.g. 0.05), got '$p'"
+[ -f "$case_file" ] || refuse "CASE: no such file: $case_file"
 spine="${SPINE:-$(command -v spine || true)}"
-[ -x "$spine" ] || { echo "census: no spine program (set SPINE or put spine in PATH)" >&2; exit 2; }
+[ -x "$spine" ] || refuse "no spine program (set SPINE or put spine in PATH)"
 case_file="$(realpath "$case_file")"
 out="$(realpath -m "$out")"
 spine="$(realpath "$spine")"
 export SPINE="$spine"
 name="spine-census-$(printf '%s' "$(realpath -m "$out")" | cksum | cut -d' ' -f1)"
+
+# OUT is census.sh's own folder: never the working directory, the case's folder or one above it,
+# never inside this repository (results are not sources), and, when it already holds files, only
+# a folder this script made (its marker), so that census.status and logs/ never land among a
+# user's files.
+marker="$out/.spine-census"
+repo="$(cd "$here/../.." && pwd -P)"
+case_dir="$(dirname "$case_file")"
+[ "$out" != "$(pwd -P)" ] || refuse "OUT is the working directory; give a folder of its own"
+case "$case_dir/" in "$out"/*) refuse "OUT ($out) holds the case file; give a folder of its own" ;; esac
+case "$out/" in "$repo"/*) refuse "OUT ($out) is inside the repository ($repo); give a folder outside it" ;; esac
+if [ -e "$out" ] && ! [ -d "$out" ]; then refuse "OUT ($out) is a file"; fi
+if [ -d "$out" ] && [ -n "$(ls -A "$out")" ] && ! [ -f "$marker" ]; then
+  refuse "OUT ($out) holds files census.sh did not write (no $marker); give a new or empty folder"
+fi
 
 # The single run's options: the confidence and, with --max-batches, the cap on starts.
 design_opts=(--confidence "$p")
@@ -152,8 +173,14 @@ case "$mode" in
     ;;
 esac
 
-# The driver: find where the census stands, submit what comes next.
-command -v sbatch >/dev/null || { echo "census: no sbatch here (run it where Slurm is)" >&2; exit 2; }
+# The driver: check what the jobs will run, find where the census stands, submit what comes next.
+# `spine design --check` is the task's own command (batch 1, shard 1) solving nothing: the case is
+# a design case, P is a probability in (0, 1), the cap fits; its refusal is this script's.
+check="$("$spine" design "$case_file" "${design_opts[@]}" --batch 1 --shard "1/$tasks" --check \
+  --out "$out/batch-1/shard-1" 2>&1 >/dev/null)" || { check="${check#error: }"; refuse "spine design --check: ${check% (see --help)}"; }
+command -v sbatch >/dev/null || refuse "no sbatch here (run it where Slurm is)"
+mkdir -p "$out"
+[ -f "$marker" ] || printf '%s\n' "# written by scripts/slurm/census.sh: this folder is a census's (batch-*/, census/, census.status, logs/)" >"$marker"
 if squeue -h -n "$name" -o %i 2>/dev/null | grep -q .; then
   echo "census: jobs of this census are still queued or running ($name); not submitting again" >&2
   [ -z "$wait" ] && exit 1

@@ -101,7 +101,10 @@ echo "slurm-test: a cancelled array leaves no half-written shard; the merge refu
 
 # 4. The census to a stated confidence, with a failure on the way and a resume.
 "$SPINE" design "$case_file" --confidence 0.05 --jobs 2 --deterministic --out census-single >/dev/null
+# The census's folder as census.sh marks it, with a file of the test's in one shard's folder: spine
+# refuses to write that shard, so batch 2 fails.
 mkdir -p census/batch-2/shard-2
+echo "# written by scripts/slurm/census.sh (the test stands in for its first run)" >census/.spine-census
 echo "in the way" >census/batch-2/shard-2/notes.txt
 code=0
 timeout 600 "$root/scripts/slurm/census.sh" --tasks 2 --deterministic --wait "$case_file" 0.05 "$dir/census" || code=$?

@@ -204,6 +204,18 @@ impl ValidDesign {
     }
 }
 
+/// A census's target P(a better optimum unseen) ≤ P, wherever it is read (the case file's
+/// `multistart.confidence`, `--confidence`, flexspine's `confidence=`, a shard's overrides): a
+/// probability strictly between 0 and 1. At 0 the census could never end; at 1 or above it has
+/// ended before it starts.
+pub fn check_confidence(p: f64) -> Result<f64, String> {
+    if p > 0.0 && p < 1.0 {
+        Ok(p)
+    } else {
+        Err(format!("must be a probability strictly between 0 and 1 (e.g. 0.01), got {p}"))
+    }
+}
+
 impl DesignCase {
     pub fn validate(&self) -> Result<ValidDesign, CaseError> {
         let mut chain = self.chain.validate()?;
@@ -215,6 +227,7 @@ impl DesignCase {
                 format!("must be a finite displacement (m), got {}", self.delta_d),
             ));
         }
+        crate::specs::check_reach("delta_d", self.delta_d, chain.length_x())?;
         positive("stiffness_scale", self.stiffness_scale, "(C_K)")?;
 
         let bounds = self.bounds.validate(n, chain.length_x())?;
@@ -227,13 +240,9 @@ impl DesignCase {
             ));
         }
         if let Some(p) = self.multistart.confidence {
-            if !(p > 0.0 && p < 1.0) {
-                return Err(CaseError::invalid(
-                    "multistart.confidence",
-                    format!("must be a probability strictly between 0 and 1 (e.g. 0.01), got {p}"),
-                ));
-            }
+            check_confidence(p).map_err(|m| CaseError::invalid("multistart.confidence", m))?;
         }
+        crate::specs::check_runs_memory("multistart.starts", self.multistart.starts + 1, n)?;
         self.solver.validate().map_err(|e| e.under("solver"))?;
         let (formulation, settings) = self.preset.apply(self.formulation, &self.solver);
         if matches!(settings.refine, Refine::Ladder(_)) && formulation == Formulation::Reduced {

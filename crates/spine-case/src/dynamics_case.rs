@@ -4,6 +4,7 @@
 pub use crate::dynamics_specs::{DampingDesignSpec, PeriodicDesignSpec, StaticDesignSpec};
 
 use crate::design_case::{DesignCase, MultiStartSpec, ValidDesign};
+use crate::dynamics_checks::{check_periodic, check_periodic_forcing, check_simulation};
 use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
@@ -122,58 +123,6 @@ pub const MAX_ITERATIONS: usize = 10_000;
 /// located to round-off on a simulated response; tighter is noise).
 pub const MIN_TOLERANCE: f64 = 1e-14;
 
-/// A periodic response's settings (`prefix`: `periodic` or `periodic_design.settings.response`).
-fn check_periodic(prefix: &str, p: &spine_dynamics::PeriodicSettings) -> Result<(), CaseError> {
-    let field = |name: &str| format!("{prefix}.{name}");
-    if !(2..=MAX_PERIODS).contains(&p.max_periods) {
-        let message = format!("must be between 2 and {MAX_PERIODS}, got {}", p.max_periods);
-        return Err(CaseError::invalid(field("max_periods"), message));
-    }
-    if !(2..=MAX_SAMPLES).contains(&p.samples_per_period) {
-        let message = format!("must be between 2 and {MAX_SAMPLES}, got {}", p.samples_per_period);
-        return Err(CaseError::invalid(field("samples_per_period"), message));
-    }
-    positive(&field("settle_tolerance"), p.settle_tolerance, "")?;
-    check_fraction(&field("reach_fraction"), p.reach_fraction)?;
-    check_integrator(&field("integrator"), &p.integrator)?;
-    Ok(p.continuation.validate().map_err(|e| e.under(&field("continuation")))?)
-}
-
-/// The step response's settings (`simulation`): time span, samples, rise fraction, settling
-/// tolerance, integrator and continuation.
-fn check_simulation(s: &spine_dynamics::StepSettings) -> Result<(), CaseError> {
-    positive("simulation.t_end", s.t_end, "s")?;
-    let counts = [
-        ("simulation.t_end", s.t_end <= MAX_T_END, format!("at most {MAX_T_END} s, got {}", s.t_end)),
-        ("simulation.samples", s.samples <= MAX_SAMPLES, format!("at most {MAX_SAMPLES}, got {}", s.samples)),
-    ];
-    for (field, ok, message) in counts {
-        if !ok {
-            return Err(CaseError::invalid(field, message));
-        }
-    }
-    check_fraction("simulation.rise_fraction", s.rise_fraction)?;
-    positive("simulation.settle_tolerance", s.settle_tolerance, "")?;
-    if s.samples < 2 {
-        return Err(CaseError::invalid("simulation.samples", format!("must be at least 2, got {}", s.samples)));
-    }
-    check_integrator("simulation.integrator", &s.integrator)?;
-    s.continuation.validate().map_err(|e| e.under("simulation.continuation"))?;
-    Ok(())
-}
-
-fn check_integrator(prefix: &str, o: &spine_dynamics::Options) -> Result<(), CaseError> {
-    Ok(o.validate().map_err(|e| e.under(prefix))?)
-}
-
-fn check_fraction(field: &str, v: f64) -> Result<(), CaseError> {
-    if v > 0.0 && v < 1.0 {
-        Ok(())
-    } else {
-        Err(CaseError::invalid(field, format!("must be in (0, 1), got {v}")))
-    }
-}
-
 impl DynamicsCase {
     /// Checks the case for what `kind` asks of it.
     pub fn validate_for(&self, kind: DynamicKind) -> Result<ValidDynamics, CaseError> {
@@ -193,13 +142,18 @@ impl DynamicsCase {
 
         let s = &self.simulation;
         check_simulation(s)?;
+        s.integrator.check_reach(s.t_end, 2 * n).map_err(|e| CaseError::from(e.under("simulation.integrator")))?;
         check_periodic("periodic", &self.periodic)?;
+        check_periodic_forcing("periodic", &self.forcing, &self.periodic, n)?;
 
         let task = match kind {
             DynamicKind::Simulate => self.simulate_task()?,
             DynamicKind::Damping => self.damping_task()?,
             DynamicKind::Periodic => self.periodic_task()?,
         };
+        if let DynamicsTask::Periodic { delta_d, .. } = &task {
+            crate::specs::check_reach("periodic_design.delta_d", *delta_d, chain.length_x())?;
+        }
         Ok(ValidDynamics {
             chain,
             design,
@@ -390,6 +344,7 @@ impl DynamicsCase {
             ));
         }
         check_periodic("periodic_design.settings.response", &st.response)?;
+        check_periodic_forcing("periodic_design.settings.response", &self.forcing, &st.response, self.chain.links)?;
         Ok(DynamicsTask::Periodic { delta_d: pd.delta_d, method: pd.method, settings: st.clone() })
     }
 }

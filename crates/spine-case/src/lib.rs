@@ -13,6 +13,8 @@
 //! * `dynamics_case`: `"kind": "simulate" | "damping" | "periodic"`: the dynamics of Sec. 5.2 — a
 //!   step or periodic response, the damping design of eq. (35), the periodic-load design of eq.
 //!   (37).
+//! * `dynamics_checks`: The checks of a dynamic case's settings that do not depend on its kind:
+//!   the step response's, a periodic response's and a periodic forcing against the response.
 //! * `dynamics_specs`: The sections of a dynamic case that set up a design: eq. (33) first
 //!   (`static_design`), eq. (35) (`damping_design`), eq. (37) (`periodic_design`).
 //! * `equilibrium_case`: `"kind": "equilibrium"`: the passive and loaded equilibria of a given
@@ -79,6 +81,7 @@ mod continuum_case;
 mod design_case;
 mod dynamic_kinds;
 mod dynamics_case;
+mod dynamics_checks;
 mod dynamics_specs;
 mod equilibrium_case;
 mod error;
@@ -95,7 +98,7 @@ mod twolink_case;
 
 pub use case::{json_schema, Case, ValidRun, KINDS};
 pub use continuum_case::{ContinuumCase, ValidContinuum};
-pub use design_case::{BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
+pub use design_case::{check_confidence, BoundsSpec, DesignCase, MultiStartSpec, StartSpec, ValidDesign, MAX_STARTS};
 pub use dynamic_kinds::{DampingCase, PeriodicCase, SimulateCase};
 pub use dynamics_case::{
     DampingDesignSpec, DesignSource, DynamicKind, DynamicsCase, DynamicsTask, PeriodicDesignSpec, StaticDesignSpec,
@@ -107,11 +110,13 @@ pub use figure_case::{merge_patch, FigureCase, FigureRun, MergedRun, FIGURES, MA
 pub use objective_spec::{
     check_formulation, ComplianceSpec, ConstraintsSpec, ObjectiveSpec, PeakMomentSpec, MAX_EXPONENT,
 };
-pub use parameter::{canonical_parameter, LOAD_SCALE};
-pub use parse::MAX_CASE_BYTES;
+pub use parameter::{canonical_parameter, LOAD_SCALE, PHYSICS};
+pub use parse::{from_json_text, MAX_CASE_BYTES};
 pub use per_item::PerItem;
 pub use read::{read_text, ReadError};
-pub use specs::{Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS};
+pub use specs::{
+    check_runs_memory, run_bytes, Assumption, ChainSpec, DesignSpec, GivenDesign, LoadSpec, Notes, MAX_LINKS,
+};
 pub use spine_check::FieldError;
 pub use twolink_case::{TwoLinkCase, ValidTwoLink};
 

@@ -52,7 +52,7 @@ pub fn canonical_parameter(name: &str) -> String {
 /// The fields that are numbers of the physics (loads, geometry, masses, gravity, bounds, δ_d,
 /// C_K): what a sensitivity or a sweep may change. Counts (`chain.links`), the start, the
 /// multi-start's seed and the solver's settings are not parameters of eq. (33).
-const PHYSICS: [&str; 15] = [
+pub const PHYSICS: [&str; 16] = [
     "delta_d",
     "stiffness_scale",
     "loads.p_y",
@@ -67,6 +67,7 @@ const PHYSICS: [&str; 15] = [
     "bounds.stiffness_max",
     "bounds.height_min",
     "bounds.height_max",
+    "bounds.height_ramp",
     LOAD_SCALE,
 ];
 
@@ -85,6 +86,9 @@ fn number(json: &Value, name: &str, links: usize) -> Result<f64, CaseError> {
         ));
     }
     let value = field.split('.').try_fold(json, |v, key| v.get(key)).filter(|v| !v.is_null());
+    // The ramp is left out of the case's JSON at its default, the paper's bound.
+    let ramp = Value::from(0.0);
+    let value = value.or((field == "bounds.height_ramp").then_some(&ramp));
     let number = match (value, index) {
         (Some(Value::Number(x)), None) => x.as_f64(),
         (Some(Value::Number(x)), Some(i)) if entries(field, links).is_some_and(|len| i < len) => x.as_f64(),
@@ -177,6 +181,16 @@ mod tests {
         let text = include_str!("../../../paper-cases/design5.json");
         let Case::Design(c) = Case::from_json(text).unwrap() else { panic!("design5 is a design case") };
         c
+    }
+
+    #[test]
+    fn the_documented_parameters_are_the_parsers() {
+        let doc = include_str!("../../../docs/sensitivity.md");
+        let (_, rest) = doc.split_once("<!-- parameters: begin -->").expect("docs/sensitivity.md has the list");
+        let (list, _) = rest.split_once("<!-- parameters: end -->").expect("the list ends");
+        let documented: Vec<&str> = list.split('`').skip(1).step_by(2).collect();
+        assert_eq!(documented, super::PHYSICS, "docs/sensitivity.md's parameter list is not spine_case's PHYSICS");
+        assert_eq!(design5().parameter_value("bounds.height_ramp").unwrap(), 0.0, "the ramp is a parameter");
     }
 
     #[test]

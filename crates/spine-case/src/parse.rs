@@ -23,11 +23,63 @@ pub fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, CaseErr
     })
 }
 
+/// JSON text (a shard, a file the workspace wrote and a person may have edited) parsed into `T`
+/// without a value in between (a shard may hold hundreds of megabytes): text that is not JSON is
+/// reported with its line and column, a field of the wrong form by its path with [`plain`]'s
+/// wording (`batch: a whole number ≥ 0 is expected, got "2"`), never serde's.
+pub fn from_json_text<T: DeserializeOwned>(text: &str) -> Result<T, CaseError> {
+    let syntax = |e: &serde_json::Error| {
+        let what = e.to_string();
+        let what = what.split(" at line ").next().unwrap_or_default().to_string();
+        CaseError::parse("JSON", format!("not valid JSON at line {}, column {}: {what}", e.line(), e.column()))
+    };
+    let mut de = serde_json::Deserializer::from_str(text);
+    let value = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        if inner.is_syntax() || inner.is_eof() {
+            return syntax(&inner);
+        }
+        let message = inner.to_string();
+        let message = message.rsplit_once(" at line ").map_or(message.as_str(), |(m, _)| m);
+        let field = if path == "." { "the file".to_string() } else { path };
+        CaseError::parse(field, plain(message))
+    })?;
+    de.end().map_err(|e| syntax(&e))?;
+    Ok(value)
+}
+
+/// What a field of an untagged choice (a value that may take one of several forms) allows, by the
+/// type's name in serde's `data did not match any variant of untagged enum NAME`.
+fn untagged_forms(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "Refine" => "\"auto\", \"off\", or a ladder such as {\"from\": 50, \"factor\": 2}",
+        "ExtraOption" => "a number, a whole number or a text (an Ipopt option's value)",
+        _ => return None,
+    })
+}
+
 /// serde's wording for a person: `invalid type: null, expected f64` becomes `a number is
 /// expected, got null`; `invalid value: integer `-1`, expected usize` becomes `a whole number ≥ 0
 /// is expected, got -1`; `unknown field `x`, expected one of `a`, `b`` becomes `unknown field;
-/// allowed: a, b`. Other messages are kept.
+/// allowed: a, b`; a choice that needs its settings given as a bare name (`"peak_moment"`), or one
+/// without settings given as an object, says how to write it; an untagged choice lists its forms.
+/// Other messages are kept.
 pub(crate) fn plain(message: &str) -> String {
+    if let Some(name) = message.strip_prefix("data did not match any variant of untagged enum ") {
+        return match untagged_forms(name.trim()) {
+            Some(forms) => format!("not one of the allowed forms: {forms}"),
+            None => "not one of the allowed forms of this field (docs/case-format.md lists them)".into(),
+        };
+    }
+    if message.starts_with("invalid type: unit variant, expected newtype variant")
+        || message.starts_with("invalid type: unit variant, expected struct variant")
+    {
+        return "this choice takes settings: write it as an object, {\"NAME\": {…}} (an empty {} keeps the defaults of the settings that have one)".into();
+    }
+    if message.ends_with("expected unit variant") {
+        return "this choice takes no settings: write its name alone, as a text (\"NAME\")".into();
+    }
     let expected = |what: &str| -> String {
         let what = what.trim();
         match what {
@@ -183,5 +235,29 @@ mod plain_tests {
             "\"x\" is not allowed; allowed: \"full\" or \"reduced\""
         );
         assert_eq!(plain("something else"), "something else");
+        let refine = plain("data did not match any variant of untagged enum Refine");
+        assert!(refine.contains("\"auto\", \"off\"") && refine.contains("from"), "{refine}");
+        let bare = plain("invalid type: unit variant, expected newtype variant");
+        assert!(bare.contains("object") && !bare.contains("variant"), "{bare}");
+        let settings = plain("invalid type: map, expected unit variant");
+        assert!(settings.contains("no settings") && !settings.contains("variant"), "{settings}");
+    }
+
+    #[test]
+    fn json_text_errors_name_the_field_in_our_words() {
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct Shard {
+            batch: usize,
+            runs: Vec<f64>,
+        }
+        let e = super::from_json_text::<Shard>(r#"{"batch": "2", "runs": []}"#).unwrap_err().to_string();
+        assert_eq!(e, "batch: a whole number ≥ 0 is expected, got \"2\"");
+        let e = super::from_json_text::<Shard>(r#"{"batch": 2, "runs": [1, null]}"#).unwrap_err().to_string();
+        assert_eq!(e, "runs[1]: a number is expected, got null");
+        let e = super::from_json_text::<Shard>("{\"batch\": 2,\n \"runs\": [1,").unwrap_err().to_string();
+        assert!(e.starts_with("JSON: not valid JSON at line 2, column") && !e.contains(" at line 2 column"), "{e}");
+        let e = super::from_json_text::<Shard>(r#"{"batch": 2, "runs": []} x"#).unwrap_err().to_string();
+        assert!(e.contains("not valid JSON"), "{e}");
     }
 }

@@ -281,3 +281,34 @@ impl GivenDesign {
         Ok(design)
     }
 }
+
+/// An end displacement `δ = X_{N+1} − L_x` the chain can reach: the links keep within ±π/2 of
+/// the X axis (the paper's assumption, and every bound of eq. (33)), so the end stays on the far
+/// side of the base, `X_{N+1} > 0`, that is `δ > −L_x`. The error names `field` and the reach.
+pub(crate) fn check_reach(field: &str, delta: f64, length_x: f64) -> Result<(), CaseError> {
+    if delta > -length_x {
+        return Ok(());
+    }
+    Err(CaseError::invalid(
+        field,
+        format!(
+            "{delta} m is beyond the chain's reach: the end cannot pass the base (X_N+1 > 0 with every link within ±90° of the X axis), so δ > −L_x = {} m",
+            -length_x
+        ),
+    ))
+}
+
+/// Bytes one design run of an `links`-link chain keeps until its census is settled (the design,
+/// both equilibria, the multipliers of every row and bound, the certificate's numbers: about 25
+/// numbers per link, with the run's bookkeeping).
+pub fn run_bytes(links: usize) -> f64 {
+    200.0 * links as f64 + 4096.0
+}
+
+/// `runs` kept design runs of an `links`-link chain within the memory budget
+/// ([`spine_stop::memory`]); the error names `field` (the count to lower) and `chain.links`.
+pub fn check_runs_memory(field: &str, runs: usize, links: usize) -> Result<(), CaseError> {
+    spine_stop::memory::fits(runs as f64 * run_bytes(links)).map_err(|why| {
+        CaseError::invalid(field, format!("{runs} runs of a {links}-link chain (chain.links) {why}; give fewer"))
+    })
+}

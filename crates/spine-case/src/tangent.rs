@@ -56,6 +56,7 @@ impl DesignCase {
             "bounds.stiffness_max" => unit(&mut rates.bounds.stiffness_max, index),
             "bounds.height_min" => rates.bounds.height_min = 1.0,
             "bounds.height_max" => rates.bounds.height_max = 1.0,
+            "bounds.height_ramp" => rates.bounds.height_ramp = 1.0,
             other => {
                 return Err(CaseError::invalid("--param", format!("`{other}` has no rates in eq. (33)'s problem")))
             }
@@ -109,6 +110,7 @@ mod tests {
             "bounds.stiffness_min",
             "bounds.stiffness_max[2]",
             "bounds.height_min",
+            "bounds.height_ramp",
         ];
         let mut checked = 0;
         for c in [&design5, &by_spans, &weightless] {

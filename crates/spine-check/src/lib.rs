@@ -78,7 +78,7 @@ pub fn shown(text: &str) -> String {
 /// ```
 pub fn shown_within(text: &str, max: usize) -> String {
     let escaped = |c: char| -> String {
-        if c.is_control() {
+        if c.is_control() || is_bidi_control(c) {
             c.escape_default().collect()
         } else {
             c.to_string()
@@ -103,6 +103,43 @@ pub fn shown_within(text: &str, max: usize) -> String {
 /// assert_eq!(spine_check::short_numbers("runs[1].x: got 0.25"), "runs[1].x: got 0.25");
 /// ```
 pub fn short_numbers(text: &str) -> String {
+    shorten(text, 12, false)
+}
+
+/// Whether `c` reorders the text around it on a terminal (the Unicode bidirectional controls:
+/// embeddings, overrides, isolates and marks): an echoed name holding one could show other text
+/// than it is, so every echo writes them as escapes, like control characters.
+pub fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// Text as the workspace prints it for a person (stdout summaries, claims, notes): every number
+/// longer than 20 characters in [`short`] form (a value printed in full: `1e300` is 301 digits;
+/// numbers a summary formats itself, `7.6031243587e-3`, are kept), except whole numbers of at most
+/// 20 digits (counts, seeds and start numbers are exact), and control characters other than the
+/// line breaks and bidirectional controls escaped ([`is_bidi_control`]).
+///
+/// ```
+/// let line = format!("reach {} s, J = 7.6031243587e-3 J, seed 18446744073709551615\n", 1e300);
+/// assert_eq!(spine_check::readable(&line), "reach 1e300 s, J = 7.6031243587e-3 J, seed 18446744073709551615\n");
+/// assert_eq!(spine_check::readable("a\u{202e}b\u{1b}[2J\n"), "a\\u{202e}b\\u{1b}[2J\n");
+/// ```
+pub fn readable(text: &str) -> String {
+    shorten(text, 20, true)
+        .chars()
+        .map(|c| {
+            if (c.is_control() && c != '\n' && c != '\t') || is_bidi_control(c) {
+                c.escape_default().collect()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// Every number longer than `longest` characters in [`short`] form; with `keep_integers`, whole
+/// numbers of at most 20 digits are kept.
+fn shorten(text: &str, longest: usize, keep_integers: bool) -> String {
     let chars: Vec<char> = text.chars().collect();
     let mut out = String::with_capacity(text.len());
     let mut i = 0;
@@ -126,8 +163,10 @@ pub fn short_numbers(text: &str) -> String {
             }
         }
         let token: String = chars[i..j].iter().collect();
+        let digits = token.trim_start_matches('-');
+        let exact_integer = keep_integers && digits.len() <= 20 && digits.bytes().all(|b| b.is_ascii_digit());
         match token.parse::<f64>() {
-            Ok(x) if token.len() > 12 => out.push_str(&short(x)),
+            Ok(x) if token.len() > longest && !exact_integer => out.push_str(&short(x)),
             _ => out.push_str(&token),
         }
         i = j;
@@ -136,12 +175,16 @@ pub fn short_numbers(text: &str) -> String {
 }
 
 /// A number in a short form for a message: as Rust prints it (plainly or in scientific form) when
-/// that is at most 10 characters, else in scientific form with 6 significant digits and no trailing zeros.
+/// that is at most 10 characters, else to 6 significant digits without trailing zeros: plainly
+/// from a thousandth to a million, in scientific form beyond.
 ///
 /// ```
 /// assert_eq!(spine_check::short(0.25), "0.25");
 /// assert_eq!(spine_check::short(1e-322), "1e-322");
-/// assert_eq!(spine_check::short(1.0 / 3.0), "3.33333e-1");
+/// assert_eq!(spine_check::short(1.0 / 3.0), "0.333333");
+/// assert_eq!(spine_check::short(-0.9999999999999999), "-1");
+/// assert_eq!(spine_check::short(1e4 / 12.0), "833.333");
+/// assert_eq!(spine_check::short(3.086419725308642e-202), "3.08642e-202");
 /// assert_eq!(spine_check::short(-1e300), "-1e300");
 /// ```
 pub fn short(x: f64) -> String {
@@ -154,6 +197,13 @@ pub fn short(x: f64) -> String {
         return exact;
     }
     let sci = format!("{x:.5e}");
+    // Six significant digits read plainly between a thousandth and a million (`833.333`, `-1`).
+    if let Some(exponent) = sci.split_once('e').and_then(|(_, e)| e.parse::<i32>().ok()) {
+        if (-3..=5).contains(&exponent) {
+            let plain = format!("{x:.*}", (5 - exponent) as usize);
+            return plain.trim_end_matches('0').trim_end_matches('.').to_string();
+        }
+    }
     match sci.split_once('e') {
         Some((mantissa, exponent)) if mantissa.contains('.') => {
             format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))

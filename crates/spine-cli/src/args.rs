@@ -1,9 +1,10 @@
 //! The command line: subcommands, their arguments, and the overrides they make to a case.
 
 use crate::parse::{
-    parse_batch, parse_confidence, parse_every, parse_formulation, parse_frame_width, parse_frames, parse_jobs,
-    parse_magnify, parse_method, parse_starts, parse_time_limit,
+    parse_batch, parse_census, parse_confidence, parse_every, parse_formulation, parse_frame_width, parse_frames,
+    parse_jobs, parse_magnify, parse_method, parse_starts, parse_time_limit,
 };
+use crate::workers::workers;
 use clap::{Parser, Subcommand};
 use spine_design::Formulation;
 use spine_dynamic_design::SearchMethod;
@@ -147,6 +148,10 @@ pub struct DesignArgs {
     /// (`sensitivity` in `result.json`, as `spine sensitivity` computes them).
     #[arg(long)]
     pub sensitivity: bool,
+    /// Check the case, the options and `--out` as the run (or `--shard`) would; solve and write
+    /// nothing (exit 0, or 2 with why). scripts/slurm/census.sh asks it before it submits.
+    #[arg(long)]
+    pub check: bool,
 }
 
 #[derive(clap::Args)]
@@ -247,7 +252,7 @@ pub struct SweepArgs {
     pub points: usize,
     /// A census at every --census-every-th point: a multi-start of this many seeded starts says
     /// whether the followed optimum is still the best known.
-    #[arg(long, value_name = "STARTS", value_parser = parse_starts)]
+    #[arg(long, value_name = "STARTS", value_parser = parse_census)]
     pub census: Option<usize>,
     /// The census's spacing in points (1: every point).
     #[arg(long, value_name = "K", default_value_t = 5, value_parser = parse_every)]
@@ -358,25 +363,6 @@ impl PeriodicArgs {
             ..Default::default()
         }
     }
-}
-
-/// Worker processes (`--jobs`, default one per core) solving `case` with `design` overrides:
-/// `spine worker CASE --overrides JSON`, this program started again; `None` for one job.
-fn workers(
-    jobs: Option<usize>,
-    case: &std::path::Path,
-    design: &spine_run::DesignOverrides,
-) -> Result<Option<spine_run::workers::Workers>, crate::Failure> {
-    let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    if jobs <= 1 {
-        return Ok(None);
-    }
-    let program = std::env::current_exe()
-        .map_err(|e| crate::Failure::Other(format!("--jobs: cannot find this program to start workers: {e}")))?;
-    let design = serde_json::to_string(design).expect("overrides serialise");
-    let args = vec!["worker".to_string(), case.display().to_string(), "--overrides".into(), design];
-    let command = spine_run::workers::WorkerCommand { program, args };
-    Ok(Some(spine_run::workers::Workers { jobs, command }))
 }
 
 impl StudyArgs {

@@ -12,6 +12,7 @@ mod output;
 mod parse;
 mod progress;
 mod report;
+mod workers;
 
 use args::{Cli, Command, RunArgs};
 use clap::Parser;
@@ -67,6 +68,7 @@ fn main() -> ExitCode {
     let done = match &cli.command {
         Command::Equilibrium(a) => run(a, Some("equilibrium"), Default::default(), Mode::Case),
         Command::Twolink(a) => run(a, Some("twolink"), Default::default(), Mode::Case),
+        Command::Design(a) if a.check => a.overrides().and_then(|o| check_design(&a.run, o, a.shard, a.batch)),
         Command::Design(a) => a.overrides().and_then(|o| match (a.shard, a.batch) {
             (Some(spec), batch) => shard(&a.run, o, spec, batch),
             (None, Some(_)) => Err(Failure::Input(
@@ -110,7 +112,7 @@ fn main() -> ExitCode {
 /// An error message on one line a terminal shows as written: control characters escaped, at
 /// most 1000 characters (every message is built to be shorter; this is the last guard).
 fn one_line(msg: &str) -> String {
-    spine_check::shown_within(msg.trim_end(), 1000)
+    spine_check::shown_within(&spine_check::short_numbers(msg.trim_end()), 1000)
 }
 
 /// Reads and parses a case file (refusing an oversized one before reading it): its text and case.
@@ -120,6 +122,39 @@ fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failu
         .map_err(|e| Failure::Input(e.to_string()))?;
     let case = spine_case::Case::from_json(&text).map_err(|e| Failure::Input(format!("{path}: {e}")))?;
     Ok((text, case))
+}
+
+/// `spine design --check`: what the run (or the shard, with `--shard`) would check before its
+/// first solve, and nothing more; prints what it would run.
+fn check_design(
+    args: &RunArgs,
+    overrides: spine_run::Overrides,
+    spec: Option<spine_run::shard::ShardSpec>,
+    batch: Option<usize>,
+) -> Result<bool, Failure> {
+    let path = args.case.display().to_string();
+    let out = output::Output::new(&args.out, args.deterministic);
+    out.check(&[&args.case])?;
+    let (text, _) = read_case(&args.case)?;
+    let what = match (spec, batch) {
+        (Some(spec), batch) => {
+            let starts =
+                spine_run::shard::check_shard(&text, &overrides.design, spec, batch).map_err(|e| failure(&path, e))?;
+            let of = batch.map(|b| format!(" of batch {b}")).unwrap_or_default();
+            format!("shard {}/{}{of} would solve {starts} start(s)", spec.index, spec.count)
+        }
+        (None, Some(_)) => {
+            return Err(Failure::Input(
+                "--batch: only with --shard K/N (one shard of one batch of a census to a stated confidence)".into(),
+            ))
+        }
+        (None, None) => {
+            spine_run::shard::check_design(&text, &overrides.design).map_err(|e| failure(&path, e))?;
+            "it would run".to_string()
+        }
+    };
+    output::say(&format!("checked {path}: a design case; {what}; nothing written\n"));
+    Ok(true)
 }
 
 /// `spine design --shard K/N`: the K-th share of a multi-start's starts, written to
@@ -166,7 +201,8 @@ fn merge(a: &args::MergeArgs) -> Result<bool, Failure> {
         let name = spine_check::shown_within(&file.display().to_string(), 200);
         let text = spine_case::read_text(file, "shard", spine_run::shard::MAX_SHARD_BYTES)
             .map_err(|e| Failure::Input(e.to_string()))?;
-        let shard = serde_json::from_str(&text).map_err(|e| Failure::Input(format!("{name}: not a shard: {e}")))?;
+        let shard = spine_run::shard::Shard::from_text(&text)
+            .map_err(|e| Failure::Input(format!("{name}: not a shard: {e}")))?;
         shards.push(shard);
     }
     let merged = spine_run::shard::merge(shards).map_err(|e| failure("merge", e))?;

@@ -52,8 +52,9 @@ impl Output {
     }
 }
 
-/// Prints `text` to stdout; a closed stdout (a pipe into `head`) is not an error: the run goes on
-/// and its files are still written.
+/// Prints `text` to stdout as a person reads it ([`spine_check::readable`]: long numbers in short
+/// form, control and bidirectional characters escaped); a closed stdout (a pipe into `head`) is
+/// not an error: the run goes on and its files are still written.
 pub fn say(text: &str) {
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    let _ = std::io::stdout().lock().write_all(spine_check::readable(text).as_bytes());
 }

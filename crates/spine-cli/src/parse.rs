@@ -67,3 +67,8 @@ pub(crate) fn parse_formulation(text: &str) -> Result<spine_design::Formulation,
 pub(crate) fn parse_method(text: &str) -> Result<spine_dynamic_design::SearchMethod, String> {
     values::method(text)
 }
+
+/// `--census` (a sweep's censuses).
+pub(crate) fn parse_census(text: &str) -> Result<usize, String> {
+    parsed(text, values::census_starts)
+}

@@ -524,7 +524,9 @@ fn shards_merge_to_the_single_run_and_mismatched_or_incomplete_shards_are_refuse
     std::fs::write(dir.join("short/shard.json"), short.to_string()).unwrap();
     let (o, out) = merge(&["s1", "short", "s3"], "refused");
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("shard 2/3 is incomplete: 2 of its 3 starts"));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("shard 2/3: 1 of its share's 3 starts are missing (start "), "{stderr}");
+    assert!(stderr.contains("did not finish"), "{stderr}");
     assert!(!out.exists());
 }
 

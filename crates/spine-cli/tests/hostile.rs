@@ -1,4 +1,4 @@
-//! Issue 49: the corpus of hostile and careless command lines in `tests/hostile/corpus.json`, each
+//! Issues 49 and 75: the corpus of hostile and careless command lines in `tests/hostile/corpus.json`, each
 //! with its expectation (exit codes, a text the error must contain). Every entry must end within
 //! its time with no panic, abort or signal; nothing that was in its folder before may be removed
 //! or changed; a refusal (exit 2) writes nothing; an error is one line a person can read.
@@ -8,7 +8,7 @@ use common::{tmpdir, workspace};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 /// RFC 7396: `patch` merged into `target` (null removes a key).
@@ -54,13 +54,40 @@ fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     out
 }
 
-fn run(work: &Path, args: &[String], seconds: u64) -> (Option<i32>, String, Duration) {
+/// How an entry is run: the program, its arguments, an address-space limit, extra environment.
+struct Invocation<'a> {
+    args: &'a [String],
+    /// `census.sh` (scripts/slurm/census.sh, with `SPINE` set and a stand-in `sbatch`), else `spine`.
+    census_script: bool,
+    /// `prlimit --as=BYTES`: the run must end as it would with less memory, never abort.
+    address_space: Option<u64>,
+    /// A folder of stand-in Slurm commands (first on `PATH`) and the log they append to.
+    slurm: &'a Path,
+}
+
+fn run(work: &Path, how: &Invocation<'_>, seconds: u64) -> (Option<i32>, String, String, Duration) {
     let stderr_file = work.with_extension("stderr");
+    let stdout_file = work.with_extension("stdout");
     let stderr = std::fs::File::create(&stderr_file).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_spine"))
-        .args(args)
+    let stdout = std::fs::File::create(&stdout_file).unwrap();
+    let spine = env!("CARGO_BIN_EXE_spine");
+    let mut line: Vec<String> = Vec::new();
+    if let Some(bytes) = how.address_space {
+        line.extend(["prlimit".to_string(), format!("--as={bytes}"), "--".into()]);
+    }
+    if how.census_script {
+        line.extend(["bash".into(), workspace().join("scripts/slurm/census.sh").display().to_string()]);
+    } else {
+        line.push(spine.into());
+    }
+    line.extend(how.args.iter().cloned());
+    let path = format!("{}:{}", how.slurm.display(), std::env::var("PATH").unwrap_or_default());
+    let mut child = Command::new(&line[0])
+        .args(&line[1..])
         .current_dir(work)
-        .stdout(Stdio::null())
+        .env("SPINE", spine)
+        .env("PATH", path)
+        .stdout(stdout)
         .stderr(stderr)
         .spawn()
         .unwrap();
@@ -72,12 +99,43 @@ fn run(work: &Path, args: &[String], seconds: u64) -> (Option<i32>, String, Dura
         if clock.elapsed() > Duration::from_secs(seconds) {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("hang: {args:?} ran over {seconds} s");
+            panic!("hang: {:?} ran over {seconds} s", how.args);
         }
         std::thread::sleep(Duration::from_millis(5));
     };
     let text = String::from_utf8_lossy(&std::fs::read(&stderr_file).unwrap()).into_owned();
-    (status.code(), text, clock.elapsed())
+    let out = String::from_utf8_lossy(&std::fs::read(&stdout_file).unwrap()).into_owned();
+    (status.code(), text, out, clock.elapsed())
+}
+
+/// Stand-ins for `sbatch` and `squeue` in `dir`: `sbatch` appends its arguments to `dir/submitted`
+/// and answers a job number; `squeue` lists nothing. Returns the log's path.
+fn slurm_stand_ins(dir: &Path) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let log = dir.join("submitted");
+    let sbatch = format!("#!/bin/sh\necho \"$@\" >>'{}'\necho 4242\n", log.display());
+    for (name, text) in [("sbatch", sbatch.as_str()), ("squeue", "#!/bin/sh\nexit 0\n")] {
+        let file = dir.join(name);
+        std::fs::write(&file, text).unwrap();
+        std::process::Command::new("chmod").arg("+x").arg(&file).status().unwrap();
+    }
+    log
+}
+
+/// The first number in `text` longer than 20 characters (a value printed in full), if any.
+fn long_number(text: &str) -> Option<String> {
+    let mut run = String::new();
+    for c in text.chars().chain(std::iter::once(' ')) {
+        if c.is_ascii_digit() || (c == '.' && !run.is_empty()) {
+            run.push(c);
+        } else {
+            if run.len() > 20 {
+                return Some(run);
+            }
+            run.clear();
+        }
+    }
+    None
 }
 
 #[test]
@@ -86,8 +144,10 @@ fn hostile_command_lines_end_as_the_corpus_expects() {
         serde_json::from_str(&std::fs::read_to_string(workspace().join("tests/hostile/corpus.json")).unwrap()).unwrap();
     let ws = workspace().canonicalize().unwrap();
     let root = tmpdir("hostile");
+    let slurm = root.join("slurm-bin");
+    let submitted = slurm_stand_ins(&slurm);
     let entries = corpus["entries"].as_array().unwrap();
-    assert!(entries.len() >= 60, "{} entries", entries.len());
+    assert!(entries.len() >= 120, "{} entries", entries.len());
     let mut failures = Vec::new();
     for (k, e) in entries.iter().enumerate() {
         let name = e["name"].as_str().unwrap();
@@ -137,7 +197,8 @@ fn hostile_command_lines_end_as_the_corpus_expects() {
         }
         for setup in e["setup"].as_array().into_iter().flatten() {
             let args: Vec<String> = setup.as_array().unwrap().iter().map(subst).collect();
-            let (code, stderr, _) = run(&work, &args, 120);
+            let how = Invocation { args: &args, census_script: false, address_space: None, slurm: &slurm };
+            let (code, stderr, _, _) = run(&work, &how, 120);
             assert_eq!(code, Some(0), "{name}: setup {args:?}: {stderr}");
         }
         for edit in e["edits"].as_array().into_iter().flatten() {
@@ -150,9 +211,54 @@ fn hostile_command_lines_end_as_the_corpus_expects() {
         let before = snapshot(&work);
         let args: Vec<String> = e["args"].as_array().unwrap().iter().map(subst).collect();
         let seconds = e["seconds"].as_u64().unwrap_or(60);
-        let (code, stderr, took) = run(&work, &args, seconds);
+        let _ = std::fs::remove_file(&submitted);
+        let how = Invocation {
+            args: &args,
+            census_script: e["program"].as_str() == Some("census.sh"),
+            address_space: e["address_space_bytes"].as_u64(),
+            slurm: &slurm,
+        };
+        let (code, stderr, stdout, took) = run(&work, &how, seconds);
         let after = snapshot(&work);
         let mut fail = |why: String| failures.push(format!("{name} ({args:?}): {why}\n  stderr: {stderr}"));
+        if let Some(most) = e["within_seconds"].as_f64() {
+            if took.as_secs_f64() > most {
+                fail(format!("took {:.1} s, more than {most} s", took.as_secs_f64()));
+            }
+        }
+        if let Some(text) = e["stdout"].as_str() {
+            if !stdout.contains(text) {
+                fail(format!("stdout lacks {text:?}; stdout: {}", stdout.chars().take(2000).collect::<String>()));
+            }
+        }
+        for text in e["stdout_lacks"].as_array().into_iter().flatten().map(|t| t.as_str().unwrap()) {
+            if stdout.contains(text) {
+                fail(format!("stdout says {text:?}"));
+            }
+        }
+        for text in e["stderr_lacks"].as_array().into_iter().flatten().map(|t| t.as_str().unwrap()) {
+            if stderr.contains(text) {
+                fail(format!("stderr says {text:?}"));
+            }
+        }
+        if e["submits"].as_bool() == Some(true) && !submitted.exists() {
+            fail("it submitted nothing".into());
+        }
+        if let Some(number) = long_number(&stdout) {
+            fail(format!("stdout prints a number in full: {number}"));
+        }
+        if stdout.chars().any(|c| (c.is_control() && c != '\n' && c != '\t') || spine_check::is_bidi_control(c)) {
+            fail("stdout holds control or bidirectional characters".into());
+        }
+        if e["submits"].as_bool() == Some(false) && submitted.exists() {
+            fail(format!("it submitted jobs: {}", std::fs::read_to_string(&submitted).unwrap_or_default()));
+        }
+        for path in e["absent"].as_array().into_iter().flatten() {
+            let path = subst(path);
+            if Path::new(&path).exists() {
+                fail(format!("{path} exists"));
+            }
+        }
         let Some(code) = code else {
             fail("killed by a signal".into());
             continue;
@@ -187,7 +293,9 @@ fn hostile_command_lines_end_as_the_corpus_expects() {
                 fail(format!("{} error lines", error.len()));
             }
             for line in error {
-                if line.chars().count() > 1000 || line.chars().any(|c| c.is_control()) {
+                if line.chars().count() > 1000
+                    || line.chars().any(|c| c.is_control() || spine_check::is_bidi_control(c))
+                {
                     fail("an error line too long or with control characters".into());
                 }
                 if line.contains("Some(") || line.contains("None") || line.contains("invalid type: null") {

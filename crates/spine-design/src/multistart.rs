@@ -129,6 +129,9 @@ pub struct ConfidenceRun {
     pub batches: usize,
     pub batch: usize,
     pub cap: usize,
+    /// Seeded starts solved and settled in all (the last batch is cut at the cap, or by a time
+    /// limit): the count of the runs themselves.
+    pub seeded: usize,
 }
 
 impl MultiStartSummary {

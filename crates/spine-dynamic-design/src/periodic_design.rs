@@ -143,7 +143,27 @@ pub fn design_periodic(
             }
         }
     }
-    let start = objective(&start_u);
+    simulations.fetch_add(1, Ordering::Relaxed);
+    let (start, start_response) = match evaluate(problem, &forcing, &to_stiffness(&start_u), delta_d, settings) {
+        Ok((e, r)) => (e, Some(r)),
+        Err(_) => (Evaluation::failed(), None),
+    };
+    if let Some(r) = start_response.filter(|r| !r.swing_resolved && r.outcome == spine_dynamics::Outcome::Completed) {
+        let start_response = r;
+        return Err(DynamicDesignError::Unresolved {
+            field: if matches!(forcing, Forcing::Sinusoid { .. }) {
+                "forcing.angular_frequency"
+            } else {
+                "forcing.period"
+            },
+            period: start_response.period,
+            swing: start_response.max_end_displacement - start_response.min_end_displacement,
+            resolution: spine_dynamics::periodic::swing_resolution(
+                &settings.response.integrator,
+                problem.structure.chain.length_x(),
+            ),
+        });
+    }
     let (stiffness, search, gradient, response) = match method {
         SearchMethod::Ga | SearchMethod::Pattern => {
             let search = match method {
@@ -173,7 +193,8 @@ pub fn design_periodic(
         Some((energy, r)) => (evaluation_of(&r, energy, delta_d, settings), r),
         None => {
             simulations.fetch_add(1, Ordering::Relaxed);
-            spine_stop::without_time_limit(|| evaluate(problem, &forcing, &stiffness, delta_d, settings))?
+            spine_stop::finishing(|| evaluate(problem, &forcing, &stiffness, delta_d, settings))
+                .map_err(|source| DynamicDesignError::FinalDesign { delta_d, source })?
         }
     };
     Ok(PeriodicDesign {

@@ -142,7 +142,11 @@ pub fn sample(d: &Dynamics, traj: &Trajectory, count: usize, x_start: f64, lengt
     let n = d.n_links();
     let (t0, t1) = traj.span();
     let mut drift = Drift { max_projection: traj.stats.max_projection, ..Default::default() };
-    for (_, y) in traj.points() {
+    for (k, (_, y)) in traj.points().enumerate() {
+        // A stop (the time limit) ends the scan: a stopped run's drift is that of its steps so far.
+        if k % 4096 == 4095 && spine_stop::check().is_some() {
+            break;
+        }
         drift.max_constraint = drift.max_constraint.max(d.constraint(&y[..n]).abs());
         drift.max_constraint_rate = drift.max_constraint_rate.max(d.constraint_rate(&y[..n], &y[n..]).abs());
     }

@@ -197,9 +197,6 @@ fn sweep(
 ) -> PyResult<CaseResult> {
     let case = case_from(py, case)?;
     let settings = spine_design::sweep::SweepSettings::new(start, stop, points);
-    if census_every == 0 {
-        return Err(PyValueError::new_err("census_every: must be at least 1, got 0"));
-    }
     let plan = census.map(|starts| spine_run::sweep::CensusPlan { starts, every: census_every });
     let overrides = spine_run::Overrides::default();
     let result =

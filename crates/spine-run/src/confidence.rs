@@ -18,7 +18,8 @@ pub const CONFIDENCE_BATCH: usize = 100;
 /// start 0.
 #[derive(Clone, Copy, Debug)]
 pub struct Batches {
-    /// The cap on seeded starts (`multistart.starts`; 0: [`spine_case::MAX_STARTS`]).
+    /// The cap on seeded starts (`multistart.starts`; 0: [`spine_case::MAX_STARTS`]), at most
+    /// what the memory budget holds of this chain's runs.
     pub cap: usize,
 }
 
@@ -28,7 +29,10 @@ impl Batches {
             0 => spine_case::MAX_STARTS,
             n => n,
         };
-        Self { cap }
+        // The census keeps every run until it is settled: no more than the memory budget holds
+        // (the census then ends at its cap, exit 3, with what it found).
+        let fits = spine_stop::memory::budget() as f64 / spine_case::run_bytes(valid.problem.n_links());
+        Self { cap: cap.min((fits as usize).saturating_sub(1).max(CONFIDENCE_BATCH)) }
     }
 
     /// How many batches the cap allows.
@@ -56,6 +60,8 @@ pub struct ConfidenceCensus<'a> {
     target: f64,
     batches: Batches,
     done: usize,
+    /// Seeded runs added so far.
+    seeded: usize,
     reached: bool,
 }
 
@@ -64,7 +70,7 @@ impl<'a> ConfidenceCensus<'a> {
     pub fn new(valid: &'a ValidDesign, target: f64, own: SolverRun) -> Result<Self, RunError> {
         let mut settled = Settled::new(&valid.problem, &valid.settings);
         settled.add(own).map_err(RunError::Design)?;
-        Ok(Self { settled, target, batches: Batches::new(valid), done: 0, reached: false })
+        Ok(Self { settled, target, batches: Batches::new(valid), done: 0, seeded: 0, reached: false })
     }
 
     /// Batches added so far.
@@ -77,6 +83,7 @@ impl<'a> ConfidenceCensus<'a> {
     pub fn add_batch(&mut self, runs: Vec<SolverRun>) -> Result<bool, RunError> {
         for run in runs {
             self.settled.add(run).map_err(RunError::Design)?;
+            self.seeded += 1;
         }
         self.done += 1;
         self.reached = self.settled.estimate().probability_better_unseen.is_some_and(|p| p <= self.target);
@@ -91,6 +98,7 @@ impl<'a> ConfidenceCensus<'a> {
             batches: self.done,
             batch: CONFIDENCE_BATCH,
             cap: self.batches.cap,
+            seeded: self.seeded,
         };
         (self.settled.results(), run)
     }

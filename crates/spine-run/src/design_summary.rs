@@ -32,9 +32,10 @@ impl DesignCaseResult {
         if let Some(c) = &summary.confidence {
             writeln!(
                 f,
-                "census to confidence: target P(a better one unseen) ≤ {} {} after {} batch(es) of {} seeded starts (cap {})",
+                "census to confidence: target P(a better one unseen) ≤ {} {} after {} seeded start(s) in {} batch(es) (batches of {}, cap {})",
                 c.target,
                 if c.reached { "REACHED" } else { "NOT REACHED" },
+                c.seeded,
                 c.batches,
                 c.batch,
                 c.cap

@@ -6,15 +6,27 @@ use crate::kinds::dynamics::{DesignOrigin, DynamicsResult};
 use crate::text::{list, quantity};
 use spine_dynamics::{PeriodicResponse, StepResponse};
 
+/// A time in seconds to a tenth of a millisecond, or in scientific form below a millisecond (a
+/// microsecond pulse is not `0.0000 s`).
+fn seconds(t: f64) -> String {
+    if t == 0.0 || t.abs() >= 1e-3 {
+        format!("{t:.4} s")
+    } else {
+        format!("{t:.4e} s")
+    }
+}
+
 fn write_periodic(f: &mut std::fmt::Formatter<'_>, r: &PeriodicResponse) -> std::fmt::Result {
-    let opt = |v: Option<f64>| v.map_or("not reached".to_string(), |t| format!("{t:.4} s"));
+    let unread =
+        if r.swing_resolved { "not reached" } else { "not read (the swing is below the integrator's resolution)" };
+    let opt = |v: Option<f64>| v.map_or(unread.to_string(), seconds);
     writeln!(
         f,
-        "periodic response: {} after {} periods (last two differ by {:.1e} of the swing), period {:.4} s",
+        "periodic response: {} after {} periods (last two differ by {:.1e} of the swing), period {}",
         if r.settled { "settled" } else { "NOT settled" },
         r.periods_run,
         r.period_change,
-        r.period
+        seconds(r.period)
     )?;
     writeln!(
         f,
@@ -23,9 +35,9 @@ fn write_periodic(f: &mut std::fmt::Formatter<'_>, r: &PeriodicResponse) -> std:
     )?;
     writeln!(
         f,
-        "last period: min X − L_x = {:.6e} m ({:.4} s after onset), max {:.6e} m; reach (90 %) {}, return (90 %) {}",
+        "last period: min X − L_x = {:.6e} m ({} after onset), max {:.6e} m; reach (90 %) {}, return (90 %) {}",
         r.min_end_displacement,
-        r.time_of_minimum,
+        seconds(r.time_of_minimum),
         r.max_end_displacement,
         opt(r.reach_time),
         opt(r.return_time)

@@ -22,9 +22,10 @@ pub enum RunError {
     /// A dynamic task could not start (an unstable static end).
     #[error("design: {0}")]
     Dynamics(#[source] DynamicsError),
-    /// A dynamic design (eq. (35), eq. (37)) could not start.
-    #[error("design: {0}")]
-    DynamicDesign(#[source] DynamicDesignError),
+    /// A dynamic design (eq. (35), eq. (37)) could not start, or gave nothing to report; the
+    /// message names the field to blame (`design` for the start's equilibria).
+    #[error(transparent)]
+    DynamicDesign(DynamicDesignError),
     /// The eq. (33) design a dynamic case depends on did not end clean.
     #[error(
         "the static design of eq. (33) did not end clean ({status}; warnings: {}); no dynamics run on it",
@@ -161,8 +162,8 @@ pub enum MergeError {
     /// more than once.
     #[error("{count} shards{} expected; {}", batch.map(|b| format!(" of batch {b}")).unwrap_or_default(), missing_text(*.missing_count, .missing, .twice))]
     MissingShards { count: usize, batch: Option<usize>, missing: Vec<usize>, missing_count: usize, twice: Vec<usize> },
-    #[error("shard {shard} is incomplete: {solved} of its {expected} starts solved (stopped early?)")]
-    IncompleteShard { shard: String, solved: usize, expected: usize },
+    #[error("{0}")]
+    IncompleteShard(ShardContents),
     /// A shard's run does not fit the case's problem (edited or from another case).
     #[error("shard {shard}, start {start}: {reason}")]
     OtherProblem {
@@ -171,6 +172,80 @@ pub enum MergeError {
         #[source]
         reason: FieldError,
     },
+}
+
+/// What a shard holds against the starts of its share, counted from the same lists the merge
+/// compares: the starts it lacks and those it holds that are not its share's (the first ten of
+/// each), and whether it says it finished.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ShardContents {
+    pub shard: String,
+    /// The shard's own `complete` flag.
+    pub complete: bool,
+    /// Runs the shard holds.
+    pub held: usize,
+    /// Starts its share has.
+    pub expected: usize,
+    /// Starts of the share it lacks: how many, and the first ten.
+    pub missing: (usize, Vec<usize>),
+    /// Runs it holds of starts that are not its share's (or held twice): how many, the first ten.
+    pub foreign: (usize, Vec<usize>),
+}
+
+impl ShardContents {
+    /// `got` (the shard's start numbers, in its order) against `expected` (its share, ascending).
+    pub fn compare(shard: String, complete: bool, got: &[usize], expected: &[usize]) -> Self {
+        let mut sorted = got.to_vec();
+        sorted.sort_unstable();
+        let missing: Vec<usize> = expected.iter().copied().filter(|i| sorted.binary_search(i).is_err()).collect();
+        let mut seen = std::collections::BTreeSet::new();
+        let foreign: Vec<usize> =
+            got.iter().copied().filter(|i| expected.binary_search(i).is_err() || !seen.insert(*i)).collect();
+        let first = |v: Vec<usize>| (v.len(), v.into_iter().take(10).collect());
+        Self {
+            shard,
+            complete,
+            held: got.len(),
+            expected: expected.len(),
+            missing: first(missing),
+            foreign: first(foreign),
+        }
+    }
+}
+
+impl std::fmt::Display for ShardContents {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let list = |(n, first): &(usize, Vec<usize>)| {
+            let more = if *n > first.len() { format!(", … ({n} in all)") } else { String::new() };
+            format!("{}{more}", crate::text::joined(first))
+        };
+        write!(f, "shard {}: ", self.shard)?;
+        let mut parts = Vec::new();
+        if self.missing.0 > 0 {
+            parts.push(format!(
+                "{} of its share's {} starts are missing (start {})",
+                self.missing.0,
+                self.expected,
+                list(&self.missing)
+            ));
+        }
+        if self.foreign.0 > 0 {
+            parts.push(format!(
+                "it holds {} run(s) of starts not in its share or held twice (start {})",
+                self.foreign.0,
+                list(&self.foreign)
+            ));
+        }
+        if parts.is_empty() && !self.complete {
+            parts.push(format!(
+                "it holds all {} starts of its share but says it did not finish (\"complete\": false): it was stopped or edited",
+                self.expected
+            ));
+        } else if !self.complete {
+            parts.push("it says it did not finish (stopped early?)".into());
+        }
+        write!(f, "{}; it cannot be merged (run the shard again)", parts.join("; "))
+    }
 }
 
 /// A shard's settings as a person reads them: its overrides, and its batch.

@@ -39,12 +39,18 @@ pub fn starts(n: usize) -> Result<usize, String> {
     Ok(n)
 }
 
+/// Seeded starts of each census along a sweep: 1 ..= [`spine_case::MAX_STARTS`] (no census:
+/// leave the option out).
+pub fn census_starts(n: usize) -> Result<usize, String> {
+    if n == 0 {
+        return Err("at least 1 seeded start (for no census, leave the option out)".into());
+    }
+    starts(n)
+}
+
 /// A census's target: a probability strictly between 0 and 1.
 pub fn confidence(p: f64) -> Result<f64, String> {
-    if !(p > 0.0 && p < 1.0) {
-        return Err(format!("a probability strictly between 0 and 1 (e.g. 0.01), got {p}"));
-    }
-    Ok(p)
+    spine_case::check_confidence(p)
 }
 
 /// Worker processes: 1..=[`crate::workers::MAX_JOBS`].

@@ -62,12 +62,18 @@ impl DesignOverrides {
             valid.formulation = f;
         }
         if let Some(s) = self.starts {
+            // A census's cap is only a cap: its batches are checked as they come.
+            if self.confidence.or(valid.multistart.confidence).is_none() {
+                spine_case::check_runs_memory("starts", s + 1, valid.problem.n_links())?;
+            }
             valid.multistart.starts = s;
         }
         if let Some(s) = self.seed {
             valid.multistart.seed = s;
         }
         if let Some(p) = self.confidence {
+            let p = spine_case::check_confidence(p)
+                .map_err(|m| spine_case::CaseError::invalid("overrides.confidence", m))?;
             valid.multistart.confidence = Some(p);
         }
         if let Some(r) = self.refine {

@@ -140,6 +140,12 @@ pub fn run_sweep(
     let Case::Design(c) = case else {
         return Err(RunError::WrongKind { command: "`spine sweep`", needs: "a \"design\"", kind: case.kind() });
     };
+    spine_case::check_runs_memory("points", settings.points, c.chain.links)?;
+    if let Some(p) = plan {
+        let bad = |field: &str, m: String| RunError::Option(spine_check::FieldError::new(field, m));
+        crate::option_values::census_starts(p.starts).map_err(|m| bad("census", m))?;
+        crate::option_values::every(p.every).map_err(|m| bad("census_every", m))?;
+    }
     limited(overrides, || {
         let workers = overrides.workers.as_ref();
         let result = crate::sweep::run_design_sweep(c, &overrides.design, workers, name, settings, plan, progress)?;

@@ -16,7 +16,7 @@
 
 use crate::confidence::{Batches, ConfidenceCensus};
 use crate::design::{census, confidence_result, solve_all};
-use crate::error::{MergeError, RunError};
+use crate::error::{MergeError, RunError, ShardContents};
 use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::registry::KindResult;
@@ -105,6 +105,57 @@ pub fn run_shard(
     workers: Option<&Workers>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Shard, RunError> {
+    let ShardPlan { valid, share, used } = plan_shard(text, overrides, spec, batch)?;
+    let last = share.last().copied().unwrap_or(0);
+    let seeded = feasible_starts(&valid.problem, last, valid.multistart.seed);
+    let tasks: Vec<Task> =
+        share.iter().map(|&i| if i == 0 { Task::start(&valid.start) } else { Task::seeded(&seeded[i - 1]) }).collect();
+    let runs = solve_all(&valid, &tasks, workers, progress)?;
+    let complete = runs.len() == share.len();
+    Ok(Shard {
+        format: SHARD_FORMAT.into(),
+        case: text.to_string(),
+        overrides: used,
+        shard: spec,
+        runs: share.into_iter().zip(runs).collect(),
+        complete,
+        batch,
+    })
+}
+
+/// Everything [`run_shard`] checks before its first solve, and nothing more (`spine design
+/// --shard K/N --check`, what scripts/slurm/census.sh asks before it submits a job): the case is
+/// a valid design case, the overrides fit it, the batch fits the census. `Ok`: the starts of the
+/// share.
+pub fn check_shard(
+    text: &str,
+    overrides: &DesignOverrides,
+    spec: ShardSpec,
+    batch: Option<usize>,
+) -> Result<usize, RunError> {
+    Ok(plan_shard(text, overrides, spec, batch)?.share.len())
+}
+
+/// What a design run of the case `text` with `overrides` checks before its first solve: a valid
+/// design case, overrides that fit it (`spine design --check`).
+pub fn check_design(text: &str, overrides: &DesignOverrides) -> Result<(), RunError> {
+    let mut valid = design_case(text)?.validate()?;
+    Ok(overrides.apply(&mut valid)?)
+}
+
+/// A shard's problem, its share of the starts and the overrides it records.
+struct ShardPlan {
+    valid: spine_case::ValidDesign,
+    share: Vec<usize>,
+    used: DesignOverrides,
+}
+
+fn plan_shard(
+    text: &str,
+    overrides: &DesignOverrides,
+    spec: ShardSpec,
+    batch: Option<usize>,
+) -> Result<ShardPlan, RunError> {
     let case = design_case(text)?;
     let mut valid = case.validate()?;
     overrides.apply(&mut valid)?;
@@ -131,21 +182,7 @@ pub fn run_shard(
     };
     let used =
         DesignOverrides { starts: Some(valid.multistart.starts), seed: Some(valid.multistart.seed), ..*overrides };
-    let last = share.last().copied().unwrap_or(0);
-    let seeded = feasible_starts(&valid.problem, last, valid.multistart.seed);
-    let tasks: Vec<Task> =
-        share.iter().map(|&i| if i == 0 { Task::start(&valid.start) } else { Task::seeded(&seeded[i - 1]) }).collect();
-    let runs = solve_all(&valid, &tasks, workers, progress)?;
-    let complete = runs.len() == share.len();
-    Ok(Shard {
-        format: SHARD_FORMAT.into(),
-        case: text.to_string(),
-        overrides: used,
-        shard: spec,
-        runs: share.into_iter().zip(runs).collect(),
-        complete,
-        batch,
-    })
+    Ok(ShardPlan { valid, share, used })
 }
 
 fn option_error(field: &str, reason: &str) -> RunError {
@@ -251,6 +288,12 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
 }
 
 impl Shard {
+    /// `shard.json`'s text as a shard; a field of the wrong form is named by its path in the
+    /// workspace's words ([`spine_case::from_json_text`]).
+    pub fn from_text(text: &str) -> Result<Self, spine_case::CaseError> {
+        spine_case::from_json_text(text)
+    }
+
     /// `K/N`, or `K/N of batch B`.
     fn name(&self) -> String {
         match self.batch {
@@ -292,7 +335,7 @@ fn complete_runs(valid: &spine_case::ValidDesign, shards: Vec<Shard>) -> Result<
         let got: Vec<usize> = s.runs.iter().map(|(i, _)| *i).collect();
         if !s.complete || got != expected {
             return Err(
-                MergeError::IncompleteShard { shard: s.name(), solved: got.len(), expected: expected.len() }.into()
+                MergeError::IncompleteShard(ShardContents::compare(s.name(), s.complete, &got, &expected)).into()
             );
         }
         for (start, run) in &s.runs {

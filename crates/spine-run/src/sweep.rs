@@ -189,7 +189,11 @@ impl std::fmt::Display for SweepCaseResult {
                 c.parameter,
                 c.followed_objective,
                 c.best_objective.map_or("none".into(), |b| format!("{b:.6e} J")),
-                if c.followed_is_best { "the followed optimum is the best known" } else { "ANOTHER OPTIMUM IS BETTER" },
+                match (c.best_objective, c.followed_is_best) {
+                    (None, _) => "the census found no clean optimum to compare with",
+                    (Some(_), true) => "the followed optimum is the best known",
+                    (Some(_), false) => "ANOTHER OPTIMUM IS BETTER",
+                },
                 c.estimate
                     .as_ref()
                     .and_then(|e| e.probability_better_unseen)

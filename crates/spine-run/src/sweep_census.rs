@@ -69,6 +69,12 @@ pub(crate) fn census(
         let valid = case_at(c, &overrides, name, point.parameter)?;
         let run = run_design_case(c, &valid, workers, progress)?;
         let best = run.multistart.as_ref().and_then(|m| m.best_clean()).map(|o| o.objective());
+        let stopped = spine_stop::check();
+        if stopped.is_some() && best.is_none() {
+            // Stopped before the census found anything: no census at this point (the sweep's
+            // `stopped` says why), rather than a comparison with nothing.
+            break;
+        }
         let followed_objective = point.objective;
         let best_objective = best.map(|b| b.min(followed_objective));
         let followed_is_best = best.is_none_or(|b| followed_objective <= b + 1e-6 * b.abs());
@@ -79,7 +85,7 @@ pub(crate) fn census(
             followed_objective,
             followed_is_best: followed_is_best && point.status != PointStatus::Failed,
             estimate: run.multistart.map(|m| m.census),
-            stopped: spine_stop::check(),
+            stopped,
         });
     }
     Ok(out)

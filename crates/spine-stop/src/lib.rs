@@ -1,4 +1,7 @@
-//! When a long computation stops early.
+//! When a long computation stops early, and how much memory it may take before it must.
+//!
+//! Modules: `memory`: the process's memory budget, which every structure that grows with the input
+//! is checked against before it is made.
 //!
 //! Two reasons, one check: a request from outside the run ([`request_interrupt`]: the CLI's
 //! Ctrl-C and SIGTERM handler, Python's `KeyboardInterrupt`), which holds for the whole process,
@@ -25,6 +28,8 @@
 //! assert_eq!(spine_stop::check(), None); // the limit ended with its closure
 //! ```
 #![forbid(unsafe_code)]
+
+pub mod memory;
 
 use serde::Serialize;
 use std::cell::Cell;
@@ -126,17 +131,25 @@ pub fn with_time_limit<R>(limit: Option<Duration>, f: impl FnOnce() -> R) -> (R,
     (value, time_limit_reached())
 }
 
-/// Runs `f` without a time limit on this thread (an outside stop still holds): for one bounded
-/// finishing step that makes a stopped run's result usable, e.g. re-simulating the best point a
-/// search found before its time limit passed. The limit is back when `f` returns.
-pub fn without_time_limit<R>(f: impl FnOnce() -> R) -> R {
+/// How long a finishing step may run past a time limit that has passed ([`finishing`]).
+pub const FINISHING_GRACE: Duration = Duration::from_millis(300);
+
+/// Runs `f`, one finishing step that makes a stopped run's result usable (re-simulating the best
+/// point a search found before its time limit passed), with at least [`FINISHING_GRACE`] from now
+/// when the run has a limit: the later of the run's own deadline and now plus the grace, so that
+/// no run overshoots its limit by more than the grace (and a loop's last step). A finishing step
+/// cut by the grace ends as any stopped loop does, and says so. An outside stop still holds; the
+/// run's limit is back when `f` returns.
+pub fn finishing<R>(f: impl FnOnce() -> R) -> R {
     struct Restore(Option<Instant>);
     impl Drop for Restore {
         fn drop(&mut self) {
             DEADLINE.with(|d| d.set(self.0));
         }
     }
-    let _restore = Restore(DEADLINE.with(|d| d.replace(None)));
+    let outer = DEADLINE.with(Cell::get);
+    let grace = outer.map(|d| d.max(Instant::now() + FINISHING_GRACE));
+    let _restore = Restore(DEADLINE.with(|d| d.replace(grace)));
     f()
 }
 
@@ -176,12 +189,25 @@ mod tests {
     }
 
     #[test]
-    fn a_finishing_step_runs_without_the_limit_which_is_back_afterwards() {
+    fn a_finishing_step_runs_within_its_grace_and_the_limit_is_back_afterwards() {
         let ((), reached) = with_time_limit(Some(Duration::ZERO), || {
-            assert_eq!(without_time_limit(check), None);
+            assert_eq!(finishing(check), None, "a finishing step has its grace");
+            // The grace ends: a finishing loop longer than it is stopped like any other.
+            let clock = Instant::now();
+            let stopped = finishing(|| loop {
+                if let Some(reason) = check() {
+                    break reason;
+                }
+            });
+            assert_eq!(stopped, StopReason::TimeLimit);
+            let took = clock.elapsed();
+            assert!(took >= FINISHING_GRACE && took < FINISHING_GRACE + Duration::from_millis(500), "{took:?}");
             assert_eq!(check(), Some(StopReason::TimeLimit));
         });
         assert!(reached);
+        // Without a limit a finishing step has none either.
+        assert_eq!(finishing(check), None);
+        assert_eq!(finishing(deadline), None);
     }
 
     #[test]

@@ -54,7 +54,8 @@ impl SweepSettings {
     pub fn validate(&self) -> Result<(), FieldError> {
         require(self.from.is_finite(), "from", || format!("must be a finite number, got {}", self.from))?;
         require(self.to.is_finite(), "to", || format!("must be a finite number, got {}", self.to))?;
-        require(self.to != self.from, "to", || format!("must differ from `from` ({})", self.from))?;
+        let span = self.to != self.from && (self.to - self.from).is_finite();
+        require(span, "to", || format!("must differ from `from` ({}) by a finite span", self.from))?;
         require((2..=100_000).contains(&self.points), "points", || {
             format!("must be an integer from 2 to 100000, got {}", self.points)
         })?;

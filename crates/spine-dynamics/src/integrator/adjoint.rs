@@ -77,7 +77,7 @@ impl Gradient {
 }
 
 /// The gradients of `outputs` (each a sum of [`Term`]s) over `runs` (module docs), with the work
-/// of the sweep.
+/// of the sweep; `None` when a step's adjoint fails or a stop ([`spine_stop::check`]) ends the sweep.
 pub fn adjoint(sys: &dyn OdeSystem, runs: &[&Trajectory], outputs: &[Vec<Term>]) -> Option<(Vec<Gradient>, Stats)> {
     let (n, p, m) = (sys.dim(), sys.n_params(), outputs.len());
     let mut stats = Stats::default();
@@ -96,6 +96,8 @@ pub fn adjoint(sys: &dyn OdeSystem, runs: &[&Trajectory], outputs: &[Vec<Term>])
     let mut work = AdjointWork::default();
     for (r, run) in runs.iter().enumerate().rev() {
         for (s, iv) in run.intervals.iter().enumerate().rev() {
+            // A stop (the time limit) ends the sweep: no gradient, as a failed step gives none.
+            spine_stop::check().is_none().then_some(())?;
             let here: Vec<_> = seeds.iter().filter(|(rr, ss, ..)| *rr == r && *ss == Some(s)).collect();
             let mut at_start = DMatrix::zeros(n, m);
             for &&(_, _, k, term) in &here {

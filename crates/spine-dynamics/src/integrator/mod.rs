@@ -70,15 +70,29 @@ pub fn integrate(
     }
 }
 
-/// Memory the stored steps of one run may take, bytes: a run keeps every accepted step (its dense
-/// output), so a long span with a small `max_step` would otherwise grow until the process aborts.
-pub const STEP_MEMORY_BUDGET: usize = 4 << 30;
+/// Bytes one stored step takes in a system of dimension `dim` with `sensitivities` parameter
+/// columns: the [`Interval`] itself three times over (a growing vector holds its old buffer and
+/// one of twice its length while it moves), seven vectors of `dim` values (both ends, their
+/// derivatives, the collocation polynomial) with the allocator's overhead, and four `dim ×
+/// sensitivities` matrices when sensitivities are propagated.
+pub fn step_bytes(dim: usize, sensitivities: usize) -> usize {
+    let vector = 8 * dim.max(1) + 32;
+    let matrices = if sensitivities > 0 { 4 * (8 * dim.max(1) * sensitivities + 64) } else { 0 };
+    3 * std::mem::size_of::<Interval>() + 7 * vector + matrices
+}
 
-/// Most steps a run of a system of dimension `dim` may store within [`STEP_MEMORY_BUDGET`] (seven
-/// vectors of `dim` values per step: both ends, their derivatives, the collocation polynomial, plus
-/// the bookkeeping); the run ends with [`Outcome::StepLimit`] there, as at `max_steps`.
-pub fn steps_within_memory(dim: usize) -> usize {
-    STEP_MEMORY_BUDGET / (7 * 8 * dim.max(1) + 256)
+/// Most steps a run may store within the process's memory budget ([`spine_stop::memory::budget`]);
+/// the run ends there with [`Outcome::MemoryLimit`], and a vector that cannot grow (a tighter
+/// limit than the budget assumed) ends it the same way.
+pub fn steps_within_memory(dim: usize, sensitivities: usize) -> usize {
+    spine_stop::memory::budget() / step_bytes(dim, sensitivities)
+}
+
+/// Stores an accepted step, or says the memory is exhausted (the vector could not grow).
+pub(super) fn store(intervals: &mut Vec<Interval>, step: Interval, t: f64) -> Result<(), Outcome> {
+    intervals.try_reserve(1).map_err(|_| Outcome::MemoryLimit { t })?;
+    intervals.push(step);
+    Ok(())
 }
 
 /// The span `[t0, t_end]` cut at the system's breakpoints, and where the driver is in it.
@@ -88,6 +102,8 @@ pub(super) struct Course<'a> {
     next_break: usize,
     replay: Option<std::vec::IntoIter<f64>>,
     max_steps: usize,
+    /// Steps that fit in the memory budget.
+    memory_steps: usize,
     sys: &'a dyn OdeSystem,
 }
 
@@ -99,12 +115,18 @@ pub(super) struct NextStep {
 }
 
 impl<'a> Course<'a> {
-    pub(super) fn new(sys: &'a dyn OdeSystem, t0: f64, t_end: f64, steps: Option<&[f64]>, opts: &Options) -> Self {
+    pub(super) fn new(
+        sys: &'a dyn OdeSystem,
+        (t0, t_end): (f64, f64),
+        steps: Option<&[f64]>,
+        opts: &Options,
+        sensitivities: usize,
+    ) -> Self {
         let mut breaks = sys.breakpoints(t0, t_end);
         breaks.push(t_end);
         let replay = steps.map(|st| st.iter().copied().filter(|&x| x > t0).collect::<Vec<_>>().into_iter());
-        let max_steps = opts.max_steps.min(steps_within_memory(sys.dim()));
-        Self { span: t_end - t0, breaks, next_break: 0, replay, max_steps, sys }
+        let memory_steps = steps_within_memory(sys.dim(), sensitivities);
+        Self { span: t_end - t0, breaks, next_break: 0, replay, max_steps: opts.max_steps, memory_steps, sys }
     }
 
     /// A time inside the current smooth piece of `f`.
@@ -130,7 +152,10 @@ impl<'a> Course<'a> {
                 spine_stop::StopReason::Interrupted => Outcome::Interrupted { t },
             });
         }
-        (stats.accepted_steps >= self.max_steps).then_some(Outcome::StepLimit { t })
+        if stats.accepted_steps >= self.max_steps {
+            return Some(Outcome::StepLimit { t });
+        }
+        (stats.accepted_steps >= self.memory_steps).then_some(Outcome::MemoryLimit { t })
     }
 
     /// The next step from `t` of (at most) `h`: the replayed one, or `h` cut at the piece's end and

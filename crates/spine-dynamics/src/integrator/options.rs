@@ -74,6 +74,39 @@ impl Options {
     }
 }
 
+impl Options {
+    /// Whether a run over `span` seconds of a system of dimension `dim` can reach its end: with a
+    /// `max_step`, it needs at least `span / max_step` steps, which must fit in `max_steps` and in
+    /// the memory budget (`spine_stop::memory`; every step is stored). The error names `max_step`
+    /// and says how many steps fit.
+    pub fn check_reach(&self, span: f64, dim: usize) -> Result<(), FieldError> {
+        let Some(h) = self.max_step else { return Ok(()) };
+        let needed = span / h;
+        let within = super::steps_within_memory(dim, 0);
+        let (limit, what) = if self.max_steps <= within {
+            (self.max_steps, "max_steps allows".to_string())
+        } else {
+            (
+                within,
+                format!(
+                    "the memory budget ({}) holds",
+                    spine_stop::memory::shown_bytes(spine_stop::memory::budget() as f64)
+                ),
+            )
+        };
+        if needed > limit as f64 {
+            return Err(FieldError::new(
+                "max_step",
+                format!(
+                    "steps of at most {h} s need at least {needed:.3e} steps to cover {span} s, and {what} {limit}: the run could never reach its end; give a max_step of at least {:.3e} s (or none)",
+                    span / limit as f64
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Most accepted steps a run may be given.
 pub const MAX_STEPS: usize = 100_000_000;
 
@@ -132,6 +165,11 @@ pub enum Outcome {
     StepLimit {
         t: f64,
     },
+    /// The steps stored so far filled the process's memory budget (`spine_stop::memory`) at `t`:
+    /// the run ends with what it reached instead of aborting.
+    MemoryLimit {
+        t: f64,
+    },
     /// The caller's stop condition held at `t`.
     Stopped {
         t: f64,
@@ -153,6 +191,7 @@ impl std::fmt::Display for Outcome {
             Self::Completed => return f.write_str("completed"),
             Self::StepTooSmall { t } => ("step too small", t),
             Self::StepLimit { t } => ("step limit reached", t),
+            Self::MemoryLimit { t } => ("memory budget of the stored steps reached", t),
             Self::Stopped { t } => ("stopped by its stop condition", t),
             Self::TimeLimit { t } => ("time limit passed", t),
             Self::Interrupted { t } => ("interrupted", t),

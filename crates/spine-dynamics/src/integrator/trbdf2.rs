@@ -159,7 +159,8 @@ pub(super) fn integrate(
     let Extras { sensitivities, steps, stop } = extras;
     let mut stats = Stats::default();
     let mut intervals = Vec::new();
-    let mut course = Course::new(sys, t0, t_end, steps, opts);
+    let columns = sensitivities.as_ref().map_or(0, |s| s.ncols());
+    let mut course = Course::new(sys, (t0, t_end), steps, opts, columns);
     let mut point = Point::start(sys, &course, t0, y0, sensitivities, &mut stats);
     let y_start = point.y.clone();
     let mut h = course.initial_step(opts);
@@ -209,7 +210,10 @@ pub(super) fn integrate(
             continue;
         }
         let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
-        intervals.push(point.accept(sys, &course, &step, t1, slow, &mut stats));
+        if let Err(o) = super::store(&mut intervals, point.accept(sys, &course, &step, t1, slow, &mut stats), t1) {
+            outcome = o;
+            break;
+        }
         if !fixed {
             h = h_step * (0.9 * step.err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
         }

@@ -90,6 +90,11 @@ pub struct PeriodicResponse {
     pub first_rise_time: Option<f64>,
     /// From the onset until `X_{N+1} − L_x ≤ δ_d`, s (when a `δ_d` was given and is reached).
     pub time_to_target: Option<f64>,
+    /// The last period's swing `max − min` of the end displacement stands above what the
+    /// integrator resolves ([`swing_resolution`]). When it does not (a forcing far faster than the
+    /// chain can follow), the reach, return and target times are left out: they would be read off
+    /// round-off.
+    pub swing_resolved: bool,
     pub drift: Drift,
     pub stats: Stats,
     pub time_seconds: f64,
@@ -98,12 +103,61 @@ pub struct PeriodicResponse {
     pub samples: Vec<Sample>,
 }
 
+/// The smallest swing of the end displacement, m, that a response integrated with `options` over a
+/// chain of horizontal length `length_x` resolves: a hundred times the error the tolerances allow
+/// in each angle, `(atol + rtol) rad`, carried over the chain's length.
+pub fn swing_resolution(options: &Options, length_x: f64) -> f64 {
+    100.0 * (options.atol + options.rtol) * length_x.abs().max(1e-3)
+}
+
+impl PeriodicResponse {
+    /// Settled, and its swing resolved: the numbers of the last period mean what they say.
+    pub fn is_meaningful(&self) -> bool {
+        self.settled && self.swing_resolved
+    }
+
+    /// Why the response's numbers do not mean what they say, if they do not.
+    pub fn not_meaningful_reason(&self) -> Option<String> {
+        if !self.swing_resolved {
+            let swing = self.max_end_displacement - self.min_end_displacement;
+            return Some(format!(
+                "the end's swing over a period, {swing:.3e} m, is within what the integrator resolves: the forcing (period {} s) is far faster than the chain can follow, so no reach, return or target time is read off it",
+                self.period
+            ));
+        }
+        (!self.settled).then(|| {
+            format!(
+                "no two periods agreed within {} periods (largest change {:.3e} of the swing)",
+                self.periods_run, self.period_change
+            )
+        })
+    }
+}
+
 /// Onset and release of the load within one period (offsets from the period's start, s).
 fn onset_and_release(forcing: &Forcing) -> (f64, f64) {
     match *forcing {
         Forcing::PulseTrain { period, duty, delay } => (delay % period, (delay % period) + duty * period),
         Forcing::Sinusoid { angular_frequency } => (0.0, std::f64::consts::PI / angular_frequency),
         _ => (0.0, 0.0),
+    }
+}
+
+/// The lowest and highest samples from `t_start` on, as [`extremes`] gives them (`(value, t)` of
+/// the minimum, the maximum's value); the end's rest value when there are none.
+fn sampled_extremes(samples: &[Sample], t_start: f64) -> (Vec<(f64, f64)>, f64) {
+    let last: Vec<&Sample> = samples.iter().filter(|s| s.t >= t_start).collect();
+    let min = last.iter().fold((f64::INFINITY, t_start), |m, s| {
+        if s.end_displacement < m.0 {
+            (s.end_displacement, s.t)
+        } else {
+            m
+        }
+    });
+    let max = last.iter().fold(f64::NEG_INFINITY, |m, s| m.max(s.end_displacement));
+    match last.is_empty() {
+        true => (vec![(0.0, t_start)], 0.0),
+        false => (vec![min], max),
     }
 }
 
@@ -207,7 +261,8 @@ fn simulate_periods(
         let traj = integrate(&end.ode, t0, &y, t0 + period, &settings.integrator, extras);
         sensitivities = traj.end_sensitivity();
         periods_run += 1;
-        if k == 0 {
+        let stopped = matches!(traj.outcome, Outcome::TimeLimit { .. } | Outcome::Interrupted { .. });
+        if k == 0 && !stopped {
             first_rise_time = end.crossing(&traj, t0 + onset, first_level).map(|t| t - (t0 + onset));
         }
         stats.absorb(&traj.stats);
@@ -259,7 +314,13 @@ fn run_periodic(
     let run = simulate_periods(&end, &ends, settings, springs);
     let traj = &run.last;
     let (t_start, _) = traj.span();
-    let (minima, max) = extremes(traj, &|y: &[f64]| end.at(y), settings.samples_per_period * 4);
+    // A run stopped from outside (its time limit) is read off its samples, not refined on every
+    // step: its numbers are partial anyway, and the run must end now.
+    let stopped = matches!(run.outcome, Outcome::TimeLimit { .. } | Outcome::Interrupted { .. });
+    let (minima, max) = match stopped {
+        false => extremes(traj, &|y: &[f64]| end.at(y), settings.samples_per_period * 4),
+        true => sampled_extremes(&run.samples, t_start),
+    };
     let min = minima[0];
     let (onset, release) = onset_and_release(&d.forcing);
     let (onset, release) = (t_start + onset, t_start + release);
@@ -269,6 +330,11 @@ fn run_periodic(
     let return_level = min.0 + f * (ends.passive_displacement - min.0);
     let return_time = end.crossing(traj, release, return_level).map(|t| t - release);
     let time_to_target = target.and_then(|delta_d| end.crossing(traj, onset, delta_d)).map(|t| t - onset);
+    let swing_resolved = max - min.0 > swing_resolution(&settings.integrator, length_x);
+    let (reach_time, return_time, time_to_target) = match swing_resolved {
+        true => (reach_time, return_time, time_to_target),
+        false => (None, None, None),
+    };
     let values = (fixed_horizon && run.outcome == Outcome::Completed).then(|| {
         let (_, t_end) = traj.span();
         let value = |t: f64, value: f64| match forward {
@@ -292,6 +358,7 @@ fn run_periodic(
         return_time,
         first_rise_time: run.first_rise_time,
         time_to_target,
+        swing_resolved,
         drift: run.drift,
         stats: run.stats,
         time_seconds: clock.elapsed().as_secs_f64(),

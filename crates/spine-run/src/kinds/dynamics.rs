@@ -301,14 +301,32 @@ impl crate::KindOutput for DynamicsResult {
             return r.settled && r.rise_time.is_some();
         }
         if let Some(r) = &self.periodic_response {
-            return r.settled;
+            return r.is_meaningful();
         }
         if let Some(designs) = &self.damping_designs {
             return designs
                 .iter()
-                .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.settled));
+                .all(|d| d.design.meets_target() && d.periodic_response.as_ref().is_none_or(|p| p.is_meaningful()));
         }
-        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.finished() && r.response.settled)
+        self.periodic_design.as_ref().is_some_and(|r| r.feasible && r.finished() && r.response.is_meaningful())
+    }
+
+    /// The periodic responses whose numbers mean nothing, with why (the forcing period to blame
+    /// when the swing is below the integrator's resolution).
+    fn not_clean_reasons(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(reason) = self.periodic_response.as_ref().and_then(|r| r.not_meaningful_reason()) {
+            out.push(format!("periodic response: {reason}"));
+        }
+        for d in self.damping_designs.iter().flatten() {
+            if let Some(reason) = d.periodic_response.as_ref().and_then(|r| r.not_meaningful_reason()) {
+                out.push(format!("T_d = {} s, periodic response: {reason}", d.design.target_rise_time));
+            }
+        }
+        if let Some(reason) = self.periodic_design.as_ref().and_then(|r| r.response.not_meaningful_reason()) {
+            out.push(format!("eq. (37) design, periodic response: {reason}"));
+        }
+        out
     }
 
     /// `response.csv` (step, periodic, eq. (37)), or `response_T{T_d}.csv` and

@@ -50,7 +50,8 @@ pub(super) fn integrate(
     extras: Extras<'_>,
 ) -> Trajectory {
     let Extras { sensitivities, steps, stop } = extras;
-    let mut course = Course::new(sys, t0, t_end, steps, opts);
+    let columns = sensitivities.as_ref().map_or(0, |s| s.ncols());
+    let mut course = Course::new(sys, (t0, t_end), steps, opts, columns);
     let mut run = Run::start(sys, opts, &course, t0, y0, sensitivities);
     let y_start = run.y.clone();
     let h_max = opts.max_step.unwrap_or(f64::INFINITY);
@@ -72,7 +73,11 @@ pub(super) fn integrate(
                 break;
             }
         };
-        intervals.push(run.accept(step, &course));
+        let t1 = step.t1;
+        if let Err(o) = super::store(&mut intervals, run.accept(step, &course), t1) {
+            outcome = o;
+            break;
+        }
         if stop.is_some_and(|g| g(run.t, &run.y)) {
             outcome = Outcome::Stopped { t: run.t };
             break;
