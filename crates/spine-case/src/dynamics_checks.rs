@@ -40,7 +40,7 @@ pub(crate) fn check_periodic_forcing(
         _ => ("forcing.angular_frequency", 0.0),
     };
     let longest = (MAX_T_END - delay) / p.max_periods as f64;
-    if !(period <= longest) {
+    if period.is_nan() || period > longest {
         let given = match *forcing {
             Forcing::Sinusoid { angular_frequency } => {
                 format!("at least {} rad/s, got {angular_frequency}", std::f64::consts::TAU / longest)

@@ -25,7 +25,7 @@ pub fn parse<T: DeserializeOwned>(value: serde_json::Value) -> Result<T, CaseErr
 
 /// JSON text (a shard, a file the workspace wrote and a person may have edited) parsed into `T`
 /// without a value in between (a shard may hold hundreds of megabytes): text that is not JSON is
-/// reported with its line and column, a field of the wrong form by its path with [`plain`]'s
+/// reported with its line and column, a field of the wrong form by its path in the workspace's
 /// wording (`batch: a whole number ≥ 0 is expected, got "2"`), never serde's.
 pub fn from_json_text<T: DeserializeOwned>(text: &str) -> Result<T, CaseError> {
     let syntax = |e: &serde_json::Error| {

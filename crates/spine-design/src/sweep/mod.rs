@@ -12,9 +12,8 @@
 //!   is a **jump**: the branch ended (a fold) or the corrector left it; the sweep reports it and
 //!   goes on from the optimum the corrector reached.
 //! * **Events** between two accepted points, each located by bisection on the parameter: a bound
-//!   becoming active or inactive, the reduced Hessian losing (or regaining) definiteness (a fold
-//!   of the branch: second-order sufficiency fails), an equilibrium losing (or regaining)
-//!   stability.
+//!   becoming active or inactive, the reduced Hessian losing (or regaining) definiteness (a fold:
+//!   second-order sufficiency fails), an equilibrium losing (or regaining) stability.
 
 mod events;
 mod station;
@@ -57,7 +56,7 @@ impl SweepSettings {
         let span = self.to != self.from && (self.to - self.from).is_finite();
         require(span, "to", || format!("must differ from `from` ({}) by a finite span", self.from))?;
         require((2..=100_000).contains(&self.points), "points", || {
-            format!("must be an integer from 2 to 100000, got {}", self.points)
+            format!("must be 2 to 100000, got {}", self.points)
         })?;
         require(self.halvings <= 30, "halvings", || format!("must be at most 30, got {}", self.halvings))?;
         require(self.bisections <= 50, "bisections", || format!("must be at most 50, got {}", self.bisections))?;
