@@ -11,6 +11,31 @@
 //! * [`scaled_arch`]: an arch under transverse and axial load (equilibrium benchmarks);
 //! * [`DesignFixture`]: the scaled family of `docs/PEERS.md` at the arch start (design
 //!   benchmarks; at `N = 10` it is the paper's 10-link configuration).
+//!
+//! Modules:
+//!
+//! * `ad_peers`: CasADi's automatic differentiation beside the workspace's (`just bench-ad-peers`):
+//!   the same residual Jacobian and Lagrangian Hessian of eq. (33), built as CasADi SX functions
+//!   (`benchmarks/peers/casadi_ad.py`) and evaluated inside CasADi, its virtual machine and its
+//!   generated C code compiled with `gcc -O3`, each over a batch so that Python's call overhead
+//!   does not count; ours timed in the same run on the same point.
+//! * `cli`: Command-line arguments of the benchmark programs: a bad argument is a usage error (the
+//!   argument, what is allowed, exit code 2), never a panic.
+//! * `kkt`: KKT matrices Ipopt factorised in real eq. (33) solves (recorded with `SPINE_KKT_DUMP`),
+//!   for the factorisation benchmark and the agreement of the workspace's `LDLᵀ` with MUMPS on
+//!   them.
+//! * `peers`: The side-by-side comparison of eq. (33) with CasADi + IPOPT (`just bench-peers`): one
+//!   row per N, both programs on the same case file from the same start point.
+//! * `report`: `just bench` → `benchmarks/RESULTS.md` and `benchmarks/scaling.svg`: criterion's
+//!   mean times read back from `target/criterion`, the fitted exponent `p` of `time ∝ N^p` per
+//!   benchmark, the targets of the benchmark issue checked against them, and the CasADi comparison
+//!   of `just bench-peers` when it has been run (`benchmarks/peers/results.json`).
+//! * `report_merge`: `benchmarks/RESULTS.md` written by a run that measured part of it: `just
+//!   bench-peers` has no criterion data unless `just bench` ran in the same tree, and a fresh clone
+//!   has none.
+//! * `targets`: The targets the benchmark issues set, checked against the measurements: criterion's
+//!   (AD against the hand code, the Hessian, the fitted exponents, the KKT factorisation) and the
+//!   peers run's (eq. (33) against CasADi).
 #![forbid(unsafe_code)]
 
 pub mod ad_peers;

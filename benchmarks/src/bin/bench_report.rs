@@ -68,7 +68,7 @@ fn main() {
     std::fs::write("benchmarks/RESULTS.md", md).expect("benchmarks/RESULTS.md");
     if !measurements.is_empty() {
         let svg = figure(&measurements).to_svg().unwrap_or_else(|e| {
-            eprintln!("bench_report: plot: {}", e.0);
+            eprintln!("bench_report: {e}");
             std::process::exit(1)
         });
         std::fs::write("benchmarks/scaling.svg", svg).expect("benchmarks/scaling.svg");

@@ -35,6 +35,14 @@
 //! * `specs`: The parts of a case file that several kinds share (notes, chain, given design, loads,
 //!   the continuation options) and the validators of single values.
 //! * `twolink_case`: `"kind": "twolink"`: the two-link analysis of Sec. 3.
+//! * `case`: The case enum made from the registry of case kinds (`case_kinds!`, in `lib.rs`):
+//!   `Case`, a case file parsed by its `kind`.
+//! * `error`: Errors in case files.
+//! * `objective_spec`: A design case's criterion (field `objective`): the paper's strain energy by
+//!   default, or one of the built-ins of `spine_design::Objective`.
+//! * `tangent`: The rates of eq. (33)'s problem along a parameter of a design case
+//!   (`DesignCase::parameter_tangent`): which of the problem's numbers the case's validation moves
+//!   when the field changes, and how fast.
 //!
 //! ```
 //! let text = r#"{

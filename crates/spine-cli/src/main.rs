@@ -5,6 +5,21 @@
 //! `--time-limit` (the result is still written, with its status; a time limit that left nothing
 //! to report writes nothing); 130 interrupted (nothing written); 1 any other failure (for example the output folder cannot be
 //! written). The command only parses arguments, calls `spine_run::run_case` and prints.
+//!
+//! Modules:
+//!
+//! * `args`: The command line: subcommands, their arguments, and the overrides they make to a case.
+//! * `output`: Printing to stdout without a panic when the reader has gone (`spine … | head`), and
+//!   the result folder through `spine_run::write` with its errors as exit codes.
+//! * `parse`: The values of the command-line options: the text parsed, then checked by the same
+//!   function that checks flexspine's keyword arguments (`spine_run::option_values`); clap prints
+//!   the message with the option's name (exit code 2).
+//! * `progress`: Progress of a long run on the terminal (stderr): one bar per stage, finished lines
+//!   printed.
+//! * `report`: `spine report`: the figures' results gathered into `RESULTS/REPORT.md` and the
+//!   self-contained `RESULTS/report.html`.
+//! * `workers`: The worker processes of a run's multi-starts: `--jobs N`, this program started
+//!   again as `spine worker`.
 #![forbid(unsafe_code)]
 
 mod args;

@@ -92,7 +92,8 @@ pub struct Attempt {
     pub from: StartedFrom,
     /// `mu_init` of a warm attempt (`None`: the cold first level).
     pub mu_init: Option<f64>,
-    pub status: String,
+    /// How Ipopt ended the attempt (written as its name, `solve_succeeded`).
+    pub status: spine_ipopt::Status,
     /// Ipopt iterations of the attempt's first run and of the run it reports (the same run, or
     /// the tight re-solve that certified it).
     pub first_run_iterations: usize,
@@ -261,7 +262,7 @@ fn solve_level(
         attempts.push(Attempt {
             from,
             mu_init,
-            status: result.solver.status.to_string(),
+            status: result.solver.status,
             first_run_iterations,
             iterations: result.solver.iterations,
             objective: result.objective,

@@ -10,6 +10,27 @@
 //!   against Euler's `4π²EI/L²`;
 //! - [`node_error`]: a chain equilibrium's nodes against the elastica at the same arclength.
 //!
+//! Further modules:
+//!
+//! * `buckling`: The critical axial load of the straight chain, where its stability certificate's
+//!   smallest eigenvalue crosses zero, against Euler's.
+//! * `chebyshev`: Chebyshev–Gauss–Lobatto collocation on an interval `[0, L]`: the nodes, the
+//!   differentiation matrix, Clenshaw–Curtis weights, and a function's Chebyshev series with its
+//!   integral, evaluated anywhere (Trefethen, *Spectral Methods in MATLAB*, ch.
+//! * `compare`: The chain against the rod it discretises, at a number of links `N`: the critical
+//!   load against Euler's, and equilibria against the elastica at the same arclength.
+//! * `convergence`: The convergence study: the chain against the rod for a ladder of `N`, as a
+//!   table and a figure.
+//! * `design`: Eq. (33) posed for one physical rod, so that the chain of any `N` discretises the
+//!   same design problem and its optima can be followed as `N → ∞`.
+//! * `design_figure`: The figure of the design study: the optimal profiles of several `N` on one
+//!   axis each, and `J*(N)` on a log axis with the Richardson limit.
+//! * `design_study`: Eq. (33) for one rod (`RodDesign`) at a ladder of `N`, each level warm-started
+//!   from the previous optimum: `J*(N)`, the optimal `θ0(x)` and `EI(x)`, the active-bound pattern
+//!   of `EI` and its number of switches, and a Richardson estimate of `J*∞`.
+//! * `elastica`: Euler's elastica with the rod's loads, solved by Chebyshev collocation: the
+//!   continuum reference the chain converges to.
+//!
 //! ```
 //! use spine_continuum::{chain_critical_load, Rod};
 //! let rod = Rod { length: 1.0, bending_stiffness: 10.0, end_force: 0.0, transverse_load: 0.0,

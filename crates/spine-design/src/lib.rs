@@ -34,6 +34,23 @@
 //!   `C_K`, a bound, …): predictor–corrector continuation of the optimum branch `x*(p)`.
 //! * `violations`: How far a design result is from satisfying eq. (33): each part of the problem
 //!   recomputed from the reported design and states, and what Ipopt's tolerances allow.
+//! * `criterion`: The objective's elements in the full space, one group per criterion
+//!   (`crate::Objective`): the paper's strain energies of the `N + 1` springs at `θ1`, the springs'
+//!   stiffnesses, the powers of the joint moments at `θ1` and `θ2`, or the compliance load's work
+//!   on each link at `θ3`.
+//! * `fixtures`: Ready-made design problems for tests, examples and benchmarks (the case files are
+//!   the user-facing way to state a problem).
+//! * `log_variables`: Positive variables handed to Ipopt by their logarithm: `u = ln x`, so that a
+//!   Newton step changes such a variable by a bounded factor instead of a bounded amount.
+//! * `numbers`: The numbers of eq. (33)'s NLP that come from the problem rather than from its
+//!   variables: the spans, the load resultants of both load states, `C_K`, the end target `L_x +
+//!   δ_d` and the bounds, in any number type.
+//! * `solver_run`: What one Ipopt run of eq. (33) returns before it is checked (`SolverRun`):
+//!   serialisable, so a worker process or a shard can send it to the process that checks it.
+//! * `variables`: How the full space's quantities are Ipopt's variables (case fields
+//!   `solver.state_variables` and `solver.spring_variables`): the same NLP after a change of
+//!   variables, with the same KKT points, and a different path for Ipopt.
+//! * `warnings`: What can make a design result not clean, each with its numbers.
 //!
 //! ```
 //! use spine_design::fixtures::{paper_five_link_start, paper_problem};

@@ -51,13 +51,34 @@ pub struct PeriodicDesign {
     pub time_seconds: f64,
 }
 
+/// How the method of eq. (37) ended: Ipopt's status (or the stop) for the gradient method, the
+/// search's for the GA and pattern search; printed by its name (`solve_succeeded`,
+/// `mesh_converged`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MethodStatus {
+    Gradient(crate::periodic_gradient::GradientStatus),
+    Search(spine_search::SearchStatus),
+    /// Neither ran (no method's report).
+    None,
+}
+
+impl std::fmt::Display for MethodStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Gradient(g) => write!(f, "{g}"),
+            Self::Search(s) => f.write_str(s.name()),
+            Self::None => f.write_str("none"),
+        }
+    }
+}
+
 impl PeriodicDesign {
     /// How the method ended: Ipopt's status for the gradient method, else the search's.
-    pub fn status(&self) -> String {
+    pub fn status(&self) -> MethodStatus {
         match (&self.gradient, &self.search) {
-            (Some(g), _) => g.status.to_string(),
-            (None, Some(s)) => s.status.name().to_string(),
-            (None, None) => "none".into(),
+            (Some(g), _) => MethodStatus::Gradient(g.status),
+            (None, Some(s)) => MethodStatus::Search(s.status),
+            (None, None) => MethodStatus::None,
         }
     }
 

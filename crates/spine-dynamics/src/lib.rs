@@ -33,6 +33,10 @@
 //!
 //! * `cholesky`: Dense Cholesky factorisation and solve, generic over `Scalar` (dual numbers carry
 //!   through): the reference path of the mass-matrix solves in `crate::eom`.
+//! * `end_x`: The end's X displacement `X_{N+1} − L_x` on a trajectory of one ODE: its value and
+//!   the first time it reaches a level (an event on the steps).
+//! * `eq36`: Eq. (36)'s first-order model of the step response, fitted to a run
+//!   (`fit_first_order`), and its own reading of the rise.
 //!
 //! ```
 //! use spine_dynamics::fixtures::arch_problem;

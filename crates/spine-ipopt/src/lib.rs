@@ -9,6 +9,11 @@
 //! * `context`: What the Ipopt callbacks share with the solve that started them (behind Ipopt's
 //!   `user_data`), and the arrays that go into and come out of `IpoptSolve`.
 //! * `options`: Ipopt options as an ordered list of `name = value` pairs.
+//! * `barrier`: The barrier strategy, Ipopt's `mu_strategy`, as a typed setting.
+//! * `c_bool`: Ipopt's C `Bool`: a C `int` up to 3.13, C99 `bool` from 3.14 (read by `build.rs`).
+//! * `clock`: The clock behind this crate's replacements of Ipopt's `CpuTime()` and
+//!   `WallclockTime()` (`ffi.rs`, where the C symbols are defined), and how often Ipopt read each.
+//! * `status`: Ipopt's return codes, one named variant each.
 //!
 //! ```text
 //! min f(x)   subject to   g_l ≤ g(x) ≤ g_u,   x_l ≤ x ≤ x_u

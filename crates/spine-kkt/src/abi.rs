@@ -10,6 +10,7 @@
 //! and releases with phase −1.
 
 use crate::pardiso::{self, error, Call, State, PARAMETERS};
+use crate::LoadError;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::os::unix::ffi::OsStrExt;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -62,18 +63,19 @@ fn last_dl_error() -> String {
 }
 
 /// Loads the shim at `path` for the life of the process and registers the entry points with it.
-pub(crate) fn load(path: &Path) -> Result<(), String> {
-    let c_path = CString::new(path.as_os_str().as_bytes()).map_err(|_| format!("{}: NUL in path", path.display()))?;
+pub(crate) fn load(path: &Path) -> Result<(), LoadError> {
+    let shown = || path.display().to_string();
+    let c_path = CString::new(path.as_os_str().as_bytes()).map_err(|_| LoadError::NulInPath { path: shown() })?;
     // SAFETY: a valid NUL-terminated path; the shim has no constructors. RTLD_NODELETE keeps it
     // mapped after the file is removed and for the rest of the process.
     let handle = unsafe { dlopen(c_path.as_ptr(), RTLD_NOW | RTLD_NODELETE) };
     if handle.is_null() {
-        return Err(format!("dlopen {}: {}", path.display(), last_dl_error()));
+        return Err(LoadError::Open { path: shown(), message: last_dl_error() });
     }
     // SAFETY: a live handle and a NUL-terminated symbol name.
     let symbol = unsafe { dlsym(handle, c"spine_kkt_register".as_ptr()) };
     if symbol.is_null() {
-        return Err(format!("{}: no spine_kkt_register: {}", path.display(), last_dl_error()));
+        return Err(LoadError::NoRegister { path: shown(), message: last_dl_error() });
     }
     // SAFETY: the symbol is the shim's `void spine_kkt_register(init_fn, pardiso_fn)`, whose C
     // signature is `RegisterFn`; a data pointer and a function pointer have the same size here.

@@ -7,7 +7,7 @@
 //! it the two Rust entry points; every later `dlopen("libpardiso.so")` in the process gets it.
 //! Without [`install`] nothing changes: Ipopt looks for a real Pardiso as before.
 
-use crate::{abi, KktError};
+use crate::{abi, KktError, LoadError};
 use std::fs::OpenOptions;
 use std::io::Write;
 use std::path::PathBuf;
@@ -15,11 +15,11 @@ use std::sync::OnceLock;
 
 /// Loads the shim once per process; later calls return the first outcome.
 pub fn install() -> Result<(), KktError> {
-    static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+    static INSTALLED: OnceLock<Result<(), Vec<LoadError>>> = OnceLock::new();
     INSTALLED.get_or_init(install_once).clone().map_err(KktError::Load)
 }
 
-fn install_once() -> Result<(), String> {
+fn install_once() -> Result<(), Vec<LoadError>> {
     let mut failures = Vec::new();
     // The temporary directory first; an executable's own directory when that is mounted noexec.
     let mut directories = vec![std::env::temp_dir()];
@@ -39,11 +39,11 @@ fn install_once() -> Result<(), String> {
             Err(e) => failures.push(e),
         }
     }
-    Err(failures.join("; "))
+    Err(failures)
 }
 
 /// Writes the shim to a new file in `dir` (never over an existing one).
-fn write_shim(dir: &std::path::Path) -> Result<PathBuf, String> {
+fn write_shim(dir: &std::path::Path) -> Result<PathBuf, LoadError> {
     let stamp = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos()).unwrap_or(0);
     for attempt in 0..8 {
         let path = dir.join(format!("spine-kkt-{}-{stamp}-{attempt}.so", std::process::id()));
@@ -52,11 +52,11 @@ fn write_shim(dir: &std::path::Path) -> Result<PathBuf, String> {
                 return file
                     .write_all(abi::SHIM)
                     .map(|()| path.clone())
-                    .map_err(|e| format!("{}: {e}", path.display()));
+                    .map_err(|e| LoadError::Write { path: path.display().to_string(), message: e.to_string() });
             }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(format!("{}: {e}", path.display())),
+            Err(e) => return Err(LoadError::Write { path: path.display().to_string(), message: e.to_string() }),
         }
     }
-    Err(format!("{}: no free file name for the shim", dir.display()))
+    Err(LoadError::NoFreeName { dir: dir.display().to_string() })
 }

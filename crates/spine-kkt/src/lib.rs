@@ -25,6 +25,25 @@
 //! * [`ordering`]: The elimination order of the frontal factorisation: the few dense rows first
 //!   (they stay in the front from start to end), then the rest by reverse Cuthill–McKee, which
 //!   finds the band of a chain-like graph so that the front stays as narrow as the band.
+//! * `analysis`: The symbolic phase: the elimination order and, for each step of the frontal sweep,
+//!   which entries enter the front and which variables become fully summed (free to be pivots).
+//! * `factor`: The numerical factorisation `P S A S Pᵀ = L D Lᵀ` (Pardiso's phase 22), and solves
+//!   with it.
+//! * `front`: The front of the sweep: a small dense symmetric matrix over the variables that have
+//!   entered and are not yet eliminated, stored by its lower triangle (slot `i` keeps `a_ij` for `j
+//!   ≤ i`) with a row stride that grows on demand.
+//! * `pardiso`: Pardiso's calling convention (the interface Ipopt's `linear_solver pardiso` calls)
+//!   over `SymmetricSolver`, in safe Rust: the C entry points of `crate::abi` turn their pointers
+//!   into these slices and call `init` and `State::call`.
+//! * `pivot`: The pivot test of the frontal sweep (`crate::factor`): Bunch–Kaufman among the fully
+//!   summed variables, threshold and Duff–Reid tests where the partner is not summed yet, a test
+//!   against the dense rows, and the thresholds that relax while a variable waits.
+//! * `solver`: A factorised symmetric system with iterative refinement: what Ipopt's linear solver
+//!   has to do.
+//! * `sweep`: One frontal sweep (a stage of the analysis, or the root of a split) and the
+//!   triangular solves with its pivots.
+//! * `symmetric`: A symmetric sparse matrix stored by one triangle in compressed rows: the form in
+//!   which Ipopt hands its KKT matrix to Pardiso (the upper triangle, 1-based; here 0-based).
 //!
 //! ```
 //! use spine_kkt::{Structure, SymmetricSolver};
@@ -68,6 +87,26 @@ pub use solver::{
 };
 pub use symmetric::Structure;
 
+/// Why the shim library could not be written to a folder or loaded from it (`install`).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be created or written (the system's message).
+    #[error("{path}: {message}")]
+    Write { path: String, message: String },
+    /// Eight names in the folder were taken.
+    #[error("{dir}: no free file name for the shim")]
+    NoFreeName { dir: String },
+    /// The path holds a NUL byte, which `dlopen` cannot take.
+    #[error("{path}: NUL in path")]
+    NulInPath { path: String },
+    /// `dlopen` refused the file (its `dlerror`).
+    #[error("dlopen {path}: {message}")]
+    Open { path: String, message: String },
+    /// The file loaded but has no `spine_kkt_register` (its `dlerror`).
+    #[error("{path}: no spine_kkt_register: {message}")]
+    NoRegister { path: String, message: String },
+}
+
 /// Why a factorisation or solve could not be done.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum KktError {
@@ -80,9 +119,9 @@ pub enum KktError {
     /// A solve before any successful factorisation.
     #[error("solve without a factorisation")]
     NotFactorized,
-    /// The shim library could not be written or loaded.
-    #[error("cannot load the Pardiso shim: {0}")]
-    Load(String),
+    /// The shim library could not be written or loaded: why, in each folder tried.
+    #[error("cannot load the Pardiso shim: {}", .0.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "))]
+    Load(Vec<LoadError>),
     /// A step of the factorisation did not happen (a broken invariant: a bug of this crate).
     #[error("internal error: {0}")]
     Internal(String),

@@ -39,6 +39,16 @@
 //!   the workspace's one generator, `spine_rng::SplitMix64`.
 //! * [`structure`]: The physical situation every problem shares: a chain with its loads.
 //! * [`twolink`]: The two-link analysis of Sec. 3, in closed form.
+//! * `chain`: The chain (fixed geometry and masses), the design `(θ0, K)` and a state `(θ, λ)`.
+//! * `fixtures`: Reference structures shared by tests, benchmarks and examples.
+//! * `loads`: Loads: nodal forces and their per-link resultants (eq. (48) of the paper).
+//! * `residual`: The equilibrium residual (paper eqs. (5), (33)), written once for every number
+//!   type.
+//! * `sparse`: Sparse matrix containers for the Jacobians: the bordered tridiagonal matrix of the
+//!   equilibrium equations and a plain coordinate (triplet) matrix.
+//! * `tangent`: A branch-free hyper-dual number for the rates of an element's gradient along a
+//!   parameter: `ε₁` over the element's `M` slots, `ε₂` one direction in its constants (a load, a
+//!   span, `C_K` moving with a parameter of the problem).
 //!
 //! ```
 //! use spine_model::fixtures::{arch, uniform_loads};

@@ -69,11 +69,11 @@ fn changed(a: &[u8], b: &[u8], width: usize) -> Option<(usize, usize, usize, usi
 /// The frames as a looping animated GIF, each shown for `delay_cs` hundredths of a second.
 /// Every frame must have the size of the first.
 pub fn to_gif(frames: &[Figure], delay_cs: u16) -> Result<Vec<u8>, PlotError> {
-    let first = frames.first().ok_or_else(|| PlotError("gif: no frames".into()))?;
+    let first = frames.first().ok_or(PlotError::NoFrames)?;
     let (width, height) = first.size();
     let (w16, h16) = match (u16::try_from(width), u16::try_from(height)) {
         (Ok(w), Ok(h)) => (w, h),
-        _ => return Err(PlotError(format!("gif: {width}×{height} px is larger than a GIF can hold (65535)"))),
+        _ => return Err(PlotError::FrameTooLarge { width, height }),
     };
     let mut palette = Palette::new();
     let mut out = Vec::new();
@@ -84,7 +84,7 @@ pub fn to_gif(frames: &[Figure], delay_cs: u16) -> Result<Vec<u8>, PlotError> {
         for figure in frames {
             let (w, h, rgb) = figure.to_rgb()?;
             if (w, h) != (width, height) {
-                return Err(PlotError(format!("gif: a frame of {w}×{h} px among frames of {width}×{height} px")));
+                return Err(PlotError::FrameSize { frame_width: w, frame_height: h, width, height });
             }
             let indexed: Vec<u8> = rgb.chunks_exact(3).map(|c| palette.index([c[0], c[1], c[2]])).collect();
             let w = width as usize;
@@ -189,7 +189,7 @@ mod tests {
     fn frames_of_another_size_are_refused() {
         let mut other = frame(1);
         other.panel_size = (300, 180);
-        assert!(to_gif(&[frame(0), other], 5).unwrap_err().0.contains("among frames"));
+        assert!(to_gif(&[frame(0), other], 5).unwrap_err().to_string().contains("among frames"));
         assert!(to_gif(&[], 5).is_err());
     }
 }

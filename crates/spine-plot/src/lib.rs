@@ -19,6 +19,15 @@
 //! * `series`: A series of `(x, y)` points and how it is drawn.
 //! * `style`: The house style of every figure: the layout's sizes, the font (embedded, registered
 //!   once) and the colours of successive series.
+//! * `check`: A figure checked as a reader would look at it: no legend over the data, every text
+//!   inside the canvas and clear of every other text, and no character the font cannot draw.
+//! * `figure`: A figure: a titled grid of panels, drawn to SVG, PNG and PDF.
+//! * `layout`: Where everything of a figure goes, in pixels: the title's lines, each panel's
+//!   caption, axes box and axis ranges, the marks the data makes, and the legend's box, placed in a
+//!   corner no data reaches or, when every corner is taken, below the axes.
+//! * `panel`: A panel: axes with their labels and scales, and the series drawn on them.
+//! * `text`: Text as the figure lays it out: widths in the embedded font, lines wrapped and shrunk
+//!   to fit a width, and the characters the font cannot draw.
 //!
 //! ```
 //! use spine_plot::{Figure, Panel, Series};

@@ -268,7 +268,7 @@ impl Animation {
     pub fn to_gif(&self) -> Result<Vec<u8>, PlotError> {
         let (frames, delay) = self.frames();
         if frames.is_empty() {
-            return Err(PlotError("animation: no response to animate".into()));
+            return Err(PlotError::NothingToAnimate);
         }
         spine_plot::to_gif(&frames, delay)
     }

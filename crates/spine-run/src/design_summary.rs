@@ -202,7 +202,7 @@ impl DesignCaseResult {
                 c.null_space_dimension,
                 c.weakly_active,
                 c.smallest_curvature.map_or("none (a vertex or too large to form)".into(), |v| format!("{v:.3e}")),
-                c.reduced_kkt_inertia.map_or("n/a".into(), |[p, n, z]| format!("[{p}, {n}, {z}]"))
+                c.reduced_kkt_inertia.map_or("n/a".into(), |[p, n, z]| format!("(n₊, n₋, n₀) = ({p}, {n}, {z})"))
             )?,
             None => writeln!(f, "second-order certificate: none (the run did not converge)")?,
         }

@@ -58,6 +58,16 @@
 //!   `csv` crate, read by the Python package column by column.
 //! * [`text`]: Numbers for a person to read: a quantity with its unit and a precision that fits it,
 //!   a list of values.
+//! * `files`: The files a result writes beside `result.json` (CSV tables, figures).
+//! * `output`: The values runs compute, below every runner: a run inside a figure kept as a value
+//!   (`RunOutput`) that a recipe draws and checks, and the parts it holds (an eq. (33) run with
+//!   what the figures need, the design and output of a dynamic run, the two-link study's result).
+//! * `result`: The typed result of a case (`CaseResult`): what `result.json` holds, the files
+//!   written beside it, and whether it is clean (exit code 0) or not (exit code 3).
+//! * `study`: The C_K study of eq. (34): one design case solved for C_K over half-decades, with
+//!   Ipopt's own scaling on and off, and the paper's statement "as the C_K is increased the
+//!   stiffness variation between the nodes increases whereas the change in orientation of the links
+//!   is less apparent" (Sec. 5.1) checked on the results.
 //!
 //! ```
 //! // Any case file runs through one path: parse, check, run, a typed result.

@@ -40,15 +40,31 @@ pub struct ShardSpec {
     pub count: usize,
 }
 
+/// Why a command-line `--shard` is not a shard.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ParseShardError {
+    #[error("K/N expected, got {0:?}")]
+    Form(String),
+    /// One side is not a whole number (the side, and why).
+    #[error("K/N: {part:?}: {reason}")]
+    Number { part: String, reason: String },
+    #[error("K/N with 1 ≤ K ≤ N ≤ {max}, got {given}")]
+    Range { given: String, max: usize },
+}
+
 impl std::str::FromStr for ShardSpec {
-    type Err = String;
+    type Err = ParseShardError;
     /// `K/N` with `1 ≤ K ≤ N ≤ 10⁵`.
-    fn from_str(text: &str) -> Result<Self, String> {
-        let (k, n) = text.split_once('/').ok_or_else(|| format!("K/N expected, got {text:?}"))?;
-        let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| format!("K/N: {v:?}: {e}"));
+    fn from_str(text: &str) -> Result<Self, ParseShardError> {
+        let (k, n) = text.split_once('/').ok_or_else(|| ParseShardError::Form(text.to_string()))?;
+        let parse = |v: &str| {
+            v.trim()
+                .parse::<usize>()
+                .map_err(|e| ParseShardError::Number { part: v.to_string(), reason: e.to_string() })
+        };
         let (index, count) = (parse(k)?, parse(n)?);
         if !(1..=spine_case::MAX_STARTS).contains(&count) || !(1..=count).contains(&index) {
-            return Err(format!("K/N with 1 ≤ K ≤ N ≤ {}, got {text}", spine_case::MAX_STARTS));
+            return Err(ParseShardError::Range { given: text.to_string(), max: spine_case::MAX_STARTS });
         }
         Ok(Self { index, count })
     }

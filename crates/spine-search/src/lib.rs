@@ -18,6 +18,11 @@
 //! search; see `docs/design.md`);
 //! these are tested on Rosenbrock, Rastrigin and a constrained problem with known minima.
 //!
+//! Further modules:
+//!
+//! * `pattern`: Generalized pattern search on the `2n` coordinate directions, with the mesh size
+//!   measured as a fraction of each variable's range.
+//!
 //! ```
 //! use spine_search::{pattern_search, Bounds, Evaluation, PatternSettings};
 //! // min (x − 1)² + (y + 0.5)² subject to x ≥ 1.5 (the violation is counted, no penalty weight).

@@ -19,6 +19,8 @@
 //!   continuation.
 //! * `options`: Options of Newton and of the load continuation, each checked where it is defined.
 //! * [`problem`]: The static problem of a design, apart from the solver.
+//! * `solution`: What an equilibrium solve reports: its status, the solution with its stability
+//!   certificate, and the solver's counts.
 //!
 //! ```
 //! use spine_model::fixtures::{arch, uniform_loads};

@@ -227,7 +227,7 @@ fn main() {
     print!("{text}");
     match report::figure(&results).to_svg() {
         Ok(svg) => std::fs::write("benchmarks/dynamics-work-precision.svg", svg).expect("svg"),
-        Err(e) => eprintln!("plot: {}", e.0),
+        Err(e) => eprintln!("{e}"),
     }
     eprintln!("wrote benchmarks/DYNAMICS.md and benchmarks/dynamics-work-precision.svg");
 }

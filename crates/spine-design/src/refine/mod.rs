@@ -110,19 +110,30 @@ impl Ladder {
     }
 }
 
+/// Why a command-line `--refine` is not a refinement.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ParseRefineError {
+    /// Not one of the forms.
+    #[error("expected off, auto, FROM or FROM:FACTOR (e.g. 50:2), got {0:?}")]
+    Form(String),
+    /// A ladder out of its ranges.
+    #[error("{} {}", .0.field, .0.message)]
+    Ladder(FieldError),
+}
+
 impl std::str::FromStr for Refine {
-    type Err = String;
+    type Err = ParseRefineError;
     /// The command-line form: `off`, `auto`, `FROM` or `FROM:FACTOR` (e.g. `50:2`).
-    fn from_str(text: &str) -> Result<Self, String> {
+    fn from_str(text: &str) -> Result<Self, ParseRefineError> {
         let refine = match text {
             "off" => Refine::Mode(RefineMode::Off),
             "auto" => Refine::Mode(RefineMode::Auto),
             _ => {
                 let (from, factor) = text.split_once(':').unwrap_or((text, "2"));
-                let bad = || format!("expected off, auto, FROM or FROM:FACTOR (e.g. 50:2), got {text:?}");
+                let bad = || ParseRefineError::Form(text.to_string());
                 let ladder =
                     Ladder { from: from.parse().map_err(|_| bad())?, factor: factor.parse().map_err(|_| bad())? };
-                ladder.validate().map_err(|e| format!("{} {}", e.field, e.message))?;
+                ladder.validate().map_err(ParseRefineError::Ladder)?;
                 Refine::Ladder(ladder)
             }
         };

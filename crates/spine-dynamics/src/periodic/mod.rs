@@ -144,7 +144,7 @@ fn onset_and_release(forcing: &Forcing) -> (f64, f64) {
 }
 
 /// The lowest and highest samples from `t_start` on, as [`extremes`] gives them (`(value, t)` of
-/// the minimum, the maximum's value); the end's rest value when there are none.
+/// the minimum, the maximum's value); zeros at `t_start` when there are none.
 fn sampled_extremes(samples: &[Sample], t_start: f64) -> (Vec<(f64, f64)>, f64) {
     let last: Vec<&Sample> = samples.iter().filter(|s| s.t >= t_start).collect();
     let min = last.iter().fold((f64::INFINITY, t_start), |m, s| {

@@ -88,7 +88,7 @@ impl crate::KindOutput for ContinuumResult {
                 format!(
                     "N = {}: no attempt ended clean and certified ({})",
                     l.links,
-                    l.attempts.iter().map(|a| a.status.as_str()).collect::<Vec<_>>().join(", ")
+                    l.attempts.iter().map(|a| a.status.name()).collect::<Vec<_>>().join(", ")
                 )
             })
             .collect()

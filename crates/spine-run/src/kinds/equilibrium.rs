@@ -11,8 +11,8 @@ use spine_solve::{solve_static, EquilibriumSolution, EquilibriumStatus, Stabilit
 /// One equilibrium of the result, with the node positions of its shape.
 #[derive(Clone, Debug, Serialize)]
 pub struct EquilibriumReport {
+    /// How the path ended (`converged`, or where it stopped and why); the summary prints it.
     pub status: EquilibriumStatus,
-    pub status_text: String,
     /// Fraction of the load reached (1 when the path completed).
     pub load_factor: f64,
     /// Link angles `θ_i`, rad.
@@ -71,7 +71,6 @@ impl EquilibriumReport {
     fn new(sol: &EquilibriumSolution, lengths: &[f64], design: &Design) -> Self {
         Self {
             status: sol.status,
-            status_text: sol.status.to_string(),
             load_factor: sol.load_factor,
             theta: sol.state.theta.clone(),
             lambda: sol.state.lambda,
@@ -93,7 +92,7 @@ impl EquilibriumReport {
         let eig = self.stability.min_eigenvalue.map_or("none (rigid)".to_string(), |e| format!("{e:.6e} N·m/rad"));
         format!(
             "{name:<8} {}\n         residual {:.2e} N·m, |Φ| {:.2e} m, smallest projected stiffness {eig}, {} steps / {} Newton iterations",
-            self.status_text, self.residual_norm, self.constraint_violation, self.continuation_steps, self.newton_iterations
+            self.status, self.residual_norm, self.constraint_violation, self.continuation_steps, self.newton_iterations
         )
     }
 }

@@ -212,7 +212,7 @@ impl std::fmt::Display for SensitivityResult {
             c.licq_smallest_singular_value.map_or("not computed".into(), |v| format!("{v:.3e}")),
             c.smallest_active_multiplier.map_or("none".into(), |v| format!("{v:.3e}")),
             c.smallest_inactive_gap.map_or("none".into(), |v| format!("{v:.3e}")),
-            c.reduced_kkt_inertia.map_or("not computed".into(), |[p, n, z]| format!("[{p}, {n}, {z}]")),
+            c.reduced_kkt_inertia.map_or("not computed".into(), |[p, n, z]| format!("(n₊, n₋, n₀) = ({p}, {n}, {z})")),
             if c.second_order_sufficient { "second-order sufficient" } else { "NOT second-order sufficient" },
             if c.weakly_active.is_empty() { String::new() } else { format!("; weakly active: {}", c.weakly_active.join("; ")) }
         )?;
