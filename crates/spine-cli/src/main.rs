@@ -86,9 +86,7 @@ fn main() -> ExitCode {
         Command::Design(a) if a.check => a.overrides().and_then(|o| check_design(&a.run, o, a.shard, a.batch)),
         Command::Design(a) => a.overrides().and_then(|o| match (a.shard, a.batch) {
             (Some(spec), batch) => shard(&a.run, o, spec, batch),
-            (None, Some(_)) => Err(Failure::Input(
-                "--batch: only with --shard K/N (one shard of one batch of a census to a stated confidence)".into(),
-            )),
+            (None, Some(_)) => Err(Failure::Input(BATCH_WITHOUT_SHARD.into())),
             (None, None) => run(&a.run, Some("design"), o, Mode::Case),
         }),
         Command::Merge(a) => merge(a),
@@ -139,6 +137,19 @@ fn read_case(file: &std::path::Path) -> Result<(String, spine_case::Case), Failu
     Ok((text, case))
 }
 
+/// `--batch` given without `--shard`.
+const BATCH_WITHOUT_SHARD: &str =
+    "--batch: only with --shard K/N (one shard of one batch of a census to a stated confidence)";
+
+/// A design run's case path, its checked `--out` folder and the case file's text (a shard carries
+/// it verbatim), in that order: the output folder is checked before any work.
+fn shard_input(args: &RunArgs) -> Result<(String, output::Output, String), Failure> {
+    let out = output::Output::new(&args.out, args.deterministic);
+    out.check(&[&args.case])?;
+    let (text, _) = read_case(&args.case)?;
+    Ok((args.case.display().to_string(), out, text))
+}
+
 /// `spine design --check`: what the run (or the shard, with `--shard`) would check before its
 /// first solve, and nothing more; prints what it would run.
 fn check_design(
@@ -147,10 +158,7 @@ fn check_design(
     spec: Option<spine_run::shard::ShardSpec>,
     batch: Option<usize>,
 ) -> Result<bool, Failure> {
-    let path = args.case.display().to_string();
-    let out = output::Output::new(&args.out, args.deterministic);
-    out.check(&[&args.case])?;
-    let (text, _) = read_case(&args.case)?;
+    let (path, _, text) = shard_input(args)?;
     let what = match (spec, batch) {
         (Some(spec), batch) => {
             let starts =
@@ -158,11 +166,7 @@ fn check_design(
             let of = batch.map(|b| format!(" of batch {b}")).unwrap_or_default();
             format!("shard {}/{}{of} would solve {starts} start(s)", spec.index, spec.count)
         }
-        (None, Some(_)) => {
-            return Err(Failure::Input(
-                "--batch: only with --shard K/N (one shard of one batch of a census to a stated confidence)".into(),
-            ))
-        }
+        (None, Some(_)) => return Err(Failure::Input(BATCH_WITHOUT_SHARD.into())),
         (None, None) => {
             spine_run::shard::check_design(&text, &overrides.design).map_err(|e| failure(&path, e))?;
             "it would run".to_string()
@@ -180,10 +184,7 @@ fn shard(
     spec: spine_run::shard::ShardSpec,
     batch: Option<usize>,
 ) -> Result<bool, Failure> {
-    let path = args.case.display().to_string();
-    let out = output::Output::new(&args.out, args.deterministic);
-    out.check(&[&args.case])?;
-    let (text, _) = read_case(&args.case)?;
+    let (path, out, text) = shard_input(args)?;
     let mut bars = progress::Bars::default();
     let (shard, _) = spine_stop::with_time_limit(args.time_limit, || {
         spine_run::shard::run_shard(&text, &overrides.design, spec, batch, overrides.workers.as_ref(), &mut |p| {
