@@ -5,7 +5,9 @@
 //! response's final state must all reproduce it.
 
 use num_dual::{first_derivative, Dual64};
-use spine_design::{solve_design, DesignBounds, DesignProblem, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{DesignBounds, DesignProblem, Formulation, SolverSettings};
 use spine_dynamics::{step_response, DynamicProblem, StepSettings};
 use spine_model::twolink::TwoLink;
 use spine_model::Design;
@@ -110,7 +112,8 @@ fn ipopt_full_and_reduced_space_reproduce_the_reference() {
     };
     let start = Design { theta0: vec![r.theta0 + 0.05, -(r.theta0 + 0.05)], stiffness };
     for formulation in [Formulation::Full, Formulation::Reduced] {
-        let result = solve_design(&design_problem, &start, formulation, &SolverSettings::default(), &mut |_| true)
+        let result = Solver::new(SolverPreset::Exact, formulation, &SolverSettings::default())
+            .solve(&design_problem, &start, &mut |_| true)
             .expect("the problem sets up");
         assert!(result.is_clean(), "{formulation:?}: {} {:?}", result.solver.status, result.warnings);
         close(&result.design.theta0, r.theta0, 1e-7, &format!("{formulation:?} θ0"));

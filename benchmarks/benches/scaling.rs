@@ -23,7 +23,9 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use spine_benchmarks::{scaled_arch, DesignFixture, HessianFixture, StateFixture};
 use spine_design::full_space::StateForm;
-use spine_design::{solve_design, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{Formulation, SolverSettings};
 use spine_solve::{solve_static, ContinuationOptions};
 use std::hint::black_box;
 use std::time::Duration;
@@ -106,11 +108,14 @@ fn design(c: &mut Criterion) {
             if formulation == Formulation::Reduced && n > REDUCED_SOLVE_MAX_N {
                 continue;
             }
-            let check =
-                solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true).expect("valid problem");
+            let check = Solver::new(SolverPreset::Exact, formulation, &settings)
+                .solve(&f.problem, &f.design, &mut |_| true)
+                .expect("valid problem");
             assert!(check.is_clean(), "N = {n} {}: {}", formulation.name(), check.solver.status);
             g.bench_with_input(BenchmarkId::new(formulation.name(), n), &f, |b, f| {
-                b.iter(|| solve_design(&f.problem, &f.design, formulation, &settings, &mut |_| true))
+                b.iter(|| {
+                    Solver::new(SolverPreset::Exact, formulation, &settings).solve(&f.problem, &f.design, &mut |_| true)
+                })
             });
         }
     }
@@ -160,7 +165,9 @@ fn optimum_parameters(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(5));
     let fig5 = paper_case("fig5-base");
     let valid = fig5.validate().expect("valid case");
-    let start = solve_design(&valid.problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true).unwrap();
+    let start = Solver::new(SolverPreset::Exact, Formulation::Full, &valid.settings)
+        .solve(&valid.problem, &valid.start, &mut |_| true)
+        .unwrap();
     assert!(start.is_clean());
     let problem_at = |v: f64| -> Result<spine_design::DesignProblem, spine_case::FieldError> {
         Ok(fig5.with_parameter("loads.p_y", v).and_then(|c| c.validate())?.problem)
@@ -176,13 +183,15 @@ fn optimum_parameters(c: &mut Criterion) {
 
     let design10 = paper_case("design10");
     let valid = design10.validate().expect("valid case");
-    let first = solve_design(&valid.problem, &valid.start, Formulation::Full, &valid.settings, &mut |_| true).unwrap();
+    let first = Solver::new(SolverPreset::Exact, Formulation::Full, &valid.settings)
+        .solve(&valid.problem, &valid.start, &mut |_| true)
+        .unwrap();
     let names = design10.default_parameters();
     let differentiate = || spine_run::sensitivity::differentiate(&design10, &valid, &names, &first);
     let (report, _) = differentiate().expect("sensitivities");
     assert_eq!(report.expect("a differentiable optimum").parameters.len(), names.len());
     g.bench_function(BenchmarkId::new("polish", 10), |b| {
-        b.iter(|| spine_design::sensitivity::polish(&valid.problem, black_box(&first.design), &valid.settings))
+        b.iter(|| spine_design::solve::polish::polish(&valid.problem, black_box(&first.design), &valid.settings))
     });
     g.bench_function(BenchmarkId::new("polish_and_sensitivities", 10), |b| b.iter(differentiate));
 
@@ -190,7 +199,7 @@ fn optimum_parameters(c: &mut Criterion) {
     // factorisation and one solve per parameter), with the parameters' tangents built beforehand.
     use spine_design::sensitivity::{sensitivities, KktBaseline, Optimum, Parameter};
     let problem = &valid.problem;
-    let run = spine_design::sensitivity::polish(problem, &first.design, &valid.settings).unwrap();
+    let run = spine_design::solve::polish::polish(problem, &first.design, &valid.settings).unwrap();
     let multipliers = run.multipliers.clone().expect("polished multipliers");
     let (layout, x) = run.point(problem).expect("polished states");
     let optimum = Optimum { problem, layout, x: &x, multipliers: &multipliers };

@@ -23,9 +23,11 @@ use spine_benchmarks::cli;
 use spine_benchmarks::peers::{self, CrossCheck, LevelRun, PeerRow, SolverRun};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
+use spine_design::settings::SolverPreset;
 use spine_design::settings::{ExtraOption, LinearSolver};
+use spine_design::solve::Solver;
 use spine_design::start_point::FullSpaceStart;
-use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
+use spine_design::{DesignResult, Formulation, SolverSettings};
 use spine_model::{Design, State};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -83,8 +85,9 @@ fn ours_with(
         settings.refine = Refine::Mode(RefineMode::Off);
     }
     let clock = Instant::now();
-    let r =
-        solve_design(&valid.problem, &valid.start, Formulation::Full, &settings, &mut |_| true).expect("valid problem");
+    let r = Solver::new(SolverPreset::Exact, Formulation::Full, &settings)
+        .solve(&valid.problem, &valid.start, &mut |_| true)
+        .expect("valid problem");
     let run = run_of(&r, clock.elapsed().as_secs_f64());
     eprintln!(
         "N = {n}: ours {}{} ({}) {} in {:.3} s ({} iterations{}), J = {:.9e}",

@@ -22,7 +22,9 @@ use spine_benchmarks::{cli, peers};
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::refine::{Refine, RefineMode, WarmStart};
 use spine_design::settings::ExtraOption;
-use spine_design::{solve_design, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{Formulation, SolverSettings};
 
 /// Largest N for the reduced space: its finite-difference Hessian costs 2(2N + 1) equilibrium
 /// solves per iteration and a dense (2N + 1)² block.
@@ -143,10 +145,12 @@ fn main() {
             let mut best: Option<(f64, spine_design::DesignResult)> = None;
             for _ in 0..repeats {
                 let clock = std::time::Instant::now();
-                let r = solve_design(&problem, &start, formulation, &settings, &mut |_| true).unwrap_or_else(|e| {
-                    eprintln!("error: N = {n}: {e}");
-                    std::process::exit(1)
-                });
+                let r = Solver::new(SolverPreset::Exact, formulation, &settings)
+                    .solve(&problem, &start, &mut |_| true)
+                    .unwrap_or_else(|e| {
+                        eprintln!("error: N = {n}: {e}");
+                        std::process::exit(1)
+                    });
                 let t = clock.elapsed().as_secs_f64();
                 if best.as_ref().is_none_or(|(bt, _)| t < *bt) {
                     best = Some((t, r));

@@ -10,7 +10,9 @@
 
 use spine_benchmarks::peers;
 use spine_design::refine::{Refine, RefineMode};
-use spine_design::{solve_design, Formulation};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::Formulation;
 use std::time::Instant;
 
 #[global_allocator]
@@ -36,7 +38,8 @@ fn main() {
     let mut times = Vec::new();
     for k in 0..repeats {
         let clock = Instant::now();
-        let r = solve_design(&valid.problem, &valid.start, Formulation::Full, &settings, &mut |_| true)
+        let r = Solver::new(SolverPreset::Exact, Formulation::Full, &settings)
+            .solve(&valid.problem, &valid.start, &mut |_| true)
             .expect("a valid problem");
         let t = clock.elapsed().as_secs_f64();
         println!(

@@ -6,6 +6,7 @@ use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::refine::Refine;
+use spine_design::solve::Solver;
 use spine_design::{DesignBounds, DesignProblem, Formulation, SolverPreset, SolverSettings};
 use spine_model::{Design, Structure};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
@@ -190,6 +191,12 @@ pub struct ValidDesign {
 }
 
 impl ValidDesign {
+    /// How this case is solved: its preset over its formulation and settings (the preset is
+    /// applied already, and applying it again changes nothing).
+    pub fn solver(&self) -> Solver {
+        Solver::new(self.preset, self.formulation, &self.settings)
+    }
+
     /// This case solved with `preset` applied over its formulation and settings, without a census.
     pub fn with_preset(&self, preset: SolverPreset) -> Self {
         let (formulation, settings) = preset.apply(self.formulation, &self.settings);

@@ -4,7 +4,7 @@
 pub use crate::dynamics_specs::{DampingDesignSpec, PeriodicDesignSpec, StaticDesignSpec};
 
 use crate::design_case::{DesignCase, MultiStartSpec, ValidDesign};
-use crate::dynamics_checks::{check_periodic, check_periodic_forcing, check_simulation};
+use crate::dynamics_checks::{check_periodic, check_periodic_forcing, check_simulation, MAX_T_END};
 use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
 use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
@@ -109,12 +109,6 @@ pub struct ValidDynamics {
     pub task: DynamicsTask,
 }
 
-/// Longest simulated time, s (the paper's responses settle within seconds).
-pub const MAX_T_END: f64 = 1e4;
-/// Most output samples of a response (and per period of a periodic one).
-pub const MAX_SAMPLES: usize = 1_000_000;
-/// Most forcing periods of a periodic response.
-pub const MAX_PERIODS: usize = 10_000;
 /// Most target rise times of eq. (35) in one case (one Ipopt solve each).
 pub const MAX_TARGETS: usize = 100;
 /// Most Ipopt iterations of one eq. (35) solve (each iteration simulates the step response).

@@ -2,10 +2,16 @@
 //! (`simulation`), a periodic response's (`periodic`, `periodic_design.settings.response`) and a
 //! periodic forcing against the response that simulates it.
 
-use crate::dynamics_case::{MAX_PERIODS, MAX_SAMPLES, MAX_T_END};
 use crate::specs::positive;
 use crate::CaseError;
 use spine_dynamics::Forcing;
+
+/// Longest simulated time, s (the paper's responses settle within seconds).
+pub const MAX_T_END: f64 = 1e4;
+/// Most output samples of a response (and per period of a periodic one).
+pub const MAX_SAMPLES: usize = 1_000_000;
+/// Most forcing periods of a periodic response.
+pub const MAX_PERIODS: usize = 10_000;
 
 /// A periodic response's settings (`prefix`: `periodic` or `periodic_design.settings.response`).
 pub(crate) fn check_periodic(prefix: &str, p: &spine_dynamics::PeriodicSettings) -> Result<(), CaseError> {

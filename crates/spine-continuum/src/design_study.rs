@@ -21,8 +21,11 @@ use serde::{Deserialize, Serialize};
 use spine_check::{require, FieldError};
 use spine_design::certificate::MinimumStatus;
 use spine_design::refine::{Refine, RefineMode};
+use spine_design::result::DesignResult;
 use spine_design::settings::ExtraOption;
-use spine_design::{solve_design, DesignError, DesignResult, Formulation, SolverSettings};
+use spine_design::settings::{Formulation, SolverPreset, SolverSettings};
+use spine_design::solve::ipopt::DesignError;
+use spine_design::solve::Solver;
 use spine_model::Design;
 use std::time::Instant;
 
@@ -253,11 +256,11 @@ fn solve_level(
     for mu_init in barriers {
         let clock = Instant::now();
         let mut first_run_iterations = 0;
-        let result =
-            solve_design(&problem, start, Formulation::Full, &solver_settings(settings, mu_init), &mut |_| {
-                first_run_iterations += 1;
-                true
-            })?;
+        let solver = Solver::new(SolverPreset::Exact, Formulation::Full, &solver_settings(settings, mu_init));
+        let result = solver.solve(&problem, start, &mut |_| {
+            first_run_iterations += 1;
+            true
+        })?;
         let good = usable(&result);
         attempts.push(Attempt {
             from,

@@ -289,6 +289,8 @@ impl<E: Element<M> + 'static, const M: usize> AnyGroup for Group<E, M> {
     }
 
     fn add_rates(&self, direction: &dyn AnyGroup, x: &[f64], lambda: &[f64], rates: &mut NlpRates) {
+        // Invariant: `NlpRates` pairs each group with the same group of the direction's
+        // assembly, which `groups` builds in the same order for any number type.
         let direction = direction.as_any().downcast_ref::<Self>().expect("the direction is a group of the same kind");
         assert_eq!(direction.items.len(), self.items.len(), "the direction has the group's elements");
         for (item, moving) in self.items.iter().zip(&direction.items) {

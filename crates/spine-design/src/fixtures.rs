@@ -33,7 +33,7 @@ pub fn paper_problem(n: usize, p_y: f64, p_x: f64, delta_d: f64, stiffness_scale
         delta_d,
         bounds: paper_bounds(n, 1.0, 1e2, 1e4, 0.01),
         stiffness_scale,
-        objective: crate::Objective::StrainEnergy,
+        objective: crate::objective::Objective::StrainEnergy,
         strain_energy_max: None,
     }
 }

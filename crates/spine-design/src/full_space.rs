@@ -218,6 +218,7 @@ impl FullSpaceNlp<'_> {
             let f = self.assembled.values(x, &mut g);
             self.values = Some((x.to_vec(), f, g));
         }
+        // Invariant: the cache was filled for `x` just above.
         let (_, f, g) = self.values.as_ref().expect("computed above");
         (*f, g)
     }
@@ -231,6 +232,7 @@ impl FullSpaceNlp<'_> {
             self.assembled.first_derivatives(x, &mut gradient, &mut jacobian);
             self.first_derivatives = Some((x.to_vec(), gradient, jacobian));
         }
+        // Invariant: the cache was filled for `x` just above.
         let (_, g, j) = self.first_derivatives.as_ref().expect("computed above");
         (g, j)
     }

@@ -10,11 +10,11 @@ pub struct Layout {
     /// How the states are Ipopt's variables.
     pub states: StateForm,
     /// Whether the NLP has the third state `θ3`, the equilibrium under the compliance's load case
-    /// ([`crate::Objective::Compliance`]): `N + 1` variables after the node heights and `N + 1`
+    /// ([`crate::objective::Objective::Compliance`]): `N + 1` variables after the node heights and `N + 1`
     /// equilibrium rows after the relative angles.
     pub probe: bool,
     /// Whether the NLP has the strain-energy budget row `U(θ1) ≤ U_max`
-    /// ([`crate::DesignProblem::strain_energy_max`]), the last row.
+    /// ([`crate::problem::DesignProblem::strain_energy_max`]), the last row.
     pub budget: bool,
 }
 
@@ -41,7 +41,7 @@ pub enum LoadState {
 
 impl Layout {
     /// The layout of `problem`'s NLP with its states in `states`.
-    pub fn of(problem: &crate::DesignProblem, states: StateForm) -> Self {
+    pub fn of(problem: &crate::problem::DesignProblem, states: StateForm) -> Self {
         Layout {
             n: problem.n_links(),
             states,

@@ -8,14 +8,17 @@
 //!   forward AD of the model's elements ([`assembly`]).
 //! * [`reduced_space`] and [`adjoint`]: the paper's nested form, equilibria by continuation and
 //!   gradients by the hand-derived adjoint.
-//! * [`settings`]: the settings of a run; [`solve`]: runs either with Ipopt; [`result`]: the
-//!   checked
-//!   result.
+//! * [`settings`]: the settings of a run, and the preset that solves like the paper's optimiser.
+//! * [`solve`]: **the solve, its stages in their order** (refinement ladder, Ipopt, check,
+//!   certificate, tight re-solve, escape along a flat or descending direction), and its one entry
+//!   [`solve::Solver`]; [`solver_run`]: what Ipopt returned, before the check; [`result`]: the
+//!   checked result.
+//! * [`optimality`]: the active set, the KKT matrices and their inertia at a first-order point,
+//!   which the [`certificate`] (is it a minimum?) and the [`sensitivity`] (how does it move?) both
+//!   read.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
-//! * [`certificate`]: the second-order certificate of an optimum, and [`certificate::settle`],
-//!   which
-//!   reports a certified minimum.
+//! * [`certificate`]: the second-order certificate of an optimum.
 //! * [`sensitivity`]: derivatives of an optimum with respect to the problem's parameters.
 //!
 //! Further modules:
@@ -29,7 +32,7 @@
 //! * `solver_report`: Ipopt's account of a design run: status, iterations, infeasibilities, counts,
 //!   times, and the levels of a mesh-sequenced run.
 //! * [`start_point`]: The full space's start point in named parts, for a peer model (a CasADi
-//!   script) to start from the point `crate::solve_design` hands Ipopt.
+//!   script) to start from the point the solve hands Ipopt.
 //! * [`sweep`]: Sweeps that follow one optimum of eq. (33) along a parameter `p` (a load, `δ_d`,
 //!   `C_K`, a bound, …): predictor–corrector continuation of the optimum branch `x*(p)`.
 //! * `violations`: How far a design result is from satisfying eq. (33): each part of the problem
@@ -45,8 +48,6 @@
 //! * `numbers`: The numbers of eq. (33)'s NLP that come from the problem rather than from its
 //!   variables: the spans, the load resultants of both load states, `C_K`, the end target `L_x +
 //!   δ_d` and the bounds, in any number type.
-//! * `solver_run`: What one Ipopt run of eq. (33) returns before it is checked (`SolverRun`):
-//!   serialisable, so a worker process or a shard can send it to the process that checks it.
 //! * `variables`: How the full space's quantities are Ipopt's variables (case fields
 //!   `solver.state_variables` and `solver.spring_variables`): the same NLP after a change of
 //!   variables, with the same KKT points, and a different path for Ipopt.
@@ -54,11 +55,12 @@
 //!
 //! ```
 //! use spine_design::fixtures::{paper_five_link_start, paper_problem};
-//! use spine_design::{solve_design, Formulation, SolverSettings};
+//! use spine_design::settings::{Formulation, SolverPreset, SolverSettings};
+//! use spine_design::solve::Solver;
 //! // The paper's 5-link case (Sec. 5.1): −10 N per node, −400 N at the end, δ_d = −0.02 m, C_K = 1.
 //! let problem = paper_problem(5, -10.0, -400.0, -0.02, 1.0);
-//! let settings = SolverSettings::default();
-//! let result = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &settings, &mut |_| true).unwrap();
+//! let solver = Solver::new(SolverPreset::Exact, Formulation::Full, &SolverSettings::default());
+//! let result = solver.solve(&problem, &paper_five_link_start(), &mut |_| true).unwrap();
 //! assert!(result.is_clean(), "{} {:?}", result.solver.status, result.warnings);
 //! assert!((result.end_displacement.unwrap() - (-0.02)).abs() < 1e-8); // m
 //! assert!(result.passive.as_ref().unwrap().stability.stable);
@@ -79,6 +81,7 @@ pub mod log_variables;
 pub mod multistart;
 mod numbers;
 pub mod objective;
+pub mod optimality;
 pub mod problem;
 pub mod reduced_space;
 pub mod refine;
@@ -87,18 +90,18 @@ pub mod sensitivity;
 pub mod settings;
 pub mod solve;
 mod solver_report;
-mod solver_run;
+pub mod solver_run;
 pub mod start_point;
 pub mod sweep;
 pub mod variables;
 mod violations;
 mod warnings;
 
-pub use certificate::solve_design;
 pub use numbers::ProblemTangent;
 pub use objective::Objective;
 pub use problem::{DesignBounds, DesignProblem};
 pub use result::DesignResult;
 pub use settings::{BarrierStrategy, Formulation, ScalingMethod, SolverPreset, SolverSettings};
-pub use solve::{ipopt_solve, run_solver, DesignError, SolverRun};
+pub use solve::ipopt::DesignError;
+pub use solver_run::SolverRun;
 pub use warnings::{DesignWarning, LoadCase};

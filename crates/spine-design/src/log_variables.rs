@@ -125,7 +125,7 @@ impl<'p> LogVariables<'p> {
 /// `options` with Ipopt's `bound_relax_factor` shrunk so that Ipopt's relaxation of the bounds
 /// in `u`, `bound_relax_factor · max(1, |u_bound|)`, moves no logged variable by more than
 /// `bound_relax_factor` relative to its own bound: what the design check allows
-/// ([`crate::result::IPOPT_BOUND_RELAX_FACTOR`]). Without it a spring at `k = 10⁴` ended
+/// ([`crate::violations::IPOPT_BOUND_RELAX_FACTOR`]). Without it a spring at `k = 10⁴` ended
 /// 2.5e-8 relative beyond its bound (the scaled family at N = 20), ten times what the check allows.
 pub fn relaxed_in_logs(problem: &LogVariables<'_>, options: &spine_ipopt::Options) -> spine_ipopt::Options {
     let n = problem.num_variables();
@@ -142,7 +142,7 @@ pub fn relaxed_in_logs(problem: &LogVariables<'_>, options: &spine_ipopt::Option
     let relax = match options.get("bound_relax_factor") {
         Some(spine_ipopt::OptionValue::Num(x)) => *x,
         Some(spine_ipopt::OptionValue::Int(i)) => *i as f64,
-        _ => crate::result::IPOPT_BOUND_RELAX_FACTOR,
+        _ => crate::violations::IPOPT_BOUND_RELAX_FACTOR,
     };
     options.clone().number("bound_relax_factor", relax * shrink)
 }
@@ -258,7 +258,8 @@ impl Problem for LogVariables<'_> {
 mod tests {
     use super::LogVariables;
     use crate::fixtures::{arch_start, scaled_family};
-    use crate::full_space::{FullSpaceNlp, StateForm};
+    use crate::full_space::FullSpaceNlp;
+    use crate::layout::StateForm;
     use spine_ipopt::Problem;
 
     /// `σ∇f + Jᵀλ` of `p` at `u`.

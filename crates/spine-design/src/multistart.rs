@@ -3,11 +3,11 @@
 //! and `Φ(θ0) = 0`; [`cluster`] groups the converged results into distinct optima.
 
 use crate::census::{estimate, CensusEstimate};
-use crate::certificate::settle;
 use crate::problem::DesignProblem;
 use crate::result::DesignResult;
-use crate::solve::{DesignError, SolverRun};
-use crate::SolverSettings;
+use crate::solve::ipopt::DesignError;
+use crate::solve::Solver;
+use crate::solver_run::SolverRun;
 use serde::Serialize;
 use spine_model::rng::SplitMix64;
 use spine_model::Design;
@@ -157,13 +157,14 @@ fn same_optimum(a: &DesignResult, b: &DesignResult, b_theta0: &[f64]) -> bool {
         && a.design.theta0.iter().zip(b_theta0).all(|(x, y)| (x - y).abs() <= 1e-4)
 }
 
-/// The checked, certified results of `runs` (in start order), as [`Settled`] gives them.
+/// The reported results of `runs` (in start order) by `solver` ([`Solver::report`]), as
+/// [`Settled`] gives them.
 pub fn settle_all(
     problem: &DesignProblem,
     runs: Vec<SolverRun>,
-    settings: &SolverSettings,
+    solver: &Solver,
 ) -> Result<Vec<DesignResult>, DesignError> {
-    let mut settled = Settled::new(problem, settings);
+    let mut settled = Settled::new(problem, solver.clone());
     for run in runs {
         settled.add(run)?;
     }
@@ -171,14 +172,14 @@ pub fn settle_all(
 }
 
 /// Runs checked, grouped as [`cluster`] groups them, and settled once per group, as they come
-/// (start order): the first run of each group is settled ([`crate::certificate::settle`]:
-/// certified, and left for a lower minimum where it is not one) and every run of the group
+/// (start order): the first run of each group is settled ([`Solver::report`]: with the exact
+/// preset certified, and left for a lower minimum where it is not one) and every run of the group
 /// reports that settled result. One certificate per distinct point (at Ipopt's default tolerance
 /// a point's weakly active bounds cannot be told apart, so each certificate costs a tight
 /// re-solve), and the same results whatever order or process the runs came from.
 pub struct Settled<'a> {
     problem: &'a DesignProblem,
-    settings: &'a SolverSettings,
+    solver: Solver,
     /// Each group's first run, checked (what later runs are compared with), and settled.
     groups: Vec<(DesignResult, DesignResult)>,
     /// Each run's group, or its own result (a run that did not converge).
@@ -191,8 +192,8 @@ enum Member {
 }
 
 impl<'a> Settled<'a> {
-    pub fn new(problem: &'a DesignProblem, settings: &'a SolverSettings) -> Self {
-        Self { problem, settings, groups: Vec::new(), runs: Vec::new() }
+    pub fn new(problem: &'a DesignProblem, solver: Solver) -> Self {
+        Self { problem, solver, groups: Vec::new(), runs: Vec::new() }
     }
 
     /// How many runs have been added.
@@ -206,16 +207,16 @@ impl<'a> Settled<'a> {
 
     /// Adds the next run.
     pub fn add(&mut self, run: SolverRun) -> Result<(), DesignError> {
-        let checked = run.clone().check(self.problem, self.settings);
+        let checked = run.clone().check(self.problem, self.solver.settings());
         if !checked.solver.converged || !checked.objective.is_finite() {
-            self.runs.push(Member::Alone(Box::new(settle(self.problem, run, self.settings)?)));
+            self.runs.push(Member::Alone(Box::new(self.solver.report(self.problem, run)?)));
             return Ok(());
         }
         let theta0 = checked.design.theta0.clone();
         match self.groups.iter().position(|(first, _)| same_optimum(first, &checked, &theta0)) {
             Some(g) => self.runs.push(Member::Group(g)),
             None => {
-                let settled = settle(self.problem, run, self.settings)?;
+                let settled = self.solver.report(self.problem, run)?;
                 self.groups.push((checked, settled));
                 self.runs.push(Member::Group(self.groups.len() - 1));
             }

@@ -4,7 +4,8 @@
 //! exact rates of the elements' constants and of the bounds along a parameter of the problem (the
 //! scaled stiffness bounds `K/C_K` included), which the optimum's sensitivities need.
 
-use crate::{DesignProblem, Objective};
+use crate::objective::Objective;
+use crate::problem::DesignProblem;
 use num_dual::Dual64;
 use spine_model::Scalar;
 
@@ -290,6 +291,7 @@ impl<T: Scalar> Numbers<T> {
         }
         let floors = crate::problem::height_floors(self.height_min, self.height_ramp, &self.spans);
         for (j, floor) in (1..n).zip(floors) {
+            // Invariant: the layout has a height variable for every interior node `1..n`.
             let v = height(j).expect("interior node has a height variable");
             lower[v] = floor;
             upper[v] = self.height_max;

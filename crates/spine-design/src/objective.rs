@@ -82,9 +82,9 @@ impl Objective {
         }
     }
 
-    /// The NLP's objective at `design` and its equilibria: the sum its elements add up to,
-    /// evaluated directly (`NaN` when the compliance's `θ3` is missing).
-    pub fn value(&self, problem: &crate::DesignProblem, design: &Design, states: &Equilibria<'_>) -> f64 {
+    /// The NLP's objective at `design` and its equilibria on the chain of `spans` (m): the sum its
+    /// elements add up to, evaluated directly (`NaN` when the compliance's `θ3` is missing).
+    pub fn value(&self, spans: &[f64], design: &Design, states: &Equilibria<'_>) -> f64 {
         match self {
             Objective::StrainEnergy => {
                 spine_model::energy::strain_energy(&states.passive.theta, &design.theta0, &design.stiffness)
@@ -96,7 +96,7 @@ impl Objective {
                 .map(|m| (m / reference).powi(*exponent as i32))
                 .sum(),
             Objective::Compliance { load } => match states.probe {
-                Some(probe) => compliance(load, &problem.structure.chain.spans, design, probe),
+                Some(probe) => compliance(load, spans, design, probe),
                 None => f64::NAN,
             },
         }
@@ -143,16 +143,16 @@ pub struct Measures {
 }
 
 impl Measures {
-    pub fn of(problem: &crate::DesignProblem, design: &Design, states: &Equilibria<'_>) -> Self {
+    /// The measures of `design` and its equilibria on the chain of `spans` (m), for a problem
+    /// optimised for `objective` (its compliance load, if any).
+    pub fn of(objective: &Objective, spans: &[f64], design: &Design, states: &Equilibria<'_>) -> Self {
         let moments = [states.passive, states.loaded].into_iter().flat_map(|s| joint_moments(design, s));
         Measures {
-            strain_energy: Objective::StrainEnergy.value(problem, design, states),
-            total_stiffness: Objective::TotalStiffness.value(problem, design, states),
+            strain_energy: Objective::StrainEnergy.value(spans, design, states),
+            total_stiffness: Objective::TotalStiffness.value(spans, design, states),
             peak_moment: moments.fold(0.0, |m, x| m.max(x.abs())),
-            compliance: match (&problem.objective, states.probe) {
-                (Objective::Compliance { load }, Some(p)) => {
-                    Some(compliance(load, &problem.structure.chain.spans, design, p))
-                }
+            compliance: match (objective, states.probe) {
+                (Objective::Compliance { load }, Some(p)) => Some(compliance(load, spans, design, p)),
                 _ => None,
             },
         }

@@ -156,6 +156,7 @@ impl<'a> ReducedSpaceNlp<'a> {
                 return None;
             }
             let passive = solution.passive.state;
+            // Invariant: `reached` above holds only with a loaded equilibrium.
             let loaded = solution.loaded.expect("reached").state;
             let Ok(gradients) = adjoint_hand(self.problem, &design, &passive, &loaded) else {
                 self.failed_evaluations += 1;

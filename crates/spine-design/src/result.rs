@@ -8,7 +8,7 @@ use crate::objective::{Equilibria, Measures};
 use crate::problem::DesignProblem;
 use crate::settings::{Formulation, SolverSettings};
 pub use crate::violations::{Violations, IPOPT_BOUND_RELAX_FACTOR};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use spine_model::jacobian::residual_and_state_jacobian;
 use spine_model::kinematics::{end_x, link_lengths, node_positions};
 use spine_model::{Design, LinkLoads, State};
@@ -70,10 +70,10 @@ impl LoadPathCheck {
 pub struct DesignResult {
     pub formulation: Formulation,
     pub solver: SolverReport,
-    /// The criterion minimised ([`crate::Objective`]; `strain_energy` for the paper's eq. (33)).
-    pub criterion: crate::Objective,
+    /// The criterion minimised ([`crate::objective::Objective`]; `strain_energy` for the paper's eq. (33)).
+    pub criterion: crate::objective::Objective,
     /// The NLP's objective, recomputed from the final design and states: for the paper's
-    /// criterion `J = U(θ1; θ0, K)`, J ([`crate::Objective::value`] gives each criterion's).
+    /// criterion `J = U(θ1; θ0, K)`, J ([`crate::objective::Objective::value`] gives each criterion's).
     pub objective: f64,
     /// Every criterion's measure of the reported design (`None` without equilibria).
     pub measures: Option<crate::objective::Measures>,
@@ -85,7 +85,7 @@ pub struct DesignResult {
     /// design without equilibria.
     pub passive: Option<StateReport>,
     pub loaded: Option<StateReport>,
-    /// `θ3`, the equilibrium under the compliance's load case ([`crate::Objective::Compliance`]).
+    /// `θ3`, the equilibrium under the compliance's load case ([`crate::objective::Objective::Compliance`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub probe: Option<StateReport>,
     /// `X_{N+1}(θ2) − L_x`, m, and the target `δ_d`.
@@ -104,9 +104,9 @@ pub struct DesignResult {
     /// The second-order certificate of the reported point ([`crate::certificate`]); `None` for a
     /// run that did not converge (no first-order point to certify) or was not certified.
     pub certificate: Option<crate::certificate::Certificate>,
-    /// Points left on the way here because they were not minima ([`crate::certificate::settle`]).
+    /// Points left on the way here because they were not minima ([`crate::solve::settle`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub escapes: Vec<crate::certificate::Escape>,
+    pub escapes: Vec<Escape>,
 }
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -186,8 +186,9 @@ impl DesignResult {
                     }
                 }
                 let equilibria = Equilibria { passive: s1, loaded: s2, probe: probe.as_ref() };
-                let objective = problem.objective.value(problem, &design, &equilibria);
-                let measures = Measures::of(problem, &design, &equilibria);
+                let spans = &problem.structure.chain.spans;
+                let objective = problem.objective.value(spans, &design, &equilibria);
+                let measures = Measures::of(&problem.objective, spans, &design, &equilibria);
                 if let Some(budget) = problem.strain_energy_max {
                     let violation = (measures.strain_energy - budget).max(0.0);
                     let allowed = Violations::inequality_allowance(settings, budget);
@@ -251,4 +252,53 @@ impl DesignResult {
         use crate::warnings::DesignWarning::{NotAMinimum, NotConverged};
         self.warnings.iter().all(|w| matches!(w, NotConverged { .. } | NotAMinimum { .. }))
     }
+}
+
+/// How a point that was not a minimum was left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EscapeHow {
+    /// The tight re-solve from it descended to a lower `J` elsewhere.
+    TightResolve,
+    /// A step along its direction of negative curvature, then eq. (33) again.
+    NegativeCurvature,
+    /// A weak minimum: a step along its direction of zero curvature, then eq. (33) again, ended
+    /// lower.
+    FlatDirection,
+    /// Eq. (33) again from its design with the run's own settings (where the inertia shows
+    /// negative curvature but no direction was formed: above [`crate::certificate::MAX_DENSE_FREE`] free
+    /// variables or [`crate::optimality::active_set::MAX_WEAK`] weakly active bounds).
+    Restart,
+}
+
+impl EscapeHow {
+    /// The name written in results (`tight_resolve`, `negative_curvature`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::TightResolve => "tight_resolve",
+            Self::NegativeCurvature => "negative_curvature",
+            Self::FlatDirection => "flat_direction",
+            Self::Restart => "restart",
+        }
+    }
+}
+
+/// A point left on the way to the reported optimum.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Escape {
+    /// `J` at the point left, J.
+    pub objective: f64,
+    /// Its certificate where one was computed (a run without multipliers has none).
+    pub status: Option<crate::certificate::MinimumStatus>,
+    pub how: EscapeHow,
+    /// The negative curvature it was left along (for [`EscapeHow::NegativeCurvature`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curvature: Option<f64>,
+    /// `J` where the next solve ended, J.
+    pub reached: f64,
+    /// Ipopt iterations of the solve that reached `reached` from the point left (after a tight
+    /// re-solve, with its carrying to the case's tolerance); the attempts that ended higher are not
+    /// counted.
+    #[serde(default)]
+    pub iterations: usize,
 }

@@ -43,10 +43,10 @@ pub struct SolverReport {
     pub equilibrium_solves: usize,
     /// Full space: how the states were Ipopt's variables in the last level (`solver.state_variables`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub state_variables: Option<crate::full_space::StateForm>,
+    pub state_variables: Option<crate::layout::StateForm>,
     /// Full space: how Ipopt saw the springs, `log` or `linear` (`solver.spring_variables`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub spring_variables: Option<crate::settings::SpringVariables>,
+    pub spring_variables: Option<crate::variables::SpringVariables>,
 }
 
 fn deserialize_counts<'de, D: serde::Deserializer<'de>>(d: D) -> Result<EvaluationCounts, D::Error> {
@@ -76,9 +76,9 @@ fn serialize_counts<S: serde::Serializer>(c: &EvaluationCounts, s: S) -> Result<
 impl SolverReport {
     /// The full space's index map of this run of `problem`: its state form (absolute angles for
     /// a run that has none, the reduced space).
-    pub fn layout(&self, problem: &crate::DesignProblem) -> crate::full_space::Layout {
-        let states = self.state_variables.unwrap_or(crate::full_space::StateForm::Absolute);
-        crate::full_space::Layout::of(problem, states)
+    pub fn layout(&self, problem: &crate::problem::DesignProblem) -> crate::layout::Layout {
+        let states = self.state_variables.unwrap_or(crate::layout::StateForm::Absolute);
+        crate::layout::Layout::of(problem, states)
     }
 
     pub fn from_ipopt(solution: &Solution, equilibrium_solves: usize) -> Self {
@@ -135,7 +135,7 @@ pub struct LevelReport {
 }
 
 /// Ipopt's iterations and times of runs on the path to a reported point (a run, then the
-/// certificate's re-solves and escapes: [`crate::certificate::settle`]), which its report counts.
+/// certificate's re-solves and escapes: [`crate::solve::settle`]), which its report counts.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct PathCost {
     iterations: usize,

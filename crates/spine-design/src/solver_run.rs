@@ -59,7 +59,7 @@ impl SolverRun {
     /// The run's full-space point: its layout (the run's state form, [`SolverReport::layout`])
     /// and its design, states and node heights packed in it; `None` without states (or without
     /// `θ3` where the criterion needs it).
-    pub fn point(&self, problem: &DesignProblem) -> Option<(crate::full_space::Layout, Vec<f64>)> {
+    pub fn point(&self, problem: &DesignProblem) -> Option<(crate::layout::Layout, Vec<f64>)> {
         let (passive, loaded) = self.states.as_ref()?;
         let layout = self.solver.layout(problem);
         let heights = problem.node_heights(&self.design.theta0);

@@ -1,12 +1,13 @@
 //! The full space's start point in named parts, for a peer model (a CasADi script) to start from
-//! the point [`crate::solve_design`] hands Ipopt.
+//! the point [`crate::solve::Solver`] hands Ipopt.
 
-use crate::full_space::{FullSpaceNlp, Layout, StateForm};
+use crate::full_space::FullSpaceNlp;
+use crate::layout::{Layout, StateForm};
 use crate::problem::DesignProblem;
 use spine_model::{Design, State};
 
 /// The full space's start point from a start design, in named parts: what
-/// [`crate::solve_design`] hands Ipopt (variables in [`Layout`]'s order), for a peer model (a
+/// [`crate::solve::Solver`] hands Ipopt (variables in [`Layout`]'s order), for a peer model (a
 /// CasADi script, `benchmarks/peers/casadi_static.py`) to start from the same point.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct FullSpaceStart {
@@ -26,7 +27,7 @@ pub struct FullSpaceStart {
 
 impl FullSpaceStart {
     /// From `start` projected into the bounds, with both equilibria solved by continuation at it
-    /// (the states [`crate::solve_design`] starts from).
+    /// (the states [`crate::solve::Solver`] starts from).
     pub fn new(problem: &DesignProblem, start: &Design, continuation: &spine_solve::ContinuationOptions) -> Self {
         let (projected, _) = problem.project_start(start);
         let (passive, loaded) = crate::problem::start_states(problem, &projected, continuation, &mut Vec::new());

@@ -2,7 +2,7 @@
 //! and `solver.spring_variables`): the same NLP after a change of variables, with the same KKT
 //! points, and a different path for Ipopt.
 
-use crate::full_space::StateForm;
+use crate::layout::StateForm;
 use crate::problem::DesignProblem;
 use serde::{Deserialize, Serialize};
 
@@ -63,7 +63,7 @@ impl StateVariables {
     /// The form of this run. `Auto` takes deflections when the round-off of a spring moment formed
     /// from absolute angles, `8 K_max θ0_max ε` (N·m; `ε` the machine epsilon), exceeds
     /// `tolerance`, the smaller of the run's `tolerance` and `constraint_tolerance`
-    /// ([`crate::SolverSettings::smaller_tolerance`]): the paper's cases (`K ≤ 1e4` N·m/rad) stay on
+    /// ([`crate::settings::SolverSettings::smaller_tolerance`]): the paper's cases (`K ≤ 1e4` N·m/rad) stay on
     /// absolute angles; the scaled family of docs/PEERS.md (`K_max = 100 N²` N·m/rad, `tol` 1e-8)
     /// moves to deflections from N ≈ 330.
     pub fn resolve(self, problem: &DesignProblem, tolerance: f64) -> StateForm {
@@ -91,7 +91,8 @@ mod tests {
     #[test]
     fn auto_takes_deflections_only_where_absolute_angles_cannot_resolve_the_tolerance() {
         // The scaled family's settings in docs/PEERS.md: tol 1e-8, constraints 1e-9 s² (here 1e-5).
-        let settings = crate::SolverSettings { tolerance: 1e-8, constraint_tolerance: 1e-5, ..Default::default() };
+        let settings =
+            crate::settings::SolverSettings { tolerance: 1e-8, constraint_tolerance: 1e-5, ..Default::default() };
         let mut tolerance = settings.smaller_tolerance();
         let auto = StateVariables::Auto;
         // The paper's bounds (K ≤ 1e4 N·m/rad): round-off 8 K θ0_max ε ≈ 9e-12 N·m.
@@ -101,7 +102,7 @@ mod tests {
         assert_eq!(auto.resolve(&scaled_family(400), tolerance), StateForm::Deflection);
         assert_eq!(auto.resolve(&scaled_family(1000), tolerance), StateForm::Deflection);
         // A tighter constraint tolerance counts too.
-        tolerance = crate::SolverSettings { constraint_tolerance: 1e-12, ..settings }.smaller_tolerance();
+        tolerance = crate::settings::SolverSettings { constraint_tolerance: 1e-12, ..settings }.smaller_tolerance();
         assert_eq!(auto.resolve(&scaled_family(100), tolerance), StateForm::Deflection);
         // Forced forms are taken as given.
         assert_eq!(StateVariables::Absolute.resolve(&scaled_family(1000), tolerance), StateForm::Absolute);

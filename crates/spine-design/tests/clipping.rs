@@ -6,7 +6,9 @@
 use spine_design::fixtures::{arch_start, paper_bounds, paper_five_link_start, paper_problem};
 use spine_design::result::DesignWarning;
 use spine_design::settings::ExtraOption;
-use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use spine_model::{Chain, Design};
 
 /// 5 links over `L_x = 0.5 m`, −10 N per node, −400 N at the end, `δ_d = −0.0375 m`, `C_K = 1`.
@@ -33,7 +35,7 @@ fn run(problem: &DesignProblem, start: &Design, honor: Option<&str>) -> DesignRe
     if let Some(h) = honor {
         settings.ipopt_options.insert("honor_original_bounds".into(), ExtraOption::Str(h.into()));
     }
-    solve_design(problem, start, Formulation::Full, &settings, &mut |_| true).unwrap()
+    Solver::new(SolverPreset::Exact, Formulation::Full, &settings).solve(problem, start, &mut |_| true).unwrap()
 }
 
 /// With the workspace's settings (`honor_original_bounds = no`) the run is clean and its numbers

@@ -161,7 +161,7 @@ fn assembled_objective_is_each_criterion_evaluated_directly() {
             let (passive, loaded) = (layout.state(&x, LoadState::Passive), layout.state(&x, LoadState::Loaded));
             let probe = layout.probe.then(|| layout.state(&x, LoadState::Probe));
             let states = Equilibria { passive: &passive, loaded: &loaded, probe: probe.as_ref() };
-            let direct = problem.objective.value(&problem, &design, &states);
+            let direct = problem.objective.value(&problem.structure.chain.spans, &design, &states);
             let assembled = nlp.objective(&x, true).unwrap();
             assert!(
                 (assembled - direct).abs() <= 1e-12 * direct.abs().max(1.0),

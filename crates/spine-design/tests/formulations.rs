@@ -3,11 +3,15 @@
 
 use spine_design::fixtures::{arch_start, paper_five_link_start, paper_problem};
 use spine_design::settings::ExtraOption;
-use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, ScalingMethod, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{DesignProblem, DesignResult, Formulation, ScalingMethod, SolverSettings};
 use spine_model::Design;
 
 fn run(problem: &DesignProblem, start: &Design, formulation: Formulation) -> DesignResult {
-    solve_design(problem, start, formulation, &SolverSettings::default(), &mut |_| true).unwrap()
+    Solver::new(SolverPreset::Exact, formulation, &SolverSettings::default())
+        .solve(problem, start, &mut |_| true)
+        .unwrap()
 }
 
 /// A run started at a known optimum: Ipopt's barrier must not push the start away from its
@@ -19,7 +23,7 @@ fn run_from_optimum(problem: &DesignProblem, start: &Design, formulation: Formul
     }
     settings.ipopt_options.insert("mu_init".into(), ExtraOption::Num(1e-9));
     settings.ipopt_options.insert("acceptable_iter".into(), ExtraOption::Int(0));
-    solve_design(problem, start, formulation, &settings, &mut |_| true).unwrap()
+    Solver::new(SolverPreset::Exact, formulation, &settings).solve(problem, start, &mut |_| true).unwrap()
 }
 
 fn assert_same_optimum(a: &DesignResult, b: &DesignResult, what: &str) {
@@ -98,15 +102,19 @@ fn unreachable_displacement_ends_with_the_infeasibility_status() {
 fn scaling_off_and_iteration_limits_are_reported() {
     let problem = paper_problem(5, -10.0, -400.0, -0.02, 100.0);
     let settings = SolverSettings { scaling: ScalingMethod::None, ..SolverSettings::default() };
-    let r = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &settings, &mut |_| true).unwrap();
+    let r = Solver::new(SolverPreset::Exact, Formulation::Full, &settings)
+        .solve(&problem, &paper_five_link_start(), &mut |_| true)
+        .unwrap();
     assert!(r.solver.optimal, "{}", r.solver.status);
     let settings = SolverSettings { max_iterations: 2, ..SolverSettings::default() };
-    let r = solve_design(&problem, &paper_five_link_start(), Formulation::Full, &settings, &mut |_| true).unwrap();
+    let r = Solver::new(SolverPreset::Exact, Formulation::Full, &settings)
+        .solve(&problem, &paper_five_link_start(), &mut |_| true)
+        .unwrap();
     assert_eq!(r.solver.status, spine_ipopt::Status::MaximumIterationsExceeded);
     assert!(r.warnings.iter().any(|w| matches!(w, spine_design::result::DesignWarning::NotConverged { .. })));
     let mut calls = 0;
-    let r =
-        solve_design(&problem, &paper_five_link_start(), Formulation::Full, &SolverSettings::default(), &mut |_| {
+    let r = Solver::new(SolverPreset::Exact, Formulation::Full, &SolverSettings::default())
+        .solve(&problem, &paper_five_link_start(), &mut |_| {
             calls += 1;
             calls < 3
         })

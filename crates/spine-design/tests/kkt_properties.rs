@@ -8,7 +8,9 @@ use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use spine_design::fixtures::{arch_start, paper_problem};
 use spine_design::full_space::FullSpaceNlp;
-use spine_design::{solve_design, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{Formulation, SolverSettings};
 use spine_ipopt::Problem;
 use spine_model::State;
 
@@ -87,7 +89,8 @@ fn a_degenerate_active_set_still_has_sign_correct_multipliers() {
     let (n, p_y, p_x, delta_d) = (5, -4.837701883212651, -295.0527510032976, -0.015420921331445358);
     let problem = paper_problem(n, p_y, p_x, delta_d, 100.0);
     let settings = SolverSettings::default();
-    let result = solve_design(&problem, &arch_start(n, 0.3, 1000.0), Formulation::Full, &settings, &mut |_| true)
+    let result = Solver::new(SolverPreset::Exact, Formulation::Full, &settings)
+        .solve(&problem, &arch_start(n, 0.3, 1000.0), &mut |_| true)
         .expect("eq. (33) starts");
     assert!(result.is_clean(), "{:?}", result.warnings);
     let state = |s: &Option<spine_design::result::StateReport>| {
@@ -176,7 +179,7 @@ proptest! {
     ) {
         let problem = paper_problem(n, p_y, p_x, delta_d, 100.0);
         let settings = SolverSettings::default();
-        let result = solve_design(&problem, &arch_start(n, 0.3, 1000.0), Formulation::Full, &settings, &mut |_| true)
+        let result = Solver::new(SolverPreset::Exact, Formulation::Full, &settings).solve(&problem, &arch_start(n, 0.3, 1000.0), &mut |_| true)
             .expect("eq. (33) starts");
         prop_assume!(result.is_clean());
         let state = |s: &Option<spine_design::result::StateReport>| {

@@ -4,7 +4,9 @@
 
 use spine_design::fixtures::paper_problem;
 use spine_design::multistart::{cluster, feasible_starts, mirror};
-use spine_design::{solve_design, DesignResult, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{DesignResult, Formulation, SolverSettings};
 
 /// A clean optimum of fig. 6's problem (10 links, C_K = 1, symmetric loads) that is not its own
 /// mirror image, and that image with `J` moved by a few units in the last place.
@@ -12,7 +14,11 @@ fn optimum_and_image(shift_ulps: f64) -> (DesignResult, DesignResult) {
     let problem = paper_problem(10, -5.0, -400.0, -0.02, 1.0);
     let optimum = feasible_starts(&problem, 6, 0)
         .iter()
-        .map(|s| solve_design(&problem, s, Formulation::Full, &SolverSettings::default(), &mut |_| true).unwrap())
+        .map(|s| {
+            Solver::new(SolverPreset::Exact, Formulation::Full, &SolverSettings::default())
+                .solve(&problem, s, &mut |_| true)
+                .unwrap()
+        })
         .find(|r| {
             let image = mirror(&r.design);
             r.is_clean() && r.design.theta0.iter().zip(&image.theta0).any(|(a, b)| (a - b).abs() > 1e-3)

@@ -6,7 +6,9 @@ use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{self, Ladder, LevelStart, Refine, RefineMode};
 use spine_design::result::DesignWarning;
 use spine_design::settings::ExtraOption;
-use spine_design::{run_solver, solve_design, DesignProblem, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{DesignProblem, Formulation, SolverSettings};
 use spine_model::kinematics::end_constraint;
 use spine_model::{Design, State};
 
@@ -138,14 +140,9 @@ fn states_of(r: &spine_design::DesignResult) -> (State, State) {
 /// prolonged design and its exact equilibria (by Newton).
 fn prolonged_coarse_optimum(fine: &DesignProblem, m: usize) -> (spine_design::DesignResult, Design, (State, State)) {
     let (coarse, nodes) = refine::coarsen(fine, m);
-    let optimum = solve_design(
-        &coarse,
-        &refine::restrict(fine, &coarse, &nodes, &start_of(fine.n_links())),
-        Formulation::Full,
-        &settings(Refine::Mode(RefineMode::Off)),
-        &mut |_| true,
-    )
-    .unwrap();
+    let optimum = Solver::new(SolverPreset::Exact, Formulation::Full, &settings(Refine::Mode(RefineMode::Off)))
+        .solve(&coarse, &refine::restrict(fine, &coarse, &nodes, &start_of(fine.n_links())), &mut |_| true)
+        .unwrap();
     assert!(optimum.solver.status.is_optimal(), "{m} links: {}", optimum.solver.status);
     let (design, interpolated) = refine::prolong(&coarse, fine, &optimum.design, &states_of(&optimum));
     let continuation = SolverSettings::default().continuation;
@@ -214,7 +211,7 @@ fn stays_at(problem: &DesignProblem, design: &Design, states: (&State, &State)) 
     }
     let form = s.state_variables.resolve(problem, s.smaller_tolerance());
     let mut nlp = FullSpaceNlp::new(problem, form, design, states.0, states.1);
-    let solution = spine_design::ipopt_solve(&mut nlp, &s.ipopt()).unwrap();
+    let solution = spine_design::solve::ipopt::ipopt_solve(&mut nlp, &s.ipopt()).unwrap();
     (solution.objective, solution.iterations, solution.status.is_optimal())
 }
 
@@ -223,17 +220,12 @@ fn refined_and_cold_solves_end_at_optima_of_the_same_nlp() {
     for n in [20, 40, 100] {
         let problem = scaled_family(n);
         let ladder = Ladder { from: 10, factor: 2.0 };
-        let cold = solve_design(
-            &problem,
-            &start_of(n),
-            Formulation::Full,
-            &settings(Refine::Mode(RefineMode::Off)),
-            &mut |_| true,
-        )
-        .unwrap();
-        let refined =
-            solve_design(&problem, &start_of(n), Formulation::Full, &settings(Refine::Ladder(ladder)), &mut |_| true)
-                .unwrap();
+        let cold = Solver::new(SolverPreset::Exact, Formulation::Full, &settings(Refine::Mode(RefineMode::Off)))
+            .solve(&problem, &start_of(n), &mut |_| true)
+            .unwrap();
+        let refined = Solver::new(SolverPreset::Exact, Formulation::Full, &settings(Refine::Ladder(ladder)))
+            .solve(&problem, &start_of(n), &mut |_| true)
+            .unwrap();
         assert!(cold.refinement.is_none());
         let report = refined.refinement.as_ref().expect("a refined run reports its levels");
         let sizes: Vec<usize> = report.levels.iter().map(|l| l.links).collect();
@@ -290,13 +282,12 @@ fn a_failed_coarse_level_falls_back_to_a_cold_solve_and_says_so() {
         }
         true
     };
-    let r = solve_design(
-        &problem,
-        &start_of(n),
+    let r = Solver::new(
+        SolverPreset::Exact,
         Formulation::Full,
         &settings(Refine::Ladder(Ladder { from: 10, factor: 2.0 })),
-        &mut observer,
     )
+    .solve(&problem, &start_of(n), &mut observer)
     .unwrap();
     let report = r.refinement.as_ref().unwrap();
     assert!(report.fell_back_to_cold);
@@ -313,7 +304,8 @@ fn warm_levels_may_start_from_the_prolonged_multipliers() {
     let problem = scaled_family(n);
     let mut s = settings(Refine::Ladder(Ladder { from: 10, factor: 2.0 }));
     s.warm_start.multipliers = true;
-    let r = solve_design(&problem, &start_of(n), Formulation::Full, &s, &mut |_| true).unwrap();
+    let r =
+        Solver::new(SolverPreset::Exact, Formulation::Full, &s).solve(&problem, &start_of(n), &mut |_| true).unwrap();
     assert!(r.refinement.as_ref().unwrap().warm_start.multipliers);
     // This path stops at Ipopt's acceptable level (equilibrium residuals of about 1e-5 N·m against
     // a load moment of 1600 N·m): it converges, and it is reported clean only when the recomputed
@@ -337,7 +329,9 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     let ladder = Refine::Ladder(Ladder { from: 20, factor: 2.0 });
     let mut plain = settings(ladder);
     plain.warm_start.restart_after = 0;
-    let r0 = solve_design(&problem, &start_of(n), Formulation::Full, &plain, &mut |_| true).unwrap();
+    let r0 = Solver::new(SolverPreset::Exact, Formulation::Full, &plain)
+        .solve(&problem, &start_of(n), &mut |_| true)
+        .unwrap();
     let last0 = r0.refinement.as_ref().unwrap().levels.last().unwrap().clone();
     assert!(r0.solver.converged && last0.restarts == 0, "{} {last0:?}", r0.solver.status);
     assert!(last0.iterations > 6, "the finest level takes {} iterations: too few to restart", last0.iterations);
@@ -345,14 +339,15 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     let mut restarting = plain.clone();
     restarting.warm_start.restart_after = 3;
     let mut seen = 0;
-    // The ladder's own run (`run_solver`, not settled): a certificate that leaves the point would
+    // The ladder's own run (`Solver::run`, not settled): a certificate that leaves the point would
     // report the iterations of the run that left it.
-    let r = run_solver(&problem, &start_of(n), Formulation::Full, &restarting, &mut |_| {
-        seen += 1;
-        true
-    })
-    .unwrap()
-    .check(&problem, &restarting);
+    let r = Solver::new(SolverPreset::Exact, Formulation::Full, &restarting)
+        .run(&problem, &start_of(n), &mut |_| {
+            seen += 1;
+            true
+        })
+        .unwrap()
+        .check(&problem, &restarting);
     let levels = &r.refinement.as_ref().unwrap().levels;
     let last = levels.last().unwrap();
     assert!(last.restarts >= 1, "{last:?}");
@@ -383,11 +378,12 @@ fn the_finest_level_restarts_after_its_budget_and_the_caller_can_still_stop_it()
     // The caller stops the finest level at its second iteration: no restart.
     let coarse_calls: usize = levels[..levels.len() - 1].iter().map(|l| l.iterations + 1).sum();
     let mut calls = 0;
-    let stopped = solve_design(&problem, &start_of(n), Formulation::Full, &restarting, &mut |_| {
-        calls += 1;
-        calls != coarse_calls + 3
-    })
-    .unwrap();
+    let stopped = Solver::new(SolverPreset::Exact, Formulation::Full, &restarting)
+        .solve(&problem, &start_of(n), &mut |_| {
+            calls += 1;
+            calls != coarse_calls + 3
+        })
+        .unwrap();
     let last = stopped.refinement.as_ref().unwrap().levels.last().unwrap().clone();
     assert_eq!((last.restarts, last.iterations), (0, 2), "{last:?}");
     assert!(!stopped.solver.converged, "{}", stopped.solver.status);
@@ -452,7 +448,8 @@ fn a_scheduled_ladder_reports_its_barriers_and_ends_at_an_optimum() {
     let problem = scaled_family(n);
     let ladder = Ladder { from: 50, factor: 2.0 };
     let s = settings(Refine::Ladder(ladder));
-    let r = solve_design(&problem, &start_of(n), Formulation::Full, &s, &mut |_| true).unwrap();
+    let r =
+        Solver::new(SolverPreset::Exact, Formulation::Full, &s).solve(&problem, &start_of(n), &mut |_| true).unwrap();
     let levels = &r.refinement.as_ref().unwrap().levels;
     let sizes: Vec<usize> = levels.iter().map(|l| l.links).collect();
     assert_eq!(sizes, vec![50, 100, 200]);
@@ -467,7 +464,9 @@ fn a_scheduled_ladder_reports_its_barriers_and_ends_at_an_optimum() {
 
     let mut plain = s.clone();
     plain.warm_start.barrier = None;
-    let r0 = solve_design(&problem, &start_of(n), Formulation::Full, &plain, &mut |_| true).unwrap();
+    let r0 = Solver::new(SolverPreset::Exact, Formulation::Full, &plain)
+        .solve(&problem, &start_of(n), &mut |_| true)
+        .unwrap();
     assert!(r0.refinement.as_ref().unwrap().levels.iter().all(|l| l.barrier.is_none()));
     assert!(r0.solver.optimal && r0.is_clean());
     eprintln!("N = {n}: J scheduled {:.9e}, without {:.9e}", r.objective, r0.objective);

@@ -9,8 +9,10 @@ mod common;
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::full_space::FullSpaceNlp;
 use spine_design::refine::{Refine, RefineMode};
+use spine_design::settings::SolverPreset;
 use spine_design::settings::SpringVariables;
-use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, SolverSettings};
+use spine_design::solve::Solver;
+use spine_design::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use spine_ipopt::{Problem, Solution};
 use spine_model::Design;
 
@@ -20,7 +22,7 @@ fn solve(problem: &DesignProblem, start: &Design, springs: SpringVariables) -> D
         spring_variables: springs,
         ..SolverSettings::default()
     };
-    solve_design(problem, start, Formulation::Full, &settings, &mut |_| true).unwrap()
+    Solver::new(SolverPreset::Exact, Formulation::Full, &settings).solve(problem, start, &mut |_| true).unwrap()
 }
 
 /// Ipopt with the springs as `springs`, started at a result's design and states with `mu_init`

@@ -8,14 +8,16 @@ mod common;
 use spine_design::fixtures::{arch_start, scaled_family};
 use spine_design::full_space::StateForm;
 use spine_design::refine::{Refine, RefineMode};
+use spine_design::settings::SolverPreset;
 use spine_design::settings::{SpringVariables, StateVariables};
-use spine_design::{solve_design, DesignProblem, DesignResult, Formulation, SolverSettings};
+use spine_design::solve::Solver;
+use spine_design::{DesignProblem, DesignResult, Formulation, SolverSettings};
 use spine_model::Design;
 
 fn solve(problem: &DesignProblem, start: &Design, states: StateVariables) -> DesignResult {
     let settings =
         SolverSettings { refine: Refine::Mode(RefineMode::Off), state_variables: states, ..SolverSettings::default() };
-    solve_design(problem, start, Formulation::Full, &settings, &mut |_| true).unwrap()
+    Solver::new(SolverPreset::Exact, Formulation::Full, &settings).solve(problem, start, &mut |_| true).unwrap()
 }
 
 /// Ipopt on `form` started at a result's design and states with `mu_init` 1e-9: J and iterations.

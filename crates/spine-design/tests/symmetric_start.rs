@@ -6,8 +6,8 @@
 //! (J = 6.7978e-3 against 7.2704e-3), which is therefore not the optimum of fig. 6's start but
 //! an accident of MUMPS's rounding.
 //!
-//! What is compared is the first-order point Ipopt's path reaches ([`run_solver`]). The reported
-//! optimum ([`solve_design`]) may go on below it: 7.2704e-3 is a weak minimum (curvature ~1e-10
+//! What is compared is the first-order point Ipopt's path reaches ([`spine_design::solve::Solver::run`]). The reported
+//! optimum ([`spine_design::solve::Solver::solve`]) may go on below it: 7.2704e-3 is a weak minimum (curvature ~1e-10
 //! against a Hessian scale of 1e4), and its probe along the flat direction reaches 6.7978e-3 where
 //! the certificate's rounding calls it weak rather than strict (with MUMPS on Ipopt 3.14 it does).
 //! The test checks that the reported optimum is never above the point reached.
@@ -15,16 +15,21 @@
 use spine_design::fixtures::{arch_start, paper_problem};
 use spine_design::multistart::mirror;
 use spine_design::settings::LinearSolver;
-use spine_design::{run_solver, solve_design, DesignResult, Formulation, SolverSettings};
+use spine_design::settings::SolverPreset;
+use spine_design::solve::Solver;
+use spine_design::{DesignResult, Formulation, SolverSettings};
 use spine_model::Design;
 
 /// The first-order point Ipopt's path reaches from `start`, checked; and the reported optimum.
 fn solve(start: &Design, linear_solver: LinearSolver) -> DesignResult {
     let problem = paper_problem(10, -5.0, -400.0, -0.02, 1.0);
     let settings = SolverSettings { linear_solver, ..SolverSettings::default() };
-    let reached =
-        run_solver(&problem, start, Formulation::Full, &settings, &mut |_| true).unwrap().check(&problem, &settings);
-    let reported = solve_design(&problem, start, Formulation::Full, &settings, &mut |_| true).unwrap();
+    let reached = Solver::new(SolverPreset::Exact, Formulation::Full, &settings)
+        .run(&problem, start, &mut |_| true)
+        .unwrap()
+        .check(&problem, &settings);
+    let reported =
+        Solver::new(SolverPreset::Exact, Formulation::Full, &settings).solve(&problem, start, &mut |_| true).unwrap();
     assert!(
         reported.objective <= reached.objective * (1.0 + 1e-9),
         "the reported optimum {} is above the point reached {}",

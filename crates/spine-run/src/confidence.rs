@@ -68,7 +68,7 @@ pub struct ConfidenceCensus<'a> {
 impl<'a> ConfidenceCensus<'a> {
     /// The census of the run from the case's own start (start 0).
     pub fn new(valid: &'a ValidDesign, target: f64, own: SolverRun) -> Result<Self, RunError> {
-        let mut settled = Settled::new(&valid.problem, &valid.settings);
+        let mut settled = Settled::new(&valid.problem, valid.solver());
         settled.add(own).map_err(RunError::Design)?;
         Ok(Self { settled, target, batches: Batches::new(valid), done: 0, seeded: 0, reached: false })
     }

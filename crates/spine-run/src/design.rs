@@ -9,10 +9,10 @@ use crate::workers::{solve_starts, Task, Workers};
 use serde::Serialize;
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::adjoint_hand;
-use spine_design::certificate::settle;
 use spine_design::multistart::{cluster, feasible_starts, settle_all, ConfidenceRun, MultiStartSummary};
-use spine_design::SolverPreset;
-use spine_design::{run_solver, DesignResult, SolverRun};
+use spine_design::result::DesignResult;
+use spine_design::settings::SolverPreset;
+use spine_design::solver_run::SolverRun;
 use spine_model::{Design, State};
 
 /// The passive and loaded states of a result, where it has both.
@@ -27,18 +27,11 @@ fn solve(valid: &ValidDesign, start: &Design) -> Result<DesignResult, RunError> 
     settled(valid, solve_unchecked(valid, start)?)
 }
 
-/// The optimum a run reports: checked, certified to second order, and left for a lower minimum
-/// where it is not one ([`spine_design::certificate::settle`]).
-///
-/// The fmincon-like preset reports its run as the paper's optimiser would, its last iterate,
-/// checked but neither certified nor polished: a tight re-solve would move it to the exact
-/// solver's optimum (design5: J 7.60450e-3 at fmincon's 1e-6 becomes 7.60312e-3), and what the
-/// paper's kind of optimiser returns is what that reading is for.
+/// The optimum a run reports, as the case's preset reports it ([`spine_design::solve::Solver::report`]):
+/// checked, and with the exact preset certified to second order and left for a lower minimum
+/// where it is not one.
 pub(crate) fn settled(valid: &ValidDesign, run: SolverRun) -> Result<DesignResult, RunError> {
-    let result = match valid.preset {
-        SolverPreset::Exact => settle(&valid.problem, run, &valid.settings).map_err(RunError::Design)?,
-        SolverPreset::FminconLike => run.check(&valid.problem, &valid.settings),
-    };
+    let result = valid.solver().report(&valid.problem, run).map_err(RunError::Design)?;
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
@@ -48,8 +41,7 @@ pub(crate) fn settled(valid: &ValidDesign, run: SolverRun) -> Result<DesignResul
 /// Eq. (33) from `start`, before the result's check ([`SolverRun::check`]); an interrupt is
 /// [`RunError::Interrupted`].
 fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, RunError> {
-    let run = run_solver(&valid.problem, start, valid.formulation, &valid.settings, &mut |_| true)
-        .map_err(RunError::Design)?;
+    let run = valid.solver().run(&valid.problem, start, &mut |_| true).map_err(RunError::Design)?;
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }
@@ -61,7 +53,7 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
 pub fn run_design(valid: &ValidDesign, workers: Option<&Workers>) -> Result<StaticDesign, RunError> {
     let mut design = run_design_alone(valid, workers)?;
     if valid.fmincon_like_beside {
-        let fmincon = valid.with_preset(spine_design::SolverPreset::FminconLike);
+        let fmincon = valid.with_preset(SolverPreset::FminconLike);
         design.fmincon_like = Some(Box::new(static_design(&fmincon, solve(&fmincon, &fmincon.start)?)));
     }
     Ok(design)
@@ -241,10 +233,10 @@ pub fn solve_all(
 }
 
 /// The result of a design case from its runs in start order (`runs[0]` from the case's own
-/// start), each checked and certified ([`settle_all`]): the run itself without multi-start, else
-/// the census headed by the best clean optimum.
+/// start), each reported as the case's preset reports it ([`settle_all`]): the run itself without
+/// multi-start, else the census headed by the best clean optimum.
 pub fn census(case: &DesignCase, valid: &ValidDesign, runs: Vec<SolverRun>) -> Result<DesignCaseResult, RunError> {
-    let results = settle_all(&valid.problem, runs, &valid.settings).map_err(RunError::Design)?;
+    let results = settle_all(&valid.problem, runs, &valid.solver()).map_err(RunError::Design)?;
     if spine_stop::interrupt_requested() {
         return Err(RunError::Interrupted);
     }

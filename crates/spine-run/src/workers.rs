@@ -13,7 +13,7 @@
 
 use crate::error::{RunError, WorkerError};
 use serde::{Deserialize, Serialize};
-use spine_design::{run_solver, SolverRun};
+use spine_design::solver_run::SolverRun;
 use spine_model::Design;
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
@@ -116,7 +116,7 @@ pub fn serve(valid: &spine_case::ValidDesign, input: impl BufRead, mut output: i
         let answer = match serde_json::from_str::<Task>(&line) {
             Ok(task) => {
                 let v = task.case(valid);
-                match run_solver(&v.problem, &task.start, v.formulation, &v.settings, &mut |_| true) {
+                match v.solver().run(&v.problem, &task.start, &mut |_| true) {
                     Ok(run) => Answer::Run(Box::new(run)),
                     Err(e) => Answer::Error(format!("solver: {e}")),
                 }

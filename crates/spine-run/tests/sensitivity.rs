@@ -1,10 +1,11 @@
 //! The sensitivities of an eq. (33) optimum against central differences of tight re-solves at
-//! `p ± h` started from the optimum (`spine_design::sensitivity::polish`), on the paper's 5-link
+//! `p ± h` started from the optimum (`spine_design::solve::polish::polish`), on the paper's 5-link
 //! case (stiffnesses and angles at their bounds, dependent active rows), and the one-sided
 //! derivatives of a case where a stiffness bound is made weakly active.
 
 use spine_case::{Case, DesignCase};
-use spine_design::sensitivity::{polish, Derivative};
+use spine_design::sensitivity::Derivative;
+use spine_design::solve::polish::polish;
 use spine_run::{run_sensitivity, KindResult, Overrides};
 
 fn design5() -> DesignCase {

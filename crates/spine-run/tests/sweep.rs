@@ -3,7 +3,7 @@
 //! solves, the events against the points around them, and the census.
 
 use spine_case::{Case, DesignCase};
-use spine_design::sensitivity::polish;
+use spine_design::solve::polish::polish;
 use spine_design::sweep::{EventKind, PointStatus, SweepSettings};
 use spine_run::sweep::{CensusPlan, SweepCaseResult};
 use spine_run::{run_sweep, KindResult, Overrides};

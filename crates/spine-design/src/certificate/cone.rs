@@ -12,7 +12,8 @@
 //! the reference the null-space form is checked against.
 
 use super::MAX_DENSE_FREE;
-use crate::sensitivity::{free_positions, ActiveSet, Bound, Matrices, Side};
+use crate::optimality::active_set::{ActiveSet, Bound, Side};
+use crate::optimality::system::{dependent_rows, free_positions, Matrices};
 use nalgebra::{DMatrix, DVector};
 
 /// A weakly active bound's form counts as moved off the bound above this (unit directions).
@@ -58,7 +59,7 @@ fn weak_forms(set: &ActiveSet) -> Vec<WeakForm> {
 /// Rows of `rows` independent of the earlier ones on the free variables of `fixed`.
 fn independent(n: usize, fixed: &[Bound], rows: Vec<Bound>, matrices: &Matrices) -> Vec<Bound> {
     let jacobian = (&matrices.jacobian_pattern[..], &matrices.jacobian[..]);
-    match crate::sensitivity::dependent_rows(n, fixed, &rows, jacobian) {
+    match dependent_rows(n, fixed, &rows, jacobian) {
         Some(dependent) => rows.into_iter().filter(|b| !dependent.contains(&b.index)).collect(),
         None => rows,
     }
@@ -200,6 +201,7 @@ fn face_basis(forms: &DMatrix<f64>, norms: &[f64], held: &[usize]) -> DMatrix<f6
     let c =
         DMatrix::from_fn(dimension, held.len(), |col, j| forms[(held[j], col)] / norms[held[j]].max(f64::MIN_POSITIVE));
     let svd = c.svd(true, false);
+    // Invariant: `svd(true, _)` computes `U`.
     let u = svd.u.expect("requested");
     let kept: Vec<usize> = (0..svd.singular_values.len()).filter(|&j| svd.singular_values[j] > IMPLIED_FORM).collect();
     complement(u.select_columns(&kept))

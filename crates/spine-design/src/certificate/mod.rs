@@ -3,7 +3,7 @@
 //!
 //! At a KKT point `x*` with multipliers `λ*`, let `A` be the strictly active constraints (the
 //! equalities, the equilibrium rows, the bounds whose multiplier is not negligible:
-//! [`crate::sensitivity::ActiveSet`]) and `Z` an orthonormal basis of their null space on the free
+//! [`crate::optimality::active_set::ActiveSet`]) and `Z` an orthonormal basis of their null space on the free
 //! variables. `H` is the Hessian of the Lagrangian. Then (Nocedal & Wright, Thms. 12.5–12.6):
 //!
 //! The second-order conditions are about the **critical cone**: directions `d` with `A d = 0` that
@@ -20,12 +20,12 @@
 //! Without weakly active bounds the cone is the null space `Z` of the active rows and `m` the
 //! smallest eigenvalue of `ZᵀHZ`. With `w` of them, `m`'s minimiser is an eigenvector of `ZᵀHZ` on
 //! the face where the bounds it moves are released and the others held, so the `2^w` faces are
-//! searched (`w ≤` [`crate::sensitivity::MAX_WEAK`]).
+//! searched (`w ≤` [`MAX_WEAK`]).
 //!
 //! The eigenvalues of `ZᵀHZ` are computed densely up to [`MAX_DENSE_FREE`] free variables (one
 //! null-space basis shared by every face: `cone`); above,
 //! the inertia of the reduced KKT matrix `[H_FF A_Fᵀ; A_F 0]` (one sparse `LDLᵀ`, the factorisation
-//! [`crate::sensitivity`] uses) decides: `free` positive and one negative eigenvalue per active row
+//! of [`crate::optimality`] that [`crate::sensitivity`] uses too) decides: `free` positive and one negative eigenvalue per active row
 //! is `ZᵀHZ ≻ 0` (Gould 1985) with the weak bounds released (sufficient); more negative ones than
 //! independent rows with them held and `H` shifted by `ZERO_CURVATURE · scale` is a curvature
 //! below the dense search's own zero on the cone (not a minimum). Unshifted, the inertia counted
@@ -33,19 +33,17 @@
 //! 115 negative eigenvalues of `ZᵀHZ`, the lowest −5.3e-5, which the dense search (tried there at
 //! 4 s) calls zero. The inertia is reported at every size.
 //!
-//! [`settle`] turns a solver's run into a reported optimum: it certifies the run, re-solves it
+//! [`crate::solve::settle`] turns a solver's run into a reported optimum: it certifies the run, re-solves it
 //! tightly or leaves it along a direction of negative curvature when the certificate does not say
 //! `strict_minimum`, and reports the minimum it reaches with the points it left.
 
 mod cone;
-mod settle;
-mod tight;
 
-pub use settle::{certify_run, same_optimum, settle, solve_design, Escape, EscapeHow, ESCAPE_STEPS, MAX_ESCAPES};
-
-use crate::full_space::{Layout, Multipliers};
-use crate::sensitivity::{with_weak, ActiveSet, ActiveSystem, Bound, Matrices};
-use crate::DesignProblem;
+use crate::full_space::Multipliers;
+use crate::layout::Layout;
+use crate::optimality::active_set::{ActiveSet, Bound, MAX_WEAK};
+use crate::optimality::system::{with_weak, ActiveSystem, Matrices};
+use crate::problem::DesignProblem;
 use cone::cone_minimum;
 use serde::{Deserialize, Serialize};
 
@@ -66,7 +64,8 @@ pub const MAX_DENSE_WORK: f64 = 4.0 * (MAX_DENSE_FREE * MAX_DENSE_FREE * MAX_DEN
 /// A bound at zero gap is weakly active for the certificate when its multiplier is below this
 /// fraction of the terms it balances: a multiplier above protects the bound to first order
 /// (moving off it raises `J` by `z·gap`), however small beside the sensitivities' threshold
-/// ([`crate::sensitivity::WEAK_MULTIPLIER`], which asks whether a derivative may switch sides).
+/// ([`crate::optimality::active_set::WEAK_MULTIPLIER`], which asks whether a derivative may
+/// switch sides).
 pub const CERTIFICATE_WEAK_MULTIPLIER: f64 = 1e-7;
 
 /// A curvature below this fraction of the Hessian's scale (its largest entry on the free
@@ -128,7 +127,7 @@ pub struct Certificate {
     /// of the active rows, moving each weakly active bound only to its feasible side), in the
     /// NLP's variables (`θ` in rad, `K/C_K`, `λ` in N, heights in m), and the largest magnitude
     /// of an entry of `H` on the free variables (the scale [`ZERO_CURVATURE`] is taken of). The
-    /// curvature is `None` above [`MAX_DENSE_FREE`] free variables, [`crate::sensitivity::MAX_WEAK`]
+    /// curvature is `None` above [`MAX_DENSE_FREE`] free variables, [`MAX_WEAK`]
     /// weak bounds or [`MAX_DENSE_WORK`] (the inertia decides there, against the same threshold),
     /// and for a vertex (no direction); the scale is given at every size.
     pub smallest_curvature: Option<f64>,
@@ -145,7 +144,7 @@ pub struct Certificate {
 pub enum CertifiedPoint {
     /// The solver's own solution and multipliers.
     Run,
-    /// The solution re-solved from itself with `tol` 1e-12 ([`crate::sensitivity::polish`]).
+    /// The solution re-solved from itself with `tol` 1e-12 ([`crate::solve::polish::polish`]).
     Polished,
 }
 
@@ -203,7 +202,7 @@ pub fn certify(
     let system = ActiveSystem::new(&matrices, layout, set.variables.clone(), set.rows.clone());
     let inertia = system.kkt.as_ref().map(|k| [k.inertia.positive, k.inertia.negative, k.inertia.zero]);
     let free = (n - set.variables.len()) as f64;
-    let affordable = weak <= crate::sensitivity::MAX_WEAK && (1u64 << weak) as f64 * free.powi(3) <= MAX_DENSE_WORK;
+    let affordable = weak <= MAX_WEAK && (1u64 << weak) as f64 * free.powi(3) <= MAX_DENSE_WORK;
     let cone = affordable.then(|| cone_minimum(n, &set, &matrices)).flatten();
     let (status, negative, smallest, scale) = match cone {
         Some((minimum, scale, direction)) => {
@@ -258,14 +257,14 @@ pub fn certify(
 /// The scaled family of `n` links solved from its arch start with the default settings: a
 /// solver's run for the certificate's tests.
 #[cfg(test)]
-pub(crate) fn solved_scaled_family(n: usize) -> (DesignProblem, crate::solve::SolverRun) {
+pub(crate) fn solved_scaled_family(n: usize) -> (DesignProblem, crate::solver_run::SolverRun) {
     use crate::fixtures::{arch_start, scaled_family};
     let problem = scaled_family(n);
     let s = n as f64 / 10.0;
     let start = arch_start(n, 0.3, 1e3 * s * s);
-    let settings = crate::SolverSettings::default();
-    let run =
-        crate::solve::run_solver(&problem, &start, crate::Formulation::Full, &settings, &mut |_| true).expect("solves");
+    let settings = crate::settings::SolverSettings::default();
+    let formulation = crate::settings::Formulation::Full;
+    let run = crate::solve::run::run_solver(&problem, &start, formulation, &settings, &mut |_| true).expect("solves");
     (problem, run)
 }
 

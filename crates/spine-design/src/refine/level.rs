@@ -1,7 +1,8 @@
 //! One level of the ladder: its chain, start design and start states.
 
 use super::mesh::{coarsen, prolong, restrict};
-use crate::full_space::{FullSpaceNlp, LoadState};
+use crate::full_space::FullSpaceNlp;
+use crate::layout::LoadState;
 use crate::problem::DesignProblem;
 use serde::{Deserialize, Serialize};
 use spine_model::{Design, State};

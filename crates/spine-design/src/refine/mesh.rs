@@ -1,7 +1,7 @@
 //! The chain coarsened and a coarse optimum prolonged (see the module docs of [`super`]).
 
+use crate::objective::Objective;
 use crate::problem::DesignProblem;
-use crate::Objective;
 use spine_model::{Chain, Design, NodalLoads, State, Structure};
 
 /// The fine node of each coarse node: `b_c = round(c N / M)`, `c = 0..=M` (strictly increasing

@@ -1,7 +1,8 @@
 //! Multipliers of a coarse optimum carried to the fine chain.
 
 use super::mesh::{interpolate, midpoints, node_x};
-use crate::full_space::{Layout, Multipliers, StateForm};
+use crate::full_space::Multipliers;
+use crate::layout::{Layout, StateForm};
 use crate::problem::DesignProblem;
 
 /// The multipliers of a coarse solution carried to the fine chain, for Ipopt's warm start.
@@ -62,6 +63,7 @@ pub fn prolong_multipliers(
             out[fl.stiffness(j)] = v;
         }
         if mc >= 2 && nf >= 2 {
+            // Invariant: both layouts have a height variable for every interior node.
             let heights =
                 field((1..mc).map(|j| z[cl.height(j).expect("interior")]).collect(), &cx[1..mc], &fx[1..nf], ratio);
             for (j, v) in heights.into_iter().enumerate() {

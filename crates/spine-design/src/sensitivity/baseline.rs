@@ -2,11 +2,11 @@
 //! built and factorised, and solved for the step's own right-hand sides (one per parameter), and
 //! nothing else the step does (no evaluation, no active set, no LICQ measure, no rates).
 
-use super::active_set::{ActiveSet, Bound};
 use super::derivative::right_hand_side;
 use super::rates::rates;
-use super::system::{ActiveSystem, Matrices, ReducedKkt};
 use super::{Optimum, Parameter, SensitivityError};
+use crate::optimality::active_set::{ActiveSet, Bound};
+use crate::optimality::system::{ActiveSystem, Matrices, ReducedKkt};
 
 /// The reduced KKT system of an optimum's active set, ready to be factorised again and again, with
 /// the right-hand sides its parameters' derivatives solve for.

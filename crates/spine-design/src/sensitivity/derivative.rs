@@ -2,14 +2,14 @@
 //! matrix), in the paper's quantities, and the one-sided derivatives where bounds are weakly
 //! active.
 
-use super::active_set::{ActiveSet, Bound, Side};
-use super::point::Evaluation;
 use super::rates::Rates;
-use super::system::{
+use super::{Derivative, Optimum};
+use crate::layout::{LoadState, StateForm};
+use crate::optimality::active_set::{ActiveSet, Bound, Side};
+use crate::optimality::point::Evaluation;
+use crate::optimality::system::{
     bound_rate, hessian_times, jacobian_times, jacobian_transpose_times, with_weak, ActiveSystem, Matrices, ReducedKkt,
 };
-use super::{Derivative, Optimum};
-use crate::full_space::{LoadState, StateForm};
 
 /// One active set's solution for one parameter: the derivative, the full `dx`, the rates `dz` of
 /// the stationarity residual (the bound multipliers' rates), `dg` of every row's value and `dλ`,

@@ -2,10 +2,10 @@
 //! `θ1*`, `θ2*` (and their `λ`) and `J*` move when a load, `δ_d`, `C_K`, the span or a bound
 //! changes, by the implicit function theorem on the KKT conditions at the solution.
 //!
-//! * The active set is read from the primal-dual solution (`active_set`): a bound is active when
-//!   its multiplier exceeds its gap.
+//! * The active set is read from the primal-dual solution ([`crate::optimality::active_set`]): a
+//!   bound is active when its multiplier exceeds its gap.
 //! * The KKT matrix reduced to the free variables and active rows is factorised once
-//!   (`system`); its inertia certifies second-order sufficiency (positive on the free
+//!   ([`crate::optimality`]); its inertia certifies second-order sufficiency (positive on the free
 //!   variables, one negative eigenvalue per active row, none zero), the smallest singular value of
 //!   the active rows' Jacobian measures LICQ, and the smallest active multiplier against the
 //!   smallest inactive gap measures strict complementarity ([`Conditions`]).
@@ -18,29 +18,21 @@
 //!   for an increase and for a decrease of the parameter, the active set among the weak bounds that
 //!   keeps the linearised KKT conditions feasible (the QP of the degenerate set, by enumeration).
 
-mod active_set;
 mod baseline;
 mod derivative;
-mod point;
-mod polish;
 mod rates;
 mod shared;
-mod smallest_singular_value;
 mod step;
-mod system;
 
-pub use active_set::{ActiveSet, Bound, Side, WEAK_GAP, WEAK_MULTIPLIER};
 pub use baseline::KktBaseline;
-pub(crate) use polish::tight_settings;
-pub use polish::{polish, POLISH_TOLERANCE};
 
-use crate::full_space::{Layout, Multipliers};
-use crate::{DesignProblem, ProblemTangent};
+use crate::full_space::Multipliers;
+use crate::layout::Layout;
+use crate::numbers::ProblemTangent;
+use crate::optimality::active_set::{ActiveSet, Bound, Side};
+use crate::optimality::system::ActiveSystem;
+use crate::problem::DesignProblem;
 use serde::Serialize;
-pub(crate) use system::{dependent_rows, free_positions, with_weak, ActiveSystem, Matrices};
-
-/// At most this many weakly active bounds are enumerated for one-sided derivatives (2^k systems).
-pub const MAX_WEAK: usize = 8;
 
 /// A converged full-space optimum: Ipopt's point and multipliers in `layout`'s order.
 pub struct Optimum<'a> {
@@ -81,7 +73,9 @@ pub struct Conditions {
     pub licq_smallest_singular_value: Option<f64>,
     pub dependent_rows: Vec<usize>,
     /// Strict complementarity: the smallest multiplier of an active inequality bound, the smallest
-    /// gap of an inactive one, and the weakly active bounds ([`WEAK_MULTIPLIER`], [`WEAK_GAP`]).
+    /// gap of an inactive one, and the weakly active bounds
+    /// ([`crate::optimality::active_set::WEAK_MULTIPLIER`],
+    /// [`crate::optimality::active_set::WEAK_GAP`]).
     pub smallest_active_multiplier: Option<f64>,
     pub smallest_inactive_gap: Option<f64>,
     pub weakly_active: Vec<String>,

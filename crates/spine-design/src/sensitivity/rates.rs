@@ -8,8 +8,8 @@
 use super::{Optimum, SensitivityError};
 use crate::assembly::{AnyGroup, NlpRates};
 use crate::full_space::groups;
+use crate::numbers::ProblemTangent;
 use crate::numbers::{FullSpaceBounds, Numbers};
-use crate::ProblemTangent;
 use num_dual::Dual64;
 
 /// The rates of the NLP's data in one parameter at the optimum.
@@ -63,9 +63,10 @@ pub(crate) fn rates(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::full_space::{assemble, Layout, Multipliers, StateForm};
-    use crate::sensitivity::point::Evaluation;
-    use crate::sensitivity::system::jacobian_transpose_times;
+    use crate::full_space::{assemble, Multipliers};
+    use crate::layout::{Layout, StateForm};
+    use crate::optimality::point::Evaluation;
+    use crate::optimality::system::jacobian_transpose_times;
     use spine_model::rng::SplitMix64;
 
     /// The exact rates along a direction in which every number of the problem moves at once
@@ -79,16 +80,16 @@ mod tests {
         load.p_y.fill(-3.0);
         load.p_x[6] = 20.0;
         let objectives = [
-            crate::Objective::StrainEnergy,
-            crate::Objective::TotalStiffness,
-            crate::Objective::PeakMoment { exponent: 6, reference: 30.0 },
-            crate::Objective::Compliance { load },
+            crate::objective::Objective::StrainEnergy,
+            crate::objective::Objective::TotalStiffness,
+            crate::objective::Objective::PeakMoment { exponent: 6, reference: 30.0 },
+            crate::objective::Objective::Compliance { load },
         ];
         for objective in objectives {
             let mut problem = crate::fixtures::paper_problem(6, -10.0, -400.0, -0.02, 100.0);
             problem.structure.chain.masses = vec![0.2; 6];
             // The budget row with the criterion it is made for.
-            problem.strain_energy_max = (objective == crate::Objective::TotalStiffness).then_some(0.05);
+            problem.strain_energy_max = (objective == crate::objective::Objective::TotalStiffness).then_some(0.05);
             problem.objective = objective;
             let mut rng = SplitMix64::new(5);
             let mut tangent = ProblemTangent::zero(&problem);
@@ -108,9 +109,9 @@ mod tests {
             let b = &mut r.bounds;
             (b.theta0_max, b.relative_angle_max, b.height_min, b.height_max) = (0.1, -0.05, 0.002, 0.01);
             match &mut r.objective {
-                crate::Objective::PeakMoment { reference, .. } => *reference = 4.0,
-                crate::Objective::TotalStiffness => r.strain_energy_max = Some(0.01),
-                crate::Objective::Compliance { load } => {
+                crate::objective::Objective::PeakMoment { reference, .. } => *reference = 4.0,
+                crate::objective::Objective::TotalStiffness => r.strain_energy_max = Some(0.01),
+                crate::objective::Objective::Compliance { load } => {
                     random(&mut load.p_y, 2.0);
                     random(&mut load.p_x, 2.0);
                 }

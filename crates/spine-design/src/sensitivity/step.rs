@@ -12,20 +12,20 @@
 //! whichever thread computed what. A thread that waits for a result the other thread claimed
 //! stops waiting when that thread has ended (a panic then reaches the caller through the scope).
 
-use super::active_set::ActiveSet;
 use super::derivative::{derivative, one_sided, weak_candidates, WeakCandidates};
 use super::rates::{rates, Rates};
 use super::shared::{self, Claims, Flag};
-use super::system::{self, ActiveSystem, Matrices};
+use super::SensitivityReport;
 use super::{active_labels, conditions, Optimum, Parameter, ParameterSensitivity, SensitivityError};
-use super::{SensitivityReport, MAX_WEAK};
 use crate::assembly::AnyGroup;
-use crate::full_space::Layout;
+use crate::layout::Layout;
+use crate::optimality::active_set::{ActiveSet, MAX_WEAK};
+use crate::optimality::system::{self, ActiveSystem, Matrices};
 use std::sync::OnceLock;
 
 /// The optimum evaluated: its evaluation, matrices and active set.
 struct Stage {
-    at: super::point::Evaluation,
+    at: crate::optimality::point::Evaluation,
     matrices: Matrices,
     set: ActiveSet,
 }
@@ -96,6 +96,8 @@ impl<'s, 'a> Work<'s, 'a> {
     /// Runs the step on this thread and one helper, and assembles the report.
     pub fn run(self) -> Result<SensitivityReport, SensitivityError> {
         shared::with_helper(|| self.help(), || self.lead());
+        // Invariant: `with_helper` returns once `lead` has returned, and `lead` takes every piece
+        // of work the helper has not claimed (`shared`), so every slot below is filled.
         let layout = self.optimum.layout;
         let Stage { set, .. } = self.stage.into_inner().expect("the caller evaluated the optimum");
         let Ready { system, .. } = self.ready.into_inner().expect("the caller factorised the system");
@@ -189,7 +191,7 @@ impl<'s, 'a> Work<'s, 'a> {
 /// factorised system.
 struct Step<'s, 'a> {
     optimum: &'s Optimum<'a>,
-    at: &'s super::point::Evaluation,
+    at: &'s crate::optimality::point::Evaluation,
     matrices: &'s Matrices,
     system: &'s ActiveSystem,
 }

@@ -18,8 +18,12 @@
 mod events;
 mod station;
 
+use crate::numbers::ProblemTangent;
+use crate::problem::{DesignBounds, DesignProblem};
+use crate::result::DesignResult;
 use crate::sensitivity::Derivative;
-use crate::{DesignBounds, DesignError, DesignProblem, DesignResult, ProblemTangent, SolverSettings};
+use crate::settings::SolverSettings;
+use crate::solve::ipopt::DesignError;
 use serde::Serialize;
 use spine_check::{require, FieldError};
 use spine_model::Design;

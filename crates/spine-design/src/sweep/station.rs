@@ -3,12 +3,17 @@
 //! set, second-order sufficiency and the stability of its equilibria.
 
 use super::{Sweep, SweepError};
-use crate::certificate::{certify_run, CertifiedPoint};
-use crate::full_space::{Multipliers, StateForm};
-use crate::sensitivity::{polish, sensitivities, tight_settings, Derivative, Optimum, Parameter, SensitivityReport};
+use crate::certificate::CertifiedPoint;
+use crate::full_space::Multipliers;
+use crate::layout::StateForm;
+use crate::problem::DesignProblem;
+use crate::result::DesignResult;
+use crate::sensitivity::{sensitivities, Derivative, Optimum, Parameter, SensitivityReport};
 use crate::settings::{warm_point_options, ExtraOption};
-use crate::solve::{resolve_from, FullPoint, SolverRun};
-use crate::{DesignProblem, DesignResult};
+use crate::solve::polish::{polish, tight_settings};
+use crate::solve::run::{resolve_from, FullPoint};
+use crate::solve::settle::certify_run;
+use crate::solver_run::SolverRun;
 use spine_model::{Design, State};
 
 /// The optimum at one parameter value.
@@ -91,6 +96,8 @@ impl Station {
     }
 
     fn states(&self) -> (State, State) {
+        // Invariant: a station's run is a full-space re-solve (`resolve_from`, `polish`), which
+        // always returns both states.
         self.run.states.clone().expect("a full-space run has both states")
     }
 }

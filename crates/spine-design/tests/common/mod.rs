@@ -2,7 +2,7 @@
 
 use spine_design::full_space::{FullSpaceNlp, StateForm};
 use spine_design::settings::{ExtraOption, SpringVariables};
-use spine_design::solve::ipopt_solve_full;
+use spine_design::solve::ipopt::ipopt_solve_full;
 use spine_design::{DesignProblem, DesignResult, SolverSettings};
 use spine_ipopt::Solution;
 use spine_model::State;

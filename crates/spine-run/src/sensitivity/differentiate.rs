@@ -4,7 +4,8 @@
 use crate::error::RunError;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase, ValidDesign};
-use spine_design::sensitivity::{polish, sensitivities, Optimum, Parameter, SensitivityReport};
+use spine_design::sensitivity::{sensitivities, Optimum, Parameter, SensitivityReport};
+use spine_design::solve::polish::polish;
 use spine_design::DesignResult;
 
 /// Why an optimum has no sensitivities (in `result.json`: `{"reason": "another_optimum", …}`).
@@ -40,7 +41,7 @@ impl std::fmt::Display for NoSensitivity {
 }
 
 /// The sensitivities of a design case's optimum `first` (a clean result of `valid`'s problem):
-/// re-solved tightly from it (see `spine_design::sensitivity::polish`), then, when that ends clean
+/// re-solved tightly from it (see `spine_design::solve::polish::polish`), then, when that ends clean
 /// on the same optimum, differentiated with respect to `names`. Returns the report (or why there
 /// is none: the polishing solve's status, or how far it moved `J`) and the polishing solve's wall
 /// time.
@@ -63,7 +64,7 @@ pub fn differentiate(
         design.design.theta0.iter().zip(&first.design.theta0).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     // The same optimum as the certificate judges it (`J` within 1e-6, or a little lower along a
     // flat valley of `K` with the same shape); another local optimum moves more.
-    let same = spine_design::certificate::same_optimum(first, &design);
+    let same = spine_design::solve::settle::same_optimum(first, &design);
     let why_not = if !design.is_clean() {
         Some(NoSensitivity::PolishNotClean {
             status: design.solver.status,

@@ -19,6 +19,10 @@ pub const WEAK_MULTIPLIER: f64 = 1e-3;
 /// A gap below this of `max(1, |bound|)` counts as zero.
 pub const WEAK_GAP: f64 = 1e-6;
 
+/// At most this many weakly active bounds are enumerated (2^k systems): by the sensitivities for
+/// one-sided derivatives, by the certificate for the faces of the critical cone.
+pub const MAX_WEAK: usize = 8;
+
 /// One side of a bound on a variable or a constraint row (`lower`, `upper`, `both` in JSON).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]

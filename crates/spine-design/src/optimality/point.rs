@@ -2,9 +2,9 @@
 //! parameter derivatives need (values, first derivatives, bounds).
 
 use crate::assembly::Assembled;
-use crate::full_space::Layout;
+use crate::layout::Layout;
 use crate::numbers::{FullSpaceBounds, Numbers};
-use crate::DesignProblem;
+use crate::problem::DesignProblem;
 
 /// `f`, `g`, `∇f`, the Jacobian (in the assembled pattern) and all bounds at `x`.
 pub(crate) struct Evaluation {

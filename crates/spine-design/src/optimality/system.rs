@@ -4,7 +4,12 @@
 //! every parameter.
 
 use super::active_set::{ActiveSet, Bound, Side};
-use crate::full_space::Layout;
+use super::point::Evaluation;
+use super::smallest_singular_value;
+use crate::assembly::Assembled;
+use crate::full_space::assemble;
+use crate::layout::Layout;
+use crate::problem::DesignProblem;
 use spine_kkt::{Inertia, KktError, Structure, SymmetricSolver};
 use std::collections::BTreeMap;
 
@@ -20,24 +25,19 @@ pub(crate) struct Matrices {
 impl Matrices {
     /// The problem's NLP evaluated at `x` (layout order) and its Lagrangian's Hessian with the
     /// constraint multipliers `lambda` (objective factor 1): the evaluation and the matrices.
-    pub fn at(
-        problem: &crate::DesignProblem,
-        layout: Layout,
-        x: &[f64],
-        lambda: &[f64],
-    ) -> (super::point::Evaluation, Self) {
-        Self::of(&crate::full_space::assemble(problem, layout.states), problem, layout, x, lambda)
+    pub fn at(problem: &DesignProblem, layout: Layout, x: &[f64], lambda: &[f64]) -> (Evaluation, Self) {
+        Self::of(&assemble(problem, layout.states), problem, layout, x, lambda)
     }
 
     /// [`Matrices::at`] with the problem's elements already assembled.
     pub fn of(
-        assembled: &crate::assembly::Assembled,
-        problem: &crate::DesignProblem,
+        assembled: &Assembled,
+        problem: &DesignProblem,
         layout: Layout,
         x: &[f64],
         lambda: &[f64],
-    ) -> (super::point::Evaluation, Self) {
-        let at = super::point::Evaluation::of(assembled, problem, layout, x);
+    ) -> (Evaluation, Self) {
+        let at = Evaluation::of(assembled, problem, layout, x);
         let mut hessian = vec![0.0; assembled.patterns.hessian.len()];
         assembled.hessian(x, 1.0, lambda, &mut hessian);
         let matrices = Self {
@@ -260,7 +260,7 @@ pub(crate) fn smallest_singular_value(
     }
     // `Aᵀ` (free variables by active rows, row-major): the bidiagonalisation wants it tall.
     let mut transposed: Vec<f64> = (0..count * k).map(|e| a[(e % k) * count + e / k]).collect();
-    Some(super::smallest_singular_value::smallest_singular_value(&mut transposed, count, k))
+    Some(smallest_singular_value::smallest_singular_value(&mut transposed, count, k))
 }
 
 /// Each constraint row's position among the active `rows` (`None` for an inactive row), sized for

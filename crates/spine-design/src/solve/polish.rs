@@ -1,13 +1,16 @@
-//! The optimum re-solved tightly before it is differentiated. At Ipopt's default tolerance the
-//! complementarity products `z·gap` end near 1e-10, so a bound whose multiplier is small (a
+//! The polish: an optimum re-solved tightly, the tight re-solve of the certificate (stage 4 of a
+//! design run, [`crate::solve`]) and the start of every sensitivity and sweep. At Ipopt's default
+//! tolerance the complementarity products `z·gap` end near 1e-10, so a bound whose multiplier is small (a
 //! stiffness at its upper bound where `J` hardly depends on it: `z` ≈ 7e-6) cannot be told from an
 //! inactive one with a small gap; re-solved from the optimum with `tol` 1e-12 and the barrier
 //! started at 1e-11, the products fall to about 1e-14 and the two separate.
 
+use super::ipopt::DesignError;
+use super::run::run_solver;
+use crate::problem::DesignProblem;
 use crate::refine::{Refine, RefineMode};
-use crate::settings::ExtraOption;
-use crate::solve::{run_solver, DesignError, SolverRun};
-use crate::{DesignProblem, Formulation, SolverSettings};
+use crate::settings::{ExtraOption, Formulation, SolverSettings};
+use crate::solver_run::SolverRun;
 use spine_model::Design;
 
 /// Ipopt's `tol` of the polishing solve.

@@ -1,19 +1,21 @@
-//! The tight re-solve of a run whose certificate is not strict (step 2 of [`super::settle`]'s
-//! module docs), and the carrying of one that stopped at Ipopt's acceptable level to the case's
-//! tolerance.
+//! Stage 4 of a design run ([`crate::solve`]): the tight re-solve of a run whose certificate is not
+//! strict (step 2 of [`super::settle`]'s module docs), and the carrying of one that stopped at
+//! Ipopt's acceptable level to the case's tolerance.
 
-use super::{Certificate, MAX_DENSE_FREE};
-use crate::sensitivity::polish;
-use crate::settings::{warm_point_options, ExtraOption};
-use crate::solve::{resolve_from, DesignError, FullPoint, SolverRun};
+use super::ipopt::DesignError;
+use super::polish::polish;
+use super::run::{resolve_from, FullPoint};
+use crate::certificate::{Certificate, MAX_DENSE_FREE};
+use crate::problem::DesignProblem;
+use crate::settings::{warm_point_options, ExtraOption, SolverSettings};
 use crate::solver_report::PathCost;
-use crate::{DesignProblem, SolverSettings};
+use crate::solver_run::SolverRun;
 
 /// A probe along a weak minimum's flat direction counts only an end lower than this, relative
-/// (the tolerance of [`super::same_optimum`]: a flat valley's re-solves differ by less).
+/// (the tolerance of [`super::settle::same_optimum`]: a flat valley's re-solves differ by less).
 pub const FLAT_MARGIN: f64 = 1e-6;
 
-/// The most iterations of the tight re-solve ([`tight_resolve`]) of a problem above
+/// The most iterations of the tight re-solve (`tight_resolve`) of a problem above
 /// [`MAX_DENSE_FREE`] free variables. One that has not converged by then is not clean, and the
 /// run's own certificate (a weak minimum) is reported: with the springs as Ipopt's `k` such a
 /// re-solve crept along a flat valley for 700 to more than 3 000 iterations at N = 5 000 … 10⁴
@@ -99,7 +101,8 @@ pub(super) fn at_case_tolerance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::certificate::{certify_run, solved_scaled_family, CertifiedPoint};
+    use crate::certificate::{solved_scaled_family, CertifiedPoint};
+    use crate::solve::settle::certify_run;
 
     /// Above [`MAX_DENSE_FREE`] free variables the tight re-solve is the cold polish capped at
     /// [`TIGHT_RESOLVE_ITERATIONS`] (the same run when it converges within the cap); below, the
