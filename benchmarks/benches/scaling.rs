@@ -160,7 +160,8 @@ fn paper_case(name: &str) -> spine_case::DesignCase {
 /// Followed sweeps and sensitivities of the optimum at N = 10 (issue targets: a 40-point sweep
 /// under 1 s; the sensitivities to all parameters about one extra factorisation).
 fn optimum_parameters(c: &mut Criterion) {
-    use spine_design::sweep::{Sweep, SweepSettings};
+    use spine_design::sweep::settings::SweepSettings;
+    use spine_design::sweep::Sweep;
     let mut g = c.benchmark_group("optimum_parameters");
     g.sample_size(10).measurement_time(Duration::from_secs(5));
     let fig5 = paper_case("fig5-base");

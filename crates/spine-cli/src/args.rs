@@ -272,8 +272,8 @@ impl SweepArgs {
     }
 
     /// The sweep's settings (validated by the run, which names the flag at fault).
-    pub fn settings(&self) -> spine_design::sweep::SweepSettings {
-        spine_design::sweep::SweepSettings::new(self.from, self.to, self.points)
+    pub fn settings(&self) -> spine_design::sweep::settings::SweepSettings {
+        spine_design::sweep::settings::SweepSettings::new(self.from, self.to, self.points)
     }
 
     /// The census plan, when asked for.

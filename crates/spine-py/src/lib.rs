@@ -196,7 +196,7 @@ fn sweep(
     deterministic: bool,
 ) -> PyResult<CaseResult> {
     let case = case_from(py, case)?;
-    let settings = spine_design::sweep::SweepSettings::new(start, stop, points);
+    let settings = spine_design::sweep::settings::SweepSettings::new(start, stop, points);
     let plan = census.map(|starts| spine_run::sweep::CensusPlan { starts, every: census_every });
     let overrides = spine_run::Overrides::default();
     let result =

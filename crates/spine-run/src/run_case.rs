@@ -133,7 +133,7 @@ pub fn run_sweep(
     case: &Case,
     overrides: &Overrides,
     name: &str,
-    settings: spine_design::sweep::SweepSettings,
+    settings: spine_design::sweep::settings::SweepSettings,
     plan: Option<crate::sweep::CensusPlan>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {

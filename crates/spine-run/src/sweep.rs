@@ -14,7 +14,8 @@ use crate::workers::Workers;
 use serde::Serialize;
 use spine_case::{CaseError, DesignCase};
 use spine_check::FieldError;
-use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult, SweepSettings};
+use spine_design::sweep::settings::SweepSettings;
+use spine_design::sweep::{PointStatus, Sweep, SweepError, SweepResult};
 use spine_design::{DesignProblem, ProblemTangent};
 
 /// `result.json` of `spine sweep`.

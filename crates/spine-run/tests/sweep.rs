@@ -4,7 +4,8 @@
 
 use spine_case::{Case, DesignCase};
 use spine_design::solve::polish::polish;
-use spine_design::sweep::{EventKind, PointStatus, SweepSettings};
+use spine_design::sweep::settings::SweepSettings;
+use spine_design::sweep::{EventKind, PointStatus};
 use spine_run::sweep::{CensusPlan, SweepCaseResult};
 use spine_run::{run_sweep, KindResult, Overrides};
 
