@@ -290,3 +290,15 @@ pub enum WorkerError {
     #[error("a worker's answer is not a run: {0}")]
     NotARun(#[source] serde_json::Error),
 }
+
+/// The design case of a command that runs design cases only (`spine study`, `spine sweep`, a
+/// sharded multi-start), or [`RunError::WrongKind`] naming the command.
+pub(crate) fn design_case<'c>(
+    case: &'c spine_case::Case,
+    command: &'static str,
+) -> Result<&'c spine_case::DesignCase, RunError> {
+    match case {
+        spine_case::Case::Design(c) => Ok(c),
+        other => Err(RunError::WrongKind { command, needs: "a \"design\"", kind: other.kind() }),
+    }
+}

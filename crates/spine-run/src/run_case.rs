@@ -1,7 +1,7 @@
 //! Running a case file: [`run_case`] (any kind) and [`run_study`] (the C_K study), each under
 //! the run's time limit, to a typed [`CaseResult`].
 
-use crate::error::RunError;
+use crate::error::{design_case, RunError};
 use crate::kind::RunContext;
 use crate::overrides::Overrides;
 use crate::progress::Progress;
@@ -78,9 +78,7 @@ pub fn run_study(
     values: &[f64],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    let Case::Design(c) = case else {
-        return Err(RunError::WrongKind { command: "the C_K study", needs: "a \"design\"", kind: case.kind() });
-    };
+    let c = design_case(case, "the C_K study")?;
     let mut valid = c.validate()?;
     overrides.design.apply(&mut valid)?;
     limited(overrides, || {
@@ -137,9 +135,7 @@ pub fn run_sweep(
     plan: Option<crate::sweep::CensusPlan>,
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<CaseResult, RunError> {
-    let Case::Design(c) = case else {
-        return Err(RunError::WrongKind { command: "`spine sweep`", needs: "a \"design\"", kind: case.kind() });
-    };
+    let c = design_case(case, "`spine sweep`")?;
     spine_case::check_runs_memory("points", settings.points, c.chain.links)?;
     if let Some(p) = plan {
         let bad = |field: &str, m: String| RunError::Option(spine_check::FieldError::new(field, m));

@@ -16,7 +16,7 @@
 
 use crate::confidence::{Batches, ConfidenceCensus};
 use crate::design::{census, confidence_result, solve_all};
-use crate::error::{MergeError, RunError, ShardContents};
+use crate::error::{design_case, MergeError, RunError, ShardContents};
 use crate::overrides::DesignOverrides;
 use crate::progress::Progress;
 use crate::registry::KindResult;
@@ -101,13 +101,9 @@ pub struct Shard {
     pub batch: Option<usize>,
 }
 
-fn design_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
-    match spine_case::Case::from_json(text)? {
-        spine_case::Case::Design(c) => Ok(c),
-        other => {
-            Err(RunError::WrongKind { command: "a sharded multi-start", needs: "a \"design\"", kind: other.kind() })
-        }
-    }
+/// The design case a shard runs, parsed from its case text.
+fn shard_case(text: &str) -> Result<spine_case::DesignCase, RunError> {
+    design_case(&spine_case::Case::from_json(text)?, "a sharded multi-start").cloned()
 }
 
 /// Runs shard `spec` of the design case `text` (with `overrides`): its share of the starts,
@@ -155,7 +151,7 @@ pub fn check_shard(
 /// What a design run of the case `text` with `overrides` checks before its first solve: a valid
 /// design case, overrides that fit it (`spine design --check`).
 pub fn check_design(text: &str, overrides: &DesignOverrides) -> Result<(), RunError> {
-    let mut valid = design_case(text)?.validate()?;
+    let mut valid = shard_case(text)?.validate()?;
     Ok(overrides.apply(&mut valid)?)
 }
 
@@ -172,7 +168,7 @@ fn plan_shard(
     spec: ShardSpec,
     batch: Option<usize>,
 ) -> Result<ShardPlan, RunError> {
-    let case = design_case(text)?;
+    let case = shard_case(text)?;
     let mut valid = case.validate()?;
     overrides.apply(&mut valid)?;
     let share = match (valid.multistart.confidence, batch) {
@@ -250,7 +246,7 @@ pub fn merge(mut shards: Vec<Shard>) -> Result<Merged, RunError> {
             .into());
         }
     }
-    let case = design_case(&first.case)?;
+    let case = shard_case(&first.case)?;
     let mut valid = case.validate().map_err(MergeError::Case)?;
     first.overrides.apply(&mut valid)?;
     shards.sort_by_key(|s| (s.batch, s.shard.index));
