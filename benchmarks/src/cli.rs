@@ -26,6 +26,14 @@ pub fn links(text: &str) -> Result<usize, String> {
     }
 }
 
+/// A count of runs: a whole number, at least 1.
+pub fn runs(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("a whole number of runs, at least 1, got {text:?}")),
+    }
+}
+
 /// `NAME=VALUE` split at its first `=`, or why not.
 pub fn name_value<'a>(text: &'a str, flag: &str) -> Result<(&'a str, &'a str), String> {
     text.split_once('=').ok_or_else(|| format!("{flag} expects NAME=VALUE, got {text:?}"))
@@ -40,6 +48,8 @@ mod tests {
         assert_eq!(links("1000"), Ok(1000));
         assert!(links("1").unwrap_err().contains("at least 2"));
         assert!(links("--help").unwrap_err().contains("\"--help\""));
+        assert_eq!(runs("3"), Ok(3));
+        assert!(runs("0").unwrap_err().contains("at least 1"));
         assert_eq!(parse::<usize>("3", "--repeats=R: a whole number"), Ok(3));
         assert!(parse::<usize>("x", "--repeats=R: a whole number").unwrap_err().starts_with("--repeats"));
         assert_eq!(name_value("tol=1e-8", "--ipopt"), Ok(("tol", "1e-8")));

@@ -32,5 +32,27 @@ fn design_scaling_rejects_bad_arguments_with_exit_code_2() {
 fn design_scaling_prints_its_usage_on_help() {
     let out = design_scaling(&["--help"]);
     assert_eq!(out.status.code(), Some(0));
-    assert!(String::from_utf8_lossy(&out.stdout).starts_with("usage: design_scaling"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Usage: design_scaling [OPTIONS] [SIZES]..."));
+}
+
+/// Every benchmark program parses its command line with clap: a bad value names the argument
+/// and what is allowed, exit code 2, before any work (the dynamics benchmark panicked on a bad
+/// `--budget` before).
+#[test]
+fn every_benchmark_program_refuses_a_bad_argument_with_exit_code_2() {
+    let cases: [(&str, &[&str], &str); 6] = [
+        (env!("CARGO_BIN_EXE_first_solve"), &["1"], "at least 2"),
+        (env!("CARGO_BIN_EXE_first_solve"), &["5", "0"], "at least 1"),
+        (env!("CARGO_BIN_EXE_dynamics_scaling"), &["--budget", "x"], "positive number of seconds"),
+        (env!("CARGO_BIN_EXE_dynamic_gradients"), &["--gradient-sizes=7,1"], "at least 2"),
+        (env!("CARGO_BIN_EXE_bench_peers"), &[], "<PYTHON>"),
+        (env!("CARGO_BIN_EXE_bench_ad_peers"), &["python3", "ten"], "\"ten\""),
+    ];
+    for (program, args, expected) in cases {
+        let out = Command::new(program).args(args).output().expect("the program runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{program} {args:?}: {stderr}");
+        assert!(stderr.starts_with("error: ") && stderr.contains(expected), "{program} {args:?}: {stderr}");
+        assert!(!stderr.contains("panicked") && out.stdout.is_empty(), "{program} {args:?}: {stderr}");
+    }
 }

@@ -8,7 +8,7 @@
 #![forbid(unsafe_code)]
 
 use spine_benchmarks::ad_peers::{table, AdPeerRow};
-use spine_benchmarks::{peers, DesignFixture, HessianFixture};
+use spine_benchmarks::{cli, peers, DesignFixture, HessianFixture};
 use spine_design::full_space::StateForm;
 use spine_model::jacobian::residual_and_state_jacobian;
 use std::collections::HashMap;
@@ -114,13 +114,18 @@ fn measure(python: &str, n: usize, dir: &Path) -> Result<AdPeerRow, String> {
     })
 }
 
+/// Our AD's Jacobian and Hessian of eq. (33) beside CasADi's, values compared and times measured.
+#[derive(clap::Parser)]
+struct Args {
+    /// The Python interpreter with CasADi (benchmarks/peers/.venv/bin/python).
+    python: String,
+    /// Chain sizes (links, at least 2); 10, 100 and 1000 when none is given.
+    #[arg(value_parser = cli::links)]
+    sizes: Vec<usize>,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let Some(python) = args.next() else {
-        eprintln!("usage: bench_ad_peers PYTHON [N ...]");
-        std::process::exit(2)
-    };
-    let sizes: Vec<usize> = args.map(|a| a.parse().unwrap_or_else(|_| panic!("N: {a:?} is not a count"))).collect();
+    let Args { python, sizes } = <Args as clap::Parser>::parse();
     let sizes = if sizes.is_empty() { vec![10, 100, 1000] } else { sizes };
     let dir = Path::new("target/bench-ad-peers");
     std::fs::create_dir_all(dir).expect("target/bench-ad-peers");

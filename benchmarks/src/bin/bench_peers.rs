@@ -146,19 +146,21 @@ fn casadi(python: &str, case: &Path, start: &Path, out: &Path) -> Result<(Solver
     Ok((run, passive, loaded))
 }
 
+/// Eq. (33) by this workspace beside CasADi + IPOPT and scipy on the same cases, one run.
+#[derive(clap::Parser)]
+struct Args {
+    /// The Python interpreter with CasADi and scipy (benchmarks/peers/.venv/bin/python).
+    python: String,
+    /// Add CasADi's rows through the same refinement ladder as ours.
+    #[arg(long = "casadi-refined")]
+    casadi_ladder: bool,
+    /// Chain sizes (links, at least 2); 5 to 1000 when none is given.
+    #[arg(value_parser = cli::links)]
+    sizes: Vec<usize>,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    const USAGE: &str = "bench_peers PYTHON [--casadi-refined] [N ...]";
-    let python = args.next().unwrap_or_else(|| cli::usage_error("the Python interpreter is missing", USAGE));
-    let mut casadi_ladder = false;
-    let mut sizes: Vec<usize> = Vec::new();
-    for a in args {
-        if a == "--casadi-refined" {
-            casadi_ladder = true;
-        } else {
-            sizes.push(cli::links(&a).unwrap_or_else(|message| cli::usage_error(message, USAGE)));
-        }
-    }
+    let Args { python, casadi_ladder, sizes } = <Args as clap::Parser>::parse();
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
     let dir = PathBuf::from("target/bench-peers");
     std::fs::create_dir_all(&dir).expect("target/bench-peers");

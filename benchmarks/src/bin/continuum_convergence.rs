@@ -9,8 +9,16 @@ use std::path::PathBuf;
 
 const LINKS: [usize; 8] = [10, 20, 50, 100, 300, 1000, 3000, 10000];
 
+/// The continuum limit of eq. (33): the rod's optimum at a ladder of N against the elastica.
+#[derive(clap::Parser)]
+struct Args {
+    /// Where the figure is written.
+    #[arg(default_value = "docs")]
+    folder: PathBuf,
+}
+
 fn main() {
-    let folder = std::env::args().nth(1).map_or_else(|| PathBuf::from("docs"), PathBuf::from);
+    let Args { folder } = <Args as clap::Parser>::parse();
     let clock = std::time::Instant::now();
     let rows = match convergence(&study_rod(), &LINKS) {
         Ok(rows) => rows,

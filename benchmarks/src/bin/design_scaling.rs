@@ -30,9 +30,6 @@ use spine_design::{Formulation, SolverSettings};
 /// solves per iteration and a dense (2N + 1)² block.
 const REDUCED_MAX_N: usize = 100;
 
-const USAGE: &str = "design_scaling [--refine=off|auto|FROM[:FACTOR]] [--springs=auto|log|linear] [--repeats=R] \
-                     [--peers] [--ipopt=NAME=VALUE]... [--warm=FIELD=VALUE]... [N ...]";
-
 /// The parsed command line.
 struct Args {
     settings: SolverSettings,
@@ -44,52 +41,67 @@ struct Args {
     springs: Option<spine_design::settings::SpringVariables>,
 }
 
-fn parse_args(args: impl Iterator<Item = String>) -> Result<Args, String> {
-    let mut parsed = Args {
-        settings: SolverSettings::default(),
-        repeats: 3,
-        sizes: Vec::new(),
-        peers_cases: false,
-        extra: Vec::new(),
-        warm: Vec::new(),
-        springs: None,
-    };
-    for arg in args {
-        if arg == "--help" || arg == "-h" {
-            println!("usage: {USAGE}");
-            std::process::exit(0);
-        }
-        if let Some(field) = arg.strip_prefix("--warm=") {
-            let (name, value) = cli::name_value(field, "--warm")?;
-            let value = serde_json::from_str(value).map_err(|_| {
-                format!(
-                    "--warm={name}: the value must be JSON (a number, true/false, null or an object), got {value:?}"
-                )
-            })?;
-            parsed.warm.push((name.to_string(), value));
-        } else if let Some(option) = arg.strip_prefix("--ipopt=") {
-            let (name, value) = cli::name_value(option, "--ipopt")?;
-            let number = value.parse().map(ExtraOption::Int).or_else(|_| value.parse().map(ExtraOption::Num));
-            parsed.extra.push((name.to_string(), number.unwrap_or_else(|_| ExtraOption::Str(value.to_string()))));
-        } else if let Some(form) = arg.strip_prefix("--springs=") {
-            let springs = serde_json::from_value(serde_json::json!(form))
-                .map_err(|_| format!("--springs must be auto, log or linear, got {form:?}"))?;
-            parsed.springs = Some(springs);
-        } else if arg == "--peers" {
-            parsed.peers_cases = true;
-        } else if let Some(mode) = arg.strip_prefix("--refine=") {
-            parsed.settings.refine = mode.parse().map_err(|e| format!("--refine: {e}"))?;
-        } else if let Some(r) = arg.strip_prefix("--repeats=") {
-            parsed.repeats = cli::parse(r, "--repeats=R: R must be a whole number of runs")?;
-        } else {
-            parsed.sizes.push(cli::links(&arg)?);
-        }
+/// Eq. (33)'s scaling table (full and reduced space) on the scaled family.
+#[derive(clap::Parser)]
+struct Cli {
+    /// Mesh sequencing: `off`, `auto` or `FROM[:FACTOR]`.
+    #[arg(long, value_parser = |text: &str| text.parse::<Refine>().map_err(|e| e.to_string()))]
+    refine: Option<Refine>,
+    /// The springs as Ipopt sees them: auto, log or linear.
+    #[arg(long, value_parser = springs)]
+    springs: Option<spine_design::settings::SpringVariables>,
+    /// Timed solves per size (at least 1).
+    #[arg(long, default_value_t = 3, value_parser = cli::runs)]
+    repeats: usize,
+    /// The peers' cases (benchmarks/peers) instead of the scaled family's arch start.
+    #[arg(long = "peers")]
+    peers_cases: bool,
+    /// An Ipopt option NAME=VALUE (a number or a string), repeatable.
+    #[arg(long = "ipopt", value_parser = ipopt_option)]
+    extra: Vec<(String, ExtraOption)>,
+    /// A field of `solver.warm_start` FIELD=VALUE (JSON), repeatable.
+    #[arg(long = "warm", value_parser = warm_field)]
+    warm: Vec<(String, serde_json::Value)>,
+    /// Chain sizes (links, at least 2); 5 to 1000 when none is given.
+    #[arg(value_parser = cli::links)]
+    sizes: Vec<usize>,
+}
+
+fn springs(form: &str) -> Result<spine_design::settings::SpringVariables, String> {
+    serde_json::from_value(serde_json::json!(form)).map_err(|_| format!("auto, log or linear, got {form:?}"))
+}
+
+fn ipopt_option(option: &str) -> Result<(String, ExtraOption), String> {
+    let (name, value) = cli::name_value(option, "--ipopt")?;
+    let number = value.parse().map(ExtraOption::Int).or_else(|_| value.parse().map(ExtraOption::Num));
+    Ok((name.to_string(), number.unwrap_or_else(|_| ExtraOption::Str(value.to_string()))))
+}
+
+fn warm_field(field: &str) -> Result<(String, serde_json::Value), String> {
+    let (name, text) = cli::name_value(field, "--warm")?;
+    let value = serde_json::from_str(text).map_err(|_| {
+        format!("{name}: the value must be JSON (a number, true/false, null or an object), got {text:?}")
+    })?;
+    let pair = (name.to_string(), value);
+    with_warm(SolverSettings::default().warm_start, std::slice::from_ref(&pair))?;
+    Ok(pair)
+}
+
+fn parse_args() -> Args {
+    let c = <Cli as clap::Parser>::parse();
+    let mut settings = SolverSettings::default();
+    if let Some(refine) = c.refine {
+        settings.refine = refine;
     }
-    if parsed.repeats == 0 {
-        return Err("--repeats=R: R must be at least 1".into());
+    Args {
+        settings,
+        repeats: c.repeats,
+        sizes: c.sizes,
+        peers_cases: c.peers_cases,
+        extra: c.extra,
+        warm: c.warm,
+        springs: c.springs,
     }
-    with_warm(SolverSettings::default().warm_start, &parsed.warm)?;
-    Ok(parsed)
 }
 
 /// `warm_start` with the `--warm` fields set, or which field or value is not allowed.
@@ -106,8 +118,7 @@ fn with_warm(warm_start: WarmStart, fields: &[(String, serde_json::Value)]) -> R
 }
 
 fn main() {
-    let Args { settings, repeats, sizes, peers_cases, extra, warm, springs } =
-        parse_args(std::env::args().skip(1)).unwrap_or_else(|message| cli::usage_error(message, USAGE));
+    let Args { settings, repeats, sizes, peers_cases, extra, warm, springs } = parse_args();
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
     let mut ladders: Vec<(usize, LadderWork)> = Vec::new();
     println!("| N | formulation | status | iterations | wall time (s) | time per iteration (ms) | J (J) | clean |");
@@ -132,8 +143,8 @@ fn main() {
             settings.spring_variables = springs;
         }
         settings.ipopt_options.extend(extra.iter().cloned());
-        settings.warm_start =
-            with_warm(settings.warm_start, &warm).unwrap_or_else(|message| cli::usage_error(message, USAGE));
+        settings.warm_start = with_warm(settings.warm_start, &warm)
+            .unwrap_or_else(|message| cli::usage_error(message, "design_scaling --help"));
         for formulation in [Formulation::Full, Formulation::Reduced] {
             if peers_cases && formulation == Formulation::Reduced {
                 continue;

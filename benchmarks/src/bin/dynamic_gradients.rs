@@ -45,14 +45,24 @@ fn fastest<T>(mut f: impl FnMut() -> T) -> (f64, T) {
     (best, out.expect("at least one run"))
 }
 
-fn sizes(args: &[String], flag: &str, default: &[usize]) -> Vec<usize> {
-    args.iter().find_map(|a| a.strip_prefix(flag)).map_or_else(
-        || default.to_vec(),
-        |v| {
-            let usage = format!("dynamic_gradients [{flag}N,N,...]");
-            v.split(',').map(|x| cli::links(x).unwrap_or_else(|message| cli::usage_error(message, &usage))).collect()
-        },
-    )
+/// Eq. (37)'s gradients by the discrete adjoint against forward sensitivities, and eq. (35)'s.
+#[derive(clap::Parser)]
+struct Args {
+    /// The per-gradient rows alone (no rise or design rows, nothing written).
+    #[arg(long)]
+    sweeps_only: bool,
+    /// The periodic7 rows alone, printed (nothing written).
+    #[arg(long)]
+    paper_only: bool,
+    /// Sizes of the per-gradient rows (links, at least 2).
+    #[arg(long, value_delimiter = ',', default_values_t = [7, 20, 50], value_parser = cli::links)]
+    gradient_sizes: Vec<usize>,
+    /// Sizes of eq. (35)'s rows.
+    #[arg(long, value_delimiter = ',', default_values_t = [5, 10, 20], value_parser = cli::links)]
+    rise_sizes: Vec<usize>,
+    /// Sizes of the per-design rows.
+    #[arg(long, value_delimiter = ',', default_values_t = [7, 50], value_parser = cli::links)]
+    design_sizes: Vec<usize>,
 }
 
 fn forcing() -> Forcing {
@@ -178,16 +188,15 @@ fn paper_case_rows() -> String {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let sweeps_only = args.iter().any(|a| a == "--sweeps-only");
-    // `--paper-only`: the periodic7 rows alone, printed (nothing written).
-    if args.iter().any(|a| a == "--paper-only") {
+    let args = <Args as clap::Parser>::parse();
+    let sweeps_only = args.sweeps_only;
+    if args.paper_only {
         paper_case_rows();
         return;
     }
     let mut text = format!("{SECTION}\n\nWritten by `just bench-gradients` (benchmarks/src/bin/dynamic_gradients.rs), one run on {} core(s) (rayon's pool). The periodic fixture chain (`periodic_problem(N)`: arch of amplitude 0.3 rad over 1 m, K = 2000 N·m/rad, 0.5 kg links, −20 N per node, −1500 N pulses of period 0.4 s and duty 0.5, dampers 20 N·m·s/rad), integrator rtol 1e-6 (eq. (37)'s default).\n\n", rayon::current_num_threads());
     text.push_str("### Per gradient (3 periods; fastest of 3)\n\nThe adjoint sweeps are the two constraint minima's, side by side on the pool; `sweeps / plain` is their wall time over the plain run's (the run the values need anyway).\n\n| N | springs | steps (3 periods) | plain run (s) | adjoint sweeps (s) | sweeps / plain | forward run (s) | forward / plain | forward / (plain + sweeps) | largest gradient difference (relative) |\n|---|---|---|---|---|---|---|---|---|---|\n");
-    for n in sizes(&args, "--gradient-sizes=", &[7, 20, 50]) {
+    for &n in &args.gradient_sizes {
         if let Some(row) = gradient_row(n, sweeps_only) {
             println!("{row}");
             text.push_str(&row);
@@ -198,13 +207,13 @@ fn main() {
         return;
     }
     text.push_str("\n### Eq. (35)'s `dT_90/dC` per gradient (the 5-link-style arch of `arch_problem(N, 30)` under the step, run stopped at the rise; fastest of 3)\n\n| N | dampers | rise time, plain (s) | with the adjoint sweep (s) | adjoint / plain | with forward sensitivities (s) | forward / plain | largest gradient difference (relative) |\n|---|---|---|---|---|---|---|---|\n");
-    for n in sizes(&args, "--rise-sizes=", &[5, 10, 20]) {
+    for &n in &args.rise_sizes {
         let row = rise_row(n);
         println!("{row}");
         writeln!(text, "{row}").expect("string");
     }
     text.push_str("\n### Per design (eq. (37) from the uniform start that meets δ_d; δ_d = 1.2 × the start springs' minimum; one run each)\n\n| N | method | wall time (s) | status | iterations | simulations | adjoint sweeps | U (J) | relative error of the equality |\n|---|---|---|---|---|---|---|---|---|\n");
-    for n in sizes(&args, "--design-sizes=", &[7, 50]) {
+    for &n in &args.design_sizes {
         let p = periodic_problem(n);
         let settings = PeriodicDesignSettings::default();
         let start = periodic_response(&p, forcing(), None, &settings.response).expect("a start response");

@@ -8,7 +8,7 @@
 //! the first solve of a process is what it measures.
 #![forbid(unsafe_code)]
 
-use spine_benchmarks::peers;
+use spine_benchmarks::{cli, peers};
 use spine_design::refine::{Refine, RefineMode};
 use spine_design::settings::SolverPreset;
 use spine_design::solve::Solver;
@@ -18,10 +18,19 @@ use std::time::Instant;
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
+/// The first eq. (33) solve of a process against the repeated ones (the linear solver's loading).
+#[derive(clap::Parser)]
+struct Args {
+    /// Links of the scaled family (at least 2).
+    #[arg(default_value_t = 5, value_parser = cli::links)]
+    n: usize,
+    /// Solves after the first (at least 1).
+    #[arg(default_value_t = 5, value_parser = cli::runs)]
+    repeats: usize,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let n: usize = args.next().map_or(5, |a| a.parse().expect("N: a number of links"));
-    let repeats: usize = args.next().map_or(5, |a| a.parse().expect("REPEATS: a count"));
+    let Args { n, repeats } = <Args as clap::Parser>::parse();
     let clock = Instant::now();
     let valid = peers::scaled_family_design(n);
     let mut settings = valid.settings.clone();

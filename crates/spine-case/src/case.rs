@@ -1,8 +1,8 @@
 //! The case enum made from the registry of case kinds ([`case_kinds!`](crate::case_kinds), in
 //! `lib.rs`): [`Case`], a case file parsed by its `kind`.
 
+use crate::error::CaseError;
 use crate::figure_case::FigureCase;
-use crate::CaseError;
 
 /// Makes the case enum of a list of kinds (the list [`case_kinds!`] holds, or a test's own):
 /// `Case` with one variant per kind, `KINDS`, `Case::from_json`, `Case::kind`, `Case::check`,

@@ -1,8 +1,8 @@
 //! `"kind": "continuum"`: eq. (33) posed for one physical rod and solved for a ladder of `N`, to see
 //! whether the optimal design has a limit as `N → ∞` (docs/continuum.md).
 
+use crate::error::CaseError;
 use crate::specs::Notes;
-use crate::CaseError;
 use serde::{Deserialize, Serialize};
 use spine_continuum::design::RodDesign;
 use spine_continuum::design_study::{validate_links, StudySettings};

@@ -1,9 +1,10 @@
 //! `"kind": "design"`: the static design problem of eq. (33).
 
+use crate::error::CaseError;
 use crate::objective_spec::{check_formulation, ConstraintsSpec, ObjectiveSpec};
 use crate::per_item::check_finite;
+use crate::per_item::PerItem;
 use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
-use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::refine::Refine;
 use spine_design::solve::Solver;

@@ -2,7 +2,7 @@
 //! ([`DynamicsCase`]), a case type per kind that knows its task.
 
 use crate::dynamics_case::{DynamicKind, DynamicsCase, ValidDynamics};
-use crate::CaseError;
+use crate::error::CaseError;
 use serde::{Deserialize, Serialize};
 
 /// The case types of the three dynamic kinds: a [`DynamicsCase`] that knows its kind, so that a

@@ -5,8 +5,9 @@ pub use crate::dynamics_specs::{DampingDesignSpec, PeriodicDesignSpec, StaticDes
 
 use crate::design_case::{DesignCase, MultiStartSpec, ValidDesign};
 use crate::dynamics_checks::{check_periodic, check_periodic_forcing, check_simulation, MAX_T_END};
+use crate::error::CaseError;
+use crate::per_item::PerItem;
 use crate::specs::{non_negative, positive, ChainSpec, DesignSpec, LoadSpec, Notes};
-use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_dynamic_design::{DampingSettings, PeriodicDesignSettings, SearchMethod};
 use spine_dynamics::{Forcing, PeriodicSettings, StepSettings};

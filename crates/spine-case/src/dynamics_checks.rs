@@ -2,8 +2,8 @@
 //! (`simulation`), a periodic response's (`periodic`, `periodic_design.settings.response`) and a
 //! periodic forcing against the response that simulates it.
 
+use crate::error::CaseError;
 use crate::specs::positive;
-use crate::CaseError;
 use spine_dynamics::Forcing;
 
 /// Longest simulated time, s (the paper's responses settle within seconds).

@@ -1,7 +1,7 @@
 //! `"kind": "equilibrium"`: the passive and loaded equilibria of a given design.
 
+use crate::error::CaseError;
 use crate::specs::{check_options, ChainSpec, DesignSpec, LoadSpec, Notes};
-use crate::CaseError;
 use serde::{Deserialize, Serialize};
 use spine_model::Structure;
 use spine_solve::{ContinuationOptions, StaticProblem};

@@ -6,8 +6,8 @@
 //! loads and the start, and the file says only what differs. The `figure` names the recipe that
 //! draws the runs and checks the paper's claims on them.
 
+use crate::error::CaseError;
 use crate::specs::Notes;
-use crate::CaseError;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 

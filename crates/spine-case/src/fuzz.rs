@@ -6,7 +6,7 @@
 /// case or an error naming a field, never a panic. Returns whether the case was valid.
 pub fn check_bytes(data: &[u8]) -> bool {
     let Ok(text) = std::str::from_utf8(data) else { return false };
-    match crate::Case::from_json(text) {
+    match crate::case::Case::from_json(text) {
         Ok(case) => case.check().is_ok(),
         Err(_) => false,
     }

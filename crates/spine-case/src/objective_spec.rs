@@ -1,8 +1,9 @@
 //! A design case's criterion (field `objective`): the paper's strain energy by default, or one of
 //! the built-ins of [`spine_design::Objective`].
 
+use crate::error::CaseError;
+use crate::per_item::PerItem;
 use crate::specs::axial_forces;
-use crate::{CaseError, PerItem};
 use serde::{Deserialize, Serialize};
 use spine_design::{DesignProblem, Formulation, Objective};
 use spine_model::{Design, NodalLoads};

@@ -1,6 +1,6 @@
 //! Parsing JSON into a case type with the path of the failing field in the error.
 
-use crate::CaseError;
+use crate::error::CaseError;
 use serde::de::DeserializeOwned;
 
 /// Marks a path inside a field whose deserialiser is hand-written (see [`DesignSpec`]).

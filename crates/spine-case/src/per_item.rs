@@ -1,6 +1,6 @@
 //! A value given once for all entries, or once per entry.
 
-use crate::CaseError;
+use crate::error::CaseError;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 use std::fmt;

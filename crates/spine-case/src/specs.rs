@@ -1,9 +1,10 @@
 //! The parts of a case file that several kinds share (notes, chain, given design, loads, the
 //! continuation options) and the validators of single values.
 
+use crate::error::CaseError;
 use crate::parse::INNER_PATH;
 use crate::per_item::check_finite;
-use crate::{CaseError, PerItem};
+use crate::per_item::PerItem;
 use serde::{Deserialize, Serialize};
 use spine_model::kinematics::end_constraint;
 use spine_model::{Chain, Design, LinkLoads, NodalLoads, State};

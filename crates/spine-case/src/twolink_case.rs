@@ -1,8 +1,8 @@
 //! `"kind": "twolink"`: the two-link analysis of Sec. 3.
 
+use crate::error::CaseError;
 use crate::per_item::check_finite;
 use crate::specs::{check_options, positive, Notes};
-use crate::CaseError;
 use serde::{Deserialize, Serialize};
 use spine_model::twolink::{SmallDeflection, TwoLink};
 use spine_solve::twolink::{OptimisationSpec, SmallDeflectionSpec, StudySpec};

@@ -174,16 +174,30 @@ fn write_model(Chain { n, d, ends }: &Chain, path: &std::path::Path) -> f64 {
     ends.x2 - ends.x1
 }
 
-fn main() {
-    let mut args = std::env::args().skip(1);
-    let (mut python, mut budget, mut sizes) = ("benchmarks/peers/.venv/bin/python".to_string(), 60.0, Vec::new());
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--python" => python = args.next().expect("--python PATH"),
-            "--budget" => budget = args.next().and_then(|v| v.parse().ok()).expect("--budget SECONDS"),
-            _ => sizes.push(a.parse::<usize>().expect("N must be a positive integer")),
-        }
+/// The dynamics of eq. (38) by our integrators beside CasADi's and scipy's, one run.
+#[derive(clap::Parser)]
+struct Args {
+    /// The Python interpreter with CasADi and scipy.
+    #[arg(long, default_value = "benchmarks/peers/.venv/bin/python")]
+    python: String,
+    /// A peer's time budget per run, s (a positive number).
+    #[arg(long, default_value_t = 60.0, value_parser = positive_seconds)]
+    budget: f64,
+    /// Chain sizes (links, at least 2); 5 to 500 when none is given.
+    #[arg(value_parser = spine_benchmarks::cli::links)]
+    sizes: Vec<usize>,
+}
+
+/// A budget in seconds: a positive finite number.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s > 0.0 && s.is_finite() => Ok(s),
+        _ => Err(format!("a positive number of seconds, got {text:?}")),
     }
+}
+
+fn main() {
+    let Args { python, budget, mut sizes } = <Args as clap::Parser>::parse();
     if sizes.is_empty() {
         sizes = vec![5, 10, 20, 50, 100, 200, 500];
     }
