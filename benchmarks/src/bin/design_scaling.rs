@@ -30,20 +30,9 @@ use spine_design::{Formulation, SolverSettings};
 /// solves per iteration and a dense (2N + 1)² block.
 const REDUCED_MAX_N: usize = 100;
 
-/// The parsed command line.
-struct Args {
-    settings: SolverSettings,
-    repeats: usize,
-    sizes: Vec<usize>,
-    peers_cases: bool,
-    extra: Vec<(String, ExtraOption)>,
-    warm: Vec<(String, serde_json::Value)>,
-    springs: Option<spine_design::settings::SpringVariables>,
-}
-
 /// Eq. (33)'s scaling table (full and reduced space) on the scaled family.
 #[derive(clap::Parser)]
-struct Cli {
+struct Args {
     /// Mesh sequencing: `off`, `auto` or `FROM[:FACTOR]`.
     #[arg(long, value_parser = |text: &str| text.parse::<Refine>().map_err(|e| e.to_string()))]
     refine: Option<Refine>,
@@ -87,23 +76,6 @@ fn warm_field(field: &str) -> Result<(String, serde_json::Value), String> {
     Ok(pair)
 }
 
-fn parse_args() -> Args {
-    let c = <Cli as clap::Parser>::parse();
-    let mut settings = SolverSettings::default();
-    if let Some(refine) = c.refine {
-        settings.refine = refine;
-    }
-    Args {
-        settings,
-        repeats: c.repeats,
-        sizes: c.sizes,
-        peers_cases: c.peers_cases,
-        extra: c.extra,
-        warm: c.warm,
-        springs: c.springs,
-    }
-}
-
 /// `warm_start` with the `--warm` fields set, or which field or value is not allowed.
 fn with_warm(warm_start: WarmStart, fields: &[(String, serde_json::Value)]) -> Result<WarmStart, String> {
     let mut value = serde_json::to_value(warm_start).map_err(|e| e.to_string())?;
@@ -118,7 +90,11 @@ fn with_warm(warm_start: WarmStart, fields: &[(String, serde_json::Value)]) -> R
 }
 
 fn main() {
-    let Args { settings, repeats, sizes, peers_cases, extra, warm, springs } = parse_args();
+    let Args { refine, springs, repeats, peers_cases, extra, warm, sizes } = <Args as clap::Parser>::parse();
+    let mut settings = SolverSettings::default();
+    if let Some(refine) = refine {
+        settings.refine = refine;
+    }
     let sizes = if sizes.is_empty() { vec![5, 10, 20, 50, 100, 200, 500, 1000] } else { sizes };
     let mut ladders: Vec<(usize, LadderWork)> = Vec::new();
     println!("| N | formulation | status | iterations | wall time (s) | time per iteration (ms) | J (J) | clean |");
