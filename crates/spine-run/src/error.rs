@@ -14,8 +14,8 @@ pub enum RunError {
     #[error(transparent)]
     Case(#[from] CaseError),
     /// A command (or a figure's run) given a case of a kind it does not take.
-    #[error("kind: {command} needs {needs} case, the file is \"{kind}\"")]
-    WrongKind { command: &'static str, needs: &'static str, kind: &'static str },
+    #[error("kind: {command} needs {needs}, the file is \"{kind}\"")]
+    WrongKind { command: &'static str, needs: std::borrow::Cow<'static, str>, kind: &'static str },
     /// Eq. (33) could not start (its setup rejected the case).
     #[error("solver: {0}")]
     Design(#[source] DesignError),
@@ -299,6 +299,6 @@ pub(crate) fn design_case<'c>(
 ) -> Result<&'c spine_case::DesignCase, RunError> {
     match case {
         spine_case::Case::Design(c) => Ok(c),
-        other => Err(RunError::WrongKind { command, needs: "a \"design\"", kind: other.kind() }),
+        other => Err(RunError::WrongKind { command, needs: "a \"design\" case".into(), kind: other.kind() }),
     }
 }

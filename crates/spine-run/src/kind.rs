@@ -64,11 +64,16 @@ pub trait RunKind {
     /// Whether the kind's runs move, so that `--animate` can draw them.
     const MOVES: bool = false;
 
+    /// Whether a figure may hold the kind's runs: its [`RunKind::in_figure`] gives one. The
+    /// registry names the kinds that say so when a figure's run is of another kind.
+    const IN_FIGURE: bool = false;
+
     /// Checks the case (with its overrides) and runs it.
     fn run(&self, cx: &mut RunContext<'_>) -> Result<Self::Output, RunError>;
 
-    /// The run as a run of a figure (what a recipe draws), or `None` for a kind a figure cannot
-    /// hold; `workers` may solve its multi-start (the figure's `--jobs`).
+    /// The run as a run of a figure (what a recipe draws: a value of the kind's own type,
+    /// [`RunOutput::new`]), or `None` for a kind a figure cannot hold ([`RunKind::IN_FIGURE`]
+    /// false); `workers` may solve its multi-start (the figure's `--jobs`).
     fn in_figure(
         &self,
         _workers: Option<&crate::workers::Workers>,
@@ -173,9 +178,30 @@ macro_rules! define_results {
             workers: Option<&$crate::workers::Workers>,
             progress: &mut dyn FnMut($crate::Progress<'_>),
         ) -> Result<$crate::RunOutput, $crate::RunError> {
+            let refused = || $crate::RunError::WrongKind {
+                command: "a figure's run",
+                needs: format!("{} case", figure_kinds()).into(),
+                kind: case.kind(),
+            };
             match case {
-                $( Case::$kind(c) => $crate::RunKind::in_figure(c, workers, progress)
-                    .unwrap_or(Err($crate::RunError::WrongKind { command: "a figure's run", needs: "a design, dynamic or twolink", kind: $kname })), )+
+                $( Case::$kind(c) if <$parsed as $crate::RunKind>::IN_FIGURE =>
+                    $crate::RunKind::in_figure(c, workers, progress).unwrap_or_else(|| Err(refused())), )+
+                _ => Err(refused()),
+            }
+        }
+
+        /// The kinds a figure may hold ([`RunKind::IN_FIGURE`]($crate::RunKind::IN_FIGURE)), as
+        /// an error names them: `a "twolink", "design" or "simulate"`.
+        pub fn figure_kinds() -> String {
+            let kinds: Vec<String> = [$( (<$parsed as $crate::RunKind>::IN_FIGURE, $kname), )+]
+                .into_iter()
+                .filter(|(held, _)| *held)
+                .map(|(_, name)| format!("\"{name}\""))
+                .collect();
+            match kinds.split_last() {
+                None => "no".to_string(),
+                Some((last, [])) => format!("a {last}"),
+                Some((last, rest)) => format!("a {} or {last}", rest.join(", ")),
             }
         }
 

@@ -128,11 +128,11 @@ pub use kinds::dynamics::{
 pub use kinds::equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
 pub use kinds::figure::{run_figure, FigureResult, FigureRunResult};
 pub use kinds::twolink::run_twolink_case;
-pub use output::{BestDesign, DynamicOutput, RunOutput, StaticDesign, TwoLinkResult, UsedDesign};
+pub use output::{BestDesign, DynamicOutput, DynamicsRun, InFigure, RunOutput, StaticDesign, TwoLinkResult, UsedDesign};
 pub use overrides::{DesignOverrides, DynamicsOverrides, Overrides};
 pub use progress::{quiet, Progress};
 pub use recipes::{FigureOutput, FigureRecipes, NamedRun, NoRecipes};
-pub use registry::{in_figure, moves, run_kind, KindResult};
+pub use registry::{figure_kinds, in_figure, moves, run_kind, KindResult};
 pub use result::{with_timings, CaseResult};
 pub use run_case::{run_case, run_sensitivity, run_study, run_sweep};
 pub use table::{Cells, Column, Table};

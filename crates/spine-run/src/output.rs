@@ -4,6 +4,7 @@
 //! Each kind says how it runs inside a figure ([`RunKind::in_figure`](crate::RunKind::in_figure)).
 
 use serde::Serialize;
+use std::any::Any;
 use spine_design::adjoint::ReducedGradients;
 use spine_design::multistart::ConfidenceRun;
 use spine_design::{DesignProblem, DesignResult};
@@ -12,17 +13,78 @@ use spine_dynamics::{PeriodicResponse, StepResponse};
 use spine_model::Design;
 use spine_solve::twolink::Study;
 
-/// What one run of a figure computed: for a two-link run the kind's own result; for eq. (33)
-/// and the dynamics, the solver's state besides what `result.json` holds (the problem, the
-/// projected start, the gradients, the whole trajectories) that a recipe draws and checks.
-#[derive(Clone, Debug, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-// One value per run: boxing the two-link study as well would buy nothing.
-#[allow(clippy::large_enum_variant)]
-pub enum RunOutput {
-    Twolink(TwoLinkResult),
-    Design(Box<StaticDesign>),
-    Dynamics { used: Box<UsedDesign>, output: DynamicOutput },
+/// The value a kind's run gives inside a figure (its [`RunKind::in_figure`](crate::RunKind::in_figure)),
+/// a type of the kind's own: a recipe asks for it by type ([`RunOutput::get`]), and it is written
+/// in the figure's `result.json` under `runs[i].result`, tagged with [`InFigure::KIND`].
+pub trait InFigure: Serialize + Clone + std::fmt::Debug + Send + Sync + 'static {
+    /// `runs[i].result.kind` in the figure's `result.json`.
+    const KIND: &'static str;
+}
+
+/// The object-safe side of [`InFigure`], what [`RunOutput`] holds.
+trait Held: std::fmt::Debug + Send + Sync {
+    fn kind(&self) -> &'static str;
+    fn to_json(&self) -> Result<serde_json::Value, serde_json::Error>;
+    fn clone_box(&self) -> Box<dyn Held>;
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl<T: InFigure> Held for T {
+    fn kind(&self) -> &'static str {
+        T::KIND
+    }
+    fn to_json(&self) -> Result<serde_json::Value, serde_json::Error> {
+        serde_json::to_value(self)
+    }
+    fn clone_box(&self) -> Box<dyn Held> {
+        Box::new(self.clone())
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// What one run of a figure computed, as its kind gives it ([`InFigure`]): for a two-link run the
+/// kind's own result; for eq. (33) and the dynamics, the solver's state besides what `result.json`
+/// holds (the problem, the projected start, the gradients, the whole trajectories) that a recipe
+/// draws and checks. A kind a figure may hold needs no line here: its runner wraps its own type
+/// ([`RunOutput::new`]) and the recipe that draws it asks for that type.
+#[derive(Debug)]
+pub struct RunOutput(Box<dyn Held>);
+
+impl RunOutput {
+    pub fn new<T: InFigure>(value: T) -> Self {
+        Self(Box::new(value))
+    }
+
+    /// The run's value, where it is a `T` (`None` for a run of another kind).
+    pub fn get<T: InFigure>(&self) -> Option<&T> {
+        self.0.as_any().downcast_ref::<T>()
+    }
+
+    /// Its [`InFigure::KIND`].
+    pub fn kind(&self) -> &'static str {
+        self.0.kind()
+    }
+}
+
+impl Clone for RunOutput {
+    fn clone(&self) -> Self {
+        Self(self.0.clone_box())
+    }
+}
+
+impl Serialize for RunOutput {
+    /// The value's own fields with `"kind"` ([`InFigure::KIND`]) beside them; a value that is not
+    /// written as an object is put under `"value"`.
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = match self.0.to_json().map_err(serde::ser::Error::custom)? {
+            serde_json::Value::Object(map) => map,
+            other => serde_json::Map::from_iter([("value".to_string(), other)]),
+        };
+        map.insert("kind".into(), self.kind().into());
+        map.serialize(serializer)
+    }
 }
 
 /// An eq. (33) run with what the figures need besides the solver's result.
@@ -75,6 +137,26 @@ pub struct UsedDesign {
     /// Horizontal spans `a_i` of the chain, m (to draw its shapes).
     pub spans: Vec<f64>,
     pub static_design: Option<StaticDesign>,
+}
+
+/// A dynamic run inside a figure: the design it used and what it computed (`"kind": "dynamics"`
+/// for each of the three dynamic kinds).
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicsRun {
+    pub used: UsedDesign,
+    pub output: DynamicOutput,
+}
+
+impl InFigure for DynamicsRun {
+    const KIND: &'static str = "dynamics";
+}
+
+impl InFigure for StaticDesign {
+    const KIND: &'static str = "design";
+}
+
+impl InFigure for TwoLinkResult {
+    const KIND: &'static str = "twolink";
 }
 
 /// What a dynamic run computed.

@@ -50,11 +50,26 @@ mod tests {
         }
     }
 
+    /// A figure may hold it: inside a figure the run is its own result, which a recipe asks for
+    /// by type.
+    impl crate::InFigure for TallyResult {
+        const KIND: &'static str = "tally";
+    }
+
     impl RunKind for TallyCase {
         type Output = TallyResult;
+        const IN_FIGURE: bool = true;
         fn run(&self, _: &mut RunContext<'_>) -> Result<TallyResult, RunError> {
             let chain = self.validate()?;
             Ok(TallyResult { links: chain.n_links(), springs: chain.n_links() + 1 })
+        }
+        fn in_figure(
+            &self,
+            _: Option<&crate::workers::Workers>,
+            _: &mut dyn FnMut(crate::Progress<'_>),
+        ) -> Option<Result<crate::RunOutput, RunError>> {
+            let chain = self.validate();
+            Some(chain.map(|c| crate::RunOutput::new(TallyResult { links: c.n_links(), springs: c.n_links() + 1 })).map_err(Into::into))
         }
     }
 
@@ -104,9 +119,30 @@ mod tests {
         let unknown = Case::from_json(r#"{ "kind": "tallies" }"#).unwrap_err().to_string();
         assert!(unknown.contains("one of equilibrium, tally"), "{unknown}");
         assert_eq!(json_schema()["oneOf"][1]["properties"]["kind"]["const"], "tally");
-        // The kind cannot be a figure's run (its runner gives no figure run).
-        let in_figure = registry::in_figure(&case, None, &mut crate::quiet).unwrap_err().to_string();
-        assert!(in_figure.contains("\"tally\""), "{in_figure}");
+        // A figure may hold it: the run is the kind's own value, found by its type and written
+        // with the kind's tag; the error for a kind a figure cannot hold names the new one.
+        let held = registry::in_figure(&case, None, &mut crate::quiet).unwrap();
+        assert_eq!(held.kind(), "tally");
+        assert_eq!(held.get::<TallyResult>().map(|t| (t.links, t.springs)), Some((4, 5)));
+        assert!(held.get::<crate::StaticDesign>().is_none());
+        let written = serde_json::to_value(&held).unwrap();
+        assert_eq!(written, serde_json::json!({ "kind": "tally", "links": 4, "springs": 5 }));
+        assert_eq!(registry::figure_kinds(), "a \"tally\"");
+        let equilibrium = Case::from_json(
+            r#"{ "kind": "equilibrium", "chain": { "links": 2, "length_x": 1.0 }, "design": { "theta0": [0.1, -0.1], "stiffness": [1, 1, 1] }, "loads": { "p_y": -1.0 } }"#,
+        )
+        .unwrap();
+        let refused = registry::in_figure(&equilibrium, None, &mut crate::quiet).unwrap_err().to_string();
+        assert_eq!(refused, "kind: a figure's run needs a \"tally\" case, the file is \"equilibrium\"");
         assert!(!registry::moves(&case));
+    }
+
+    /// The workspace's registry names the kinds a figure may hold, from their runners.
+    #[test]
+    fn a_figure_holds_the_kinds_whose_runners_say_so() {
+        assert_eq!(
+            crate::registry::figure_kinds(),
+            "a \"twolink\", \"design\", \"simulate\", \"damping\" or \"periodic\""
+        );
     }
 }

@@ -118,7 +118,7 @@ pub fn run_sensitivity(
             }
             _ => Err(RunError::WrongKind {
                 command: "`spine sensitivity`",
-                needs: "a \"design\" or \"figure\"",
+                needs: "a \"design\" or \"figure\" case".into(),
                 kind: case.kind(),
             }),
         }

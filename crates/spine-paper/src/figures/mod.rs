@@ -15,7 +15,8 @@ use spine_model::kinematics::{link_lengths, node_positions};
 use spine_model::Design;
 use spine_plot::{Figure, Panel, Series};
 use spine_run::{
-    Claim, DynamicOutput, FigureOutput, FigureRecipes, NamedRun, RunOutput, StaticDesign, Table, UsedDesign,
+    Claim, DynamicOutput, DynamicsRun, FigureOutput, FigureRecipes, NamedRun, StaticDesign, Table, TwoLinkResult,
+    UsedDesign,
 };
 
 /// The paper's recipes, by figure name: what `spine case` and `flexspine` pass to the run path.
@@ -44,17 +45,12 @@ pub fn recipe(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result<Figure
 }
 
 fn expect_design<'a>(run: &NamedRun<'a>) -> Result<&'a StaticDesign, FieldError> {
-    match run.output {
-        RunOutput::Design(s) => Ok(s),
-        _ => Err(run.error("this figure needs a \"design\" run")),
-    }
+    run.output.get::<StaticDesign>().ok_or_else(|| run.error("this figure needs a \"design\" run"))
 }
 
 fn expect_dynamics<'a>(run: &NamedRun<'a>) -> Result<(&'a UsedDesign, &'a DynamicOutput), FieldError> {
-    match run.output {
-        RunOutput::Dynamics { used, output } => Ok((used, output)),
-        _ => Err(run.error("this figure needs a dynamic run")),
-    }
+    let run_of = run.output.get::<DynamicsRun>().ok_or_else(|| run.error("this figure needs a dynamic run"))?;
+    Ok((&run_of.used, &run_of.output))
 }
 
 fn points(ys: &[f64], first_index: usize) -> Vec<(f64, f64)> {

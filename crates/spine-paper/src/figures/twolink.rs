@@ -9,7 +9,7 @@ const ORDER_MARGIN: f64 = 0.1;
 
 pub fn figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
     let [run] = runs else { return Err(FieldError::new("runs", "twolink needs one twolink run")) };
-    let RunOutput::Twolink(result) = run.output else {
+    let Some(result) = run.output.get::<TwoLinkResult>() else {
         return Err(run.error("needs a \"twolink\" run"));
     };
     let (study, stiffness) = (&result.study, &result.stiffness);

@@ -8,6 +8,7 @@ use spine_case::DesignCase;
 
 impl crate::RunKind for DesignCase {
     type Output = DesignCaseResult;
+    const IN_FIGURE: bool = true;
 
     /// Eq. (33) from the case's start and its seeded starts ([`run_design_case`]), with the
     /// sensitivities of the reported optimum when asked for.
@@ -29,7 +30,7 @@ impl crate::RunKind for DesignCase {
         Some(
             self.validate()
                 .map_err(RunError::from)
-                .and_then(|valid| Ok(crate::RunOutput::Design(Box::new(run_design(&valid, workers)?)))),
+                .and_then(|valid| Ok(crate::RunOutput::new(run_design(&valid, workers)?))),
         )
     }
 }

@@ -5,7 +5,7 @@ use crate::animation::{Animation, AnimationOptions, Track};
 use crate::design::run_design;
 use crate::error::RunError;
 use crate::files::{samples_table, FileContent, OutputFile};
-use crate::output::{DynamicOutput, RunOutput, UsedDesign};
+use crate::output::{DynamicOutput, DynamicsRun, RunOutput, UsedDesign};
 use crate::progress::Progress;
 use serde::{Serialize, Serializer};
 use spine_case::{DampingCase, DesignSource, DynamicKind, DynamicsTask, PeriodicCase, SimulateCase, ValidDynamics};
@@ -269,6 +269,7 @@ macro_rules! dynamic_runners {
         impl crate::RunKind for $case {
             type Output = DynamicsResult;
             const MOVES: bool = true;
+            const IN_FIGURE: bool = true;
 
             fn run(&self, cx: &mut crate::RunContext<'_>) -> Result<DynamicsResult, RunError> {
                 let mut valid = self.validate()?;
@@ -283,7 +284,7 @@ macro_rules! dynamic_runners {
             ) -> Option<Result<RunOutput, RunError>> {
                 Some(self.validate().map_err(RunError::from).and_then(|valid| {
                     let (used, output) = run_dynamics(&valid, progress)?;
-                    Ok(RunOutput::Dynamics { used: Box::new(used), output })
+                    Ok(RunOutput::new(DynamicsRun { used, output }))
                 }))
             }
         }

@@ -115,6 +115,7 @@ impl std::fmt::Display for TwoLinkResult {
 
 impl crate::RunKind for TwoLinkCase {
     type Output = TwoLinkResult;
+    const IN_FIGURE: bool = true;
 
     fn run(&self, _: &mut crate::RunContext<'_>) -> Result<TwoLinkResult, crate::RunError> {
         Ok(run_twolink_case(self, &self.validate()?))
@@ -126,6 +127,6 @@ impl crate::RunKind for TwoLinkCase {
         _: Option<&crate::workers::Workers>,
         _: &mut dyn FnMut(crate::Progress<'_>),
     ) -> Option<Result<crate::RunOutput, crate::RunError>> {
-        Some(self.validate().map(|valid| crate::RunOutput::Twolink(run_twolink_case(self, &valid))).map_err(Into::into))
+        Some(self.validate().map(|valid| crate::RunOutput::new(run_twolink_case(self, &valid))).map_err(Into::into))
     }
 }
