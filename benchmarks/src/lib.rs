@@ -71,6 +71,10 @@ pub fn scaled_arch(n: usize) -> StaticProblem {
     StaticProblem { structure: Structure { chain, passive, actuation: uniform_loads(n, 0.0, -400.0 * s) }, design }
 }
 
+// The fixtures below panic, naming the property, where one of their own points lacks what they
+// are built on (an equilibrium at full load, a regular Jacobian, Newton converging next to it):
+// benchmarks/tests/agreement.rs builds every fixture at the sizes of its tests and checks those
+// properties there.
 /// The loaded equilibrium of [`scaled_arch`]: a point where every Jacobian entry is nonzero
 /// (`λ ≠ 0`, bent links, self-weight on).
 pub struct StateFixture {

@@ -33,6 +33,8 @@ pub fn scaled_family_design(n: usize) -> spine_case::ValidDesign {
     let Ok(spine_case::Case::Design(case)) = spine_case::Case::from_json(&scaled_family_case(n).to_string()) else {
         unreachable!("the generated case is a design case")
     };
+    // Invariant: the family's case is built from valid values for every `n ≥ 1` (the peers'
+    // tests run it through the same check).
     case.validate().expect("the generated case is valid")
 }
 

@@ -61,6 +61,7 @@ macro_rules! define_cases {
             /// written out): [`Case::from_json`] of its text gives the same case back.
             pub fn to_json(&self) -> $crate::__private::serde_json::Value {
                 let fields = match self {
+                    // Invariant: stated in the message; serde_json fails only on maps with non-string keys.
                     $( Self::$variant(c) => $crate::__private::serde_json::to_value(c), )+
                 }
                 .expect("case files serialise: their maps have string keys");
@@ -167,6 +168,7 @@ impl FigureCase {
         let mut runs = Vec::new();
         for (i, run) in self.merged_runs()?.into_iter().enumerate() {
             let at = format!("runs[{i}]");
+            // Invariant: a `serde_json::Value` always serialises.
             let text = serde_json::to_string(&run.case).expect("JSON values serialise");
             let case = Case::from_json(&text).map_err(|e| e.under(&format!("{at}.case")))?;
             if matches!(case, Case::Figure(_)) {

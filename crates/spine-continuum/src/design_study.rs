@@ -302,6 +302,9 @@ pub fn study(
         };
         let (mut attempts, mut kept) = (Vec::new(), None);
         solve_level(design, n, (&start.0, start.1), settings, &mut attempts, &mut kept)?;
+        // Invariant: `solve_level` makes one attempt per barrier start (one from the arch, 1 to 4
+        // warm ones: `StudySettings::validate` refuses an empty `warm_barriers`), and the first sets
+        // `kept`.
         let result = kept.expect("every level makes at least one attempt");
         progress(n, &result);
         passes.push((attempts, result, clock.elapsed().as_secs_f64()));
@@ -319,6 +322,7 @@ pub fn study(
             let start = design.prolong(finest, n);
             solve_level(design, n, (&start, StartedFrom::Finest), settings, &mut attempts, &mut kept)?;
         }
+        // Invariant: the first pass set `kept` (previous comment), and later passes only replace it.
         let result = kept.expect("kept from the first pass");
         levels.push(describe(design, n, result, attempts, seconds + clock.elapsed().as_secs_f64()));
     }

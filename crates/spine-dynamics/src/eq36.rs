@@ -70,6 +70,7 @@ pub fn fit_first_order(times: &[f64], delta: &[f64], delta_inf: f64) -> FirstOrd
     };
     let (lo, hi) = ((1e-3 / t_max).ln(), (1e5 / t_max).ln());
     let grid = 400;
+    // Invariant: the grid holds `grid + 1 = 401` points.
     let best = (0..=grid)
         .map(|k| lo + (hi - lo) * k as f64 / grid as f64)
         .min_by(|a, b| cost(*a).total_cmp(&cost(*b)))

@@ -261,6 +261,7 @@ impl Dynamics {
             sweeps.push((g, curvature, step, gg));
         }
         let (a_theta, a_omega) = a.split_at_mut(n);
+        // Invariant: the loop above pushes one sweep per iteration and runs at least once.
         let (g, curvature, _, gg) = sweeps.pop().expect("the final angles");
         let rate = g.iter().zip(omega).map(|(x, w)| x * w).sum::<f64>() / gg;
         let b: f64 = g.iter().zip(a_omega.iter()).map(|(x, w)| x * w).sum();

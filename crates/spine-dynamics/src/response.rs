@@ -91,6 +91,8 @@ impl DynamicProblem {
         if sol.passive.status != EquilibriumStatus::Stable {
             return Err(DynamicsError::UnstableStart { status: sol.passive.status });
         }
+        // Invariant: the passive status is `Stable` only at load factor 1 (`solve_static`), and the
+        // loaded path starts from there.
         let loaded = sol.loaded.as_ref().expect("the passive path reached its load");
         if loaded.status != EquilibriumStatus::Stable {
             return Err(DynamicsError::UnstableEnd { status: loaded.status });

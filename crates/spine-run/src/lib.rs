@@ -128,7 +128,9 @@ pub use kinds::dynamics::{
 pub use kinds::equilibrium::{run_equilibrium, EquilibriumReport, EquilibriumResult, Unloaded};
 pub use kinds::figure::{run_figure, FigureResult, FigureRunResult};
 pub use kinds::twolink::run_twolink_case;
-pub use output::{BestDesign, DynamicOutput, DynamicsRun, InFigure, RunOutput, StaticDesign, TwoLinkResult, UsedDesign};
+pub use output::{
+    BestDesign, DynamicOutput, DynamicsRun, InFigure, RunOutput, StaticDesign, TwoLinkResult, UsedDesign,
+};
 pub use overrides::{DesignOverrides, DynamicsOverrides, Overrides};
 pub use progress::{quiet, Progress};
 pub use recipes::{FigureOutput, FigureRecipes, NamedRun, NoRecipes};

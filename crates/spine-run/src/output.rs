@@ -4,7 +4,6 @@
 //! Each kind says how it runs inside a figure ([`RunKind::in_figure`](crate::RunKind::in_figure)).
 
 use serde::Serialize;
-use std::any::Any;
 use spine_design::adjoint::ReducedGradients;
 use spine_design::multistart::ConfidenceRun;
 use spine_design::{DesignProblem, DesignResult};
@@ -12,6 +11,7 @@ use spine_dynamic_design::{DampingDesign, PeriodicDesign};
 use spine_dynamics::{PeriodicResponse, StepResponse};
 use spine_model::Design;
 use spine_solve::twolink::Study;
+use std::any::Any;
 
 /// The value a kind's run gives inside a figure (its [`RunKind::in_figure`](crate::RunKind::in_figure)),
 /// a type of the kind's own: a recipe asks for it by type ([`RunOutput::get`]), and it is written

@@ -69,7 +69,11 @@ mod tests {
             _: &mut dyn FnMut(crate::Progress<'_>),
         ) -> Option<Result<crate::RunOutput, RunError>> {
             let chain = self.validate();
-            Some(chain.map(|c| crate::RunOutput::new(TallyResult { links: c.n_links(), springs: c.n_links() + 1 })).map_err(Into::into))
+            Some(
+                chain
+                    .map(|c| crate::RunOutput::new(TallyResult { links: c.n_links(), springs: c.n_links() + 1 }))
+                    .map_err(Into::into),
+            )
         }
     }
 

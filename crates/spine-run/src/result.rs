@@ -60,6 +60,7 @@ impl std::fmt::Display for CaseResult {
 
 /// `value` serialised, with its wall times under `timings` (see [`CaseResult::to_json`]).
 pub fn with_timings(value: &impl Serialize) -> Value {
+    // Invariant: stated in the message; serde_json fails only on maps with non-string keys.
     let mut value = serde_json::to_value(value).expect("results serialise: their maps have string keys");
     let mut timings = Map::new();
     split_timings(&mut value, "", &mut timings);

@@ -109,6 +109,9 @@ impl Table {
         let mut writer = csv::WriterBuilder::new().terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
         let header: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).collect();
         // Writing into memory cannot fail; a failure would be a bug of the csv crate.
+        // Invariant: a `csv::Writer` over a `Vec<u8>` cannot fail to write, and every record has the
+        // header's number of fields (one cell per column). The bytes are UTF-8 because every field is a
+        // `String`.
         writer.write_record(&header).expect("CSV into memory");
         for i in 0..self.rows() {
             writer.write_record(self.columns.iter().map(|c| c.cells.cell(i))).expect("CSV into memory");

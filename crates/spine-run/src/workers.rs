@@ -123,6 +123,8 @@ pub fn serve(valid: &spine_case::ValidDesign, input: impl BufRead, mut output: i
             }
             Err(e) => Answer::Error(format!("worker: not a task: {e}")),
         };
+        // Invariant: an answer is structs, enums and maps with string keys; serde_json writes any such
+        // value (a non-finite float is written as null).
         let mut text = serde_json::to_string(&answer).expect("answers serialise");
         text.push('\n');
         output.write_all(text.as_bytes())?;
@@ -159,6 +161,7 @@ fn start_worker(command: &WorkerCommand) -> Result<(Child, Pipes), RunError> {
 impl Pipes {
     /// Solves `task` in the worker.
     fn solve(&mut self, task: &Task) -> Result<SolverRun, RunError> {
+        // Invariant: as for the answers, a task holds no map with non-string keys.
         let mut line = serde_json::to_string(task).expect("tasks serialise");
         line.push('\n');
         let lost = WorkerError::Lost;

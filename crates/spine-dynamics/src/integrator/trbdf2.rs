@@ -123,22 +123,24 @@ fn step_sensitivities(
     s0: &DMatrix<f64>,
     sd0: &DMatrix<f64>,
     stats: &mut Stats,
-) -> DMatrix<f64> {
+) -> Option<DMatrix<f64>> {
     let n = y1.len();
     let h_step = t1 - t;
     let t2 = t + GAMMA * h_step;
     let j2 = sys.jacobian(t2, piece, &step.z2);
     let p2 = sys.rhs_params(t2, piece, &step.z2);
     let w2 = (DMatrix::<f64>::identity(n, n) - &j2 * (h_step * D)).lu();
-    let s2 = w2.solve(&(s0 + (sd0 + &p2) * (h_step * D))).expect("stage matrix is regular");
+    // `None` where a stage matrix `I − h d J` is singular at the step's own Jacobians (the Newton
+    // matrix, an older `J̃`, was regular): the driver takes a shorter step.
+    let s2 = w2.solve(&(s0 + (sd0 + &p2) * (h_step * D)))?;
     let j3 = sys.jacobian(t1, piece, y1);
     let p3 = sys.rhs_params(t1, piece, y1);
     let w3 = (DMatrix::<f64>::identity(n, n) - &j3 * (h_step * D)).lu();
     let rhs = s0 + (sd0 * W + (&j2 * &s2 + &p2) * W + &p3 * D) * h_step;
-    let s1 = w3.solve(&rhs).expect("stage matrix is regular");
+    let s1 = w3.solve(&rhs)?;
     stats.jacobian_evaluations += 2;
     stats.factorizations += 2;
-    s1
+    Some(s1)
 }
 
 /// The Newton matrix may use a linearisation from an earlier step (simplified Newton); it is
@@ -210,7 +212,16 @@ pub(super) fn integrate(
             continue;
         }
         let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
-        if let Err(o) = super::store(&mut intervals, point.accept(sys, &course, &step, t1, slow, &mut stats), t1) {
+        let Some(interval) = point.accept(sys, &course, &step, t1, slow, &mut stats) else {
+            // A stage matrix of the sensitivities is singular at this step: a shorter one.
+            if fixed {
+                outcome = Outcome::StepTooSmall { t };
+                break;
+            }
+            h = 0.25 * h_step;
+            continue;
+        };
+        if let Err(o) = super::store(&mut intervals, interval, t1) {
             outcome = o;
             break;
         }
@@ -268,7 +279,9 @@ impl Point {
     }
 
     /// Moves to the accepted step's end `t1`: its sensitivities, the projection, `f` (with a fresh
-    /// `J̃` when Newton was slow or the Jacobian old). Returns the step's dense-output interval.
+    /// `J̃` when Newton was slow or the Jacobian old). Returns the step's dense-output interval, or
+    /// `None`, with the point unchanged, where the step's sensitivities cannot be formed (a
+    /// singular stage matrix).
     fn accept(
         &mut self,
         sys: &dyn OdeSystem,
@@ -277,11 +290,11 @@ impl Point {
         t1: f64,
         slow: bool,
         stats: &mut Stats,
-    ) -> Interval {
+    ) -> Option<Interval> {
         let mut y1 = step.y1.clone();
         let start_sens = self.s.clone().zip(self.s_dot.clone());
         if let (Some(s0), Some(sd0)) = (self.s.as_mut(), self.s_dot.as_ref()) {
-            *s0 = step_sensitivities(sys, (self.t, t1), self.piece, step, &y1, s0, sd0, stats);
+            *s0 = step_sensitivities(sys, (self.t, t1), self.piece, step, &y1, s0, sd0, stats)?;
         }
         course.project(&mut y1, self.s.as_mut(), stats);
         let t0 = std::mem::replace(&mut self.t, t1);
@@ -298,7 +311,7 @@ impl Point {
         };
         let end_sens = self.s.clone().zip(self.s_dot.clone());
         stats.accepted_steps += 1;
-        Interval::accepted((t0, y0, f0), (t1, self.y.clone(), self.f.clone()), (start_sens, end_sens), None)
+        Some(Interval::accepted((t0, y0, f0), (t1, self.y.clone(), self.f.clone()), (start_sens, end_sens), None))
     }
 }
 

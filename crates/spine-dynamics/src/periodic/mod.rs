@@ -207,6 +207,8 @@ impl EndX<'_> {
     /// `(t, value)` with its gradient in the springs, `∇_y X · S(t)`.
     fn with_gradient(&self, traj: &Trajectory, t: f64, value: f64) -> EndValue {
         let dx = self.d.end_x_state_gradient(&traj.value(t));
+        // Invariant: `EndX` with gradients is built only over a trajectory integrated with the springs'
+        // sensitivities (`SpringGradients` given).
         let s = traj.sensitivity(t).expect("sensitivities were propagated");
         let gradient = (0..s.ncols()).map(|p| (0..s.nrows()).map(|i| dx[i] * s[(i, p)]).sum()).collect();
         EndValue { t, value, gradient }
@@ -238,6 +240,7 @@ fn simulate_periods(
     gradients: Option<SpringGradients>,
 ) -> Periods {
     let d = end.d;
+    // Invariant: a periodic task's case is checked to have a periodic forcing before it runs.
     let period = d.forcing.period().expect("a periodic forcing");
     let fixed_horizon = gradients.is_some();
     let keep = matches!(gradients, Some(SpringGradients::Adjoint));
@@ -305,6 +308,7 @@ fn run_periodic(
     springs: Option<SpringGradients>,
 ) -> (PeriodicResponse, Option<LastPeriod>) {
     let clock = std::time::Instant::now();
+    // Invariant: as above, the forcing is checked periodic before the task runs.
     let period = d.forcing.period().expect("a periodic forcing");
     let fixed_horizon = springs.is_some();
     let forward = matches!(springs, Some(SpringGradients::Forward(_)));

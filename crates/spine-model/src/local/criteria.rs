@@ -40,7 +40,7 @@ pub struct MomentPower {
     pub exponent: u32,
 }
 
-/// `x^p` by repeated squaring (`p ≥ 1`), in any number type.
+/// `x^p` by repeated squaring, in any number type (`x^0 = 1`).
 fn power<D: Elementary>(x: D, p: u32) -> D {
     let (mut result, mut base, mut p) = (None::<D>, x, p);
     loop {
@@ -49,7 +49,9 @@ fn power<D: Elementary>(x: D, p: u32) -> D {
         }
         p >>= 1;
         if p == 0 {
-            return result.expect("p ≥ 1");
+            // `p = 0` (the case format allows only even `p ≥ 2`, the struct any): `x^0 = 1`, the
+            // constant written in `D` as `cos(0 · x)`, with zero derivatives.
+            return result.unwrap_or_else(|| (x * 0.0).cos());
         }
         base = base * base;
     }
@@ -107,5 +109,20 @@ impl Element<2> for LinkWork {
         let (span, vertical, axial) =
             (lift(self.span, rates.span), lift(self.vertical, rates.vertical), lift(self.axial, rates.axial));
         self.eval_with(span, vertical, axial, x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::power;
+
+    #[test]
+    fn power_by_squaring_is_powi_including_the_zeroth() {
+        for p in 0..=9u32 {
+            for x in [-1.7, -0.3, 0.0, 0.4, 2.5] {
+                let want = f64::powi(x, p as i32);
+                assert!((power(x, p) - want).abs() <= 1e-14 * want.abs().max(1.0), "{x}^{p}");
+            }
+        }
     }
 }

@@ -68,6 +68,7 @@ pub fn result_json(result: &CaseResult, deterministic: bool) -> String {
             map.remove("timings");
         }
     }
+    // Invariant: a `serde_json::Value` always serialises.
     let mut text = serde_json::to_string_pretty(&value).expect("JSON values always serialise");
     text.push('\n');
     text

@@ -255,6 +255,8 @@ impl<'a> Run<'a> {
     fn error(&mut self, col: &Collocation, h_step: f64, rejected: bool) -> f64 {
         let n = self.y.len();
         let (y, opts) = (&self.y, self.opts);
+        // Invariant: the stages converged with the factors of this step, which `factors` keeps until
+        // the step is accepted or rejected.
         let fa = self.factors.as_ref().expect("converged stages have their factors");
         let y_new: Vec<f64> = (0..n).map(|j| y[j] + col.z[2][j]).collect();
         let ze: Vec<f64> = (0..n).map(|j| (0..3).map(|i| E[i] * col.z[i][j]).sum::<f64>() / h_step).collect();
@@ -283,6 +285,7 @@ impl<'a> Run<'a> {
         let Accepted { t1, col, err, safety } = step;
         let (sys, n, t, piece) = (self.sys, self.y.len(), self.t, self.piece);
         let h_step = t1 - t;
+        // Invariant: only a step whose stages converged (with these factors) is accepted.
         let fa = self.factors.as_ref().expect("an accepted step has its factors");
         let mut y1: Vec<f64> = (0..n).map(|j| self.y[j] + col.z[2][j]).collect();
         let start_sens = self.s.clone().zip(self.s_dot.clone());
