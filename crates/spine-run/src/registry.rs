@@ -68,12 +68,14 @@ mod tests {
             _: Option<&crate::workers::Workers>,
             _: &mut dyn FnMut(crate::Progress<'_>),
         ) -> Option<Result<crate::RunOutput, RunError>> {
-            let chain = self.validate();
-            Some(
-                chain
-                    .map(|c| crate::RunOutput::new(TallyResult { links: c.n_links(), springs: c.n_links() + 1 }))
-                    .map_err(Into::into),
-            )
+            let overrides = crate::Overrides::default();
+            let mut cx = RunContext {
+                overrides: &overrides,
+                recipes: &crate::NoRecipes,
+                progress: &mut crate::quiet,
+                figure_run: &crate::in_figure,
+            };
+            Some(self.run(&mut cx).map(crate::RunOutput::new))
         }
     }
 

@@ -213,7 +213,9 @@ pub(super) fn integrate(
         }
         let slow = stats.newton_iterations - iterations_before > SLOW_NEWTON;
         let Some(interval) = point.accept(sys, &course, &step, t1, slow, &mut stats) else {
-            // A stage matrix of the sensitivities is singular at this step: a shorter one.
+            // A stage matrix of the sensitivities is singular at this step: it is rejected for a
+            // shorter one.
+            stats.rejected_steps += 1;
             if fixed {
                 outcome = Outcome::StepTooSmall { t };
                 break;
