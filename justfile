@@ -70,7 +70,8 @@ python-bench REPEATS="5":
 # The opt-in Ipopt 3.14 backend (Ipopt 3.14.19 with MUMPS 5.8.2, METIS and OpenBLAS, from the
 # `casadi` wheel on PyPI, set up in benchmarks/peers/.venv), built in target/ipopt314 with
 # IPOPT_DIR. `just ipopt314 test` (run by `just test`): the binding's and eq. (33)'s tests
-# (spine-ipopt, spine-design: every Ipopt call the workspace makes goes through these two crates);
+# (spine-ipopt, spine-design: every Ipopt call the workspace makes goes through these two crates),
+# built with the `ipopt314` profile (opt-level 1: 256 s against 384 s with `release`, 2026-12-02);
 # `just ipopt314 cli`: the CLI's design tests on it as well (a release build of the whole command
 # line, about 5 more minutes on 2 cores, so not in `just test`); `just ipopt314 build`:
 # target/ipopt314/release/spine and the benchmark binaries.
@@ -79,7 +80,7 @@ ipopt314 WHAT="test":
     dir="$(benchmarks/peers/.venv/bin/python -c 'import casadi, os; print(os.path.dirname(casadi.__file__))')"; \
     export IPOPT_DIR="$dir" CARGO_TARGET_DIR=target/ipopt314 RUSTFLAGS="-C link-arg=-Wl,-rpath,$dir" RUSTDOCFLAGS="-C link-arg=-Wl,-rpath,$dir"; \
     case "{{WHAT}}" in \
-        test) export SPINE_EXPECT_IPOPT=3.14; cargo test --release --quiet -p spine-ipopt -p spine-design --no-fail-fast ;; \
+        test) export SPINE_EXPECT_IPOPT=3.14; cargo test --profile ipopt314 --quiet -p spine-ipopt -p spine-design --no-fail-fast ;; \
         cli) export SPINE_EXPECT_IPOPT=3.14; cargo test --release --quiet -p spine-ipopt -p spine-design --no-fail-fast && cargo test --release --quiet -p spine-cli --test design_cli ;; \
         build) cargo build --release --quiet -p spine-cli -p spine-benchmarks --bins ;; \
         *) echo "just ipopt314 test|cli|build"; exit 2 ;; \

@@ -6,6 +6,7 @@ use crate::per_item::check_finite;
 use crate::per_item::PerItem;
 use crate::specs::{non_negative, positive, ChainSpec, LoadSpec, Notes};
 use serde::{Deserialize, Serialize};
+use spine_design::knife_edge::KnifeEdgeSettings;
 use spine_design::refine::Refine;
 use spine_design::solve::Solver;
 use spine_design::{DesignBounds, DesignProblem, Formulation, SolverPreset, SolverSettings};
@@ -157,6 +158,15 @@ pub struct DesignCase {
     /// beside this case's design: which conclusions come from the optimiser, which from eq. (33).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub fmincon_like_beside: bool,
+    /// Knife edges: the run from `start` (and the fmincon-like run beside it) is repeated from
+    /// starts moved by a tiny seeded amount, and the result reports every optimum they reach
+    /// (docs/design.md, "Knife edges"). Default: 2 antithetic pairs moved by 1e-6.
+    #[serde(default, skip_serializing_if = "is_default_knife_edge")]
+    pub knife_edge: KnifeEdgeSettings,
+}
+
+fn is_default_knife_edge(k: &KnifeEdgeSettings) -> bool {
+    *k == KnifeEdgeSettings::default()
 }
 
 fn is_exact(p: &SolverPreset) -> bool {
@@ -189,6 +199,8 @@ pub struct ValidDesign {
     pub preset: SolverPreset,
     /// Solve with the fmincon-like preset beside this case ([`DesignCase::fmincon_like_beside`]).
     pub fmincon_like_beside: bool,
+    /// The moved starts of a knife-edge check ([`DesignCase::knife_edge`]).
+    pub knife_edge: KnifeEdgeSettings,
 }
 
 impl ValidDesign {
@@ -252,6 +264,7 @@ impl DesignCase {
         }
         crate::specs::check_runs_memory("multistart.starts", self.multistart.starts + 1, n)?;
         self.solver.validate().map_err(|e| e.under("solver"))?;
+        self.knife_edge.validate().map_err(|e| e.under("knife_edge"))?;
         let (formulation, settings) = self.preset.apply(self.formulation, &self.solver);
         if matches!(settings.refine, Refine::Ladder(_)) && formulation == Formulation::Reduced {
             return Err(CaseError::invalid(
@@ -291,6 +304,7 @@ impl DesignCase {
             settings,
             preset: self.preset,
             fmincon_like_beside: self.fmincon_like_beside,
+            knife_edge: self.knife_edge.clone(),
         })
     }
 }

@@ -192,6 +192,7 @@ impl DynamicsCase {
                     solver: s.solver.clone(),
                     preset: Default::default(),
                     fmincon_like_beside: false,
+                    knife_edge: Default::default(),
                 };
                 let valid = as_design.validate().map_err(|e| match e.field() {
                     f if f.starts_with("chain") || f.starts_with("loads") => e,

@@ -17,6 +17,8 @@
 //!   which the [`certificate`] (is it a minimum?) and the [`sensitivity`] (how does it move?) both
 //!   read.
 //! * [`multistart`]: seeded feasible starts and clustering of the local optima.
+//! * [`knife_edge`]: starts moved by a tiny seeded amount, which show whether the optimum a start
+//!   reaches is decided by rounding.
 //! * [`refine`]: mesh sequencing, coarse-to-fine warm starts for long chains.
 //! * [`certificate`]: the second-order certificate of an optimum.
 //! * [`sensitivity`]: derivatives of an optimum with respect to the problem's parameters.
@@ -76,6 +78,7 @@ mod criterion;
 pub mod fixtures;
 pub mod full_space;
 mod ipopt_allowed;
+pub mod knife_edge;
 mod layout;
 pub mod log_variables;
 pub mod multistart;

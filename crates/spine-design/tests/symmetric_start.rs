@@ -70,3 +70,31 @@ fn near_the_symmetric_start_both_linear_solvers_reach_one_optimum_up_to_its_mirr
         }
     }
 }
+
+/// The knife-edge check finds this edge: fig. 6's start with two antithetic pairs of moved starts
+/// (the case's default) reaches the optimum and its mirror image, whatever the unmoved start does
+/// with this build's rounding; the two are one `J` and told apart by `θ0`.
+#[test]
+fn the_knife_edge_check_finds_both_sides_of_the_symmetric_start() {
+    use spine_design::knife_edge::{moved_starts, KnifeEdge, KnifeEdgeSettings};
+    let problem = paper_problem(10, -5.0, -400.0, -0.02, 1.0);
+    let start = arch_start(10, 0.3, 1000.0);
+    let settings = KnifeEdgeSettings::default();
+    let solver = Solver::new(SolverPreset::Exact, Formulation::Full, &SolverSettings::default());
+    let mut results = vec![solver.solve(&problem, &start, &mut |_| true).unwrap()];
+    for moved in moved_starts(&problem, &start, &settings) {
+        results.push(solver.solve(&problem, &moved, &mut |_| true).unwrap());
+    }
+    let edge = KnifeEdge::of(&settings, &results);
+    assert!(edge.split, "{edge:#?}");
+    assert_eq!(edge.branches.len(), 2, "{edge:#?}");
+    let (a, b) = (&edge.branches[0], &edge.branches[1]);
+    assert!(a.clean && b.clean);
+    assert_eq!(b.mirror_of, Some(0), "{edge:#?}");
+    assert!((a.objective - b.objective).abs() <= 1e-8 * a.objective, "{} against {}", a.objective, b.objective);
+    // Each antithetic pair falls on both sides.
+    for pair in [[1, 2], [3, 4]] {
+        assert_ne!(edge.branch_of(pair[0]), edge.branch_of(pair[1]), "{edge:#?}");
+    }
+    assert_eq!(edge.failed, vec![]);
+}

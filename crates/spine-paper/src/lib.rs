@@ -5,7 +5,7 @@
 //! `spine-plot`), CSV tables of the plotted data and [`Claim`](spine_run::Claim)s — the paper's
 //! statements, each measured and given PASS or FAIL with its numbers. [`PaperFigures`] hands the
 //! recipes to the run path; [`report`] gathers every figure's claims into `results/REPORT.md` and
-//! `results/report.html`.
+//! `results/report.html`, and `claim_text` writes one claim for both (verdict, knife-edge branches).
 //!
 //! ```
 //! // Fig. "twolink" (Sec. 3) from a figure case: its runs through spine-run, its panels and claims here.
@@ -21,6 +21,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod claim_text;
 pub mod figures;
 pub mod report;
 

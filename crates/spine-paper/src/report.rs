@@ -3,6 +3,7 @@
 //! times, on one page. The HTML page is one self-contained file (figures inline, animations as
 //! data URIs, no script, no network).
 
+use crate::claim_text::{measured, passed, split, text_of, verdict};
 use serde_json::Value;
 use std::fmt::Write as _;
 
@@ -32,12 +33,15 @@ impl FolderResult {
     }
 }
 
-fn passed(claim: &Value) -> bool {
-    claim.get("pass") == Some(&Value::Bool(true))
-}
-
-fn text_of<'a>(claim: &'a Value, key: &str) -> &'a str {
-    claim.get(key).and_then(Value::as_str).unwrap_or("")
+/// " N are split by a knife edge." where some claims are ([`split`]), else nothing.
+fn split_note(results: &[FolderResult]) -> String {
+    let n = results.iter().flat_map(|r| r.claims()).filter(|c| split(c)).count();
+    if n == 0 {
+        String::new()
+    } else {
+        let are = if n == 1 { "is" } else { "are" };
+        format!(" Of those that do not, {n} {are} split by a knife edge (the verdict differs between the optima that starts moved by 1e-6 reach; docs/design.md, \"Knife edges\").")
+    }
 }
 
 fn cell(s: &str) -> String {
@@ -74,14 +78,6 @@ struct CkAcross {
 
 const SPREAD_STATEMENT: &str = "\"as the C_K is increased the stiffness variation between the nodes increases\": CV of K strictly increasing over Figs. 6, 7, 8 and up by more than 10 % from Fig. 6 to Fig. 8.";
 const SHAPE_STATEMENT: &str = "\"whereas the change in orientation of the links is less apparent\": ‖θ0 − θ0_start‖ strictly decreasing over Figs. 6, 7, 8 and down by more than 10 % from Fig. 6 to Fig. 8.";
-
-fn verdict(pass: bool) -> &'static str {
-    if pass {
-        "PASS"
-    } else {
-        "FAIL"
-    }
-}
 
 /// The C_K statement on Figs. 6–8 (C_K = 1, 10², 10⁴) in Markdown.
 fn ck_across_figures(results: &[FolderResult]) -> Option<String> {
@@ -140,13 +136,17 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
     for m in missing {
         let _ = writeln!(md, "| {m} | **no result** (the case did not run or failed) | — | — |");
     }
-    let _ = writeln!(md, "\n**{passed_count} of {total} claims pass.**\n");
+    let _ = writeln!(md, "\n**{passed_count} of {total} claims pass.**{}\n", split_note(results));
 
     md.push_str("## Claims\n\n| case | scope | check | statement | test | verdict | measured |\n|---|---|---|---|---|---|---|\n");
     for r in results {
         for c in r.claims() {
             let s = |k: &str| text_of(c, k);
             let verdict = match (passed(c), finding(s("statement"))) {
+                _ if split(c) => {
+                    "**SPLIT** (a knife edge: the verdict differs between the optima its moved starts reach)"
+                        .to_string()
+                }
                 (true, _) => "PASS".to_string(),
                 (false, None) => "**FAIL**".to_string(),
                 (false, Some(anchor)) => format!("**FAIL** ([why]({FINDINGS}#{anchor}))"),
@@ -159,7 +159,7 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
                 s("check"),
                 cell(s("statement")),
                 cell(s("test")),
-                cell(s("measured"))
+                cell(&measured(c))
             );
         }
     }
@@ -232,7 +232,7 @@ fn escape(text: &str) -> String {
 
 const STYLE: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
 table{border-collapse:collapse;margin:1em 0;font-size:0.9em}th,td{border:1px solid #bbb;padding:4px 6px;vertical-align:top;text-align:left}\
-th{background:#eee}td.pass{background:#c8eac8;font-weight:bold}td.fail{background:#f4c2c2;font-weight:bold}\
+th{background:#eee}td.pass{background:#c8eac8;font-weight:bold}td.fail{background:#f4c2c2;font-weight:bold}td.split{background:#f4e2a2;font-weight:bold}\
 code{background:#f2f2f2;padding:0 2px}figure{margin:1em 0}figure svg,figure img{max-width:100%;height:auto;border:1px solid #ddd}\
 .total{font-size:1.1em;font-weight:bold}";
 
@@ -273,7 +273,11 @@ fn html_summary(h: &mut String, results: &[FolderResult], missing: &[String]) {
         );
     }
     h.push_str("</table>\n");
-    let _ = writeln!(h, "<p class=\"total\" id=\"total\">{passed_count} of {total} claims pass.</p>");
+    let _ = writeln!(
+        h,
+        "<p class=\"total\" id=\"total\">{passed_count} of {total} claims pass.{}</p>",
+        split_note(results)
+    );
 }
 
 /// The report's claims table, verdict cells coloured, a failed claim linked to its finding.
@@ -290,12 +294,19 @@ fn html_claims(h: &mut String, results: &[FolderResult]) {
                 escape(text_of(c, "check")),
                 escape(text_of(c, "statement")),
                 escape(text_of(c, "test")),
-                if pass { "pass" } else { "fail" },
+                if split(c) {
+                    "split"
+                } else if pass {
+                    "pass"
+                } else {
+                    "fail"
+                },
                 match (pass, finding(text_of(c, "statement"))) {
+                    _ if split(c) => "SPLIT".to_string(),
                     (false, Some(anchor)) => format!("FAIL<br><a href=\"{FINDINGS}#{anchor}\">why</a>"),
                     _ => verdict(pass).to_string(),
                 },
-                escape(text_of(c, "measured"))
+                escape(&measured(c))
             );
         }
     }
@@ -446,5 +457,26 @@ mod tests {
             assert!(!html.contains(outside), "{outside}");
         }
         assert_eq!(html, report_html(&results(), errata, &["fig4".into()]), "same inputs, same bytes");
+    }
+
+    #[test]
+    fn a_claim_split_by_a_knife_edge_shows_each_branch_in_both_reports() {
+        let branch = |b: usize, pass: bool, unmoved: bool, counted: bool| json!({ "branch": b, "objective": 7.27e-3, "starts": 2, "unmoved": unmoved, "counted": counted, "pass": pass, "measured": format!("end {b}") });
+        let mut r = results();
+        r[0].value["claims"] = json!([
+            { "scope": "n10", "check": "paper", "statement": "near the end", "test": "t", "pass": false, "measured": "end 0",
+              "split": true, "branches": [branch(0, true, false, true), branch(1, false, false, true), branch(2, false, true, false)] },
+        ]);
+        let md = report(&r, "", &[]);
+        assert!(md.contains("**SPLIT** (a knife edge"), "{md}");
+        assert!(md.contains("branch 1 (J = 7.270000e-3 J, 2 starts): FAIL, end 1"), "{md}");
+        assert!(
+            md.contains("branch 2 (J = 7.270000e-3 J, 2 starts, the unmoved start's only: not counted): FAIL"),
+            "{md}"
+        );
+        assert!(md.contains("Of those that do not, 1 is split by a knife edge"), "{md}");
+        let html = report_html(&r, "", &[]);
+        assert!(html.contains("<td class=\"split\">SPLIT</td>"), "{html}");
+        assert!(!report(&results(), "", &[]).contains("split by a knife edge"));
     }
 }

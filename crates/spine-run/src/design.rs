@@ -3,12 +3,13 @@
 
 use crate::confidence::{Batches, ConfidenceCensus};
 use crate::error::RunError;
-use crate::output::{BestDesign, StaticDesign};
+use crate::output::{BestDesign, KnifeEdgeDesigns, StaticDesign};
 use crate::progress::Progress;
 use crate::workers::{solve_starts, Task, Workers};
 use serde::Serialize;
 use spine_case::{DesignCase, ValidDesign};
 use spine_design::adjoint::adjoint_hand;
+use spine_design::knife_edge::{moved_starts, KnifeEdge};
 use spine_design::multistart::{cluster, feasible_starts, settle_all, ConfidenceRun, MultiStartSummary};
 use spine_design::result::DesignResult;
 use spine_design::settings::SolverPreset;
@@ -50,13 +51,48 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
 
 /// Eq. (33) from the case's start; with `multistart.confidence`, also the best optimum of a census
 /// to that confidence (seeded starts in this process, `census_to`).
+/// Each run from a start is repeated from its moved starts (`knife_edge`, [`knife_edge`]).
 pub fn run_design(valid: &ValidDesign, workers: Option<&Workers>) -> Result<StaticDesign, RunError> {
     let mut design = run_design_alone(valid, workers)?;
+    design.knife_edge = knife_edge(valid, &design.result, workers)?;
     if valid.fmincon_like_beside {
         let fmincon = valid.with_preset(SolverPreset::FminconLike);
-        design.fmincon_like = Some(Box::new(static_design(&fmincon, solve(&fmincon, &fmincon.start)?)));
+        let mut beside = static_design(&fmincon, solve(&fmincon, &fmincon.start)?);
+        beside.knife_edge = knife_edge(&fmincon, &beside.result, workers)?;
+        design.fmincon_like = Some(Box::new(beside));
     }
     Ok(design)
+}
+
+/// The knife-edge check of the run from the case's start, whose settled result is `own`: eq. (33)
+/// from each of its moved starts ([`moved_starts`], in `workers` when given), settled as the case's
+/// preset settles a run, and the optima they and `own` reached, each branch's run kept for the
+/// claims. `None` with `knife_edge.pairs = 0`.
+fn knife_edge(
+    valid: &ValidDesign,
+    own: &DesignResult,
+    workers: Option<&Workers>,
+) -> Result<Option<Box<KnifeEdgeDesigns>>, RunError> {
+    if valid.knife_edge.pairs == 0 {
+        return Ok(None);
+    }
+    let moved = moved_starts(&valid.problem, &valid.start, &valid.knife_edge);
+    let fmincon_like = valid.preset == SolverPreset::FminconLike;
+    let tasks: Vec<Task> = moved.iter().map(|m| Task { fmincon_like, ..Task::start(m) }).collect();
+    let runs = solve_all(valid, &tasks, workers, &mut |_| {})?;
+    if runs.len() < tasks.len() {
+        // A time limit passed: the check is incomplete, and no edge is reported from part of it.
+        return Ok(None);
+    }
+    let mut results = vec![own.clone()];
+    results.extend(settle_all(&valid.problem, runs, &valid.solver()).map_err(RunError::Design)?);
+    if spine_stop::interrupt_requested() {
+        return Err(RunError::Interrupted);
+    }
+    let edge = KnifeEdge::of(&valid.knife_edge, &results);
+    let designs = edge.branches.iter().map(|b| static_design(valid, results[b.starts[0]].clone())).collect();
+    let failed = edge.failed.iter().find(|(k, _)| *k > 0).map(|(k, _)| static_design(valid, results[*k].clone()));
+    Ok(Some(Box::new(KnifeEdgeDesigns { edge, designs, failed })))
 }
 
 /// [`run_design`] without the fmincon-like solve beside it.
@@ -97,6 +133,7 @@ fn static_design(valid: &ValidDesign, result: DesignResult) -> StaticDesign {
         best: None,
         preset: valid.preset,
         fmincon_like: None,
+        knife_edge: None,
     }
 }
 

@@ -115,7 +115,7 @@ pub mod workers;
 pub mod write;
 
 pub use animation::{Animation, AnimationOptions, Track};
-pub use claims::{Check, Claim};
+pub use claims::{BranchOf, BranchVerdict, Check, Claim};
 pub use confidence::CONFIDENCE_BATCH;
 pub use design::{run_design, run_design_case, DesignCaseResult};
 pub use error::{MergeError, RunError, WorkerError};

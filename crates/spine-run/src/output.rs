@@ -5,6 +5,7 @@
 
 use serde::Serialize;
 use spine_design::adjoint::ReducedGradients;
+use spine_design::knife_edge::KnifeEdge;
 use spine_design::multistart::ConfidenceRun;
 use spine_design::{DesignProblem, DesignResult};
 use spine_dynamic_design::{DampingDesign, PeriodicDesign};
@@ -107,6 +108,22 @@ pub struct StaticDesign {
     /// With `fmincon_like_beside`: the same case solved fmincon-like from the same start.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fmincon_like: Option<Box<StaticDesign>>,
+    /// With `knife_edge.pairs > 0`: the optima the start and its moved starts reached.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub knife_edge: Option<Box<KnifeEdgeDesigns>>,
+}
+
+/// A run's knife-edge check with each branch's design as the claims read it.
+#[derive(Clone, Debug, Serialize)]
+pub struct KnifeEdgeDesigns {
+    #[serde(flatten)]
+    pub edge: KnifeEdge,
+    /// `edge.branches[b]`'s run (from its first start), with its gradients, in the same order.
+    #[serde(skip)]
+    pub designs: Vec<StaticDesign>,
+    /// The first moved start that did not converge, where one did not.
+    #[serde(skip)]
+    pub failed: Option<StaticDesign>,
 }
 
 /// The best design of a census, as a figure draws it beside the paper-start optimum.

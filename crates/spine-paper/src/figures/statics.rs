@@ -3,6 +3,7 @@
 
 use super::*;
 use serde_json::json;
+use spine_run::claims::BranchOf;
 use spine_run::metrics::{relative_sensitivity_ratio, sensitivity_ratio, DesignChange};
 use spine_run::text::quantity;
 
@@ -122,6 +123,57 @@ pub(super) fn design_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value
     (claims, summary)
 }
 
+/// [`design_claims`] of a drawn design, held to each optimum of its knife edge where its moved
+/// starts reached more than one (the verdicts per branch, [`Claim::branched`]); the summary says
+/// what the moved starts reached.
+pub(super) fn held_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value) {
+    let (claims, mut summary) = design_claims(scope, s);
+    let Some(k) = s.knife_edge.as_deref() else {
+        return (claims, summary);
+    };
+    let edge = &k.edge;
+    summary["knife_edge"] = json!({
+        "split": edge.split,
+        "unmoved_branch": edge.branch_of(0),
+        "unmoved_only": edge.unmoved_only.as_ref().map(|b| json!({"objective": b.objective, "clean": b.clean, "iterations": b.iterations})),
+        "moved_starts": 2 * edge.settings.pairs,
+        "size": edge.settings.size,
+        "optima": edge.branches.iter().map(|b| json!({
+            "objective": b.objective, "clean": b.clean, "starts": b.starts, "mirror_of": b.mirror_of, "iterations": b.iterations,
+        })).collect::<Vec<_>>(),
+        "failed": edge.failed.len(),
+        "iterations": edge.iterations,
+        "end_spread_theta0": edge.end_spread_theta0,
+        "end_spread_stiffness": edge.end_spread_stiffness,
+    });
+    let unmoved = edge.branch_of(0);
+    if !edge.split && unmoved.is_some() {
+        return (claims, summary);
+    }
+    let of = |b: &spine_design::knife_edge::Branch| BranchOf {
+        objective: b.objective,
+        starts: b.starts.len(),
+        unmoved: b.starts.contains(&0),
+        counted: true,
+    };
+    let mut per_branch: Vec<(BranchOf, Vec<Claim>)> =
+        edge.branches.iter().zip(&k.designs).map(|(b, d)| (of(b), design_claims(scope, d).0)).collect();
+    if let Some(failed) = &k.failed {
+        let starts = edge.failed.iter().filter(|(k, _)| *k > 0).count();
+        let unmoved = edge.failed.iter().any(|(k, _)| *k == 0);
+        let of = BranchOf { objective: failed.result.objective, starts, unmoved, counted: true };
+        per_branch.push((of, design_claims(scope, failed).0));
+    }
+    // The unmoved start's own outcome, where no moved start had it (an optimum only it reached,
+    // or a failure where every moved start converged): shown, not counted.
+    let unmoved_failed = edge.failed.iter().any(|(k, _)| *k == 0);
+    if unmoved.is_none() && !(unmoved_failed && k.failed.is_some()) {
+        let of = BranchOf { objective: s.result.objective, starts: 1, unmoved: true, counted: false };
+        per_branch.push((of, claims));
+    }
+    (Claim::branched(per_branch), summary)
+}
+
 /// Which design of a run a static figure draws.
 #[derive(Clone, Copy)]
 enum Drawn<'a> {
@@ -131,6 +183,9 @@ enum Drawn<'a> {
     Best(&'a spine_run::BestDesign),
     /// The fmincon-like solver's design from the same start.
     FminconLike,
+    /// An optimum of the start's knife edge that the unmoved start did not reach: `(branch, its
+    /// starts, moved starts in all)`.
+    Branch(usize, usize, usize),
 }
 
 /// One shape panel and one stiffness panel per run: Figs. 3, 4, 6, 7, 8.
@@ -146,17 +201,28 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
         // and (when asked) the fmincon-like solver's design from the paper's start.
         let best = s.best.as_deref().map(|b| (&b.design, Drawn::Best(b)));
         let fmincon = s.fmincon_like.as_deref().map(|d| (d, Drawn::FminconLike));
-        let drawn = std::iter::once((s, Drawn::Start)).chain(best).chain(fmincon);
+        // The optima of the start's knife edge that the unmoved start did not reach.
+        let branches = s.knife_edge.as_deref().into_iter().flat_map(|k| {
+            let moved = 2 * k.edge.settings.pairs;
+            let others =
+                k.edge.branches.iter().zip(&k.designs).enumerate().filter(|(_, (b, _))| !b.starts.contains(&0));
+            others.map(move |(i, (b, d))| (d, Drawn::Branch(i, b.starts.len(), moved)))
+        });
+        let drawn = std::iter::once((s, Drawn::Start)).chain(branches).chain(best).chain(fmincon);
         for (d, kind) in drawn {
             let census = match kind {
                 Drawn::Best(b) => Some(b),
                 _ => None,
             };
             let (suffix, label) = match (kind, &s.best) {
-                (Drawn::Start, None) => ("", run.title().to_string()),
-                (Drawn::Start, Some(_)) => ("", format!("{}, paper's start", run.title())),
-                (Drawn::Best(b), _) => ("_best", format!("{}, best of {} optima", run.title(), b.optima)),
-                (Drawn::FminconLike, _) => ("_fmincon", format!("{}, fmincon-like", run.title())),
+                (Drawn::Start, None) => (String::new(), run.title().to_string()),
+                (Drawn::Start, Some(_)) => (String::new(), format!("{}, paper's start", run.title())),
+                (Drawn::Branch(i, n, moved), _) => (
+                    format!("_branch{i}"),
+                    format!("{}, knife-edge branch {i} ({n} of {moved} moved starts)", run.title()),
+                ),
+                (Drawn::Best(b), _) => ("_best".into(), format!("{}, best of {} optima", run.title(), b.optima)),
+                (Drawn::FminconLike, _) => ("_fmincon".into(), format!("{}, fmincon-like", run.title())),
             };
             let shapes = Shapes::of_static(d).ok_or_else(|| run.error("the design has no equilibria to draw"))?;
             fig = fig.with(shapes.panel(&format!("({}) {label}: shapes", letter(panel)))).with(stiffness_panel(
@@ -173,9 +239,13 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
                     Drawn::Start => "",
                     Drawn::Best(_) => " best",
                     Drawn::FminconLike => " fmincon-like",
+                    Drawn::Branch(..) => {
+                        // Its claims are the start's, held to each branch (`held_claims`).
+                        continue;
+                    }
                 }
             );
-            let (claims, mut summary) = design_claims(&scope, d);
+            let (claims, mut summary) = held_claims(&scope, d);
             if let Some(b) = census {
                 summary["census"] = json!({
                     "optima": b.optima,
@@ -283,7 +353,7 @@ pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOut
         let run_names = spine_run::Cells::Labels(vec![run.name.to_string(); d.stiffness.len()]);
         rows.columns.insert(0, spine_run::Column { name: "run".into(), cells: run_names });
         table.extend(rows);
-        let (claims, summary) = design_claims(run.name, s);
+        let (claims, summary) = held_claims(run.name, s);
         out.claims.extend(claims);
         out.summary.insert(run.name.to_string(), summary);
         if let Some(f) = s.fmincon_like.as_deref() {
@@ -295,7 +365,7 @@ pub fn load_sweep_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOut
             let run_names = spine_run::Cells::Labels(vec![format!("{}_fmincon", run.name); fd.stiffness.len()]);
             rows.columns.insert(0, spine_run::Column { name: "run".into(), cells: run_names });
             table.extend(rows);
-            let (claims, summary) = design_claims(&format!("{} fmincon-like", run.name), f);
+            let (claims, summary) = held_claims(&format!("{} fmincon-like", run.name), f);
             out.claims.extend(claims);
             out.summary.insert(format!("{}_fmincon", run.name), summary);
         }

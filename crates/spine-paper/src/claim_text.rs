@@ -1,0 +1,54 @@
+//! How the reports write one claim of a `result.json`: whether it passed, whether a knife edge
+//! split it, its verdict and its measured numbers with each branch's.
+
+use serde_json::Value;
+use std::fmt::Write as _;
+
+pub(crate) fn passed(claim: &Value) -> bool {
+    claim.get("pass") == Some(&Value::Bool(true))
+}
+
+/// The claim's branches disagree (a knife edge, `Claim::split`).
+pub(crate) fn split(claim: &Value) -> bool {
+    claim.get("split") == Some(&Value::Bool(true))
+}
+
+/// The measured numbers, and for a claim held to several branches of a knife edge each branch's
+/// verdict and numbers.
+pub(crate) fn measured(claim: &Value) -> String {
+    let mut text = text_of(claim, "measured").to_string();
+    let branches = claim.get("branches").and_then(Value::as_array).map_or(&[][..], Vec::as_slice);
+    if branches.len() > 1 {
+        for b in branches {
+            let num = |k: &str| b.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
+            let unmoved =
+                match (b.get("unmoved") == Some(&Value::Bool(true)), b.get("counted") == Some(&Value::Bool(true))) {
+                    (true, true) => ", the unmoved start's",
+                    (true, false) => ", the unmoved start's only: not counted",
+                    _ => "",
+                };
+            let _ = write!(
+                text,
+                " — branch {} (J = {:.6e} J, {} starts{unmoved}): {}, {}",
+                num("branch"),
+                num("objective"),
+                num("starts"),
+                verdict(passed(b)),
+                text_of(b, "measured")
+            );
+        }
+    }
+    text
+}
+
+pub(crate) fn text_of<'a>(claim: &'a Value, key: &str) -> &'a str {
+    claim.get(key).and_then(Value::as_str).unwrap_or("")
+}
+
+pub(crate) fn verdict(pass: bool) -> &'static str {
+    if pass {
+        "PASS"
+    } else {
+        "FAIL"
+    }
+}
