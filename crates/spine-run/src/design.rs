@@ -51,7 +51,8 @@ fn solve_unchecked(valid: &ValidDesign, start: &Design) -> Result<SolverRun, Run
 
 /// Eq. (33) from the case's start; with `multistart.confidence`, also the best optimum of a census
 /// to that confidence (seeded starts in this process, `census_to`).
-/// Each run from a start is repeated from its moved starts (`knife_edge`, [`knife_edge`]).
+/// Each run from a start is repeated from its moved starts (the case's `knife_edge`,
+/// [`spine_design::knife_edge`]).
 pub fn run_design(valid: &ValidDesign, workers: Option<&Workers>) -> Result<StaticDesign, RunError> {
     let mut design = run_design_alone(valid, workers)?;
     design.knife_edge = knife_edge(valid, &design.result, workers)?;
