@@ -56,11 +56,6 @@ impl Default for KnifeEdgeSettings {
 }
 
 impl KnifeEdgeSettings {
-    /// No moved starts.
-    pub fn off() -> Self {
-        Self { pairs: 0, ..Self::default() }
-    }
-
     /// Errors name the field (`pairs`, `size`).
     pub fn validate(&self) -> Result<(), FieldError> {
         require(self.pairs <= MAX_PAIRS, "pairs", || format!("must be at most {MAX_PAIRS}, got {}", self.pairs))?;
@@ -246,6 +241,6 @@ mod tests {
             let e = KnifeEdgeSettings { size, ..Default::default() }.validate().unwrap_err();
             assert_eq!(e.field, "size", "{e}");
         }
-        assert!(KnifeEdgeSettings::off().validate().is_ok());
+        assert!(KnifeEdgeSettings { pairs: 0, ..Default::default() }.validate().is_ok());
     }
 }

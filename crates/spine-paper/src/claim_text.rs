@@ -2,6 +2,7 @@
 //! split it, its verdict and its measured numbers with each branch's.
 
 use serde_json::Value;
+use spine_run::claims::BranchVerdict;
 use std::fmt::Write as _;
 
 pub(crate) fn passed(claim: &Value) -> bool {
@@ -19,23 +20,9 @@ pub(crate) fn measured(claim: &Value) -> String {
     let mut text = text_of(claim, "measured").to_string();
     let branches = claim.get("branches").and_then(Value::as_array).map_or(&[][..], Vec::as_slice);
     if branches.len() > 1 {
-        for b in branches {
-            let num = |k: &str| b.get(k).and_then(Value::as_f64).unwrap_or(f64::NAN);
-            let unmoved =
-                match (b.get("unmoved") == Some(&Value::Bool(true)), b.get("counted") == Some(&Value::Bool(true))) {
-                    (true, true) => ", the unmoved start's",
-                    (true, false) => ", the unmoved start's only: not counted",
-                    _ => "",
-                };
-            let _ = write!(
-                text,
-                " — branch {} (J = {:.6e} J, {} starts{unmoved}): {}, {}",
-                num("branch"),
-                num("objective"),
-                num("starts"),
-                verdict(passed(b)),
-                text_of(b, "measured")
-            );
+        let parsed = branches.iter().filter_map(|b| serde_json::from_value::<BranchVerdict>(b.clone()).ok());
+        for branch in parsed {
+            let _ = write!(text, " — {}", branch.text());
         }
     }
     text

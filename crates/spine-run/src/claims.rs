@@ -1,7 +1,7 @@
 //! A claim of the paper, checked by the program: what the paper says, what is measured and the
 //! threshold it is held to (fixed before the run), the verdict and the numbers.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// What a claim checks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -38,7 +38,7 @@ pub struct Claim {
 }
 
 /// A claim's verdict on one optimum of a knife edge ([`spine_design::knife_edge::Branch`]).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BranchVerdict {
     /// The branch's index among the run's knife-edge branches.
     pub branch: usize,
@@ -142,24 +142,28 @@ pub struct BranchOf {
     pub counted: bool,
 }
 
+impl BranchVerdict {
+    /// The branch's verdict in words, as the command line and the reports write it: `branch B
+    /// (J = … J, N starts[, the unmoved start's[ only: not counted]]): PASS|FAIL, measured`.
+    pub fn text(&self) -> String {
+        let whose = match (self.unmoved, self.counted) {
+            (true, true) => ", the unmoved start's",
+            (true, false) => ", the unmoved start's only: not counted",
+            _ => "",
+        };
+        let verdict = if self.pass { "PASS" } else { "FAIL" };
+        format!(
+            "branch {} (J = {:.6e} J, {} starts{whose}): {verdict}, {}",
+            self.branch, self.objective, self.starts, self.measured
+        )
+    }
+}
+
 impl std::fmt::Display for Claim {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{} [{}] {} — {}: {}", self.verdict(), self.scope, self.statement, self.test, self.measured)?;
         for b in self.branches.iter().filter(|_| self.branches.len() > 1) {
-            let unmoved = match (b.unmoved, b.counted) {
-                (true, true) => ", the unmoved start's",
-                (true, false) => ", the unmoved start's only: not counted",
-                _ => "",
-            };
-            write!(
-                f,
-                "; branch {} (J = {:.6e} J, {} starts{unmoved}): {}, {}",
-                b.branch,
-                b.objective,
-                b.starts,
-                if b.pass { "PASS" } else { "FAIL" },
-                b.measured
-            )?;
+            write!(f, "; {}", b.text())?;
         }
         Ok(())
     }

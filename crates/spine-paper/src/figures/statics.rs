@@ -132,20 +132,7 @@ pub(super) fn held_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value) 
         return (claims, summary);
     };
     let edge = &k.edge;
-    summary["knife_edge"] = json!({
-        "split": edge.split,
-        "unmoved_branch": edge.branch_of(0),
-        "unmoved_only": edge.unmoved_only.as_ref().map(|b| json!({"objective": b.objective, "clean": b.clean, "iterations": b.iterations})),
-        "moved_starts": 2 * edge.settings.pairs,
-        "size": edge.settings.size,
-        "optima": edge.branches.iter().map(|b| json!({
-            "objective": b.objective, "clean": b.clean, "starts": b.starts, "mirror_of": b.mirror_of, "iterations": b.iterations,
-        })).collect::<Vec<_>>(),
-        "failed": edge.failed.len(),
-        "iterations": edge.iterations,
-        "end_spread_theta0": edge.end_spread_theta0,
-        "end_spread_stiffness": edge.end_spread_stiffness,
-    });
+    summary["knife_edge"] = json!(edge);
     let unmoved = edge.branch_of(0);
     if !edge.split && unmoved.is_some() {
         return (claims, summary);
@@ -158,15 +145,14 @@ pub(super) fn held_claims(scope: &str, s: &StaticDesign) -> (Vec<Claim>, Value) 
     };
     let mut per_branch: Vec<(BranchOf, Vec<Claim>)> =
         edge.branches.iter().zip(&k.designs).map(|(b, d)| (of(b), design_claims(scope, d).0)).collect();
+    let unmoved_failed = edge.failed.iter().any(|(k, _)| *k == 0);
     if let Some(failed) = &k.failed {
         let starts = edge.failed.iter().filter(|(k, _)| *k > 0).count();
-        let unmoved = edge.failed.iter().any(|(k, _)| *k == 0);
-        let of = BranchOf { objective: failed.result.objective, starts, unmoved, counted: true };
+        let of = BranchOf { objective: failed.result.objective, starts, unmoved: unmoved_failed, counted: true };
         per_branch.push((of, design_claims(scope, failed).0));
     }
     // The unmoved start's own outcome, where no moved start had it (an optimum only it reached,
     // or a failure where every moved start converged): shown, not counted.
-    let unmoved_failed = edge.failed.iter().any(|(k, _)| *k == 0);
     if unmoved.is_none() && !(unmoved_failed && k.failed.is_some()) {
         let of = BranchOf { objective: s.result.objective, starts: 1, unmoved: true, counted: false };
         per_branch.push((of, claims));
@@ -239,10 +225,8 @@ pub fn design_figure(figure: &str, title: &str, runs: &[NamedRun<'_>]) -> Result
                     Drawn::Start => "",
                     Drawn::Best(_) => " best",
                     Drawn::FminconLike => " fmincon-like",
-                    Drawn::Branch(..) => {
-                        // Its claims are the start's, held to each branch (`held_claims`).
-                        continue;
-                    }
+                    // Its claims are the start's, held to each branch (`held_claims`).
+                    Drawn::Branch(..) => continue,
                 }
             );
             let (claims, mut summary) = held_claims(&scope, d);
