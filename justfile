@@ -9,8 +9,8 @@ build:
 # Run every test (release build; unit, integration, property and CLI tests), then the Ipopt-facing
 # tests again on the Ipopt 3.14 backend (`just ipopt314 test`), the Python package's tests
 # (`just python`), the browser check of the HTML report (`just browser-test`), the shard/merge
-# path of a multi-start under GNU parallel and the Slurm script (`just shard-test`), then the lints
-# (`just lint`).
+# path of a multi-start under GNU parallel and the Slurm script (`just shard-test`), the docs'
+# quoted numbers against fresh runs of the paper (`just docs-check`), then the lints (`just lint`).
 test:
     cargo build --release --workspace --all-targets --quiet
     if cargo nextest --version >/dev/null 2>&1; then cargo nextest run --release --workspace --no-fail-fast; else cargo test --release --workspace --no-fail-fast; fi
@@ -20,6 +20,7 @@ test:
     just browser-test
     just shard-test
     just slurm-test
+    just docs-check
     just lint
 
 # The Python package `flexspine` (crates/spine-py): builds it from source and installs it into
@@ -101,15 +102,28 @@ study NAME:
 sweep-fig5:
     cargo run --release --quiet -p spine-cli -- sweep paper-cases/fig5-base.json --param loads.p_y --from -1 --to -20 --points 39 --census 20 --census-every 3 --out results/fig5-sweep
 
-# Every figure and the C_K study, then results/REPORT.md and results/report.html (one self-contained page; a failed solver check, exit 3, is reported, not fatal).
+# Every figure and the C_K study, then results/REPORT.md, results/report.html (one self-contained page; a failed solver check, exit 3, is reported, not fatal) and results/report.json, then the numbers README.md, docs/findings.md and docs/errata.md quote from these runs rewritten (`spine quotes`: the `<!--q …-->` markers; a quote within its tolerance is kept, so `git diff docs/` stays empty when the runs agree).
 paper:
-    cargo build --release --quiet -p spine-cli
+    just paper-results results
+    ./target/release/spine quotes --results results
+
+# The paper's runs into OUT (every figure case, the C_K study, the report), as `just paper` makes them.
+paper-results OUT:
+    cargo build --release --workspace --all-targets --quiet
     for c in twolink fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 fig11 fig12; do \
-        echo "== $c"; code=0; ./target/release/spine case paper-cases/$c.json --out results/$c || code=$?; \
+        echo "== $c"; code=0; ./target/release/spine case paper-cases/$c.json --out {{OUT}}/$c || code=$?; \
         if [ "$code" != 0 ] && [ "$code" != 3 ]; then exit "$code"; fi; \
     done
-    echo "== study-ck"; code=0; ./target/release/spine study ck paper-cases/study-ck.json --out results/study-ck || code=$?; if [ "$code" != 0 ] && [ "$code" != 3 ]; then exit "$code"; fi
-    ./target/release/spine report --results results
+    echo "== study-ck"; code=0; ./target/release/spine study ck paper-cases/study-ck.json --out {{OUT}}/study-ck || code=$?; if [ "$code" != 0 ] && [ "$code" != 3 ]; then exit "$code"; fi
+    ./target/release/spine report --results {{OUT}}
+
+# The docs against the runs (run by `just test`; scripts/docs-check.sh): the paper's runs made
+# afresh in target/docs-check/results, every number README.md, docs/findings.md and docs/errata.md
+# quote compared with them (`spine quotes --check`, exit 3 naming each drift), and every failing
+# statement of the paper linked to its explanation in docs/findings.md (report.json).
+docs-check:
+    cargo build --release --workspace --all-targets --quiet
+    ./scripts/docs-check.sh
 
 # Criterion benchmarks for N = 5 … 10 000 (about 10 min), then benchmarks/RESULTS.md and benchmarks/scaling.svg.
 bench:

@@ -185,8 +185,7 @@ pub struct WorkerArgs {
 pub struct PeriodicArgs {
     #[command(flatten)]
     pub run: RunArgs,
-    /// Method for eq. (37): `ga` (genetic algorithm), `pattern` (pattern search) or `gradient`
-    /// (Ipopt with exact sensitivities); default: the case file's.
+    /// Method for eq. (37): `ga`, `pattern` (search) or `gradient` (Ipopt); default: the case file's.
     #[arg(long, value_parser = parse_method)]
     pub method: Option<SearchMethod>,
     #[command(flatten)]
@@ -203,8 +202,7 @@ pub struct StudyArgs {
     /// The C_K values; default 1 to 10⁴ in half-decades.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub values: Option<Vec<f64>>,
-    /// Worker processes for the study's eq. (33) solves, 1..=256 (default: the number of cores);
-    /// the rows are the same, byte for byte.
+    /// Worker processes for the study's eq. (33) solves, 1..=256 (default: the cores); same rows.
     #[arg(long, value_name = "N", value_parser = parse_jobs)]
     pub jobs: Option<usize>,
 }
@@ -299,6 +297,19 @@ pub struct ReportArgs {
     pub errata: PathBuf,
 }
 
+#[derive(clap::Args)]
+pub struct QuotesArgs {
+    /// The results folder (`just paper`'s): a `result.json` per case folder, and `report.json`.
+    #[arg(long, default_value = "results")]
+    pub results: PathBuf,
+    /// Compare the quotes with the runs and exit 3 where one drifted; write nothing.
+    #[arg(long)]
+    pub check: bool,
+    /// The docs that quote the runs.
+    #[arg(default_values = ["README.md", "docs/findings.md", "docs/errata.md"])]
+    pub files: Vec<PathBuf>,
+}
+
 #[derive(Subcommand)]
 pub enum Command {
     /// Passive (θ1) and loaded (θ2) equilibria of a given design, with stability.
@@ -330,6 +341,8 @@ pub enum Command {
     Worker(WorkerArgs),
     /// Gathers the figures' results into `RESULTS/REPORT.md` and `RESULTS/report.html` (one self-contained page).
     Report(ReportArgs),
+    /// Writes the numbers the docs quote (`<!--q SOURCE PATH | FORMAT-->…<!--/q-->`) from the runs.
+    Quotes(QuotesArgs),
 }
 
 impl DesignArgs {

@@ -16,8 +16,10 @@
 //!   the message with the option's name (exit code 2).
 //! * `progress`: Progress of a long run on the terminal (stderr): one bar per stage, finished lines
 //!   printed.
-//! * `report`: `spine report`: the figures' results gathered into `RESULTS/REPORT.md` and the
-//!   self-contained `RESULTS/report.html`.
+//! * `quotes`: `spine quotes`: the numbers the docs quote from the paper cases' runs, written from
+//!   the results folder, or compared with it (`--check`, exit 3 on a drift).
+//! * `report`: `spine report`: the figures' results gathered into `RESULTS/REPORT.md`, the
+//!   self-contained `RESULTS/report.html` and the counts in `RESULTS/report.json`.
 //! * `workers`: The worker processes of a run's multi-starts: `--jobs N`, this program started
 //!   again as `spine worker`.
 #![forbid(unsafe_code)]
@@ -26,6 +28,7 @@ mod args;
 mod output;
 mod parse;
 mod progress;
+mod quotes;
 mod report;
 mod workers;
 
@@ -61,7 +64,7 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            eprintln!("error: a command is needed: spine equilibrium|twolink|design|merge|simulate|damping|periodic|case|study|sensitivity|sweep|report … (see --help)");
+            eprintln!("error: a command is needed: spine equilibrium|twolink|design|merge|simulate|damping|periodic|case|study|sensitivity|sweep|report|quotes … (see --help)");
             return ExitCode::from(2);
         }
         // One line a person can act on (clap's first line, the value shortened and escaped),
@@ -98,6 +101,7 @@ fn main() -> ExitCode {
         Command::Sensitivity(a) => run(&a.run, None, a.overrides(), Mode::Sensitivity(&a.params)),
         Command::Sweep(a) => run(&a.run, Some("design"), a.overrides(), Mode::Sweep(a)),
         Command::Report(a) => report::run(a),
+        Command::Quotes(a) => quotes::run(a),
         Command::Worker(a) => worker(a),
     };
     match done {

@@ -1,10 +1,10 @@
-//! `spine report`: the figures' results gathered into `RESULTS/REPORT.md` and the self-contained
-//! `RESULTS/report.html`.
+//! `spine report`: the figures' results gathered into `RESULTS/REPORT.md`, the self-contained
+//! `RESULTS/report.html` and the counts in `RESULTS/report.json` (which the docs quote).
 
 use crate::args::ReportArgs;
 use crate::output::{say, Output};
 use crate::Failure;
-use spine_paper::report::{report, report_html, FolderResult};
+use spine_paper::report::{report, report_html, report_json, FolderResult};
 
 /// Largest errata file read, bytes.
 const MAX_ERRATA_BYTES: usize = 16 << 20;
@@ -31,6 +31,7 @@ pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
     let out = Output::new(&a.results, false);
     out.check_text("REPORT.md")?;
     out.check_text("report.html")?;
+    out.check_text("report.json")?;
     let errata =
         spine_case::read_text(&a.errata, "errata", MAX_ERRATA_BYTES).map_err(|e| Failure::Input(e.to_string()))?;
     let mut results = Vec::new();
@@ -48,8 +49,10 @@ pub fn run(a: &ReportArgs) -> Result<bool, Failure> {
     }
     out.write_text("REPORT.md", &report(&results, &errata, &missing))?;
     out.write_text("report.html", &report_html(&results, &errata, &missing))?;
+    let counts = serde_json::to_string_pretty(&report_json(&results)).map_err(|e| Failure::Other(e.to_string()))?;
+    out.write_text("report.json", &(counts + "\n"))?;
     say(&format!(
-        "wrote {} and {} ({} cases, {} missing)\n",
+        "wrote {}, {} and report.json ({} cases, {} missing)\n",
         a.results.join("REPORT.md").display(),
         a.results.join("report.html").display(),
         results.len(),

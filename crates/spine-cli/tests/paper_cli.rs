@@ -270,7 +270,9 @@ fn report_gathers_claims_figures_and_errata() {
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();
     assert!(md.contains("| fig3 | **no result**"));
-    assert!(md.contains("**9 of 10 claims pass.**"), "{md}");
+    assert!(md.contains("**3 of the paper's 4 statements pass, 1 fail; 6 of 6 solver checks pass.**"), "{md}");
+    let counts: Value = serde_json::from_str(&std::fs::read_to_string(results.join("report.json")).unwrap()).unwrap();
+    assert_eq!((counts["paper"]["pass"].as_u64(), counts["solver"]["total"].as_u64()), (Some(3), Some(6)));
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
 }
@@ -322,7 +324,7 @@ fn report_html_renders_in_a_headless_browser() {
     let verdicts =
         claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
     assert_eq!(verdicts, 10 + 4, "ten twolink claims and four fig9 claims (n5): {claims}");
-    assert!(dom.contains("claims pass."));
+    assert!(dom.contains("solver checks pass."));
     // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
     let shot = results.join("shot.png");
     browser(&[&format!("--screenshot={}", shot.display())]);

@@ -5,7 +5,9 @@
 //! `spine-plot`), CSV tables of the plotted data and [`Claim`](spine_run::Claim)s — the paper's
 //! statements, each measured and given PASS or FAIL with its numbers. [`PaperFigures`] hands the
 //! recipes to the run path; [`report`] gathers every figure's claims into `results/REPORT.md` and
-//! `results/report.html`, and `claim_text` writes one claim for both (verdict, knife-edge branches).
+//! `results/report.html`, and `claim_text` writes one claim for both (verdict, knife-edge branches); [`counts`] gives them
+//! one count (the paper's statements apart from the solver checks); [`quotes`] writes the
+//! numbers the docs quote from the runs (markers in the markdown, checked for drift).
 //!
 //! ```
 //! // Fig. "twolink" (Sec. 3) from a figure case: its runs through spine-run, its panels and claims here.
@@ -22,7 +24,9 @@
 #![forbid(unsafe_code)]
 
 mod claim_text;
+pub mod counts;
 pub mod figures;
+pub mod quotes;
 pub mod report;
 
 pub use figures::PaperFigures;

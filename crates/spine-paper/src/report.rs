@@ -4,6 +4,7 @@
 //! data URIs, no script, no network).
 
 use crate::claim_text::{measured, passed, split, text_of, verdict};
+use crate::counts::Counts;
 use serde_json::Value;
 use std::fmt::Write as _;
 
@@ -33,14 +34,12 @@ impl FolderResult {
     }
 }
 
-/// " N are split by a knife edge." where some claims are ([`split`]), else nothing.
+/// What a split claim is, where some claims are ([`split`]), else nothing.
 fn split_note(results: &[FolderResult]) -> String {
-    let n = results.iter().flat_map(|r| r.claims()).filter(|c| split(c)).count();
-    if n == 0 {
-        String::new()
+    if results.iter().flat_map(|r| r.claims()).any(split) {
+        " A split statement's verdict differs between the optima that starts moved by 1e-6 reach (a knife edge; docs/design.md, \"Knife edges\"): it is counted neither as PASS nor as FAIL.".into()
     } else {
-        let are = if n == 1 { "is" } else { "are" };
-        format!(" Of those that do not, {n} {are} split by a knife edge (the verdict differs between the optima that starts moved by 1e-6 reach; docs/design.md, \"Knife edges\").")
+        String::new()
     }
 }
 
@@ -48,24 +47,22 @@ fn cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
 
-fn total_seconds(v: &Value) -> Option<f64> {
-    v.get("timings")?.get("total_seconds")?.as_f64()
+/// The cross-figure statements of the paper the report decides (the C_K trend over Figs. 6–8),
+/// with their verdicts.
+fn across(results: &[FolderResult]) -> Vec<(bool, &'static str)> {
+    ck_across(results).map_or(vec![], |ck| vec![(ck.spread_up, SPREAD_STATEMENT), (ck.shape_down, SHAPE_STATEMENT)])
 }
 
-/// Per result: claims passed, claims, run time (s, "—" when unknown); and the totals passed and
-/// claims over all results.
-fn summary(results: &[FolderResult]) -> (Vec<(usize, usize, String)>, usize, usize) {
-    let rows: Vec<(usize, usize, String)> = results
-        .iter()
-        .map(|r| {
-            let claims = r.claims();
-            let t = total_seconds(&r.value).map_or("—".into(), |t| format!("{t:.1}"));
-            (claims.iter().filter(|c| passed(c)).count(), claims.len(), t)
-        })
-        .collect();
-    let passed_count = rows.iter().map(|r| r.0).sum();
-    let total = rows.iter().map(|r| r.1).sum();
-    (rows, passed_count, total)
+/// The one count of claims, over every result and the cross-figure statements.
+fn counts(results: &[FolderResult]) -> Counts {
+    let verdicts: Vec<bool> = across(results).iter().map(|(p, _)| *p).collect();
+    Counts::all(results, &verdicts)
+}
+
+/// `results/report.json`: the counts the report states and the failing statements with their
+/// explanation's anchor in `docs/findings.md` ([`crate::counts::report_json`]).
+pub fn report_json(results: &[FolderResult]) -> Value {
+    crate::counts::report_json(results, &across(results), &finding)
 }
 
 /// The C_K statement on Figs. 6–8 (C_K = 1, 10², 10⁴): rows `(C_K, CV of K, ‖θ0 − θ0_start‖)`,
@@ -124,19 +121,20 @@ pub fn report(results: &[FolderResult], errata: &str, missing: &[String]) -> Str
         "Every figure of the paper, computed by `just paper` (one `just case NAME` per figure, then `just study ck`). \
          Each claim is the paper's statement, the test this program holds it to (thresholds fixed in the code, \
          `crates/spine-paper`), the verdict and the measured numbers. A **solver** check is about this program's \
-         own computation (converged, δ_d met, T_90 met); a **paper** check is a statement of the paper. A FAIL is \
+         own computation (converged, δ_d met, T_90 met) or a statement that cannot fail here (it holds by units, or by a \
+         target the program enforces or took from its own runs); a **paper** check is a statement of the paper that the \
+         computation could contradict, and only those are counted as the paper's. A FAIL is \
          reported, never tuned away. The case files (`paper-cases/NAME.json`) list the paper's values and every \
          assumption with its reason.\n\n",
     );
-    let (rows, passed_count, total) = summary(results);
-    md.push_str("## Summary\n\n| case | title | claims passed | run time (s) |\n|---|---|---|---|\n");
-    for (r, (p, n, t)) in results.iter().zip(rows) {
-        let _ = writeln!(md, "| [{}](#{}) | {} | {p} / {n} | {t} |", r.name, r.name, cell(r.title()));
+    md.push_str("## Summary\n\n| case | title | paper statements passed | solver checks passed | run time (s) |\n|---|---|---|---|---|\n");
+    for (r, (p, s, t)) in results.iter().zip(crate::counts::rows(results)) {
+        let _ = writeln!(md, "| [{}](#{}) | {} | {p} | {s} | {t} |", r.name, r.name, cell(r.title()));
     }
     for m in missing {
-        let _ = writeln!(md, "| {m} | **no result** (the case did not run or failed) | — | — |");
+        let _ = writeln!(md, "| {m} | **no result** (the case did not run or failed) | — | — | — |");
     }
-    let _ = writeln!(md, "\n**{passed_count} of {total} claims pass.**{}\n", split_note(results));
+    let _ = writeln!(md, "\n**{}**{}\n", counts(results).sentence(), split_note(results));
 
     md.push_str("## Claims\n\n| case | scope | check | statement | test | verdict | measured |\n|---|---|---|---|---|---|---|\n");
     for r in results {
@@ -195,7 +193,10 @@ pub const FINDINGS: &str = "../docs/findings.md";
 
 /// The paper's statements whose FAIL `docs/findings.md` explains, with the section's anchor: a
 /// fragment of the statement as the claims spell it.
-const FINDINGS_SECTIONS: [(&str, &str); 7] = [
+const FINDINGS_SECTIONS: [(&str, &str); 10] = [
+    ("more sensitive to change in θ0 in comparison to change in K", "sensitivity-ratio"),
+    ("∂L/∂K is less than ∂L/∂θ0", "sec3"),
+    ("comparing this result with that obtained by genetic algorithm", "fig11-similarity"),
     ("orientation is preferred to change in stiffness", "orientation-vs-stiffness"),
     ("more pronounced near the point of end-point load", "change-near-the-end-load"),
     ("localized stiffening", "localized-stiffening"),
@@ -242,7 +243,7 @@ code{background:#f2f2f2;padding:0 2px}figure{margin:1em 0}figure svg,figure img{
 pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -> String {
     let mut h = String::from("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     let _ = writeln!(h, "<title>Reproduction report</title>\n<style>{STYLE}</style>\n</head>\n<body>");
-    h.push_str("<h1>Reproduction report</h1>\n<p>Every figure of the paper, computed by <code>just paper</code>. Each claim is the paper's statement, the test this program holds it to, the verdict and the measured numbers. A <strong>solver</strong> check is about this program's own computation (converged, δ<sub>d</sub> met, T<sub>90</sub> met); a <strong>paper</strong> check is a statement of the paper. A FAIL is reported, never tuned away. The case files (<code>paper-cases/NAME.json</code>) list the paper's values and every assumption with its reason.</p>\n");
+    h.push_str("<h1>Reproduction report</h1>\n<p>Every figure of the paper, computed by <code>just paper</code>. Each claim is the paper's statement, the test this program holds it to, the verdict and the measured numbers. A <strong>solver</strong> check is about this program's own computation (converged, δ<sub>d</sub> met, T<sub>90</sub> met) or a statement that cannot fail here (it holds by units, or by a target the program enforces or took from its own runs); a <strong>paper</strong> check is a statement of the paper that the computation could contradict, and only those are counted as the paper's. A FAIL is reported, never tuned away. The case files (<code>paper-cases/NAME.json</code>) list the paper's values and every assumption with its reason.</p>\n");
     html_summary(&mut h, results, missing);
     html_claims(&mut h, results);
     html_ck(&mut h, results);
@@ -255,12 +256,11 @@ pub fn report_html(results: &[FolderResult], errata: &str, missing: &[String]) -
 
 /// The report's summary table (one row per case, and one per case with no result) and the total.
 fn html_summary(h: &mut String, results: &[FolderResult], missing: &[String]) {
-    let (rows, passed_count, total) = summary(results);
-    h.push_str("<h2>Summary</h2>\n<table id=\"summary\">\n<tr><th>case</th><th>title</th><th>claims passed</th><th>run time (s)</th></tr>\n");
-    for (r, (p, n, t)) in results.iter().zip(rows) {
+    h.push_str("<h2>Summary</h2>\n<table id=\"summary\">\n<tr><th>case</th><th>title</th><th>paper statements passed</th><th>solver checks passed</th><th>run time (s)</th></tr>\n");
+    for (r, (p, s, t)) in results.iter().zip(crate::counts::rows(results)) {
         let _ = writeln!(
             h,
-            "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{p} / {n}</td><td>{t}</td></tr>",
+            "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{p}</td><td>{s}</td><td>{t}</td></tr>",
             escape(&r.name),
             escape(r.title()),
         );
@@ -268,14 +268,15 @@ fn html_summary(h: &mut String, results: &[FolderResult], missing: &[String]) {
     for m in missing {
         let _ = writeln!(
             h,
-            "<tr><td>{}</td><td><strong>no result</strong> (the case did not run or failed)</td><td>—</td><td>—</td></tr>",
+            "<tr><td>{}</td><td><strong>no result</strong> (the case did not run or failed)</td><td>—</td><td>—</td><td>—</td></tr>",
             escape(m)
         );
     }
     h.push_str("</table>\n");
     let _ = writeln!(
         h,
-        "<p class=\"total\" id=\"total\">{passed_count} of {total} claims pass.{}</p>",
+        "<p class=\"total\" id=\"total\">{}{}</p>",
+        escape(&counts(results).sentence()),
         split_note(results)
     );
 }
@@ -440,7 +441,7 @@ mod tests {
         assert!(html.starts_with("<!DOCTYPE html>") && html.ends_with("</html>\n"));
         assert!(html.contains("<td class=\"pass\">PASS</td>") && html.contains("<td class=\"fail\">FAIL</td>"));
         assert!(html.contains("Fig. 3 &lt;test&gt;") && html.contains("a &amp; b") && html.contains("x &lt; y"));
-        assert!(html.contains("1 of 2 claims pass."));
+        assert!(html.contains("0 of the paper's 1 statements pass, 1 fail; 1 of 1 solver checks pass."), "{html}");
         assert!(html.contains("<td>1.2</td>") || html.contains("<td>1.3</td>"), "run time");
         assert!(html.contains("fig4</td><td><strong>no result</strong>"));
         // The SVG inline without its XML declaration, the GIF as a data URI.
@@ -474,7 +475,7 @@ mod tests {
             md.contains("branch 2 (J = 7.270000e-3 J, 2 starts, the unmoved start's only: not counted): FAIL"),
             "{md}"
         );
-        assert!(md.contains("Of those that do not, 1 is split by a knife edge"), "{md}");
+        assert!(md.contains("0 of the paper's 1 statements pass, 0 fail, 1 is split by a knife edge"), "{md}");
         let html = report_html(&r, "", &[]);
         assert!(html.contains("<td class=\"split\">SPLIT</td>"), "{html}");
         assert!(!report(&results(), "", &[]).contains("split by a knife edge"));
