@@ -102,7 +102,7 @@ study NAME:
 sweep-fig5:
     cargo run --release --quiet -p spine-cli -- sweep paper-cases/fig5-base.json --param loads.p_y --from -1 --to -20 --points 39 --census 20 --census-every 3 --out results/fig5-sweep
 
-# Every figure and the C_K study, then results/REPORT.md, results/report.html (one self-contained page; a failed solver check, exit 3, is reported, not fatal) and results/report.json, then the numbers README.md, docs/findings.md and docs/errata.md quote from these runs rewritten (`spine quotes`: the `<!--q …-->` markers; a quote within its tolerance is kept, so `git diff docs/` stays empty when the runs agree).
+# Every figure and the C_K study, then results/REPORT.md, results/report.html (one self-contained page; a failed solver check, exit 3, is reported, not fatal) and results/report.json, then the numbers README.md and docs/ (findings, errata, contributing) quote from these runs rewritten (`spine quotes`: the `<!--q …-->` markers; a quote within its tolerance is kept, so `git diff docs/` stays empty when the runs agree).
 paper:
     just paper-results results
     ./target/release/spine quotes --results results

@@ -306,7 +306,7 @@ pub struct QuotesArgs {
     #[arg(long)]
     pub check: bool,
     /// The docs that quote the runs.
-    #[arg(default_values = ["README.md", "docs/findings.md", "docs/errata.md"])]
+    #[arg(default_values = ["README.md", "docs/findings.md", "docs/errata.md", "docs/contributing.md"])]
     pub files: Vec<PathBuf>,
 }
 

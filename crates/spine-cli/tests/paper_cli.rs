@@ -275,6 +275,42 @@ fn report_gathers_claims_figures_and_errata() {
     assert_eq!((counts["paper"]["pass"].as_u64(), counts["solver"]["total"].as_u64()), (Some(3), Some(6)));
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
+    quotes_are_written_from_the_runs_and_checked_for_drift(&results);
+}
+
+/// `spine quotes` on the report's folder: a drifted quote is named (file, line, the doc's text
+/// and the run's) and exits 3 with `--check`, writing nothing; without it the doc is rewritten and
+/// checks clean; a bad quote exits 2 naming the line, the doc untouched.
+fn quotes_are_written_from_the_runs_and_checked_for_drift(results: &Path) {
+    let doc = results.join("doc.md");
+    let text = "# Doc\n\nK = <!--q twolink summary/optima/1/stiffness | .0f-->999<!--/q--> N·m/rad, \
+                <!--q report paper/pass | d-->3<!--/q--> of <!--q report paper/total | d-->4<!--/q--> pass.\n";
+    std::fs::write(&doc, text).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["quotes", "--results", results.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        args.push(doc.to_str().unwrap());
+        spine(&args)
+    };
+    let o = run(&["--check"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("doc.md:3: twolink summary/optima/1/stiffness: the doc quotes \"999\", the run gives \"1000\""),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&doc).unwrap(), text, "--check writes nothing");
+    let o = run(&[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read_to_string(&doc).unwrap(), text.replace("-->999<", "-->1000<"));
+    assert!(run(&["--check"]).status.success());
+    let bad = "a\n<!--q twolink summary/no_such_key-->1<!--/q-->\n";
+    std::fs::write(&doc, bad).unwrap();
+    let o = run(&[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("doc.md:2: twolink summary/no_such_key: no key \"no_such_key\""), "{err}");
+    assert_eq!(std::fs::read_to_string(&doc).unwrap(), bad);
 }
 
 /// `report.html` opened in a real browser (Debian's Chromium, headless): the page loads from the
