@@ -76,7 +76,7 @@ fn twolink_figure_checks_the_closed_forms() {
     let c = claims(&r);
     // Eqs. (10), (11); R; per upper bound (10⁴, 1000) eq. (12)'s Lagrange check and the two
     // readings of "∂L/∂K is less than ∂L/∂θ0"; eq. (26); eqs. (27)–(30) (erratum E10).
-    assert_eq!(c.len(), 2 + 2 * 3 + 2, "{c:?}");
+    assert_eq!(c.len(), 2 + 2 * 4 + 2, "{c:?}");
     assert!(c[..2].iter().all(|c| c["pass"] == json!(true)), "{c:?}");
     assert!(c.iter().filter(|c| c["check"] == "solver").all(|c| c["pass"] == json!(true)), "{c:?}");
     // The relative reading fails at the text's bound: a finding, reported, not hidden.
@@ -84,6 +84,11 @@ fn twolink_figure_checks_the_closed_forms() {
     assert_eq!(relative.len(), 2);
     assert_eq!(relative[1]["scope"], "K ≤ 1000");
     assert_eq!(relative[1]["pass"], json!(false), "{:?}", relative[1]);
+    // Read with L and eq. (20)'s λ1 (∂L/∂θ0 = 0), the statement fails at both optima, on bounds.
+    let lagrangian: Vec<&Value> = c.iter().filter(|c| c["test"].as_str().unwrap().starts_with("reading 3")).collect();
+    assert_eq!(lagrangian.len(), 2);
+    assert!(lagrangian.iter().all(|c| c["pass"] == json!(false) && c["check"] == "paper"), "{lagrangian:?}");
+    assert!(lagrangian[1]["measured"].as_str().unwrap().starts_with("|∂L/∂K| = 3.2120e-6"), "{:?}", lagrangian[1]);
     let orders = &r["summary"]["orders"];
     assert!((orders["eq10"].as_f64().unwrap() - 1.0).abs() < 0.05);
     assert!((orders["first_order"].as_f64().unwrap() - 2.0).abs() < 0.05);
@@ -270,9 +275,10 @@ fn report_gathers_claims_figures_and_errata() {
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();
     assert!(md.contains("| fig3 | **no result**"));
-    assert!(md.contains("**3 of the paper's 4 statements pass, 1 fail; 6 of 6 solver checks pass.**"), "{md}");
+    assert!(md.contains("**3 of the paper's 6 statements pass, 3 fail; 6 of 6 solver checks pass.**"), "{md}");
     let counts: Value = serde_json::from_str(&std::fs::read_to_string(results.join("report.json")).unwrap()).unwrap();
     assert_eq!((counts["paper"]["pass"].as_u64(), counts["solver"]["total"].as_u64()), (Some(3), Some(6)));
+    assert_eq!(counts["paper"]["total"].as_u64(), Some(6));
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
     quotes_are_written_from_the_runs_and_checked_for_drift(&results);
@@ -284,7 +290,7 @@ fn report_gathers_claims_figures_and_errata() {
 fn quotes_are_written_from_the_runs_and_checked_for_drift(results: &Path) {
     let doc = results.join("doc.md");
     let text = "# Doc\n\nK = <!--q twolink summary/optima/1/stiffness | .0f-->999<!--/q--> N·m/rad, \
-                <!--q report paper/pass | d-->3<!--/q--> of <!--q report paper/total | d-->4<!--/q--> pass.\n";
+                <!--q report paper/pass | d-->3<!--/q--> of <!--q report paper/total | d-->6<!--/q--> pass.\n";
     std::fs::write(&doc, text).unwrap();
     let run = |extra: &[&str]| {
         let mut args = vec!["quotes", "--results", results.to_str().unwrap()];
@@ -359,7 +365,7 @@ fn report_html_renders_in_a_headless_browser() {
     let claims = dom.split("<table id=\"claims\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap();
     let verdicts =
         claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
-    assert_eq!(verdicts, 10 + 4, "ten twolink claims and four fig9 claims (n5): {claims}");
+    assert_eq!(verdicts, 12 + 4, "twelve twolink claims and four fig9 claims (n5): {claims}");
     assert!(dom.contains("solver checks pass."));
     // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
     let shot = results.join("shot.png");

@@ -17,7 +17,7 @@ pub use crate::periodic_settings::{GradientSettings, GradientStart, PeriodicDesi
 use serde::Serialize;
 use spine_dynamics::forcing::Forcing;
 use spine_dynamics::periodic::{simulate_periodic, PeriodicResponse};
-use spine_dynamics::response::{DynamicProblem, DynamicsError};
+use spine_dynamics::response::{rise_time, DynamicProblem, DynamicsError, StepSettings};
 use spine_search::{genetic_algorithm, pattern_search, Bounds, Evaluation, Progress, SearchResult};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -48,8 +48,17 @@ pub struct PeriodicDesign {
     pub start: Evaluation,
     /// Periodic response of the best design (re-simulated with the response settings).
     pub response: PeriodicResponse,
+    /// The reach under a forcing that does not cap it: the best design's step response (the
+    /// actuation held on from rest at `θ1`) until the end covers `reach_fraction` of the static
+    /// swing `X(θ2) − X(θ1)`, s; `None` when it does not within [`STEP_REACH_HORIZON`]. (One step
+    /// simulation, not counted in `simulations`, which counts the periodic ones.)
+    pub step_reach_time: Option<f64>,
     pub time_seconds: f64,
 }
+
+/// Simulated time of the step response behind [`PeriodicDesign::step_reach_time`], s (it stops at
+/// the reach).
+pub const STEP_REACH_HORIZON: f64 = 60.0;
 
 /// How the method of eq. (37) ended: Ipopt's status (or the stop) for the gradient method, the
 /// search's for the GA and pattern search; printed by its name (`solve_succeeded`,
@@ -218,6 +227,7 @@ pub fn design_periodic(
                 .map_err(|source| DynamicDesignError::FinalDesign { delta_d, source })?
         }
     };
+    let step_reach_time = step_reach_time(problem, &stiffness, &response, settings);
     Ok(PeriodicDesign {
         method,
         feasible: best.violation == 0.0,
@@ -232,8 +242,29 @@ pub fn design_periodic(
         start_stiffness,
         start,
         response,
+        step_reach_time,
         time_seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// [`PeriodicDesign::step_reach_time`] of the springs `stiffness`, from the static ends of their
+/// periodic `response`.
+fn step_reach_time(
+    problem: &DynamicProblem,
+    stiffness: &[f64],
+    response: &PeriodicResponse,
+    settings: &PeriodicDesignSettings,
+) -> Option<f64> {
+    let mut p = problem.clone();
+    p.design.stiffness = stiffness.to_vec();
+    let step = StepSettings {
+        t_end: STEP_REACH_HORIZON,
+        rise_fraction: settings.response.reach_fraction,
+        integrator: settings.response.integrator.clone(),
+        continuation: settings.response.continuation.clone(),
+        ..StepSettings::default()
+    };
+    rise_time(&p.dynamics(Forcing::Step), &response.ends, &step, false).0
 }
 
 #[cfg(test)]

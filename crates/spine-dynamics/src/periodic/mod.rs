@@ -11,7 +11,8 @@
 //! * `reach_time`: from the load's onset until the end has covered `reach_fraction` (0.9) of its swing
 //!   from the onset value to the minimum;
 //! * `return_time`: from the release until it has come back `reach_fraction` of the way from the
-//!   minimum to the passive equilibrium `X_{N+1}(θ1)`;
+//!   minimum to the passive equilibrium `X_{N+1}(θ1)`; `return_to_start_time`: until it is back
+//!   within 1 % of that way ([`RETURN_TO_START`]), the paper's "returns to its original state";
 //! * `time_to_target`: from the onset until `X_{N+1} − L_x` first reaches a given `δ_d`.
 //!
 //! For a pulse train the onset is the rising edge and the release the falling edge; for the
@@ -84,6 +85,9 @@ pub struct PeriodicResponse {
     /// covers that fraction of the way back to `X(θ1)`, s.
     pub reach_time: Option<f64>,
     pub return_time: Option<f64>,
+    /// From the release until the end is back within 1 % of the way from the period's minimum to
+    /// `X(θ1)` ([`RETURN_TO_START`]), s; `None` when it does not get there before the next onset.
+    pub return_to_start_time: Option<f64>,
     /// The first on-phase from rest at `θ1`: from the first onset until the end covers
     /// `reach_fraction` of the static swing `X(θ2) − X(θ1)`, s (the step response's `T_90` when the
     /// on-phase is long enough to get there; `None` when it does not within the first period).
@@ -102,6 +106,10 @@ pub struct PeriodicResponse {
     #[serde(skip)]
     pub samples: Vec<Sample>,
 }
+
+/// The fraction of the way back from the period's minimum to `X(θ1)` after which the end counts as
+/// returned "to its original state" (Sec. 5.2.2): within 1 % of the swing.
+pub const RETURN_TO_START: f64 = 0.99;
 
 /// The smallest swing of the end displacement, m, that a response integrated with `options` over a
 /// chain of horizontal length `length_x` resolves: a hundred times the error the tolerances allow
@@ -333,11 +341,13 @@ fn run_periodic(
     let reach_time = end.crossing(traj, onset, x_onset + f * (min.0 - x_onset)).map(|t| t - onset);
     let return_level = min.0 + f * (ends.passive_displacement - min.0);
     let return_time = end.crossing(traj, release, return_level).map(|t| t - release);
+    let start_level = min.0 + RETURN_TO_START * (ends.passive_displacement - min.0);
+    let return_to_start_time = end.crossing(traj, release, start_level).map(|t| t - release);
     let time_to_target = target.and_then(|delta_d| end.crossing(traj, onset, delta_d)).map(|t| t - onset);
     let swing_resolved = max - min.0 > swing_resolution(&settings.integrator, length_x);
-    let (reach_time, return_time, time_to_target) = match swing_resolved {
-        true => (reach_time, return_time, time_to_target),
-        false => (None, None, None),
+    let (reach_time, return_time, return_to_start_time, time_to_target) = match swing_resolved {
+        true => (reach_time, return_time, return_to_start_time, time_to_target),
+        false => (None, None, None, None),
     };
     let values = (fixed_horizon && run.outcome == Outcome::Completed).then(|| {
         let (_, t_end) = traj.span();
@@ -360,6 +370,7 @@ fn run_periodic(
         max_end_displacement: max,
         reach_time,
         return_time,
+        return_to_start_time,
         first_rise_time: run.first_rise_time,
         time_to_target,
         swing_resolved,

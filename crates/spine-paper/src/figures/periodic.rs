@@ -94,7 +94,8 @@ pub fn periodic_design_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<Figu
         json!({
             "method": p.method, "stiffness": p.stiffness, "objective": p.objective,
             "min_end_displacement": p.min_end_displacement, "reach_time": p.response.reach_time,
-            "return_time": p.response.return_time, "time_to_target": p.response.time_to_target,
+            "return_time": p.response.return_time, "return_to_start_time": p.response.return_to_start_time,
+            "time_to_target": p.response.time_to_target, "step_reach_time": p.step_reach_time,
             "feasible": p.feasible, "simulations": p.simulations,
         })
     };
@@ -182,19 +183,30 @@ fn periodic_design_claims(scope: &str, p: &PeriodicDesign) -> Vec<Claim> {
 
 /// Sec. 5.2.2's times on the eq. (37) design `p`, each in both readings the text allows: "reaches
 /// the desired δ" as the time to δ_d itself (not reached when the search's band lets the minimum
-/// stop short of it) and as the time to 90 % of the swing; the return as the time back to 90 %.
+/// stop short of it), as the time to 90 % of the swing and as the step response's `T_90` (a
+/// forcing that does not cap the reach); the return as the time back to 90 % and
+/// as the time back to the original state (within 1 % of the way).
 fn timing_claims(scope: &str, p: &PeriodicDesign) -> Vec<Claim> {
     let r = &p.response;
     let reach = "\"the end-point reaches the desired δ in 0.5 seconds\" (Sec. 5.2.2)";
+    let back = "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"";
     let mut claims = vec![
         time_claim(scope, reach, r.time_to_target, 0.5, "reading 1: time from the onset to δ_d itself"),
         time_claim(scope, reach, r.reach_time, 0.5, "reading 2: time from the onset to 90 % of the swing"),
         time_claim(
             scope,
-            "\"when the load is removed the structure returns to its original state in about 0.25 seconds\"",
-            r.return_time,
+            reach,
+            p.step_reach_time,
+            0.5,
+            "reading 3: T_90 of the step response (the force held on from rest, so no on-phase caps the reach)",
+        ),
+        time_claim(scope, back, r.return_time, 0.25, "reading 1: return time (90 % of the way back)"),
+        time_claim(
+            scope,
+            back,
+            r.return_to_start_time,
             0.25,
-            "return time (90 % of the way back)",
+            "reading 2: time back to its original state (within 1 % of the way back to X(θ1))",
         ),
     ];
     claims.push(Claim::new(

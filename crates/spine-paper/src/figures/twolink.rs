@@ -195,6 +195,14 @@ fn optimum_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
             rel_k < rel_t,
             format!("|K ∂J/∂K| = {rel_k:.4e} J, |θ0 ∂J/∂θ0| = {rel_t:.4e} J"),
         ));
+        // Eq. (20) is ∂L/∂θ0 = 0 solved for λ1, so with that λ1 the θ0-partial of L is zero.
+        claims.push(Claim::new(
+            &scope,
+            statement,
+            "reading 3, the Lagrangian as the paper writes it: |∂L/∂K| (eq. (19)) < |∂L/∂θ0| (eq. (20)) with λ1 from eq. (20), which makes ∂L/∂θ0 = 0: it holds nowhere, an optimum on a bound has ∂L/∂K ≠ 0",
+            o.dl_dk.abs() < 0.0,
+            format!("|∂L/∂K| = {:.4e} J·rad/(N·m), ∂L/∂θ0 = 0 (λ1 = {:.4e} J)", o.dl_dk.abs(), o.lambda),
+        ));
     }
     claims
 }
