@@ -48,6 +48,19 @@ pub struct TwoLinkOptimisation {
     pub lower_bound: f64,
     /// N·m/rad, each > `lower_bound`; at least one.
     pub upper_bounds: Vec<f64>,
+    /// Sec. 5's bounds on the N-link problem, carried over: each upper bound whose optimum leans
+    /// beyond them is solved again within them (optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sec5_bounds: Option<TwoLinkSec5Bounds>,
+}
+
+/// Sec. 5's bounds for the two-link problem: `|θ0| ≤ theta0_max` (rad, in (0, π/2)) and the middle
+/// node's height `L sin θ0 ≤ height_max` (m, > 0), one limit on `|θ0|` together.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TwoLinkSec5Bounds {
+    pub theta0_max: f64,
+    pub height_max: f64,
 }
 
 /// `small_deflection` of a two-link case: links `lengths` (m), the first at design angle
@@ -124,7 +137,25 @@ impl TwoLinkOptimisation {
                 format!("must be finite and > lower_bound = {lower} N·m/rad, got {}", self.upper_bounds[i]),
             ));
         }
-        Ok(OptimisationSpec { delta: self.delta, lower_bound: lower, upper_bounds: self.upper_bounds.clone() })
+        let theta0_limit = match &self.sec5_bounds {
+            None => None,
+            Some(b) => {
+                if !(b.theta0_max > 0.0 && b.theta0_max < std::f64::consts::FRAC_PI_2) {
+                    return Err(CaseError::invalid(
+                        "optimisation.sec5_bounds.theta0_max",
+                        format!("must be in (0, π/2) rad, got {}", b.theta0_max),
+                    ));
+                }
+                let height = positive("optimisation.sec5_bounds.height_max", b.height_max, "m")?;
+                Some(b.theta0_max.min((height / length).min(1.0).asin()))
+            }
+        };
+        Ok(OptimisationSpec {
+            delta: self.delta,
+            lower_bound: lower,
+            upper_bounds: self.upper_bounds.clone(),
+            theta0_limit,
+        })
     }
 }
 
@@ -164,5 +195,29 @@ impl TwoLinkSmallDeflection {
             p_x3: p_x,
         };
         Ok(SmallDeflectionSpec { system, scales: self.scales.clone() })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn optimisation(bounds: Option<TwoLinkSec5Bounds>) -> TwoLinkOptimisation {
+        TwoLinkOptimisation { delta: -0.02, lower_bound: 100.0, upper_bounds: vec![1e4], sec5_bounds: bounds }
+    }
+
+    #[test]
+    fn sec5_bounds_become_one_angle_limit_and_bad_ones_name_their_field() {
+        let spec = |b| optimisation(Some(b)).validate(0.5);
+        // The height bound is the tighter one here: asin(0.2 / 0.5).
+        let limit = spec(TwoLinkSec5Bounds { theta0_max: 0.6, height_max: 0.2 }).unwrap().theta0_limit.unwrap();
+        assert!((limit - 0.4f64.asin()).abs() < 1e-15, "{limit}");
+        let limit = spec(TwoLinkSec5Bounds { theta0_max: 0.3, height_max: 0.25 }).unwrap().theta0_limit.unwrap();
+        assert_eq!(limit, 0.3);
+        assert_eq!(optimisation(None).validate(0.5).unwrap().theta0_limit, None);
+        let err = spec(TwoLinkSec5Bounds { theta0_max: 2.0, height_max: 0.25 }).unwrap_err().to_string();
+        assert!(err.contains("optimisation.sec5_bounds.theta0_max") && err.contains("(0, π/2)"), "{err}");
+        let err = spec(TwoLinkSec5Bounds { theta0_max: 0.5, height_max: -1.0 }).unwrap_err().to_string();
+        assert!(err.contains("optimisation.sec5_bounds.height_max"), "{err}");
     }
 }

@@ -74,19 +74,23 @@ fn twolink_figure_checks_the_closed_forms() {
     let r = read_json(&dir.join("result.json"));
     assert_eq!(r["kind"], "figure");
     let c = claims(&r);
-    // Eqs. (10), (11); R; per upper bound (10⁴, 1000) eq. (12)'s Lagrange check and the two
+    // Eqs. (10), (11); R; per upper bound (10⁴, 1000, and 10⁴ again within Sec. 5's angle and
+    // height bounds, which the 10⁴ edge leans beyond) eq. (12)'s Lagrange check and the three
     // readings of "∂L/∂K is less than ∂L/∂θ0"; eq. (26); eqs. (27)–(30) (erratum E10).
-    assert_eq!(c.len(), 2 + 2 * 4 + 2, "{c:?}");
+    assert_eq!(c.len(), 2 + 3 * 4 + 2, "{c:?}");
     assert!(c[..2].iter().all(|c| c["pass"] == json!(true)), "{c:?}");
     assert!(c.iter().filter(|c| c["check"] == "solver").all(|c| c["pass"] == json!(true)), "{c:?}");
     // The relative reading fails at the text's bound: a finding, reported, not hidden.
     let relative: Vec<&Value> = c.iter().filter(|c| c["test"].as_str().unwrap().starts_with("reading 2")).collect();
-    assert_eq!(relative.len(), 2);
+    assert_eq!(relative.len(), 3);
+    // Within Sec. 5's bounds the 10⁴ optimum sits on the angle bound, and the relative reading fails there too.
+    assert!(relative[2]["scope"].as_str().unwrap().contains("Sec. 5's bounds"), "{:?}", relative[2]);
+    assert_eq!(relative[2]["pass"], json!(false), "{:?}", relative[2]);
     assert_eq!(relative[1]["scope"], "K ≤ 1000");
     assert_eq!(relative[1]["pass"], json!(false), "{:?}", relative[1]);
     // Read with L and eq. (20)'s λ1 (∂L/∂θ0 = 0), the statement fails at both optima, on bounds.
     let lagrangian: Vec<&Value> = c.iter().filter(|c| c["test"].as_str().unwrap().starts_with("reading 3")).collect();
-    assert_eq!(lagrangian.len(), 2);
+    assert_eq!(lagrangian.len(), 3);
     assert!(lagrangian.iter().all(|c| c["pass"] == json!(false) && c["check"] == "paper"), "{lagrangian:?}");
     assert!(lagrangian[1]["measured"].as_str().unwrap().starts_with("|∂L/∂K| = 3.2120e-6"), "{:?}", lagrangian[1]);
     let orders = &r["summary"]["orders"];
@@ -275,10 +279,10 @@ fn report_gathers_claims_figures_and_errata() {
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(results.join("REPORT.md")).unwrap();
     assert!(md.contains("| fig3 | **no result**"));
-    assert!(md.contains("**3 of the paper's 6 statements pass, 3 fail; 6 of 6 solver checks pass.**"), "{md}");
+    assert!(md.contains("**4 of the paper's 9 statements pass, 5 fail; 7 of 7 solver checks pass.**"), "{md}");
     let counts: Value = serde_json::from_str(&std::fs::read_to_string(results.join("report.json")).unwrap()).unwrap();
-    assert_eq!((counts["paper"]["pass"].as_u64(), counts["solver"]["total"].as_u64()), (Some(3), Some(6)));
-    assert_eq!(counts["paper"]["total"].as_u64(), Some(6));
+    assert_eq!((counts["paper"]["pass"].as_u64(), counts["solver"]["total"].as_u64()), (Some(4), Some(7)));
+    assert_eq!(counts["paper"]["total"].as_u64(), Some(9));
     assert!(md.contains("![twolink figure.svg](twolink/figure.svg)"));
     assert!(md.contains("| E6 |"));
     quotes_are_written_from_the_runs_and_checked_for_drift(&results);
@@ -290,7 +294,7 @@ fn report_gathers_claims_figures_and_errata() {
 fn quotes_are_written_from_the_runs_and_checked_for_drift(results: &Path) {
     let doc = results.join("doc.md");
     let text = "# Doc\n\nK = <!--q twolink summary/optima/1/stiffness | .0f-->999<!--/q--> N·m/rad, \
-                <!--q report paper/pass | d-->3<!--/q--> of <!--q report paper/total | d-->6<!--/q--> pass.\n";
+                <!--q report paper/pass | d-->4<!--/q--> of <!--q report paper/total | d-->9<!--/q--> pass.\n";
     std::fs::write(&doc, text).unwrap();
     let run = |extra: &[&str]| {
         let mut args = vec!["quotes", "--results", results.to_str().unwrap()];
@@ -365,7 +369,7 @@ fn report_html_renders_in_a_headless_browser() {
     let claims = dom.split("<table id=\"claims\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap();
     let verdicts =
         claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
-    assert_eq!(verdicts, 12 + 4, "twelve twolink claims and four fig9 claims (n5): {claims}");
+    assert_eq!(verdicts, 16 + 4, "sixteen twolink claims and four fig9 claims (n5): {claims}");
     assert!(dom.contains("solver checks pass."));
     // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
     let shot = results.join("shot.png");

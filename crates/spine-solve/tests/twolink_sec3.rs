@@ -3,7 +3,7 @@
 //! general solver (erratum E8: the printed sign of `P_X,3 L2 sin θ0,2`).
 
 use spine_model::twolink::{SmallDeflection, TwoLink};
-use spine_solve::twolink::{optimum, small_deflection_study, OptimumPlace};
+use spine_solve::twolink::{optimum, optimum_within, small_deflection_study, OptimumPlace};
 use spine_solve::ContinuationOptions;
 
 /// Sec. 3's loads on links of 0.5 m (the `twolink` paper case).
@@ -65,6 +65,27 @@ fn eq_12_at_the_papers_delta_d_ends_at_the_stability_edge_below_the_upper_bound(
     let capped = optimum(&TL, -0.02, (100.0, 1e3), &opts).unwrap();
     assert_eq!(capped.place, OptimumPlace::UpperBound);
     assert!(o.objective < capped.objective, "a stiffer edge design stores less energy");
+}
+
+#[test]
+fn with_sec5s_angle_bound_eq_12_stops_on_the_bound_with_its_kkt_sign() {
+    let opts = ContinuationOptions::default();
+    let limit = std::f64::consts::FRAC_PI_6;
+    let o = optimum_within(&TL, -0.02, (100.0, 1e4), Some(limit), &opts).expect("a design within the bounds");
+    assert_eq!(o.place, OptimumPlace::AngleBound, "{o:?}");
+    assert!((o.theta0 - limit).abs() < 1e-8, "θ0 on the bound: {}", o.theta0);
+    // Between the text's bound (θ0 = 0.436 at K = 1000) and the stability edge (K ≈ 5000).
+    assert!(o.stiffness > 1000.0 && o.stiffness < 5000.0, "K {}", o.stiffness);
+    // J still falls there: eq. (19) with eq. (20)'s λ1 against a one-sided difference inside.
+    let h = 1e-4 * o.stiffness;
+    let inside = optimum_within(&TL, -0.02, (100.0, o.stiffness - h), Some(limit), &opts).unwrap();
+    assert_eq!(inside.place, OptimumPlace::UpperBound);
+    let slope = (o.objective - inside.objective) / h;
+    assert!(o.dl_dk < 0.0 && (slope - o.dl_dk).abs() < 1e-3 * o.dl_dk.abs(), "{slope} against {}", o.dl_dk);
+    // A limit the free optimum keeps changes nothing.
+    let free = optimum(&TL, -0.02, (100.0, 1e3), &opts).unwrap();
+    let kept = optimum_within(&TL, -0.02, (100.0, 1e3), Some(limit), &opts).unwrap();
+    assert_eq!((kept.place, kept.stiffness, kept.theta0), (free.place, free.stiffness, free.theta0));
 }
 
 /// The small-deflection system of the `twolink` case: unequal links (0.5 m, 0.6 m) on the axis,

@@ -145,11 +145,18 @@ fn optimum_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
     use spine_solve::twolink::OptimumPlace;
     let mut claims = Vec::new();
     for o in study.optima.iter().flatten() {
-        let scope = format!("K ≤ {}", o.bounds.1);
+        let scope = match o.theta0_limit {
+            None => format!("K ≤ {}", o.bounds.1),
+            Some(l) => format!("K ≤ {}, |θ0| ≤ {l:.4} rad (Sec. 5's bounds)", o.bounds.1),
+        };
         let (pass, rule) = match (o.place, o.dl_dk_central_difference) {
             (OptimumPlace::StabilityEdge, _) => {
                 (o.dl_dk < 0.0, "at the stability edge J still falls: dJ/dK < 0 (an infimum, not a minimum)")
             }
+            (OptimumPlace::AngleBound, _) => (
+                o.dl_dk < 0.0 && o.theta0_limit.is_some_and(|l| (o.theta0.abs() - l).abs() <= 1e-6 * l),
+                "at the angle bound J still falls along the constraint (dJ/dK < 0) and |θ0| is on its limit (1e-6 relative): a KKT point with the bound active",
+            ),
             (place, Some(fd)) => {
                 let agree = (o.dl_dk - fd).abs() <= 1e-5 * fd.abs().max(1e-12);
                 let sign = match place {
@@ -173,7 +180,7 @@ fn optimum_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
                 o.theta0,
                 o.objective,
                 o.dl_dk,
-                o.dl_dk_central_difference.map_or("— (no design beyond the edge)".into(), |v| format!("{v:.4e}")),
+                o.dl_dk_central_difference.map_or("— (no admissible design beyond the edge)".into(), |v| format!("{v:.4e}")),
                 o.lambda,
                 o.evaluations
             ),

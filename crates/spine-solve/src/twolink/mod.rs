@@ -7,7 +7,7 @@
 
 mod optimum;
 
-pub use optimum::{optimum, OptimumPlace, TwoLinkOptimum};
+pub use optimum::{optimum, optimum_within, OptimumPlace, TwoLinkOptimum};
 
 use crate::equilibrium::{solve_static, StaticSolution};
 use crate::options::ContinuationOptions;
@@ -116,7 +116,8 @@ pub struct Study {
     pub rows: Vec<StudyRow>,
     pub orders: StudyOrders,
     /// Eq. (12) for each upper bound of [`OptimisationSpec::upper_bounds`] (`None`: no design in
-    /// those bounds).
+    /// those bounds), then, with [`OptimisationSpec::theta0_limit`], again with that limit for each
+    /// upper bound whose optimum lies beyond it (within it, the optimum is the same point).
     pub optima: Vec<Option<TwoLinkOptimum>>,
     pub small_deflection: Option<SmallDeflectionStudy>,
 }
@@ -138,6 +139,8 @@ pub struct OptimisationSpec {
     pub delta: f64,
     pub lower_bound: f64,
     pub upper_bounds: Vec<f64>,
+    /// Sec. 5's bounds as a limit on `|θ0|`, rad (`min(θ0_max, asin(Y_max / L))`), when given.
+    pub theta0_limit: Option<f64>,
 }
 
 /// Eq. (26) for `system` with its loads scaled by each of `scales`.
@@ -151,7 +154,16 @@ pub struct SmallDeflectionSpec {
 pub fn study(tl: &TwoLink, spec: &StudySpec, opts: &ContinuationOptions) -> Study {
     let stiffness = spec.stiffness;
     let optima = spec.optimisation.as_ref().map_or_else(Vec::new, |o| {
-        o.upper_bounds.iter().map(|&upper| optimum(tl, o.delta, (o.lower_bound, upper), opts)).collect()
+        let free: Vec<_> =
+            o.upper_bounds.iter().map(|&upper| optimum(tl, o.delta, (o.lower_bound, upper), opts)).collect();
+        let bounded = o.theta0_limit.into_iter().flat_map(|limit| {
+            free.iter()
+                .zip(&o.upper_bounds)
+                .filter(move |(f, _)| f.as_ref().is_none_or(|f| f.theta0.abs() > limit))
+                .map(move |(_, &upper)| optimum_within(tl, o.delta, (o.lower_bound, upper), Some(limit), opts))
+        });
+        let bounded: Vec<_> = bounded.collect();
+        free.into_iter().chain(bounded).collect()
     });
     let small_deflection = spec.small_deflection.as_ref().map(|s| small_deflection_study(&s.system, &s.scales, opts));
     let rows: Vec<StudyRow> = spec

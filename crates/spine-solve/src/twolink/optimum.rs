@@ -17,6 +17,9 @@ pub enum OptimumPlace {
     /// `θ0` gives a stable `θ2` with end displacement `δ`, so `J` has an infimum there, not a
     /// minimum inside the bounds.
     StabilityEdge,
+    /// At the largest `K` whose design keeps `|θ0|` within a limit (Sec. 5's angle and height
+    /// bounds): `J` still falls along the constraint, and the bound stops it.
+    AngleBound,
 }
 
 impl OptimumPlace {
@@ -27,6 +30,7 @@ impl OptimumPlace {
             Self::LowerBound => "at the lower bound",
             Self::UpperBound => "at the upper bound",
             Self::StabilityEdge => "at the stability edge",
+            Self::AngleBound => "at the angle bound",
         }
     }
 }
@@ -38,6 +42,8 @@ pub struct TwoLinkOptimum {
     pub delta: f64,
     /// `(K_min, K_max)`, N·m/rad.
     pub bounds: (f64, f64),
+    /// The limit on `|θ0|`, rad, when the problem has one (Sec. 5's bounds, [`optimum_within`]).
+    pub theta0_limit: Option<f64>,
     pub place: OptimumPlace,
     pub stiffness: f64,
     pub theta0: f64,
@@ -59,14 +65,16 @@ pub struct TwoLinkOptimum {
     pub evaluations: usize,
 }
 
-/// `J(K)` along the constraint: `(θ0, θ1, θ2, J)` of the exact design for `(K, δ)`.
+/// `J(K)` along the constraint: `(θ0, θ1, θ2, J)` of the exact design for `(K, δ)`, none where
+/// that design's `|θ0|` exceeds `limit`.
 fn along_constraint(
     tl: &TwoLink,
     stiffness: f64,
     delta: f64,
+    limit: Option<f64>,
     opts: &ContinuationOptions,
 ) -> Option<(f64, f64, f64, f64)> {
-    let theta0 = exact_theta0(tl, stiffness, delta, opts)?;
+    let theta0 = exact_theta0(tl, stiffness, delta, opts).filter(|t| limit.is_none_or(|l| t.abs() <= l))?;
     let sol = general_solution(tl, stiffness, theta0, opts);
     let theta1 = sol.passive.status.is_stable().then(|| sol.passive.state.theta[0])?;
     let theta2 = sol.loaded.filter(|l| l.status.is_stable()).map(|l| l.state.theta[0])?;
@@ -78,10 +86,23 @@ fn along_constraint(
 /// golden sections around the best (interior), or bisection of the stability edge when the best
 /// point's neighbour has no design. `None` when no `K` in the bounds has a design.
 pub fn optimum(tl: &TwoLink, delta: f64, bounds: (f64, f64), opts: &ContinuationOptions) -> Option<TwoLinkOptimum> {
+    optimum_within(tl, delta, bounds, None, opts)
+}
+
+/// [`optimum`] with the design angle also bounded, `|θ0| ≤ theta0_limit` (rad): Sec. 5's bounds on
+/// the N-link problem, `|θ0| ≤ θ0_max` and the middle node's height `L sin θ0 ≤ Y_max`, as one
+/// limit. Where the limit stops the descent the optimum is [`OptimumPlace::AngleBound`].
+pub fn optimum_within(
+    tl: &TwoLink,
+    delta: f64,
+    bounds: (f64, f64),
+    theta0_limit: Option<f64>,
+    opts: &ContinuationOptions,
+) -> Option<TwoLinkOptimum> {
     let mut evaluations = 0usize;
     let mut j = |k: f64| {
         evaluations += 1;
-        along_constraint(tl, k, delta, opts).map(|v| v.3)
+        along_constraint(tl, k, delta, theta0_limit, opts).map(|v| v.3)
     };
     let (lo, hi) = (bounds.0.ln(), bounds.1.ln());
     const SCAN: usize = 41;
@@ -106,7 +127,14 @@ pub fn optimum(tl: &TwoLink, delta: f64, bounds: (f64, f64), opts: &Continuation
                 outside = mid;
             }
         }
-        (inside.exp(), OptimumPlace::StabilityEdge)
+        // Which side ended it: the angle limit (the design beyond exists but leans too far) or
+        // stability (none beyond).
+        let beyond = exact_theta0(tl, outside.exp(), delta, opts);
+        let place = match (theta0_limit, beyond) {
+            (Some(l), Some(t)) if t.abs() > l => OptimumPlace::AngleBound,
+            _ => OptimumPlace::StabilityEdge,
+        };
+        (inside.exp(), place)
     } else if best == 0 {
         (bounds.0, OptimumPlace::LowerBound)
     } else if best == SCAN - 1 {
@@ -131,17 +159,18 @@ pub fn optimum(tl: &TwoLink, delta: f64, bounds: (f64, f64), opts: &Continuation
         }
         ((0.5 * (a + b)).exp(), OptimumPlace::Interior)
     };
-    let (theta0, theta1, theta2, objective) = along_constraint(tl, stiffness, delta, opts)?;
+    let (theta0, theta1, theta2, objective) = along_constraint(tl, stiffness, delta, theta0_limit, opts)?;
     let lambda = tl.multiplier_eq20(theta0, stiffness, theta1, theta2);
     let (dl_dk, _) = tl.lagrangian_gradient(theta0, stiffness, theta1, theta2, lambda);
     let (dj_dk, dj_dtheta0) = tl.lagrangian_gradient(theta0, stiffness, theta1, theta2, 0.0);
     let h = 1e-4 * stiffness;
-    let dl_dk_central_difference = along_constraint(tl, stiffness + h, delta, opts)
-        .zip(along_constraint(tl, stiffness - h, delta, opts))
+    let dl_dk_central_difference = along_constraint(tl, stiffness + h, delta, theta0_limit, opts)
+        .zip(along_constraint(tl, stiffness - h, delta, theta0_limit, opts))
         .map(|(p, m)| (p.3 - m.3) / (2.0 * h));
     Some(TwoLinkOptimum {
         delta,
         bounds,
+        theta0_limit,
         place,
         stiffness,
         theta0,
