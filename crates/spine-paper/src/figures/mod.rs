@@ -3,6 +3,7 @@
 
 mod criteria;
 mod dynamic;
+mod frequency;
 mod periodic;
 mod pulse;
 mod statics;

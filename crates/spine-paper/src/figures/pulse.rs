@@ -3,6 +3,7 @@
 //! Fig. 12 shares.
 
 use super::dynamic::{damping_claims, damping_designs, last_period, pulse_claims};
+use super::frequency::{frequency_sweep, SweepPoint};
 use super::*;
 use serde_json::json;
 use spine_dynamic_design::{DampingDesign, PeriodicDesign};
@@ -68,21 +69,30 @@ fn ga_claims(name: &str, d: &DampingDesign, r: &PeriodicResponse, q: &PeriodicDe
 
 /// Fig. 11: a gradient-based design (eq. (33) then eq. (35)) under a pulse train.
 pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, FieldError> {
-    let (run, ga) = match runs {
-        [run] => (run, None),
-        [run, ga] => (run, Some(ga)),
-        _ => {
-            return Err(FieldError::new(
-                "runs",
-                "fig11 needs one damping run with a periodic forcing, and at most one eq. (37) run beside it",
-            ))
-        }
+    let Some((run, rest)) = runs.split_first() else {
+        return Err(FieldError::new("runs", "fig11 needs one damping run with a periodic forcing"));
     };
-    let ga = ga.map(|g| super::periodic::periodic(g).map(|(_, q)| (g.name, q))).transpose()?;
+    // Beside the first run: at most one eq. (37) run, and damping runs of the same design under
+    // other pulse periods (the frequency sweep).
+    let mut ga = None;
+    let mut sweep = Vec::new();
+    for other in rest {
+        match super::expect_dynamics(other)?.1 {
+            DynamicOutput::PeriodicDesign { design } if ga.is_none() => ga = Some((other.name, &**design)),
+            DynamicOutput::Damping { periodic, .. } => match periodic.first() {
+                Some(response) => sweep.push(SweepPoint { name: other.name, response }),
+                None => return Err(other.error("a frequency-sweep run of fig11 needs a periodic forcing")),
+            },
+            _ => return Err(other.error(
+                "fig11's runs: one damping run, at most one eq. (37) run, and damping runs under other pulse periods",
+            )),
+        }
+    }
     let (used, designs, periodic) = damping_designs(run)?;
     let (Some(d), Some(r)) = (designs.first(), periodic.first()) else {
         return Err(run.error("fig11 needs a damping design and a periodic forcing to simulate it under"));
     };
+    sweep.push(SweepPoint { name: run.name, response: r });
     let mut out = FigureOutput::default();
     // Shapes at eight instants of the last simulated period.
     let last = last_period(r);
@@ -128,6 +138,11 @@ pub fn pulse_figure(title: &str, runs: &[NamedRun<'_>]) -> Result<FigureOutput, 
             "reach_time": r.reach_time, "return_time": r.return_time, "period": r.period,
         }),
     );
+    if let Some((claim, table, summary)) = frequency_sweep(&mut sweep) {
+        out.claims.push(claim);
+        out.tables.push(("frequency_sweep.csv".into(), table));
+        out.summary.insert("frequency_sweep".into(), summary);
+    }
     out.figures.push(("figure".into(), fig));
     Ok(out)
 }
