@@ -368,7 +368,12 @@ fn report_html_renders_in_a_headless_browser() {
     let dom = String::from_utf8(browser(&["--dump-dom"]).stdout).unwrap();
     let claims = dom.split("<table id=\"claims\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap();
     let verdicts =
-        claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL</td>").count();
+        claims.matches("<td class=\"pass\">PASS</td>").count() + claims.matches("<td class=\"fail\">FAIL").count();
+    // A failing paper statement links to its explanation.
+    assert!(
+        claims.contains("<td class=\"fail\">FAIL<br><a href=\"../docs/findings.md#sec3\">why</a></td>"),
+        "{claims}"
+    );
     assert_eq!(verdicts, 16 + 4, "sixteen twolink claims and four fig9 claims (n5): {claims}");
     assert!(dom.contains("solver checks pass."));
     // The screenshot: a page drawn with the PASS cells' colour (#c8eac8) and dark text.
