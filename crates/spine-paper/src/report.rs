@@ -193,7 +193,8 @@ pub const FINDINGS: &str = "../docs/findings.md";
 
 /// The paper's statements whose FAIL `docs/findings.md` explains, with the section's anchor: a
 /// fragment of the statement as the claims spell it.
-const FINDINGS_SECTIONS: [(&str, &str); 10] = [
+const FINDINGS_SECTIONS: [(&str, &str); 11] = [
+    ("the time constant of the structure is obtained", "time-constant"),
     ("more sensitive to change in θ0 in comparison to change in K", "sensitivity-ratio"),
     ("∂L/∂K is less than ∂L/∂θ0", "sec3"),
     ("comparing this result with that obtained by genetic algorithm", "fig11-similarity"),
