@@ -101,8 +101,7 @@ pub fn eq37_values(
     settings: &PeriodicDesignSettings,
     periods: usize,
 ) -> Option<Eq37Point> {
-    let mut p = problem.clone();
-    p.design.stiffness = stiffness.to_vec();
+    let p = problem.with_stiffness(stiffness);
     let ends = p.static_ends(&settings.response.continuation).ok()?;
     let (s0, energy_gradient) = rest_sensitivities(&p, &ends)?;
     let energy = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);

@@ -119,8 +119,7 @@ fn evaluate(
     delta_d: f64,
     settings: &PeriodicDesignSettings,
 ) -> Result<(Evaluation, PeriodicResponse), DynamicsError> {
-    let mut p = problem.clone();
-    p.design.stiffness = stiffness.to_vec();
+    let p = problem.with_stiffness(stiffness);
     let ends = p.static_ends(&settings.response.continuation)?;
     let strain = spine_model::energy::strain_energy(&ends.theta1, &p.design.theta0, stiffness);
     let d = p.dynamics(forcing.clone());
@@ -255,8 +254,7 @@ fn step_reach_time(
     response: &PeriodicResponse,
     settings: &PeriodicDesignSettings,
 ) -> Option<f64> {
-    let mut p = problem.clone();
-    p.design.stiffness = stiffness.to_vec();
+    let p = problem.with_stiffness(stiffness);
     let step = StepSettings {
         t_end: STEP_REACH_HORIZON,
         rise_fraction: settings.response.reach_fraction,

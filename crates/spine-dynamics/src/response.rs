@@ -72,6 +72,13 @@ pub enum DynamicsError {
 }
 
 impl DynamicProblem {
+    /// The same problem with the springs `stiffness` (N·m/rad), as eq. (37)'s searches try them.
+    pub fn with_stiffness(&self, stiffness: &[f64]) -> Self {
+        let mut p = self.clone();
+        p.design.stiffness = stiffness.to_vec();
+        p
+    }
+
     /// The equations of motion under `forcing`.
     pub fn dynamics(&self, forcing: Forcing) -> Dynamics {
         Dynamics::new(

@@ -207,8 +207,13 @@ fn optimum_claims(study: &spine_solve::twolink::Study) -> Vec<Claim> {
             &scope,
             statement,
             "reading 3, the Lagrangian as the paper writes it: |∂L/∂K| (eq. (19)) < |∂L/∂θ0| (eq. (20)) with λ1 from eq. (20), which makes ∂L/∂θ0 = 0: it holds nowhere, an optimum on a bound has ∂L/∂K ≠ 0",
-            o.dl_dk.abs() < 0.0,
-            format!("|∂L/∂K| = {:.4e} J·rad/(N·m), ∂L/∂θ0 = 0 (λ1 = {:.4e} J)", o.dl_dk.abs(), o.lambda),
+            o.dl_dk.abs() < o.dl_dtheta0.abs(),
+            format!(
+                "|∂L/∂K| = {:.4e} J·rad/(N·m), |∂L/∂θ0| = {:.1e} J/rad (λ1 = {:.4e} J)",
+                o.dl_dk.abs(),
+                o.dl_dtheta0.abs(),
+                o.lambda
+            ),
         ));
     }
     claims

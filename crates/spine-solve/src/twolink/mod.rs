@@ -154,16 +154,16 @@ pub struct SmallDeflectionSpec {
 pub fn study(tl: &TwoLink, spec: &StudySpec, opts: &ContinuationOptions) -> Study {
     let stiffness = spec.stiffness;
     let optima = spec.optimisation.as_ref().map_or_else(Vec::new, |o| {
-        let free: Vec<_> =
+        let mut optima: Vec<_> =
             o.upper_bounds.iter().map(|&upper| optimum(tl, o.delta, (o.lower_bound, upper), opts)).collect();
-        let bounded = o.theta0_limit.into_iter().flat_map(|limit| {
-            free.iter()
-                .zip(&o.upper_bounds)
-                .filter(move |(f, _)| f.as_ref().is_none_or(|f| f.theta0.abs() > limit))
-                .map(move |(_, &upper)| optimum_within(tl, o.delta, (o.lower_bound, upper), Some(limit), opts))
-        });
-        let bounded: Vec<_> = bounded.collect();
-        free.into_iter().chain(bounded).collect()
+        if let Some(limit) = o.theta0_limit {
+            for (k, &upper) in o.upper_bounds.iter().enumerate() {
+                if optima[k].as_ref().is_none_or(|f| f.theta0.abs() > limit) {
+                    optima.push(optimum_within(tl, o.delta, (o.lower_bound, upper), Some(limit), opts));
+                }
+            }
+        }
+        optima
     });
     let small_deflection = spec.small_deflection.as_ref().map(|s| small_deflection_study(&s.system, &s.scales, opts));
     let rows: Vec<StudyRow> = spec

@@ -55,6 +55,8 @@ pub struct TwoLinkOptimum {
     pub lambda: f64,
     /// Eq. (19) with that `λ1`: `dJ/dK` along the constraint, J·rad/(N·m).
     pub dl_dk: f64,
+    /// Eq. (20) with that `λ1`, J/rad: zero to round-off (the `λ1` is chosen so).
+    pub dl_dtheta0: f64,
     /// The same by central differences of `J(K, θ0(K))` along the constraint (the exact `θ0(K)`
     /// of [`exact_theta0`]), `None` at a stability edge (one side has no design).
     pub dl_dk_central_difference: Option<f64>,
@@ -161,7 +163,7 @@ pub fn optimum_within(
     };
     let (theta0, theta1, theta2, objective) = along_constraint(tl, stiffness, delta, theta0_limit, opts)?;
     let lambda = tl.multiplier_eq20(theta0, stiffness, theta1, theta2);
-    let (dl_dk, _) = tl.lagrangian_gradient(theta0, stiffness, theta1, theta2, lambda);
+    let (dl_dk, dl_dtheta0) = tl.lagrangian_gradient(theta0, stiffness, theta1, theta2, lambda);
     let (dj_dk, dj_dtheta0) = tl.lagrangian_gradient(theta0, stiffness, theta1, theta2, 0.0);
     let h = 1e-4 * stiffness;
     let dl_dk_central_difference = along_constraint(tl, stiffness + h, delta, theta0_limit, opts)
@@ -179,6 +181,7 @@ pub fn optimum_within(
         objective,
         lambda,
         dl_dk,
+        dl_dtheta0,
         dl_dk_central_difference,
         dj_dk,
         dj_dtheta0,
